@@ -1,0 +1,162 @@
+/* main.c -- the mpgm command line: run, check. Only app/ decides exit codes:
+ * 0 success, 1 simulation failed, 2 bad input, 3 I/O error. */
+#define _POSIX_C_SOURCE 200809L
+#include <cjson/cJSON.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "mpgm_frontends.h"
+#include "mpgm_run.h"
+#include "mpgm_scene.h"
+
+enum { EXIT_OK = 0, EXIT_SIM = 1, EXIT_INPUT = 2, EXIT_IO = 3 };
+
+static void usage(FILE *f) {
+  fprintf(f,
+          "usage: mpgm run SCENE [--set KEY=VALUE ...] [--out DIR] [--progress | --quiet]\n"
+          "       mpgm check SCENE [--set KEY=VALUE ...]\n"
+          "       mpgm help\n"
+          "\n"
+          "  run     run a scene; results go to DIR (default: the scene's output.dir)\n"
+          "  check   validate a scene, print the resolved scene and its effects; run nothing\n"
+          "  --set   override any scene value by dotted path, e.g. --set mesh.h=0.125\n"
+          "\n"
+          "exit codes: 0 success, 1 simulation failed, 2 bad input, 3 I/O error\n"
+          "scene format: docs/scene-format.md\n");
+}
+
+static int exit_code(int code) {
+  if (code == 0) return EXIT_OK;
+  if (code == MPGM_ERR_INPUT) return EXIT_INPUT;
+  if (code == MPGM_ERR_IO) return EXIT_IO;
+  return EXIT_SIM;
+}
+
+typedef struct args {
+  const char *cmd, *scene, *out;
+  const char **sets;
+  int nset, progress;
+  int per_iteration;
+} args;
+
+static int parse_args(int argc, char **argv, args *a) {
+  memset(a, 0, sizeof *a);
+  a->progress = isatty(STDERR_FILENO);
+  a->sets = calloc((size_t)argc, sizeof(char *));
+  if (!a->sets) return EXIT_IO;
+  a->cmd = argv[1];
+  for (int i = 2; i < argc; i++) {
+    const char *s = argv[i];
+    if (strcmp(s, "--set") == 0 || strcmp(s, "--out") == 0) {
+      if (i + 1 >= argc) {
+        fprintf(stderr, "mpgm: %s needs a value\n", s);
+        return EXIT_INPUT;
+      }
+      if (s[2] == 's') a->sets[a->nset++] = argv[++i];
+      else a->out = argv[++i];
+    } else if (strncmp(s, "--set=", 6) == 0) {
+      a->sets[a->nset++] = s + 6;
+    } else if (strncmp(s, "--out=", 6) == 0) {
+      a->out = s + 6;
+    } else if (strcmp(s, "--progress") == 0) {
+      a->progress = 1;
+    } else if (strcmp(s, "--quiet") == 0) {
+      a->progress = 0;
+    } else if (strcmp(s, "--time-split") == 0) {
+      a->per_iteration = 1;
+    } else if (s[0] == '-' && s[1] == '-') {
+      fprintf(stderr, "mpgm: unknown option %s\n", s);
+      usage(stderr);
+      return EXIT_INPUT;
+    } else if (!a->scene) {
+      a->scene = s;
+    } else {
+      fprintf(stderr, "mpgm: unexpected argument %s (one scene per run)\n", s);
+      return EXIT_INPUT;
+    }
+  }
+  if (!a->scene) {
+    fprintf(stderr, "mpgm %s: no SCENE given\n", a->cmd);
+    usage(stderr);
+    return EXIT_INPUT;
+  }
+  return EXIT_OK;
+}
+
+static int report_error(const mpgm_ctx *ctx, int code) {
+  fprintf(stderr, "mpgm: %s\n", ctx->msg[0] ? ctx->msg : mpgm_code_str(code));
+  return exit_code(code);
+}
+
+static int cmd_check(const args *a, mpgm_ctx *ctx) {
+  mpgm_scene *s = NULL;
+  int err = mpgm_scene_load(ctx, a->scene, a->nset, a->sets, &s);
+  if (err) return report_error(ctx, err);
+  char *text = mpgm_scene_resolved_json(s);
+  mpgm_effects fx;
+  mpgm_effects_of_scene(s, &fx);
+  cJSON *e = mpgm_effects_json(&fx);
+  char *et = cJSON_Print(e);
+  printf("%s\n", text ? text : "{}");
+  printf("effects: %s\n", et ? et : "{}");
+  printf("scene %s is valid: method %s, shape %s, %d material(s), %d body(ies), %d boundary "
+         "condition(s), %d probe(s)\n",
+         a->scene, mpgm_method_name(s->method), s->shape->name, s->nmat, s->nbody, s->nbc, s->nprobe);
+  free(text);
+  free(et);
+  cJSON_Delete(e);
+  mpgm_scene_destroy(&s);
+  return EXIT_OK;
+}
+
+static int cmd_run(const args *a, mpgm_ctx *ctx) {
+  mpgm_scene *s = NULL;
+  int err = mpgm_scene_load(ctx, a->scene, a->nset, a->sets, &s);
+  if (err) return report_error(ctx, err);
+  const mpgm_frontend_ops *fe = mpgm_frontend_for(s->method);
+  if (!fe) {
+    fprintf(stderr, "mpgm: %s: method: no front end for \"%s\"\n", a->scene, mpgm_method_name(s->method));
+    mpgm_scene_destroy(&s);
+    return EXIT_INPUT;
+  }
+  const char *dir = a->out ? a->out : s->out_dir;
+  mpgm_run_opts opts = {.out_dir = dir, .progress = a->progress, .per_iteration = a->per_iteration};
+  err = mpgm_run(ctx, s, fe, &opts);
+  int rc;
+  if (err) {
+    rc = report_error(ctx, err);
+    if (rc == EXIT_SIM)
+      fprintf(stderr, "mpgm: output written up to the last completed step is in %s "
+              "(summary.json says where the run stopped)\n", dir);
+  } else {
+    printf("results: %s (summary.json, probes.csv, points.pvd%s)\n", dir,
+           fe->cells ? ", mesh.pvd" : "");
+    rc = EXIT_OK;
+  }
+  mpgm_scene_destroy(&s);
+  return rc;
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2 || strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0 ||
+      strcmp(argv[1], "-h") == 0) {
+    usage(argc < 2 ? stderr : stdout);
+    return argc < 2 ? EXIT_INPUT : EXIT_OK;
+  }
+  if (strcmp(argv[1], "run") != 0 && strcmp(argv[1], "check") != 0) {
+    fprintf(stderr, "mpgm: unknown command '%s'\n", argv[1]);
+    usage(stderr);
+    return EXIT_INPUT;
+  }
+  args a;
+  int rc = parse_args(argc, argv, &a);
+  if (rc == EXIT_OK) {
+    mpgm_ctx ctx;
+    mpgm_ctx_init(&ctx);
+    rc = strcmp(a.cmd, "run") == 0 ? cmd_run(&a, &ctx) : cmd_check(&a, &ctx);
+  }
+  free(a.sets);
+  return rc;
+}

@@ -1,0 +1,64 @@
+/* mpgm_base.c -- error table, context, clock. */
+#define _POSIX_C_SOURCE 200809L
+#include "mpgm_base.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+const char *mpgm_code_str(int code) {
+  switch (code) {
+  case MPGM_OK: return "success";
+  case MPGM_ERR_INPUT: return "bad input";
+  case MPGM_ERR_IO: return "I/O error";
+  case MPGM_ERR_NOMEM: return "out of memory";
+  case MPGM_ERR_UNSUPPORTED: return "operation not supported";
+  case MPGM_ERR_SOLVER: return "linear solver failure";
+  case MPGM_ERR_INTERNAL: return "internal error";
+  case MPGM_ERR_JACOBIAN: return "det F <= 0 (inverted point or cell)";
+  case MPGM_ERR_NOT_CONVERGED: return "Newton did not converge";
+  case MPGM_ERR_DIVERGED: return "Newton diverged";
+  case MPGM_ERR_NAN: return "NaN or Inf in residual or solution";
+  case MPGM_ERR_SINGULAR: return "singular or indefinite matrix";
+  case MPGM_ERR_RETURN_MAP: return "return mapping did not converge";
+  case MPGM_ERR_SHAPE: return "shape function failure";
+  default: return "unknown error";
+  }
+}
+
+static const char *const timer_names[MPGM_T_COUNT] = {
+    "shape", "search", "assembly", "analyse", "factor", "solve",
+    "material", "body_force", "mass", "update", "output", "total"};
+
+const char *mpgm_timer_name(int id) {
+  return (id >= 0 && id < MPGM_T_COUNT) ? timer_names[id] : "?";
+}
+
+void mpgm_ctx_init(mpgm_ctx *ctx) { memset(ctx, 0, sizeof(*ctx)); }
+
+int mpgm_err_set(mpgm_ctx *ctx, int code, const char *file, int line,
+                 const char *fmt, ...) {
+  if (!ctx || ctx->code) return code;
+  ctx->code = code;
+  ctx->file = file;
+  ctx->line = line;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(ctx->msg, sizeof(ctx->msg), fmt, ap);
+  va_end(ap);
+  return code;
+}
+
+void mpgm_err_clear(mpgm_ctx *ctx) {
+  ctx->code = 0;
+  ctx->msg[0] = '\0';
+  ctx->file = NULL;
+  ctx->line = 0;
+}
+
+double mpgm_wtime(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}

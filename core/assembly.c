@@ -1,0 +1,305 @@
+/* assembly.c -- constitutive update of the points, the sparsity pattern, and
+ * the assembly of residual and tangent (eqs 30-37 of Iaconeta et al. 2017;
+ * docs/theory.md). */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_core.h"
+
+/* 2x2 helpers, row major {a00, a01, a10, a11} */
+static inline double det2(const double *a) { return a[0] * a[3] - a[1] * a[2]; }
+static inline void mul2(const double *a, const double *b, double *c) {
+  c[0] = a[0] * b[0] + a[1] * b[2];
+  c[1] = a[0] * b[1] + a[1] * b[3];
+  c[2] = a[2] * b[0] + a[3] * b[2];
+  c[3] = a[2] * b[1] + a[3] * b[3];
+}
+
+int mpgm_eval_points(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_points *P = &pb->pts;
+  const mpgm_conn *C = &pb->conn;
+  const mpgm_nodes *nd = &pb->nodes;
+  const mpgm_material *mats = pb->scene->mats;
+  const int small = !pb->fx.geometric;
+  const int ns = P->nstate;
+  mpgm_timer_start(ctx, MPGM_T_MATERIAL);
+  int err = 0;
+  for (int p = 0; p < P->n && !err; p++) {
+    /* H = sum_I du_I (x) grad N_I (small: total u) */
+    double H[4] = {0, 0, 0, 0};
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      const double ux = nd->du[2 * I] + (small ? nd->u[2 * I] : 0.0);
+      const double uy = nd->du[2 * I + 1] + (small ? nd->u[2 * I + 1] : 0.0);
+      const double gx = C->dN[2 * k], gy = C->dN[2 * k + 1];
+      H[0] += ux * gx; H[1] += ux * gy;
+      H[2] += uy * gx; H[3] += uy * gy;
+    }
+    double *dF = P->dF_t + 4 * p, *F = P->F_t + 4 * p;
+    dF[0] = 1.0 + H[0]; dF[1] = H[1]; dF[2] = H[2]; dF[3] = 1.0 + H[3];
+    const mpgm_material *m = &mats[P->mat[p]];
+    double *st_n = ns ? P->state + (size_t)ns * p : NULL;
+    double *st_t = ns ? P->state_t + (size_t)ns * p : NULL;
+    if (small) {
+      memcpy(F, dF, sizeof(double) * 4);
+      P->vol_t[p] = P->vol0[p];
+      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+        C->g[2 * k] = C->dN[2 * k];
+        C->g[2 * k + 1] = C->dN[2 * k + 1];
+      }
+      err = m->type->update(m, MPGM_KIN_SMALL, F, dF, st_n, st_t, P->sigma_t + 4 * p, P->D_t + 9 * p);
+    } else {
+      const double J = det2(dF);
+      if (!(J > 0.0)) {
+        err = mpgm_err_set(ctx, MPGM_ERR_JACOBIAN, __FILE__, __LINE__,
+                           "point %d at (%g, %g): det(dF) = %g <= 0", p, P->x[2 * p], P->x[2 * p + 1], J);
+        break;
+      }
+      mul2(dF, P->F + 4 * p, F);
+      P->vol_t[p] = J * P->vol[p];
+      /* gradients at the iterate: g = dN dF^-1 */
+      const double i00 = dF[3] / J, i01 = -dF[1] / J, i10 = -dF[2] / J, i11 = dF[0] / J;
+      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+        const double a = C->dN[2 * k], b = C->dN[2 * k + 1];
+        C->g[2 * k] = a * i00 + b * i10;
+        C->g[2 * k + 1] = a * i01 + b * i11;
+      }
+      err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + 4 * p, P->D_t + 9 * p);
+    }
+    if (err)
+      mpgm_err_set(ctx, err, __FILE__, __LINE__, "point %d at (%g, %g), material \"%s\": %s", p,
+                   P->x[2 * p], P->x[2 * p + 1], m->name, mpgm_code_str(err));
+  }
+  ctx->n_material_calls += P->n;
+  mpgm_timer_stop(ctx, MPGM_T_MATERIAL);
+  return err;
+}
+
+/* ---- sparsity pattern ------------------------------------------------- */
+
+static int cmp_u64(const void *a, const void *b) {
+  uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+  return (x > y) - (x < y);
+}
+
+int mpgm_pattern_build(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_conn *C = &pb->conn;
+  const mpgm_nodes *nd = &pb->nodes;
+  const int np = pb->pts.n, nn = nd->n;
+  mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
+  /* node pairs (column node, row node) of every point, sorted and unique */
+  size_t npair = 0;
+  for (int p = 0; p < np; p++) {
+    size_t k = (size_t)(C->ptr[p + 1] - C->ptr[p]);
+    npair += k * k;
+  }
+  uint64_t *pair = malloc((npair ? npair : 1) * sizeof *pair);
+  int *nptr = calloc((size_t)nn + 1, sizeof *nptr);
+  if (!pair || !nptr) {
+    free(pair); free(nptr);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
+  }
+  size_t q = 0;
+  for (int p = 0; p < np; p++)
+    for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++)
+      for (int b = C->ptr[p]; b < C->ptr[p + 1]; b++)
+        pair[q++] = ((uint64_t)C->node[b] << 32) | (uint32_t)C->node[a];
+  qsort(pair, npair, sizeof *pair, cmp_u64);
+  size_t nu = 0;
+  for (size_t i = 0; i < npair; i++)
+    if (i == 0 || pair[i] != pair[i - 1]) pair[nu++] = pair[i];
+  for (size_t i = 0; i < nu; i++) nptr[(pair[i] >> 32) + 1]++;
+  for (int i = 0; i < nn; i++) nptr[i + 1] += nptr[i];
+  /* count entries */
+  const int n = nd->ndof;
+  mpgm_csc *K = &pb->K;
+  free(K->colptr); free(K->rowind); free(K->val);
+  K->colptr = calloc((size_t)n + 1, sizeof(int));
+  size_t nnz = 0;
+  for (int J = 0; J < nn; J++)
+    for (int j = 0; j < 2; j++) {
+      if (nd->dof[2 * J + j] < 0) continue;
+      for (int t = nptr[J]; t < nptr[J + 1]; t++) {
+        const int I = (int)(pair[t] & 0xffffffffu);
+        nnz += (nd->dof[2 * I] >= 0) + (nd->dof[2 * I + 1] >= 0);
+      }
+    }
+  K->rowind = malloc((nnz ? nnz : 1) * sizeof(int));
+  K->val = calloc(nnz ? nnz : 1, sizeof(double));
+  if (!K->colptr || !K->rowind || !K->val || nnz > INT32_MAX) {
+    free(pair); free(nptr);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (matrix with %zu entries)", nnz);
+  }
+  size_t e = 0;
+  for (int J = 0; J < nn; J++)
+    for (int j = 0; j < 2; j++) {
+      const int col = nd->dof[2 * J + j];
+      if (col < 0) continue;
+      for (int t = nptr[J]; t < nptr[J + 1]; t++) {
+        const int I = (int)(pair[t] & 0xffffffffu);
+        for (int i = 0; i < 2; i++)
+          if (nd->dof[2 * I + i] >= 0) K->rowind[e++] = nd->dof[2 * I + i];
+      }
+      K->colptr[col + 1] = (int)e;
+    }
+  K->n = n;
+  K->nnz = (int)nnz;
+  K->symmetric = pb->symmetric;
+  free(pair);
+  free(nptr);
+  /* scatter map: position of every (a, b, i, j) entry of every point */
+  free(pb->scatter); free(pb->scatter_ptr);
+  pb->scatter_ptr = malloc(((size_t)np + 1) * sizeof(int));
+  size_t ns = 0;
+  for (int p = 0; p < np; p++) {
+    size_t k = (size_t)(C->ptr[p + 1] - C->ptr[p]);
+    ns += 4 * k * k;
+  }
+  pb->scatter = malloc((ns ? ns : 1) * sizeof(int));
+  if (!pb->scatter_ptr || !pb->scatter)
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (scatter map)");
+  size_t s = 0;
+  for (int p = 0; p < np; p++) {
+    pb->scatter_ptr[p] = (int)s;
+    for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++)
+      for (int b = C->ptr[p]; b < C->ptr[p + 1]; b++)
+        for (int i = 0; i < 2; i++)
+          for (int j = 0; j < 2; j++) {
+            const int row = nd->dof[2 * C->node[a] + i], col = nd->dof[2 * C->node[b] + j];
+            int pos = -1;
+            if (row >= 0 && col >= 0) {
+              int lo = K->colptr[col], hi = K->colptr[col + 1] - 1;
+              while (lo <= hi) {
+                const int mid = (lo + hi) / 2;
+                if (K->rowind[mid] < row) lo = mid + 1;
+                else if (K->rowind[mid] > row) hi = mid - 1;
+                else { pos = mid; break; }
+              }
+              if (pos < 0) MPGM_ERROR(ctx, MPGM_ERR_INTERNAL, "pattern misses an entry");
+            }
+            pb->scatter[s++] = pos;
+          }
+  }
+  pb->scatter_ptr[np] = (int)s;
+  pb->pattern_version = C->version;
+  pb->solver->analysed = 0;
+  mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+  return 0;
+}
+
+/* ---- external force --------------------------------------------------- */
+
+int mpgm_body_force(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const int n = pb->nodes.ndof;
+  memset(pb->fext, 0, sizeof(double) * (size_t)n);
+  if (!pb->fx.gravity) return 0;
+  mpgm_timer_start(ctx, MPGM_T_BODYFORCE);
+  const double gx = pb->lambda * pb->scene->gravity[0];
+  const double gy = pb->lambda * pb->scene->gravity[1];
+  const mpgm_conn *C = &pb->conn;
+  const int *dof = pb->nodes.dof;
+  for (int p = 0; p < pb->pts.n; p++) {
+    const double m = pb->pts.mass[p];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      const double w = m * C->N[k];
+      if (dof[2 * I] >= 0) pb->fext[dof[2 * I]] += w * gx;
+      if (dof[2 * I + 1] >= 0) pb->fext[dof[2 * I + 1]] += w * gy;
+    }
+  }
+  ctx->n_body_force++;
+  mpgm_timer_stop(ctx, MPGM_T_BODYFORCE);
+  return 0;
+}
+
+/* ---- residual and tangent --------------------------------------------- */
+
+/* Newmark: nodal acceleration and velocity of the iterate from du. */
+static void newmark_correct(mpgm_problem *pb) {
+  mpgm_nodes *nd = &pb->nodes;
+  const double dt = pb->dt, b = pb->scene->beta, g = pb->scene->gamma;
+  const double c0 = 1.0 / (b * dt * dt), c1 = 1.0 / (b * dt), c2 = 0.5 / b - 1.0;
+  for (int i = 0; i < 2 * nd->n; i++) {
+    nd->a_new[i] = c0 * nd->du[i] - c1 * nd->v[i] - c2 * nd->a[i];
+    nd->v_new[i] = nd->v[i] + dt * ((1.0 - g) * nd->a[i] + g * nd->a_new[i]);
+  }
+}
+
+int mpgm_assemble(mpgm_problem *pb, int want_K) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_points *P = &pb->pts;
+  const mpgm_conn *C = &pb->conn;
+  const int *dof = pb->nodes.dof;
+  const int inertia = pb->fx.inertia, geo = pb->fx.geometric;
+  double *R = pb->R;
+  const int n = pb->nodes.ndof;
+  double kdyn = 0.0;
+  if (inertia) {
+    mpgm_timer_start(ctx, MPGM_T_MASS);
+    newmark_correct(pb);
+    kdyn = 1.0 / (pb->scene->beta * pb->dt * pb->dt);
+    ctx->n_mass++;
+    mpgm_timer_stop(ctx, MPGM_T_MASS);
+  }
+  mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
+  memcpy(R, pb->fext, sizeof(double) * (size_t)n);
+  if (want_K) memset(pb->K.val, 0, sizeof(double) * (size_t)pb->K.nnz);
+  const double *an = pb->nodes.a_new;
+  for (int p = 0; p < P->n; p++) {
+    const double *s = P->sigma_t + 4 * p, *D = P->D_t + 9 * p;
+    const double v = P->vol_t[p], m = P->mass[p];
+    const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
+    double ap[2] = {0, 0};
+    if (inertia)
+      for (int k = k0; k < k0 + nk; k++) {
+        ap[0] += C->N[k] * an[2 * C->node[k]];
+        ap[1] += C->N[k] * an[2 * C->node[k] + 1];
+      }
+    for (int a = 0; a < nk; a++) {
+      const int I = C->node[k0 + a];
+      const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
+      double f0 = v * (s[0] * gx + s[2] * gy), f1 = v * (s[2] * gx + s[1] * gy);
+      if (inertia) {
+        f0 += m * C->N[k0 + a] * ap[0];
+        f1 += m * C->N[k0 + a] * ap[1];
+      }
+      if (dof[2 * I] >= 0) R[dof[2 * I]] -= f0;
+      if (dof[2 * I + 1] >= 0) R[dof[2 * I + 1]] -= f1;
+    }
+    if (!want_K) continue;
+    const int *sc = pb->scatter + pb->scatter_ptr[p];
+    double *val = pb->K.val;
+    for (int b = 0; b < nk; b++) {
+      const double hx = C->g[2 * (k0 + b)], hy = C->g[2 * (k0 + b) + 1];
+      /* DB = D B_b (3 x 2) */
+      double DB[3][2];
+      for (int i = 0; i < 3; i++) {
+        DB[i][0] = D[3 * i] * hx + D[3 * i + 2] * hy;
+        DB[i][1] = D[3 * i + 1] * hy + D[3 * i + 2] * hx;
+      }
+      const double sh0 = s[0] * hx + s[2] * hy, sh1 = s[2] * hx + s[1] * hy;
+      for (int a = 0; a < nk; a++) {
+        const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
+        double k00 = gx * DB[0][0] + gy * DB[2][0];
+        double k01 = gx * DB[0][1] + gy * DB[2][1];
+        double k10 = gy * DB[1][0] + gx * DB[2][0];
+        double k11 = gy * DB[1][1] + gx * DB[2][1];
+        double diag = geo ? gx * sh0 + gy * sh1 : 0.0;
+        diag *= v;
+        if (inertia) diag += kdyn * m * C->N[k0 + a] * C->N[k0 + b];
+        const int *e = sc + 4 * (a * nk + b);
+        if (e[0] >= 0) val[e[0]] += v * k00 + diag;
+        if (e[1] >= 0) val[e[1]] += v * k01;
+        if (e[2] >= 0) val[e[2]] += v * k10;
+        if (e[3] >= 0) val[e[3]] += v * k11 + diag;
+      }
+    }
+  }
+  mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+  return 0;
+}

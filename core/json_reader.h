@@ -1,0 +1,76 @@
+/* json_reader.h -- private helper of scene loading: typed, validated reads
+ * of a cJSON tree with dotted-path error messages and --set overrides.
+ *
+ * Every read names its key: the key is marked as known (so jr_end can reject
+ * unknown keys), an override "path=value" given on the command line takes
+ * precedence over the file and is converted to the type the read expects,
+ * and the value used (after defaults) is mirrored into a "resolved" tree.
+ */
+#ifndef MPGM_JSON_READER_H
+#define MPGM_JSON_READER_H
+
+#include <cjson/cJSON.h>
+
+#include "mpgm_base.h"
+
+#define JR_MAXKEYS 48
+#define JR_PATH 256
+
+typedef struct jr_override {
+  char path[JR_PATH]; /**< dotted path, e.g. "mesh.h"   */
+  const char *value;  /**< text after '='               */
+  int used;           /**< consumed by a read           */
+} jr_override;
+
+typedef struct jr_reader {
+  mpgm_ctx *ctx;
+  const char *file;   /**< for messages                 */
+  jr_override *ov;
+  int nov;
+  cJSON *tmp;         /**< values made from overrides (freed at the end) */
+} jr_reader;
+
+typedef struct jr_node {
+  jr_reader *r;
+  const cJSON *j;            /**< object read (NULL when absent)   */
+  char path[JR_PATH];        /**< dotted path, "" for the root      */
+  cJSON *out;                /**< resolved mirror (owned by parent) */
+  const char *seen[JR_MAXKEYS];
+  int nseen;
+} jr_node;
+
+/** Record "FILE: path.key: message" in ctx; returns MPGM_ERR_INPUT. */
+int jr_fail(jr_node *o, const char *key, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/** Name of a JSON value's type for messages ("number", "string", ...). */
+const char *jr_type(const cJSON *v);
+/** Number with default (NAN: required) and range [lo, hi] (open ends when
+ *  lo_open / hi_open). */
+int jr_num(jr_node *o, const char *key, double def, double lo, double hi,
+           int lo_open, int hi_open, double *out);
+/** Integer with default (def < lo: required) and range [lo, hi]. */
+int jr_int(jr_node *o, const char *key, int def, int lo, int hi, int *out);
+/** One of choices (NULL-terminated); def < 0: required. */
+int jr_enum(jr_node *o, const char *key, const char *const *choices, int def,
+            int *out);
+/** String; def NULL: required. */
+int jr_str(jr_node *o, const char *key, const char *def, char *buf,
+           size_t len);
+/** Array of 2 finite numbers; def NULL: required. */
+int jr_vec2(jr_node *o, const char *key, const double *def, double out[2]);
+/** Child object (absent allowed when !required: child->j = NULL). */
+int jr_child(jr_node *o, const char *key, int required, jr_node *child);
+/** Raw item of a key (marks it known; overrides are not applied). */
+const cJSON *jr_raw(jr_node *o, const char *key);
+/** Reject unknown and duplicate keys of o. */
+int jr_end(jr_node *o);
+/** Overrides not consumed by any read: error "unknown path". */
+int jr_unused_overrides(jr_reader *r);
+/** A JSON value given by an override for path (NULL if none); marks it used
+ *  and parses it as JSON (arrays, objects) or a string. */
+const cJSON *jr_override_json(jr_node *o, const char *key);
+
+#endif

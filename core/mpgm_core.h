@@ -1,0 +1,173 @@
+/* mpgm_core.h -- the shared updated-Lagrangian core: data model (points,
+ * nodes, connectivity), the front-end seam, and the step.
+ *
+ * The core never asks which method runs it. A front end (gmm/: persistent
+ * nodes with element connectivity or node clouds; mpm/: background grid reset
+ * every step) creates nodes and points and, at the start of every step, fills
+ * the connectivity (point -> nodes, N, grad N at the configuration of the
+ * start of the step). The core then solves the step (Newmark predictor,
+ * Newton on R and K = K_mat + K_geo (+ K_dyn)), and commits the points; the
+ * front end's end_step moves or resets its nodes.
+ */
+#ifndef MPGM_CORE_H
+#define MPGM_CORE_H
+
+#include "mpgm_base.h"
+#include "mpgm_material.h"
+#include "mpgm_scene.h"
+#include "mpgm_shapefn.h"
+#include "mpgm_solver.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Material points (integration points) as structure of arrays; the first
+ *  n are material points, the next nprobe are massless tracers (probes)
+ *  that are moved exactly as material points but never assembled. */
+typedef struct mpgm_points {
+  int n;          /**< material points                                 */
+  int nprobe;     /**< tracer points after the material points         */
+  int nstate;     /**< state doubles per point (max over materials)    */
+  double *x;      /**< current position, 2 per point [m]               */
+  double *x0;     /**< initial position, 2 per point [m]               */
+  double *u;      /**< total displacement, 2 per point [m]             */
+  double *v;      /**< velocity, 2 per point [m/s]                     */
+  double *a;      /**< acceleration, 2 per point [m/s^2]               */
+  double *mass;   /**< mass [kg] (per unit thickness)                  */
+  double *vol0;   /**< initial volume [m^3] (per unit thickness)       */
+  double *vol;    /**< current volume [m^3]                            */
+  double *F;      /**< committed deformation gradient, 4 per point     */
+  double *sigma;  /**< committed Cauchy stress {xx, yy, xy, zz} [Pa]   */
+  double *state;  /**< committed material state, nstate per point      */
+  int *mat;       /**< material index                                  */
+  int *body;      /**< body index                                      */
+  /* trial values of the current Newton iterate (n material points) */
+  double *F_t, *sigma_t, *D_t, *state_t, *vol_t, *dF_t;
+} mpgm_points;
+
+/** Nodes (degrees of freedom carriers). */
+typedef struct mpgm_nodes {
+  int n;          /**< nodes                                            */
+  double *X;      /**< initial position, 2 per node [m]                 */
+  double *x;      /**< position at the start of the step [m]            */
+  double *u;      /**< total displacement at the start of the step [m]  */
+  double *du;     /**< displacement increment of the step [m]           */
+  double *v, *a;  /**< velocity / acceleration at the start of the step */
+  double *v_new, *a_new; /**< Newmark-corrected values of the iterate   */
+  unsigned char *fix;    /**< 2 per node: 1 when the component is fixed */
+  double *ubar;   /**< 2 per node: prescribed total displacement at the
+                       end of the run (fixed components; ramped)        */
+  int *dof;       /**< 2 per node: equation number, -1 when fixed       */
+  int ndof;       /**< free equations                                   */
+} mpgm_nodes;
+
+/** Connectivity in CSR: point p is connected to node[ptr[p] .. ptr[p+1]). */
+typedef struct mpgm_conn {
+  int np;         /**< points covered (material + tracers)              */
+  int cap;        /**< allocated entries                                */
+  int *ptr;       /**< np + 1 offsets                                   */
+  int *node;      /**< node ids                                         */
+  double *N;      /**< shape function values                            */
+  double *dN;     /**< grad N at the start-of-step configuration, 2 each */
+  double *g;      /**< grad N at the current iterate, 2 each (work)     */
+  int version;    /**< incremented by a front end when the pattern changes */
+} mpgm_conn;
+
+/** The effects a scene calls for, decided when it loads. */
+typedef struct mpgm_effects {
+  int inertia;        /**< dynamic analysis: mass, Newmark, K_dyn       */
+  int gravity;        /**< non-zero gravity: body-force loop            */
+  int geometric;      /**< finite kinematics: K_geo and config update   */
+  int plasticity;     /**< a plastic material is used                   */
+  int prescribed;     /**< non-zero prescribed displacements            */
+} mpgm_effects;
+
+typedef struct mpgm_problem mpgm_problem;
+
+/** Front-end operations (the seam between method and physics). */
+typedef struct mpgm_frontend_ops {
+  const char *name;
+  /** Create nodes, points (with probes) and fixity from the scene. */
+  int (*setup)(mpgm_problem *pb);
+  /** Fill pb->conn for the step (N, dN at the start-of-step configuration)
+   *  and nodal v, a (history or projection). Bump conn.version when the
+   *  pattern changed. */
+  int (*begin_step)(mpgm_problem *pb);
+  /** After the core committed the points: move/reset nodes. */
+  int (*end_step)(mpgm_problem *pb);
+  /** Cells for output (may be NULL: no mesh output). Borrowed arrays. */
+  int (*cells)(mpgm_problem *pb, int *ncells, const int **ptr,
+               const int **conn, const int **type);
+  void (*destroy)(mpgm_problem *pb);
+} mpgm_frontend_ops;
+
+/** Newton statistics of the last step. */
+typedef struct mpgm_newton_info {
+  int iterations;   /**< Newton iterations (solves) of the step        */
+  double res0;      /**< |R| at the predictor [N]                      */
+  double res;       /**< final |R| [N]                                 */
+  double res_rel;   /**< final |R| / reference                         */
+  double du_rel;    /**< final |delta u| / |Delta u|                   */
+} mpgm_newton_info;
+
+struct mpgm_problem {
+  mpgm_ctx *ctx;
+  const mpgm_scene *scene;
+  mpgm_effects fx;
+  mpgm_points pts;
+  mpgm_nodes nodes;
+  mpgm_conn conn;
+  const mpgm_frontend_ops *fe;
+  void *fe_data;
+  /* step */
+  double t;          /**< time (dynamic) or load factor (static) at step start */
+  double dt;         /**< time step [s] (dynamic) or load increment     */
+  double lambda;     /**< load factor at the end of the step            */
+  long step;         /**< steps completed                               */
+  long newton_total; /**< Newton iterations over the run                */
+  mpgm_newton_info last;
+  /* linear system */
+  mpgm_csc K;
+  int pattern_version; /**< conn.version the pattern was built for      */
+  int *scatter;      /**< per point: 4 * n_p^2 positions in K.val (-1: fixed) */
+  int *scatter_ptr;  /**< np + 1 offsets into scatter                   */
+  double *R, *fext, *delta;
+  mpgm_solver *solver;
+  int symmetric;     /**< all tangents symmetric (static or dynamic)    */
+};
+
+/** Create a problem for a loaded scene with a front end. */
+int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
+                        const mpgm_frontend_ops *fe, mpgm_problem **out);
+void mpgm_problem_destroy(mpgm_problem **pb);
+
+/** Allocate points (n material + nprobe tracers) with nstate doubles. */
+int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nstate);
+/** Allocate nodes. */
+int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n);
+/** Make room for nnz connectivity entries over np points. */
+int mpgm_conn_reserve(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnz);
+/** Number equations of free components (node-major); sets nodes->ndof. */
+void mpgm_nodes_number(mpgm_nodes *nd);
+
+/** Solve one step to load factor / time pb->t + pb->dt (Newton);
+ *  commits points and calls the front end's end_step. On a recoverable
+ *  failure nothing is committed. */
+int mpgm_step(mpgm_problem *pb);
+
+/** Evaluate trial state at the current increment nodes.du: F, stress,
+ *  tangent and current gradients (exposed for tests). */
+int mpgm_eval_points(mpgm_problem *pb);
+/** Assemble R = f_ext - f_int (- f_inertia) and, if want_K, the tangent
+ *  into pb->K (pattern must exist). Exposed for tests. */
+int mpgm_assemble(mpgm_problem *pb, int want_K);
+/** (Re)build the sparsity pattern and scatter map from the connectivity. */
+int mpgm_pattern_build(mpgm_problem *pb);
+/** External force (gravity times load factor) into pb->fext. */
+int mpgm_body_force(mpgm_problem *pb);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,26 @@
+/* mpgm_output.h -- private to core: the results folder of a run. */
+#ifndef MPGM_OUTPUT_H
+#define MPGM_OUTPUT_H
+
+#include "mpgm_core.h"
+
+typedef struct mpgm_output {
+  char dir[MPGM_PATH_LEN];
+  struct mpgm_pvd *pvd_points, *pvd_mesh;
+  int nvtk;       /**< VTK outputs written (index of the next one) */
+  int files;      /**< VTK files written                          */
+  int ncol;       /**< probe columns (2 per probe)                */
+  int nrow, caprow;
+  double *hist;   /**< probe history rows: step, time, columns     */
+} mpgm_output;
+
+int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir);
+int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir);
+void mpgm_output_close(mpgm_output *o);
+int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb);
+int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
+int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
+/** Write a cJSON tree atomically. */
+int mpgm_write_json(mpgm_ctx *ctx, const char *path, const void *json);
+
+#endif

@@ -1,0 +1,34 @@
+/* mpgm_run.h -- run a scene to the end: time/load loop, output, summary. */
+#ifndef MPGM_RUN_H
+#define MPGM_RUN_H
+
+#include "mpgm_core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct mpgm_run_opts {
+  const char *out_dir; /**< results folder (overrides output.dir if set)  */
+  int progress;        /**< 1: one-line progress display on stderr        */
+  int per_iteration;   /**< 1: print the time split of every step (bench) */
+} mpgm_run_opts;
+
+/** Run a loaded scene with its front end. Writes DIR/summary.json (also on
+ *  failure, with status "failed" and where it stopped), DIR/probes.csv,
+ *  VTK files and .pvd collections. Returns 0 or the error code (message in
+ *  ctx): negative fatal / positive recoverable codes of the failing step,
+ *  MPGM_ERR_IO when output cannot be written. */
+int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *scene, const mpgm_frontend_ops *fe,
+             const mpgm_run_opts *opts);
+
+/** Effects of a scene as a cJSON object {"inertia": bool, ...}; used by
+ *  `mpgm check` and summary.json. Returns a cJSON * (as void *). */
+void *mpgm_effects_json(const mpgm_effects *fx);
+/** Effects a scene calls for (without building a problem). */
+void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,120 @@
+/* mpgm_scene.h -- a scene: the validated, typed content of a scene file
+ * (docs/scene-format.md) after --set overrides and defaults.
+ *
+ * Loading validates every key: unknown keys, wrong types, out-of-range
+ * values, undefined names and bodies outside the domain are MPGM_ERR_INPUT
+ * with the message "FILE: json.path: what was expected, what was found".
+ */
+#ifndef MPGM_SCENE_H
+#define MPGM_SCENE_H
+
+#include "mpgm_base.h"
+#include "mpgm_material.h"
+#include "mpgm_shapefn.h"
+#include "mpgm_solver.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define MPGM_NAME_LEN 64
+#define MPGM_PATH_LEN 1024
+
+typedef enum { MPGM_METHOD_FEM = 0 } mpgm_method;
+typedef enum { MPGM_ANALYSIS_STATIC = 0, MPGM_ANALYSIS_DYNAMIC = 1 } mpgm_analysis;
+typedef enum { MPGM_VTK_NONE = 0, MPGM_VTK_OUT_ASCII = 1, MPGM_VTK_OUT_BINARY = 2 } mpgm_vtk_mode;
+typedef enum { MPGM_GEOM_RECTANGLE = 0 } mpgm_geometry;
+typedef enum { MPGM_SELECT_X = 0, MPGM_SELECT_Y = 1, MPGM_SELECT_BOX = 2 } mpgm_select;
+
+/** Output fields of material points (bit mask). */
+typedef enum {
+  MPGM_FIELD_DISPLACEMENT = 1 << 0,
+  MPGM_FIELD_VELOCITY = 1 << 1,
+  MPGM_FIELD_STRESS = 1 << 2,
+  MPGM_FIELD_MASS = 1 << 3,
+  MPGM_FIELD_VOLUME = 1 << 4,
+  MPGM_FIELD_J = 1 << 5,
+  MPGM_FIELD_MATERIAL = 1 << 6,
+  MPGM_FIELD_ACCELERATION = 1 << 7,
+  MPGM_FIELD_ALL = (1 << 8) - 1
+} mpgm_field;
+
+typedef struct mpgm_scene_body {
+  char name[MPGM_NAME_LEN];
+  int material;        /**< index into scene materials               */
+  int geometry;        /**< mpgm_geometry                            */
+  double min[2], max[2]; /**< rectangle corners [m]                  */
+  double velocity[2];  /**< initial velocity [m/s]                   */
+} mpgm_scene_body;
+
+typedef struct mpgm_scene_boundary {
+  char name[MPGM_NAME_LEN];
+  int select;          /**< mpgm_select                              */
+  double value;        /**< x or y of the selecting line [m]         */
+  double min[2], max[2]; /**< box [m]                                */
+  double tol;          /**< selection tolerance [m]                  */
+  int fix[2];          /**< 1: component fixed                       */
+  double displacement[2]; /**< prescribed value of fixed components at
+                               the end of the run [m] (ramped)        */
+} mpgm_scene_boundary;
+
+typedef struct mpgm_scene_probe {
+  char name[MPGM_NAME_LEN];
+  double x[2];         /**< reference position [m]                   */
+} mpgm_scene_probe;
+
+typedef struct mpgm_scene {
+  char file[MPGM_PATH_LEN]; /**< scene file as given                  */
+  char stem[MPGM_NAME_LEN]; /**< file name without folder and .json    */
+  int method;               /**< mpgm_method                           */
+  const mpgm_shapefn_type *shape;
+  /* mesh */
+  double h;                 /**< cell size [m]                         */
+  int cell;                 /**< mpgm_cell_kind                        */
+  int ppc;                  /**< points per cell                       */
+  double dom_min[2], dom_max[2]; /**< domain box [m]                   */
+  /* kinematics and time */
+  int kinematics;           /**< mpgm_kinematics                       */
+  int analysis;             /**< mpgm_analysis                         */
+  double dt, t_end;         /**< dynamic: step and end time [s]        */
+  int load_steps;           /**< static: number of load steps          */
+  double beta, gamma;       /**< Newmark parameters                    */
+  /* solver */
+  const mpgm_solver_type *solver; /**< NULL: auto (by tangent symmetry) */
+  double rtol, atol, dtol;  /**< Newton: relative and absolute residual,
+                                 relative displacement increment       */
+  int max_iter;             /**< Newton iteration limit                */
+  /* physics */
+  int nmat;
+  mpgm_material *mats;
+  int nbody;
+  mpgm_scene_body *bodies;
+  int nbc;
+  mpgm_scene_boundary *bcs;
+  int nprobe;
+  mpgm_scene_probe *probes;
+  double gravity[2];        /**< [m/s^2]                               */
+  /* output */
+  char out_dir[MPGM_PATH_LEN];
+  int every;                /**< write VTK every n steps                */
+  int vtk;                  /**< mpgm_vtk_mode                          */
+  unsigned fields;          /**< mpgm_field mask                        */
+  void *resolved;           /**< cJSON tree of every resolved value     */
+} mpgm_scene;
+
+/** Load and validate a scene file with overrides ("dotted.path=value").
+ *  On error returns MPGM_ERR_INPUT (or MPGM_ERR_IO when the file cannot be
+ *  read) with the message in ctx; *out is NULL then. */
+int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
+                    const char *const *sets, mpgm_scene **out);
+/** Free a scene (accepts NULL, nulls the pointer). */
+void mpgm_scene_destroy(mpgm_scene **s);
+/** The resolved scene as indented JSON (caller frees with free()). */
+char *mpgm_scene_resolved_json(const mpgm_scene *s);
+/** Name of the method ("fem"). */
+const char *mpgm_method_name(int method);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,71 @@
+/* mpgm_vtk.h -- in-tree VTK legacy writer (unstructured grid) and .pvd
+ * time-series collections, written atomically (temporary name + rename).
+ *
+ * Binary files follow the legacy format's rule: big-endian numbers.
+ * 2-D data are written as 3-D points with z = 0.
+ */
+#ifndef MPGM_VTK_H
+#define MPGM_VTK_H
+
+#include "mpgm_base.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** How a field's per-point data are laid out in memory. */
+typedef enum {
+  MPGM_VTK_SCALAR = 1,  /**< 1 double per point -> SCALARS name double 1   */
+  MPGM_VTK_VECTOR2 = 2, /**< 2 doubles per point -> VECTORS (z = 0)        */
+  MPGM_VTK_STRESS4 = 4  /**< {xx, yy, xy, zz} per point -> TENSORS 3x3 sym. */
+} mpgm_vtk_kind;
+
+/** One point-data field (borrowed array). */
+typedef struct mpgm_vtk_field {
+  const char *name;   /**< field name as ParaView shows it (no spaces) */
+  int kind;           /**< mpgm_vtk_kind                              */
+  const double *data; /**< npoints * kind doubles                      */
+} mpgm_vtk_field;
+
+/** VTK cell type numbers used by mpgm. */
+enum { MPGM_VTK_VERTEX = 1, MPGM_VTK_TRIANGLE = 5, MPGM_VTK_QUAD = 9 };
+
+/** Write an unstructured grid in legacy format, atomically.
+ *  path      : final file name (written to a temporary name, then renamed)
+ *  binary    : 1 binary (big-endian), 0 ASCII
+ *  title     : header line (truncated to 255 chars, newlines removed)
+ *  npoints, x: point coordinates, 2 doubles per point
+ *  ncells    : number of cells; 0 with conn == NULL writes one VTK_VERTEX
+ *              cell per point (a particle cloud)
+ *  cell_ptr  : ncells + 1 offsets into conn (CSR)
+ *  conn      : point ids of every cell
+ *  cell_type : VTK type of every cell (MPGM_VTK_TRIANGLE, ...)
+ *  nfields, fields : point data
+ *  Errors: MPGM_ERR_IO (message names the file and the reason). */
+int mpgm_vtk_write(mpgm_ctx *ctx, const char *path, int binary,
+                   const char *title, int npoints, const double *x,
+                   int ncells, const int *cell_ptr, const int *conn,
+                   const int *cell_type, int nfields,
+                   const mpgm_vtk_field *fields);
+
+/** A .pvd collection: (time, file) entries, rewritten atomically on add. */
+typedef struct mpgm_pvd mpgm_pvd;
+
+/** Create a collection that will be written to path (nothing written yet). */
+int mpgm_pvd_create(mpgm_ctx *ctx, const char *path, mpgm_pvd **out);
+/** Append (time, file) and rewrite the collection. file is written as given
+ *  (relative to the .pvd's folder). */
+int mpgm_pvd_add(mpgm_pvd *pvd, mpgm_ctx *ctx, double time, const char *file);
+/** Free (accepts NULL, nulls the pointer). */
+void mpgm_pvd_destroy(mpgm_pvd **pvd);
+
+/** Open a temporary file next to path for writing ("path.tmp"). */
+int mpgm_atomic_open(mpgm_ctx *ctx, const char *path, void **fp_out);
+/** Close the temporary and rename it to path (fp is a FILE *). On error the
+ *  temporary is removed and MPGM_ERR_IO returned. */
+int mpgm_atomic_close(mpgm_ctx *ctx, const char *path, void *fp);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,180 @@
+/* output.c -- VTK series of points and mesh, probes history, summary.json. */
+#define _POSIX_C_SOURCE 200809L
+#include "mpgm_output.h"
+
+#include <cjson/cJSON.h>
+#include <dirent.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "mpgm_vtk.h"
+
+int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir) {
+  char buf[MPGM_PATH_LEN + 32];
+  snprintf(buf, sizeof buf, "%s", dir);
+  for (char *p = buf + 1;; p++) {
+    if (*p == '/' || *p == '\0') {
+      const char c = *p;
+      *p = '\0';
+      if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: cannot create folder: %s", buf, strerror(errno));
+      struct stat st;
+      if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
+        MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: exists and is not a folder", buf);
+      *p = c;
+      if (c == '\0') break;
+    }
+  }
+  return 0;
+}
+
+int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
+  memset(o, 0, sizeof *o);
+  snprintf(o->dir, sizeof o->dir, "%s", dir);
+  MPGM_CALL(mpgm_mkdir_p(ctx, dir));
+  char path[MPGM_PATH_LEN + 64];
+  if (pb->scene->vtk != MPGM_VTK_NONE) {
+    snprintf(path, sizeof path, "%s/vtk", dir);
+    MPGM_CALL(mpgm_mkdir_p(ctx, path));
+    /* stale files of an earlier run in the same folder would mix series */
+    DIR *dd = opendir(path);
+    if (dd) {
+      struct dirent *e;
+      while ((e = readdir(dd))) {
+        if ((strncmp(e->d_name, "points_", 7) == 0 || strncmp(e->d_name, "mesh_", 5) == 0) &&
+            strstr(e->d_name, ".vtk")) {
+          char f[MPGM_PATH_LEN + 400];
+          snprintf(f, sizeof f, "%s/%s", path, e->d_name);
+          remove(f);
+        }
+      }
+      closedir(dd);
+    }
+    snprintf(path, sizeof path, "%s/points.pvd", dir);
+    MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_points));
+    if (pb->fe->cells) {
+      snprintf(path, sizeof path, "%s/mesh.pvd", dir);
+      remove(path);
+      MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_mesh));
+    }
+  }
+  o->ncol = 2 * pb->pts.nprobe;
+  return 0;
+}
+
+void mpgm_output_close(mpgm_output *o) {
+  mpgm_pvd_destroy((mpgm_pvd **)&o->pvd_points);
+  mpgm_pvd_destroy((mpgm_pvd **)&o->pvd_mesh);
+  free(o->hist);
+  o->hist = NULL;
+}
+
+int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
+  const int w = 2 + o->ncol;
+  if (o->nrow == o->caprow) {
+    int cap = o->caprow ? 2 * o->caprow : 256;
+    double *h = realloc(o->hist, sizeof(double) * (size_t)w * cap);
+    MPGM_CHECK(ctx, h, MPGM_ERR_NOMEM, "out of memory (probe history)");
+    o->hist = h;
+    o->caprow = cap;
+  }
+  double *row = o->hist + (size_t)w * o->nrow++;
+  row[0] = (double)pb->step;
+  row[1] = pb->scene->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t;
+  const int p0 = pb->pts.n;
+  for (int k = 0; k < pb->pts.nprobe; k++) {
+    row[2 + 2 * k] = pb->pts.u[2 * (p0 + k)];
+    row[3 + 2 * k] = pb->pts.u[2 * (p0 + k) + 1];
+  }
+  return 0;
+}
+
+int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
+  char path[MPGM_PATH_LEN + 64];
+  snprintf(path, sizeof path, "%s/probes.csv", o->dir);
+  void *fv;
+  MPGM_CALL(mpgm_atomic_open(ctx, path, &fv));
+  FILE *f = fv;
+  fprintf(f, "step,%s", pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
+  for (int k = 0; k < pb->scene->nprobe; k++)
+    fprintf(f, ",%s_ux,%s_uy", pb->scene->probes[k].name, pb->scene->probes[k].name);
+  fputc('\n', f);
+  const int w = 2 + o->ncol;
+  for (int r = 0; r < o->nrow; r++) {
+    const double *row = o->hist + (size_t)w * r;
+    fprintf(f, "%ld,%.17g", (long)row[0], row[1]);
+    for (int c = 0; c < o->ncol; c++) fprintf(f, ",%.17g", row[2 + c]);
+    fputc('\n', f);
+  }
+  return mpgm_atomic_close(ctx, path, f);
+}
+
+int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
+  const mpgm_scene *s = pb->scene;
+  if (s->vtk == MPGM_VTK_NONE) return 0;
+  const int binary = s->vtk == MPGM_VTK_OUT_BINARY;
+  const double time = s->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t;
+  const mpgm_points *P = &pb->pts;
+  const int n = P->n;
+  /* J = det F per point (scratch in the trial volume's neighbour: own buffer) */
+  double *J = malloc(sizeof(double) * (size_t)(n ? n : 1));
+  double *matid = malloc(sizeof(double) * (size_t)(n ? n : 1));
+  MPGM_CHECK(ctx, J && matid, MPGM_ERR_NOMEM, "out of memory (output)");
+  for (int p = 0; p < n; p++) {
+    const double *F = P->F + 4 * p;
+    J[p] = F[0] * F[3] - F[1] * F[2];
+    matid[p] = P->mat[p];
+  }
+  mpgm_vtk_field f[8];
+  int nf = 0;
+  const unsigned m = s->fields;
+  if (m & MPGM_FIELD_DISPLACEMENT) f[nf++] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR2, P->u};
+  if (m & MPGM_FIELD_VELOCITY) f[nf++] = (mpgm_vtk_field){"velocity", MPGM_VTK_VECTOR2, P->v};
+  if (m & MPGM_FIELD_ACCELERATION) f[nf++] = (mpgm_vtk_field){"acceleration", MPGM_VTK_VECTOR2, P->a};
+  if (m & MPGM_FIELD_STRESS) f[nf++] = (mpgm_vtk_field){"stress", MPGM_VTK_STRESS4, P->sigma};
+  if (m & MPGM_FIELD_MASS) f[nf++] = (mpgm_vtk_field){"mass", MPGM_VTK_SCALAR, P->mass};
+  if (m & MPGM_FIELD_VOLUME) f[nf++] = (mpgm_vtk_field){"volume", MPGM_VTK_SCALAR, P->vol};
+  if (m & MPGM_FIELD_J) f[nf++] = (mpgm_vtk_field){"J", MPGM_VTK_SCALAR, J};
+  if (m & MPGM_FIELD_MATERIAL) f[nf++] = (mpgm_vtk_field){"material", MPGM_VTK_SCALAR, matid};
+  char rel[64], path[MPGM_PATH_LEN + 128], title[256];
+  snprintf(rel, sizeof rel, "vtk/points_%06d.vtk", o->nvtk);
+  snprintf(path, sizeof path, "%s/%s", o->dir, rel);
+  snprintf(title, sizeof title, "mpgm %s material points, step %ld, t = %.9g", s->stem, pb->step, time);
+  int err = mpgm_vtk_write(ctx, path, binary, title, n, P->x, 0, NULL, NULL, NULL, nf, f);
+  free(J);
+  free(matid);
+  MPGM_CALL(err);
+  MPGM_CALL(mpgm_pvd_add(o->pvd_points, ctx, time, rel));
+  o->files++;
+  if (o->pvd_mesh) {
+    int nc;
+    const int *cp, *cc, *ct;
+    MPGM_CALL(pb->fe->cells(pb, &nc, &cp, &cc, &ct));
+    mpgm_vtk_field nf_u = {"displacement", MPGM_VTK_VECTOR2, pb->nodes.u};
+    snprintf(rel, sizeof rel, "vtk/mesh_%06d.vtk", o->nvtk);
+    snprintf(path, sizeof path, "%s/%s", o->dir, rel);
+    snprintf(title, sizeof title, "mpgm %s mesh, step %ld, t = %.9g", s->stem, pb->step, time);
+    MPGM_CALL(mpgm_vtk_write(ctx, path, binary, title, pb->nodes.n, pb->nodes.x, nc, cp, cc, ct, 1, &nf_u));
+    MPGM_CALL(mpgm_pvd_add(o->pvd_mesh, ctx, time, rel));
+    o->files++;
+  }
+  o->nvtk++;
+  return 0;
+}
+
+int mpgm_write_json(mpgm_ctx *ctx, const char *path, const void *json) {
+  char *text = cJSON_Print((const cJSON *)json);
+  MPGM_CHECK(ctx, text, MPGM_ERR_NOMEM, "out of memory (JSON)");
+  void *fv;
+  int err = mpgm_atomic_open(ctx, path, &fv);
+  if (!err) {
+    fputs(text, (FILE *)fv);
+    fputc('\n', (FILE *)fv);
+    err = mpgm_atomic_close(ctx, path, fv);
+  }
+  free(text);
+  return err;
+}

@@ -1,0 +1,173 @@
+/* problem.c -- allocation of points, nodes, connectivity and the problem;
+ * the effects of a scene. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_core.h"
+
+int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nstate) {
+  const int m = n + nprobe;
+  p->n = n;
+  p->nprobe = nprobe;
+  p->nstate = nstate;
+  MPGM_ALLOC(ctx, p->x, 2 * m);
+  MPGM_ALLOC(ctx, p->x0, 2 * m);
+  MPGM_ALLOC(ctx, p->u, 2 * m);
+  MPGM_ALLOC(ctx, p->v, 2 * m);
+  MPGM_ALLOC(ctx, p->a, 2 * m);
+  MPGM_ALLOC(ctx, p->mass, m);
+  MPGM_ALLOC(ctx, p->vol0, m);
+  MPGM_ALLOC(ctx, p->vol, m);
+  MPGM_ALLOC(ctx, p->F, 4 * m);
+  MPGM_ALLOC(ctx, p->sigma, 4 * m);
+  MPGM_ALLOC(ctx, p->state, (size_t)nstate * m);
+  MPGM_ALLOC(ctx, p->mat, m);
+  MPGM_ALLOC(ctx, p->body, m);
+  MPGM_ALLOC(ctx, p->F_t, 4 * n);
+  MPGM_ALLOC(ctx, p->dF_t, 4 * n);
+  MPGM_ALLOC(ctx, p->sigma_t, 4 * n);
+  MPGM_ALLOC(ctx, p->D_t, 9 * n);
+  MPGM_ALLOC(ctx, p->state_t, (size_t)nstate * n);
+  MPGM_ALLOC(ctx, p->vol_t, n);
+  for (int i = 0; i < m; i++) {
+    p->F[4 * i] = p->F[4 * i + 3] = 1.0;
+  }
+  return 0;
+}
+
+static void points_free(mpgm_points *p) {
+  void *arr[] = {p->x, p->x0, p->u, p->v, p->a, p->mass, p->vol0, p->vol, p->F,
+                 p->sigma, p->state, p->mat, p->body, p->F_t, p->dF_t, p->sigma_t,
+                 p->D_t, p->state_t, p->vol_t};
+  for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
+  memset(p, 0, sizeof *p);
+}
+
+int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n) {
+  nd->n = n;
+  MPGM_ALLOC(ctx, nd->X, 2 * n);
+  MPGM_ALLOC(ctx, nd->x, 2 * n);
+  MPGM_ALLOC(ctx, nd->u, 2 * n);
+  MPGM_ALLOC(ctx, nd->du, 2 * n);
+  MPGM_ALLOC(ctx, nd->v, 2 * n);
+  MPGM_ALLOC(ctx, nd->a, 2 * n);
+  MPGM_ALLOC(ctx, nd->v_new, 2 * n);
+  MPGM_ALLOC(ctx, nd->a_new, 2 * n);
+  MPGM_ALLOC(ctx, nd->fix, 2 * n);
+  MPGM_ALLOC(ctx, nd->ubar, 2 * n);
+  MPGM_ALLOC(ctx, nd->dof, 2 * n);
+  return 0;
+}
+
+static void nodes_free(mpgm_nodes *nd) {
+  void *arr[] = {nd->X, nd->x, nd->u, nd->du, nd->v, nd->a, nd->v_new, nd->a_new,
+                 nd->fix, nd->ubar, nd->dof};
+  for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
+  memset(nd, 0, sizeof *nd);
+}
+
+void mpgm_nodes_number(mpgm_nodes *nd) {
+  int k = 0;
+  for (int i = 0; i < 2 * nd->n; i++) nd->dof[i] = nd->fix[i] ? -1 : k++;
+  nd->ndof = k;
+}
+
+int mpgm_conn_reserve(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnz) {
+  if (np + 1 > 0 && (!c->ptr || c->np < np)) {
+    free(c->ptr);
+    MPGM_ALLOC(ctx, c->ptr, np + 1);
+  }
+  c->np = np;
+  if (nnz > c->cap) {
+    free(c->node);
+    free(c->N);
+    free(c->dN);
+    free(c->g);
+    c->node = NULL; c->N = c->dN = c->g = NULL;
+    c->cap = 0;
+    MPGM_ALLOC(ctx, c->node, nnz);
+    MPGM_ALLOC(ctx, c->N, nnz);
+    MPGM_ALLOC(ctx, c->dN, 2 * (size_t)nnz);
+    MPGM_ALLOC(ctx, c->g, 2 * (size_t)nnz);
+    c->cap = nnz;
+  }
+  return 0;
+}
+
+static void conn_free(mpgm_conn *c) {
+  free(c->ptr);
+  free(c->node);
+  free(c->N);
+  free(c->dN);
+  free(c->g);
+  memset(c, 0, sizeof *c);
+}
+
+int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
+                        const mpgm_frontend_ops *fe, mpgm_problem **out) {
+  *out = NULL;
+  mpgm_problem *pb;
+  MPGM_ALLOC(ctx, pb, 1);
+  pb->ctx = ctx;
+  pb->scene = scene;
+  pb->fe = fe;
+  pb->pattern_version = -1;
+  /* effects: decided once, here */
+  pb->fx.inertia = scene->analysis == MPGM_ANALYSIS_DYNAMIC;
+  pb->fx.gravity = scene->gravity[0] != 0.0 || scene->gravity[1] != 0.0;
+  pb->fx.geometric = scene->kinematics == MPGM_KIN_FINITE;
+  pb->symmetric = 1;
+  for (int i = 0; i < scene->nmat; i++) {
+    pb->fx.plasticity |= scene->mats[i].plastic;
+    pb->symmetric &= scene->mats[i].symmetric;
+  }
+  for (int i = 0; i < scene->nbc; i++)
+    for (int d = 0; d < 2; d++)
+      pb->fx.prescribed |= scene->bcs[i].fix[d] && scene->bcs[i].displacement[d] != 0.0;
+  const mpgm_solver_type *st = scene->solver;
+  if (!st) st = mpgm_solver_type_find(pb->symmetric ? "cholmod" : "umfpack");
+  int err = st ? mpgm_solver_create(ctx, st, &pb->solver)
+               : mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "no solver backend");
+  mpgm_timer_start(ctx, MPGM_T_SHAPE);
+  if (!err) err = fe->setup(pb);
+  mpgm_timer_stop(ctx, MPGM_T_SHAPE);
+  if (!err) {
+    mpgm_nodes_number(&pb->nodes);
+    const int nd = pb->nodes.ndof > 0 ? pb->nodes.ndof : 1;
+    pb->R = calloc(nd, sizeof(double));
+    pb->fext = calloc(nd, sizeof(double));
+    pb->delta = calloc(nd, sizeof(double));
+    if (!pb->R || !pb->fext || !pb->delta)
+      err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
+  }
+  if (!err && pb->nodes.ndof == 0)
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "%s: boundaries: every degree of freedom is fixed; nothing to solve",
+                       scene->file);
+  if (err) {
+    mpgm_problem_destroy(&pb);
+    return err;
+  }
+  *out = pb;
+  return 0;
+}
+
+void mpgm_problem_destroy(mpgm_problem **pp) {
+  if (!pp || !*pp) return;
+  mpgm_problem *pb = *pp;
+  if (pb->fe && pb->fe->destroy) pb->fe->destroy(pb);
+  points_free(&pb->pts);
+  nodes_free(&pb->nodes);
+  conn_free(&pb->conn);
+  free(pb->K.colptr);
+  free(pb->K.rowind);
+  free(pb->K.val);
+  free(pb->scatter);
+  free(pb->scatter_ptr);
+  free(pb->R);
+  free(pb->fext);
+  free(pb->delta);
+  mpgm_solver_destroy(&pb->solver);
+  free(pb);
+  *pp = NULL;
+}

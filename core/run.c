@@ -1,0 +1,204 @@
+/* run.c -- the load/time loop of a scene, its output and summary.json. */
+#define _POSIX_C_SOURCE 200809L
+#include "mpgm_run.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_output.h"
+
+void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
+  memset(fx, 0, sizeof *fx);
+  fx->inertia = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  fx->gravity = s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
+  fx->geometric = s->kinematics == MPGM_KIN_FINITE;
+  for (int i = 0; i < s->nmat; i++) fx->plasticity |= s->mats[i].plastic;
+  for (int i = 0; i < s->nbc; i++)
+    for (int d = 0; d < 2; d++)
+      fx->prescribed |= s->bcs[i].fix[d] && s->bcs[i].displacement[d] != 0.0;
+}
+
+void *mpgm_effects_json(const mpgm_effects *fx) {
+  cJSON *e = cJSON_CreateObject();
+  cJSON_AddBoolToObject(e, "inertia", fx->inertia);
+  cJSON_AddBoolToObject(e, "gravity", fx->gravity);
+  cJSON_AddBoolToObject(e, "geometric_stiffness", fx->geometric);
+  cJSON_AddBoolToObject(e, "configuration_update", fx->geometric);
+  cJSON_AddBoolToObject(e, "plasticity", fx->plasticity);
+  cJSON_AddBoolToObject(e, "prescribed_displacement", fx->prescribed);
+  return e;
+}
+
+typedef struct run_state {
+  const char *status;   /**< "completed" or "failed"            */
+  const char *message;  /**< failure message or ""              */
+  long failed_step;     /**< step that failed, -1 if none        */
+  double wall;          /**< wall time of the run [s]            */
+} run_state;
+
+static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const run_state *rs) {
+  const mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  cJSON *j = cJSON_CreateObject();
+  cJSON_AddStringToObject(j, "status", rs->status);
+  cJSON_AddStringToObject(j, "message", rs->message);
+  if (rs->failed_step >= 0) cJSON_AddNumberToObject(j, "failed_step", (double)rs->failed_step);
+  cJSON_AddStringToObject(j, "scene_file", s->file);
+  cJSON_AddItemToObject(j, "scene", cJSON_Duplicate((const cJSON *)s->resolved, 1));
+  cJSON_AddStringToObject(j, "method", mpgm_method_name(s->method));
+  cJSON_AddStringToObject(j, "shape", s->shape->name);
+  cJSON_AddStringToObject(j, "solver", pb->solver->type->name);
+  cJSON_AddItemToObject(j, "effects", (cJSON *)mpgm_effects_json(&pb->fx));
+  cJSON *c = cJSON_AddObjectToObject(j, "counts");
+  int ncells = 0;
+  const int *cp, *cc, *ct;
+  if (pb->fe->cells) pb->fe->cells((mpgm_problem *)pb, &ncells, &cp, &cc, &ct);
+  cJSON_AddNumberToObject(c, "points", pb->pts.n);
+  cJSON_AddNumberToObject(c, "probes", pb->pts.nprobe);
+  cJSON_AddNumberToObject(c, "nodes", pb->nodes.n);
+  cJSON_AddNumberToObject(c, "cells", ncells);
+  cJSON_AddNumberToObject(c, "dofs", pb->nodes.ndof);
+  cJSON_AddNumberToObject(c, "nnz", pb->K.nnz);
+  cJSON_AddNumberToObject(c, "steps", (double)pb->step);
+  cJSON_AddNumberToObject(c, "newton_iterations", (double)pb->newton_total);
+  cJSON_AddNumberToObject(c, "analyses", (double)ctx->n_analyses);
+  cJSON_AddNumberToObject(c, "factorizations", (double)ctx->n_factorizations);
+  cJSON_AddNumberToObject(c, "solves", (double)ctx->n_solves);
+  cJSON_AddNumberToObject(c, "material_updates", (double)ctx->n_material_calls);
+  cJSON_AddNumberToObject(c, "body_force_loops", (double)ctx->n_body_force);
+  cJSON_AddNumberToObject(c, "inertia_loops", (double)ctx->n_mass);
+  cJSON_AddNumberToObject(c, "step_cuts", 0);
+  cJSON_AddNumberToObject(c, "vtk_files", o->files);
+  mpgm_solver_stats st = {0, 0};
+  if (pb->solver && ctx->n_factorizations && mpgm_solver_get_stats(pb->solver, &st) == 0)
+    cJSON_AddNumberToObject(c, "nnz_factor", st.nnz_factor);
+  cJSON *t = cJSON_AddObjectToObject(j, "time_s");
+  for (int i = 0; i < MPGM_T_COUNT; i++)
+    cJSON_AddNumberToObject(t, mpgm_timer_name(i), i == MPGM_T_TOTAL ? rs->wall : ctx->t[i]);
+  cJSON *nw = cJSON_AddObjectToObject(j, "newton_last_step");
+  cJSON_AddNumberToObject(nw, "iterations", pb->last.iterations);
+  cJSON_AddNumberToObject(nw, "residual_initial", pb->last.res0);
+  cJSON_AddNumberToObject(nw, "residual", pb->last.res);
+  cJSON_AddNumberToObject(nw, "residual_relative", pb->last.res_rel);
+  cJSON_AddNumberToObject(nw, "increment_relative", pb->last.du_rel);
+  /* metrics: final probe displacements and conservation checks */
+  cJSON *m = cJSON_AddObjectToObject(j, "metrics");
+  cJSON *pr = cJSON_AddObjectToObject(j, "probes");
+  for (int k = 0; k < pb->pts.nprobe; k++) {
+    const int p = pb->pts.n + k;
+    char key[MPGM_NAME_LEN + 8];
+    snprintf(key, sizeof key, "%s_ux", s->probes[k].name);
+    cJSON_AddNumberToObject(m, key, pb->pts.u[2 * p]);
+    snprintf(key, sizeof key, "%s_uy", s->probes[k].name);
+    cJSON_AddNumberToObject(m, key, pb->pts.u[2 * p + 1]);
+    cJSON *q = cJSON_AddObjectToObject(pr, s->probes[k].name);
+    cJSON_AddItemToObject(q, "x", cJSON_CreateDoubleArray(s->probes[k].x, 2));
+    cJSON_AddItemToObject(q, "u", cJSON_CreateDoubleArray(pb->pts.u + 2 * p, 2));
+  }
+  double mass = 0.0, vol = 0.0;
+  for (int p = 0; p < pb->pts.n; p++) {
+    mass += pb->pts.mass[p];
+    vol += pb->pts.vol[p];
+  }
+  cJSON_AddNumberToObject(m, "mass_total", mass);
+  cJSON_AddNumberToObject(m, "volume_total", vol);
+  cJSON *out = cJSON_AddObjectToObject(j, "output");
+  cJSON_AddStringToObject(out, "dir", o->dir);
+  return j;
+}
+
+static int write_summary(mpgm_problem *pb, mpgm_output *o, const run_state *rs) {
+  cJSON *j = summary_json(pb, o, rs);
+  char path[MPGM_PATH_LEN + 64];
+  snprintf(path, sizeof path, "%s/summary.json", o->dir);
+  int err = mpgm_write_json(pb->ctx, path, j);
+  cJSON_Delete(j);
+  return err;
+}
+
+static void progress(const mpgm_problem *pb, long nsteps, double t0) {
+  const double el = mpgm_wtime() - t0;
+  const double eta = pb->step ? el / pb->step * (nsteps - pb->step) : 0.0;
+  fprintf(stderr, "\r\033[Kstep %ld/%ld  t = %.6g  newton %d  |R|/ref = %.2e  elapsed %.1fs  ETA %.1fs",
+          pb->step, nsteps, pb->scene->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t,
+          pb->last.iterations, pb->last.res_rel, el, eta);
+  fflush(stderr);
+}
+
+/* Time split of the last step, for benchmarks. */
+static void print_split(const mpgm_problem *pb, const double *before) {
+  const mpgm_ctx *ctx = pb->ctx;
+  const int it = pb->last.iterations > 0 ? pb->last.iterations : 1;
+  printf("step %ld: %d Newton iterations; per iteration [ms]:", pb->step, pb->last.iterations);
+  for (int i = 0; i < MPGM_T_TOTAL; i++)
+    printf(" %s %.3f", mpgm_timer_name(i), 1e3 * (ctx->t[i] - before[i]) / it);
+  printf("\n");
+}
+
+int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
+             const mpgm_run_opts *opts) {
+  const double t0 = mpgm_wtime();
+  mpgm_problem *pb = NULL;
+  MPGM_CALL(mpgm_problem_create(ctx, s, fe, &pb));
+  mpgm_output o;
+  int err = mpgm_output_open(ctx, &o, pb, opts && opts->out_dir ? opts->out_dir : s->out_dir);
+  if (err) {
+    mpgm_output_close(&o);
+    mpgm_problem_destroy(&pb);
+    return err;
+  }
+  const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  const long nsteps = dyn ? (long)ceil(s->t_end / s->dt - 1e-9) : s->load_steps;
+  pb->dt = dyn ? s->dt : 1.0 / s->load_steps;
+  run_state rs = {"completed", "", -1, 0.0};
+  mpgm_timer_start(ctx, MPGM_T_OUTPUT);
+  err = mpgm_output_probes_record(ctx, &o, pb);
+  if (!err) err = mpgm_output_vtk(ctx, &o, pb);
+  mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
+  char msg[sizeof ctx->msg + 64] = "";
+  while (!err && pb->step < nsteps) {
+    if (dyn) pb->dt = fmin(s->dt, s->t_end - pb->t);
+    double before[MPGM_T_COUNT];
+    memcpy(before, ctx->t, sizeof before);
+    const long k = pb->step + 1;
+    err = mpgm_step(pb);
+    if (err) {
+      snprintf(msg, sizeof msg, "step %ld (t = %.9g) failed: %s", k, pb->t + pb->dt, ctx->msg);
+      rs.status = "failed";
+      rs.message = msg;
+      rs.failed_step = k;
+      break;
+    }
+    if (opts && opts->per_iteration) print_split(pb, before);
+    mpgm_timer_start(ctx, MPGM_T_OUTPUT);
+    err = mpgm_output_probes_record(ctx, &o, pb);
+    if (!err && (pb->step % s->every == 0 || pb->step == nsteps)) {
+      err = mpgm_output_vtk(ctx, &o, pb);
+      if (!err) err = mpgm_output_probes_write(ctx, &o, pb);
+    }
+    mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
+    if (opts && opts->progress) progress(pb, nsteps, t0);
+  }
+  if (opts && opts->progress) fputc('\n', stderr);
+  /* on failure keep the message of the failing step; still write what we have */
+  mpgm_ctx keep = *ctx;
+  mpgm_err_clear(ctx);
+  rs.wall = mpgm_wtime() - t0;
+  int werr = mpgm_output_probes_write(ctx, &o, pb);
+  if (!werr) werr = write_summary(pb, &o, &rs);
+  if (err) {
+    const int code = keep.code ? keep.code : err;
+    *ctx = keep;
+    ctx->code = 0;
+    mpgm_err_set(ctx, code, keep.file, keep.line, "%s", rs.failed_step >= 0 ? msg : keep.msg);
+    err = code;
+  } else {
+    err = werr;
+  }
+  mpgm_output_close(&o);
+  mpgm_problem_destroy(&pb);
+  return err;
+}

@@ -1,0 +1,497 @@
+/* scene.c -- load and validate a scene file (docs/scene-format.md). */
+#include "mpgm_scene.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "json_reader.h"
+
+static const char *const method_names[] = {"fem", NULL};
+static const char *const cell_names[] = {"tri", "quad", NULL}; /* = mpgm_cell_kind */
+static const char *const kin_names[] = {"finite", "small", NULL};
+static const char *const analysis_names[] = {"static", "dynamic", NULL};
+static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
+static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
+                                          "volume", "J", "material", "acceleration", NULL};
+static const char *const future_methods[] = {"mpm", "gmm", NULL};
+
+const char *mpgm_method_name(int method) {
+  return (method >= 0 && method < 1) ? method_names[method] : "?";
+}
+
+/* Read a whole file; MPGM_ERR_IO on failure. */
+static int read_file(mpgm_ctx *ctx, const char *file, char **out) {
+  FILE *f = fopen(file, "rb");
+  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", file, strerror(errno));
+  size_t cap = 1 << 16, n = 0;
+  char *buf = malloc(cap);
+  if (!buf) { fclose(f); MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: out of memory", file); }
+  size_t k;
+  while ((k = fread(buf + n, 1, cap - n - 1, f)) > 0) {
+    n += k;
+    if (n + 1 == cap) {
+      char *nb = realloc(buf, cap *= 2);
+      if (!nb) { free(buf); fclose(f); MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: out of memory", file); }
+      buf = nb;
+    }
+  }
+  int bad = ferror(f);
+  fclose(f);
+  if (bad) { free(buf); MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: read error", file); }
+  buf[n] = '\0';
+  *out = buf;
+  return 0;
+}
+
+/* Names of materials, bodies, probes: usable in dotted paths. */
+static int check_name(jr_node *o, const char *name) {
+  size_t n = strlen(name);
+  if (n == 0 || n >= MPGM_NAME_LEN)
+    return jr_fail(o, NULL, "expected a name of 1 to %d characters, found \"%s\"",
+                   MPGM_NAME_LEN - 1, name);
+  for (size_t i = 0; i < n; i++)
+    if (!(isalnum((unsigned char)name[i]) || name[i] == '_' || name[i] == '-'))
+      return jr_fail(o, NULL, "expected a name of letters, digits, '_' or '-', found \"%s\"", name);
+  return 0;
+}
+
+/* An object-valued key whose members are named entries (materials, probes).
+ * *map is NULL when absent. */
+static int get_map(jr_node *o, const char *key, const cJSON **map) {
+  const cJSON *v = jr_override_json(o, key);
+  if (!v) v = jr_raw(o, key);
+  else jr_raw(o, key);
+  if (v && !cJSON_IsObject(v)) return jr_fail(o, key, "expected an object of named entries, found %s", jr_type(v));
+  *map = v;
+  return 0;
+}
+
+static int get_array(jr_node *o, const char *key, const cJSON **arr) {
+  const cJSON *v = jr_override_json(o, key);
+  if (!v) v = jr_raw(o, key);
+  else jr_raw(o, key);
+  if (v && !cJSON_IsArray(v)) return jr_fail(o, key, "expected an array, found %s", jr_type(v));
+  *arr = v;
+  return 0;
+}
+
+/* Element i of an array as a node with path "key.i". */
+static int array_elem(jr_node *o, const char *key, const cJSON *arr, int i,
+                      cJSON *out_arr, jr_node *e) {
+  memset(e, 0, sizeof *e);
+  e->r = o->r;
+  if (snprintf(e->path, sizeof e->path, "%s%s%s.%d", o->path, o->path[0] ? "." : "", key, i) >=
+      (int)sizeof e->path)
+    return jr_fail(o, key, "path too long");
+  e->j = cJSON_GetArrayItem(arr, i);
+  if (!cJSON_IsObject(e->j)) return jr_fail(e, NULL, "expected an object, found %s", jr_type(e->j));
+  e->out = cJSON_CreateObject();
+  cJSON_AddItemToArray(out_arr, e->out);
+  return 0;
+}
+
+static int read_materials(jr_node *root, mpgm_scene *s) {
+  const cJSON *map = NULL;
+  MPGM_CALL(get_map(root, "materials", &map));
+  if (!map || !map->child) return jr_fail(root, "materials", "expected at least one named material, found none");
+  s->nmat = cJSON_GetArraySize(map);
+  MPGM_ALLOC(root->r->ctx, s->mats, s->nmat);
+  cJSON *outmap = cJSON_AddObjectToObject(root->out, "materials");
+  int i = 0;
+  for (const cJSON *c = map->child; c; c = c->next, i++) {
+    jr_node m = {.r = root->r, .j = c};
+    snprintf(m.path, sizeof m.path, "materials.%s", c->string);
+    MPGM_CALL(check_name(&m, c->string));
+    for (const cJSON *d = map->child; d != c; d = d->next)
+      if (strcmp(d->string, c->string) == 0) return jr_fail(&m, NULL, "duplicate material name");
+    if (!cJSON_IsObject(c)) return jr_fail(&m, NULL, "expected an object, found %s", jr_type(c));
+    m.out = cJSON_AddObjectToObject(outmap, c->string);
+    mpgm_material *mat = &s->mats[i];
+    snprintf(mat->name, sizeof mat->name, "%s", c->string);
+    const mpgm_material_type *const *all = mpgm_material_types();
+    const char *choices[16];
+    int nt = 0;
+    for (; all[nt] && nt < 15; nt++) choices[nt] = all[nt]->name;
+    choices[nt] = NULL;
+    int t;
+    MPGM_CALL(jr_enum(&m, "type", choices, -1, &t));
+    mat->type = all[t];
+    MPGM_CALL(jr_num(&m, "density", NAN, 0, INFINITY, 1, 0, &mat->density));
+    for (int p = 0; p < mat->type->nparam; p++) {
+      const mpgm_param_spec *ps = &mat->type->params[p];
+      MPGM_CALL(jr_num(&m, ps->name, ps->def, ps->lo, ps->hi, ps->lo_open, ps->hi_open,
+                       &mat->param[p]));
+    }
+    MPGM_CALL(jr_end(&m));
+    char msg[256] = "";
+    if (mat->type->setup(mat, msg, sizeof msg)) return jr_fail(&m, NULL, "%s", msg);
+  }
+  return 0;
+}
+
+static int find_material(const mpgm_scene *s, const char *name) {
+  for (int i = 0; i < s->nmat; i++)
+    if (strcmp(s->mats[i].name, name) == 0) return i;
+  return -1;
+}
+
+static int read_bodies(jr_node *root, mpgm_scene *s) {
+  const cJSON *arr = NULL;
+  MPGM_CALL(get_array(root, "bodies", &arr));
+  if (!arr || cJSON_GetArraySize(arr) == 0)
+    return jr_fail(root, "bodies", "expected at least one body, found none");
+  s->nbody = cJSON_GetArraySize(arr);
+  MPGM_ALLOC(root->r->ctx, s->bodies, s->nbody);
+  cJSON *out = cJSON_AddArrayToObject(root->out, "bodies");
+  for (int i = 0; i < s->nbody; i++) {
+    jr_node b;
+    MPGM_CALL(array_elem(root, "bodies", arr, i, out, &b));
+    mpgm_scene_body *body = &s->bodies[i];
+    char def[32], mname[MPGM_NAME_LEN];
+    snprintf(def, sizeof def, "body%d", i);
+    MPGM_CALL(jr_str(&b, "name", def, body->name, sizeof body->name));
+    MPGM_CALL(jr_str(&b, "material", NULL, mname, sizeof mname));
+    body->material = find_material(s, mname);
+    if (body->material < 0) {
+      char list[512] = "";
+      for (int k = 0; k < s->nmat; k++) {
+        size_t l = strlen(list);
+        snprintf(list + l, sizeof list - l, "%s\"%s\"", k ? ", " : "", s->mats[k].name);
+      }
+      return jr_fail(&b, "material", "expected the name of a material defined in materials (%s), found \"%s\"",
+                     list, mname);
+    }
+    jr_node g;
+    MPGM_CALL(jr_child(&b, "rectangle", 1, &g));
+    body->geometry = MPGM_GEOM_RECTANGLE;
+    MPGM_CALL(jr_vec2(&g, "min", NULL, body->min));
+    MPGM_CALL(jr_vec2(&g, "max", NULL, body->max));
+    MPGM_CALL(jr_end(&g));
+    if (!(body->max[0] > body->min[0]) || !(body->max[1] > body->min[1]))
+      return jr_fail(&g, NULL, "expected max > min in x and y (a body with area), found an empty "
+                     "rectangle [%g, %g] x [%g, %g]", body->min[0], body->max[0], body->min[1], body->max[1]);
+    const double zero[2] = {0, 0};
+    MPGM_CALL(jr_vec2(&b, "velocity", zero, body->velocity));
+    MPGM_CALL(jr_end(&b));
+    const double tol[2] = {1e-12 * (s->dom_max[0] - s->dom_min[0]), 1e-12 * (s->dom_max[1] - s->dom_min[1])};
+    for (int d = 0; d < 2; d++)
+      if (body->min[d] < s->dom_min[d] - tol[d] || body->max[d] > s->dom_max[d] + tol[d])
+        return jr_fail(&g, NULL, "expected a body inside the domain [%g, %g] x [%g, %g] (mesh.domain), "
+                       "found [%g, %g] x [%g, %g]", s->dom_min[0], s->dom_max[0], s->dom_min[1],
+                       s->dom_max[1], body->min[0], body->max[0], body->min[1], body->max[1]);
+  }
+  return 0;
+}
+
+static int read_fix(jr_node *o, const char *key, int fix[2]) {
+  const cJSON *v = jr_override_json(o, key);
+  if (!v) v = jr_raw(o, key);
+  else jr_raw(o, key);
+  if (!v) return jr_fail(o, key, "required key is missing (expected [\"x\"], [\"y\"] or [\"x\", \"y\"])");
+  fix[0] = fix[1] = 0;
+  if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) < 1 || cJSON_GetArraySize(v) > 2)
+    return jr_fail(o, key, "expected [\"x\"], [\"y\"] or [\"x\", \"y\"], found %s", jr_type(v));
+  for (const cJSON *c = v->child; c; c = c->next) {
+    int d = cJSON_IsString(c) ? (strcmp(c->valuestring, "x") == 0 ? 0 : strcmp(c->valuestring, "y") == 0 ? 1 : -1) : -1;
+    if (d < 0) return jr_fail(o, key, "expected components \"x\" or \"y\", found %s%s%s", jr_type(c),
+                              cJSON_IsString(c) ? " " : "", cJSON_IsString(c) ? c->valuestring : "");
+    if (fix[d]) return jr_fail(o, key, "component \"%s\" listed twice", c->valuestring);
+    fix[d] = 1;
+  }
+  cJSON *a = cJSON_AddArrayToObject(o->out, key);
+  if (fix[0]) cJSON_AddItemToArray(a, cJSON_CreateString("x"));
+  if (fix[1]) cJSON_AddItemToArray(a, cJSON_CreateString("y"));
+  return 0;
+}
+
+static int read_boundaries(jr_node *root, mpgm_scene *s) {
+  const cJSON *arr = NULL;
+  MPGM_CALL(get_array(root, "boundaries", &arr));
+  s->nbc = arr ? cJSON_GetArraySize(arr) : 0;
+  MPGM_ALLOC(root->r->ctx, s->bcs, s->nbc);
+  cJSON *out = cJSON_AddArrayToObject(root->out, "boundaries");
+  for (int i = 0; i < s->nbc; i++) {
+    jr_node b;
+    MPGM_CALL(array_elem(root, "boundaries", arr, i, out, &b));
+    mpgm_scene_boundary *bc = &s->bcs[i];
+    char def[32];
+    snprintf(def, sizeof def, "boundary%d", i);
+    MPGM_CALL(jr_str(&b, "name", def, bc->name, sizeof bc->name));
+    const cJSON *hx = jr_raw(&b, "x"), *hy = jr_raw(&b, "y"), *hb = jr_raw(&b, "box");
+    int nsel = !!hx + !!hy + !!hb;
+    if (nsel != 1)
+      return jr_fail(&b, NULL, "expected exactly one node selector: \"x\": value, \"y\": value or "
+                     "\"box\": {\"min\", \"max\"}, found %d", nsel);
+    if (hx || hy) {
+      bc->select = hx ? MPGM_SELECT_X : MPGM_SELECT_Y;
+      MPGM_CALL(jr_num(&b, hx ? "x" : "y", NAN, -INFINITY, INFINITY, 0, 0, &bc->value));
+    } else {
+      jr_node box;
+      bc->select = MPGM_SELECT_BOX;
+      MPGM_CALL(jr_child(&b, "box", 1, &box));
+      MPGM_CALL(jr_vec2(&box, "min", NULL, bc->min));
+      MPGM_CALL(jr_vec2(&box, "max", NULL, bc->max));
+      MPGM_CALL(jr_end(&box));
+      if (bc->max[0] < bc->min[0] || bc->max[1] < bc->min[1])
+        return jr_fail(&box, NULL, "expected max >= min in x and y, found an inverted box");
+    }
+    MPGM_CALL(jr_num(&b, "tol", 1e-6 * s->h, 0, INFINITY, 0, 0, &bc->tol));
+    MPGM_CALL(read_fix(&b, "fix", bc->fix));
+    const double zero[2] = {0, 0};
+    MPGM_CALL(jr_vec2(&b, "displacement", zero, bc->displacement));
+    MPGM_CALL(jr_end(&b));
+  }
+  return 0;
+}
+
+static int read_probes(jr_node *root, mpgm_scene *s) {
+  const cJSON *map = NULL;
+  MPGM_CALL(get_map(root, "probes", &map));
+  s->nprobe = map ? cJSON_GetArraySize(map) : 0;
+  if (s->nprobe > 32) return jr_fail(root, "probes", "expected at most 32 probes, found %d", s->nprobe);
+  MPGM_ALLOC(root->r->ctx, s->probes, s->nprobe);
+  jr_node p = {.r = root->r, .j = map};
+  snprintf(p.path, sizeof p.path, "probes");
+  p.out = cJSON_AddObjectToObject(root->out, "probes");
+  int i = 0;
+  for (const cJSON *c = map ? map->child : NULL; c; c = c->next, i++) {
+    jr_node q = {.r = root->r};
+    snprintf(q.path, sizeof q.path, "probes.%s", c->string);
+    MPGM_CALL(check_name(&q, c->string));
+    snprintf(s->probes[i].name, MPGM_NAME_LEN, "%s", c->string);
+    MPGM_CALL(jr_vec2(&p, c->string, NULL, s->probes[i].x));
+  }
+  MPGM_CALL(jr_end(&p));
+  return 0;
+}
+
+static int read_output(jr_node *root, mpgm_scene *s) {
+  jr_node o;
+  MPGM_CALL(jr_child(root, "output", 0, &o));
+  char def[MPGM_PATH_LEN];
+  snprintf(def, sizeof def, "results/%s", s->stem);
+  MPGM_CALL(jr_str(&o, "dir", def, s->out_dir, sizeof s->out_dir));
+  MPGM_CALL(jr_int(&o, "every", 1, 1, 1 << 30, &s->every));
+  MPGM_CALL(jr_enum(&o, "vtk", vtk_names, MPGM_VTK_OUT_BINARY, &s->vtk));
+  const cJSON *f = jr_override_json(&o, "fields");
+  if (!f) f = jr_raw(&o, "fields");
+  else jr_raw(&o, "fields");
+  s->fields = MPGM_FIELD_ALL;
+  if (f) {
+    if (!cJSON_IsArray(f)) return jr_fail(&o, "fields", "expected an array of field names, found %s", jr_type(f));
+    s->fields = 0;
+    for (const cJSON *c = f->child; c; c = c->next) {
+      int k = -1;
+      for (int i = 0; field_names[i] && cJSON_IsString(c); i++)
+        if (strcmp(field_names[i], c->valuestring) == 0) k = i;
+      if (k < 0)
+        return jr_fail(&o, "fields", "expected field names (displacement, velocity, stress, mass, "
+                       "volume, J, material, acceleration), found %s%s%s", jr_type(c),
+                       cJSON_IsString(c) ? " " : "", cJSON_IsString(c) ? c->valuestring : "");
+      s->fields |= 1u << k;
+    }
+  }
+  cJSON *a = cJSON_AddArrayToObject(o.out, "fields");
+  for (int i = 0; field_names[i]; i++)
+    if (s->fields & (1u << i)) cJSON_AddItemToArray(a, cJSON_CreateString(field_names[i]));
+  return jr_end(&o);
+}
+
+static int read_scene(jr_node *root, mpgm_scene *s) {
+  char desc[2048];
+  MPGM_CALL(jr_str(root, "description", "", desc, sizeof desc));
+  /* method: the front ends of later issues are named, so the message helps */
+  const cJSON *mv = jr_override_json(root, "method");
+  if (!mv) mv = jr_raw(root, "method");
+  for (int i = 0; mv && cJSON_IsString(mv) && future_methods[i]; i++)
+    if (strcmp(mv->valuestring, future_methods[i]) == 0)
+      return jr_fail(root, "method", "method \"%s\" is not available in this build yet (expected \"fem\")",
+                     mv->valuestring);
+  /* re-read through the typed path (consumes the override again: harmless) */
+  MPGM_CALL(jr_enum(root, "method", method_names, MPGM_METHOD_FEM, &s->method));
+
+  jr_node sh;
+  MPGM_CALL(jr_child(root, "shape", 0, &sh));
+  const mpgm_shapefn_type *const *st = mpgm_shapefn_types();
+  const char *snames[16];
+  int ns = 0;
+  for (; st[ns] && ns < 15; ns++) snames[ns] = st[ns]->name;
+  snames[ns] = NULL;
+  int sk;
+  MPGM_CALL(jr_enum(&sh, "kind", snames, 0, &sk));
+  s->shape = st[sk];
+  MPGM_CALL(jr_end(&sh));
+
+  jr_node mesh, dom;
+  MPGM_CALL(jr_child(root, "mesh", 1, &mesh));
+  MPGM_CALL(jr_num(&mesh, "h", NAN, 0, INFINITY, 1, 0, &s->h));
+  MPGM_CALL(jr_enum(&mesh, "cell", cell_names, MPGM_CELL_Q4, &s->cell));
+  MPGM_CALL(jr_int(&mesh, "ppc", s->cell == MPGM_CELL_Q4 ? 4 : 3, 1, 9, &s->ppc));
+  {
+    double xi[18], w[9];
+    if (mpgm_fe_gauss(s->cell, s->ppc, xi, w))
+      return jr_fail(&mesh, "ppc", "expected %s, found %d",
+                     s->cell == MPGM_CELL_Q4 ? "1, 4 or 9 points per quad" : "1 or 3 points per triangle", s->ppc);
+  }
+  MPGM_CALL(jr_child(&mesh, "domain", 1, &dom));
+  MPGM_CALL(jr_vec2(&dom, "min", NULL, s->dom_min));
+  MPGM_CALL(jr_vec2(&dom, "max", NULL, s->dom_max));
+  MPGM_CALL(jr_end(&dom));
+  if (!(s->dom_max[0] > s->dom_min[0]) || !(s->dom_max[1] > s->dom_min[1]))
+    return jr_fail(&dom, NULL, "expected max > min in x and y, found an empty domain");
+  MPGM_CALL(jr_end(&mesh));
+
+  MPGM_CALL(jr_enum(root, "kinematics", kin_names, MPGM_KIN_FINITE, &s->kinematics));
+
+  jr_node tm;
+  MPGM_CALL(jr_child(root, "time", 0, &tm));
+  MPGM_CALL(jr_enum(&tm, "analysis", analysis_names, MPGM_ANALYSIS_STATIC, &s->analysis));
+  const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  MPGM_CALL(jr_num(&tm, "dt", dyn ? NAN : 1.0, 0, INFINITY, 1, 0, &s->dt));
+  MPGM_CALL(jr_num(&tm, "end", dyn ? NAN : 1.0, 0, INFINITY, 1, 0, &s->t_end));
+  MPGM_CALL(jr_int(&tm, "load_steps", 1, 1, 1 << 24, &s->load_steps));
+  MPGM_CALL(jr_num(&tm, "newmark_beta", 0.25, 0, 0.5, 1, 0, &s->beta));
+  MPGM_CALL(jr_num(&tm, "newmark_gamma", 0.5, 0.5, 1, 0, 0, &s->gamma));
+  MPGM_CALL(jr_end(&tm));
+  if (dyn && s->dt > s->t_end)
+    return jr_fail(&tm, "dt", "expected dt <= end (%g s), found %g s", s->t_end, s->dt);
+  if (dyn && s->t_end / s->dt > 1e8)
+    return jr_fail(&tm, "dt", "expected at most 1e8 steps, found end/dt = %g", s->t_end / s->dt);
+
+  jr_node so;
+  MPGM_CALL(jr_child(root, "solver", 0, &so));
+  const mpgm_solver_type *const *svt = mpgm_solver_types();
+  const char *svn[16] = {"auto"};
+  int nsv = 1;
+  for (; svt[nsv - 1] && nsv < 15; nsv++) svn[nsv] = svt[nsv - 1]->name;
+  svn[nsv] = NULL;
+  int si;
+  MPGM_CALL(jr_enum(&so, "linear", svn, 0, &si));
+  s->solver = si ? svt[si - 1] : NULL;
+  MPGM_CALL(jr_num(&so, "rtol", 1e-9, 0, 1, 1, 1, &s->rtol));
+  MPGM_CALL(jr_num(&so, "atol", 1e-10, 0, INFINITY, 0, 0, &s->atol));
+  MPGM_CALL(jr_num(&so, "dtol", 1e-10, 0, 1, 1, 1, &s->dtol));
+  MPGM_CALL(jr_int(&so, "max_iterations", 25, 1, 1000, &s->max_iter));
+  MPGM_CALL(jr_end(&so));
+
+  MPGM_CALL(read_materials(root, s));
+  for (int i = 0; i < s->nmat; i++) {
+    jr_node m = {.r = root->r};
+    snprintf(m.path, sizeof m.path, "materials.%s", s->mats[i].name);
+    if (s->kinematics == MPGM_KIN_FINITE && !s->mats[i].type->finite)
+      return jr_fail(&m, "type", "\"%s\" is a small-strain law: expected kinematics \"small\" or a "
+                     "finite-strain material (neo_hookean), found kinematics \"finite\"",
+                     s->mats[i].type->name);
+    if (s->solver && s->solver->needs_spd && !s->mats[i].symmetric)
+      return jr_fail(&m, "type", "material has an unsymmetric tangent: solver.linear \"%s\" needs a "
+                     "symmetric matrix (use \"umfpack\" or \"auto\")", s->solver->name);
+  }
+  MPGM_CALL(read_bodies(root, s));
+  MPGM_CALL(read_boundaries(root, s));
+  const double g0[2] = {0, 0};
+  MPGM_CALL(jr_vec2(root, "gravity", g0, s->gravity));
+  MPGM_CALL(read_probes(root, s));
+  MPGM_CALL(read_output(root, s));
+  MPGM_CALL(jr_end(root));
+  if (s->shape->needs_cell && s->method != MPGM_METHOD_FEM)
+    return jr_fail(root, "shape", "shape kind \"%s\" needs cells (method fem or mpm)", s->shape->name);
+  return 0;
+}
+
+/* Split "a.b=value" overrides. */
+static int parse_sets(mpgm_ctx *ctx, int nset, const char *const *sets, jr_override *ov) {
+  for (int i = 0; i < nset; i++) {
+    const char *eq = strchr(sets[i], '=');
+    MPGM_CHECK(ctx, eq && eq != sets[i], MPGM_ERR_INPUT,
+               "--set %s: expected KEY=VALUE with a dotted KEY (e.g. mesh.h=0.125)", sets[i]);
+    size_t n = (size_t)(eq - sets[i]);
+    MPGM_CHECK(ctx, n < JR_PATH, MPGM_ERR_INPUT, "--set %s: key too long", sets[i]);
+    memcpy(ov[i].path, sets[i], n);
+    ov[i].path[n] = '\0';
+    ov[i].value = eq + 1;
+  }
+  return 0;
+}
+
+static void line_col(const char *text, const char *at, int *line, int *col) {
+  *line = 1;
+  *col = 1;
+  for (const char *p = text; p < at && *p; p++) {
+    if (*p == '\n') { (*line)++; *col = 1; }
+    else (*col)++;
+  }
+}
+
+int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
+                    const char *const *sets, mpgm_scene **out) {
+  *out = NULL;
+  char *text = NULL;
+  MPGM_CALL(read_file(ctx, file, &text));
+  const char *end = NULL;
+  cJSON *doc = cJSON_ParseWithOpts(text, &end, 1);
+  if (!doc) {
+    int line, col;
+    const char *at = end ? end : cJSON_GetErrorPtr();
+    if (!at) at = text;
+    line_col(text, at, &line, &col);
+    char near[24] = "";
+    snprintf(near, sizeof near, "%.20s", at);
+    for (char *p = near; *p; p++) if (*p == '\n' || *p == '\r') *p = ' ';
+    free(text);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: line %d, column %d: JSON syntax error near '%s'", file,
+               line, col, near);
+  }
+  if (!cJSON_IsObject(doc)) {
+    free(text);
+    cJSON_Delete(doc);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: (root): expected an object, found %s", file, jr_type(doc));
+  }
+  mpgm_scene *s = calloc(1, sizeof *s);
+  jr_override *ov = calloc(nset ? nset : 1, sizeof *ov);
+  int err = (!s || !ov) ? mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory") : 0;
+  jr_reader r = {.ctx = ctx, .file = file, .ov = ov, .nov = nset};
+  cJSON *resolved = cJSON_CreateObject();
+  if (!err) err = parse_sets(ctx, nset, sets, ov);
+  if (!err) {
+    snprintf(s->file, sizeof s->file, "%s", file);
+    const char *base = strrchr(file, '/');
+    base = base ? base + 1 : file;
+    snprintf(s->stem, sizeof s->stem, "%s", base);
+    char *dot = strrchr(s->stem, '.');
+    if (dot && dot != s->stem) *dot = '\0';
+    jr_node root = {.r = &r, .j = doc, .out = resolved};
+    err = read_scene(&root, s);
+  }
+  if (!err) err = jr_unused_overrides(&r);
+  cJSON_Delete(r.tmp);
+  cJSON_Delete(doc);
+  free(ov);
+  free(text);
+  s ? (void)(s->resolved = resolved) : cJSON_Delete(resolved);
+  if (err) {
+    mpgm_scene_destroy(&s);
+    return err;
+  }
+  *out = s;
+  return 0;
+}
+
+void mpgm_scene_destroy(mpgm_scene **sp) {
+  if (!sp || !*sp) return;
+  mpgm_scene *s = *sp;
+  free(s->mats);
+  free(s->bodies);
+  free(s->bcs);
+  free(s->probes);
+  cJSON_Delete((cJSON *)s->resolved);
+  free(s);
+  *sp = NULL;
+}
+
+char *mpgm_scene_resolved_json(const mpgm_scene *s) {
+  return cJSON_Print((const cJSON *)s->resolved);
+}

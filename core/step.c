@@ -1,0 +1,144 @@
+/* step.c -- one updated-Lagrangian step: predictor, Newton, commit
+ * (Algorithm 1/2 phase b of Iaconeta et al. 2017, shared by every front
+ * end; docs/theory.md). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_core.h"
+
+static double norm2(const double *x, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; i++) s += x[i] * x[i];
+  return sqrt(s);
+}
+
+/* Predictor: free components start from du = 0; fixed components take the
+ * increment of their (ramped) prescribed value. */
+static void predictor(mpgm_problem *pb) {
+  mpgm_nodes *nd = &pb->nodes;
+  for (int i = 0; i < 2 * nd->n; i++)
+    nd->du[i] = nd->fix[i] ? pb->lambda * nd->ubar[i] - nd->u[i] : 0.0;
+}
+
+/* Commit a converged step: points (material and tracers) and nodes. */
+static void commit(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_timer_start(ctx, MPGM_T_UPDATE);
+  mpgm_points *P = &pb->pts;
+  mpgm_nodes *nd = &pb->nodes;
+  const mpgm_conn *C = &pb->conn;
+  const int move = pb->fx.geometric, inertia = pb->fx.inertia;
+  const int m = P->n + P->nprobe;
+  for (int p = 0; p < m; p++) {
+    double d[2] = {0, 0}, v[2] = {0, 0}, a[2] = {0, 0};
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      const double N = C->N[k];
+      d[0] += N * nd->du[2 * I];
+      d[1] += N * nd->du[2 * I + 1];
+      if (inertia) {
+        v[0] += N * nd->v_new[2 * I]; v[1] += N * nd->v_new[2 * I + 1];
+        a[0] += N * nd->a_new[2 * I]; a[1] += N * nd->a_new[2 * I + 1];
+      }
+    }
+    P->u[2 * p] += d[0];
+    P->u[2 * p + 1] += d[1];
+    if (move) {
+      P->x[2 * p] += d[0];
+      P->x[2 * p + 1] += d[1];
+    }
+    if (inertia) {
+      P->v[2 * p] = v[0]; P->v[2 * p + 1] = v[1];
+      P->a[2 * p] = a[0]; P->a[2 * p + 1] = a[1];
+    }
+  }
+  memcpy(P->F, P->F_t, sizeof(double) * 4 * (size_t)P->n);
+  memcpy(P->sigma, P->sigma_t, sizeof(double) * 4 * (size_t)P->n);
+  memcpy(P->vol, P->vol_t, sizeof(double) * (size_t)P->n);
+  if (P->nstate) memcpy(P->state, P->state_t, sizeof(double) * (size_t)P->nstate * P->n);
+  for (int i = 0; i < 2 * nd->n; i++) {
+    nd->u[i] += nd->du[i];
+    if (move) nd->x[i] += nd->du[i];
+    if (inertia) {
+      nd->v[i] = nd->v_new[i];
+      nd->a[i] = nd->a_new[i];
+    }
+  }
+  mpgm_timer_stop(ctx, MPGM_T_UPDATE);
+}
+
+int mpgm_step(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *sc = pb->scene;
+  mpgm_nodes *nd = &pb->nodes;
+  mpgm_newton_info *info = &pb->last;
+  memset(info, 0, sizeof *info);
+
+  mpgm_timer_start(ctx, MPGM_T_SHAPE);
+  int err = pb->fe->begin_step(pb);
+  mpgm_timer_stop(ctx, MPGM_T_SHAPE);
+  MPGM_CALL(err);
+  if (pb->conn.version != pb->pattern_version) MPGM_CALL(mpgm_pattern_build(pb));
+
+  if (sc->analysis == MPGM_ANALYSIS_STATIC) pb->lambda = (double)(pb->step + 1) / sc->load_steps;
+  else pb->lambda = fmin(1.0, (pb->t + pb->dt) / sc->t_end);
+  MPGM_CALL(mpgm_body_force(pb));
+  predictor(pb);
+
+  const int n = nd->ndof;
+  const double fnorm = norm2(pb->fext, n);
+  double ref = 0.0;
+  for (int it = 0;; it++) {
+    MPGM_CALL(mpgm_eval_points(pb));
+    MPGM_CALL(mpgm_assemble(pb, 1));
+    const double res = norm2(pb->R, n);
+    if (!isfinite(res))
+      MPGM_ERROR(ctx, MPGM_ERR_NAN, "Newton iteration %d: residual is not finite", it);
+    if (it == 0) {
+      info->res0 = res;
+      ref = fmax(res, fnorm);
+    }
+    info->res = res;
+    info->res_rel = ref > 0.0 ? res / ref : 0.0;
+    /* converged: residual small (absolute or relative to the step's load),
+     * or the last correction negligible against the step's increment (the
+     * residual then sits at its round-off floor, which grows with the
+     * problem's size and stiffness) */
+    const int res_ok = res <= sc->atol || res <= sc->rtol * ref;
+    if (res_ok || (it > 0 && info->du_rel <= sc->dtol)) break;
+    if (it == sc->max_iter)
+      MPGM_ERROR(ctx, MPGM_ERR_NOT_CONVERGED,
+                 "Newton did not converge in %d iterations (|R| = %.3e, |R|/ref = %.3e, "
+                 "|du|/|Du| = %.3e)", it, res, info->res_rel, info->du_rel);
+    if (it > 2 && res > 1e8 * ref)
+      MPGM_ERROR(ctx, MPGM_ERR_DIVERGED, "Newton diverged at iteration %d (|R|/ref = %.3e)", it,
+                 info->res_rel);
+    if (!pb->solver->analysed) {
+      MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
+      pb->solver->analysed = 1;
+    }
+    MPGM_CALL(mpgm_solver_factor(pb->solver, ctx, &pb->K));
+    MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
+    double dd = 0.0, uu = 0.0;
+    for (int i = 0; i < 2 * nd->n; i++) {
+      if (nd->dof[i] >= 0) {
+        const double d = pb->delta[nd->dof[i]];
+        nd->du[i] += d;
+        dd += d * d;
+      }
+      uu += nd->du[i] * nd->du[i];
+    }
+    if (!isfinite(dd)) MPGM_ERROR(ctx, MPGM_ERR_NAN, "Newton iteration %d: solution is not finite", it);
+    info->du_rel = uu > 0.0 ? sqrt(dd / uu) : 0.0;
+    info->iterations = it + 1;
+  }
+  commit(pb);
+  pb->t += pb->dt;
+  pb->step++;
+  pb->newton_total += info->iterations;
+  mpgm_timer_start(ctx, MPGM_T_SHAPE);
+  err = pb->fe->end_step(pb);
+  mpgm_timer_stop(ctx, MPGM_T_SHAPE);
+  return err;
+}

@@ -1,0 +1,413 @@
+/* vtk.c -- VTK legacy unstructured-grid writer and .pvd collections, both
+ * written atomically ("PATH.tmp", then rename). See mpgm_vtk.h.
+ *
+ * Binary legacy files hold big-endian 8-byte doubles and 4-byte ints; the
+ * bytes are produced by shifts, so the output does not depend on the host's
+ * byte order. Numbers go through a fixed stack buffer and are handed to
+ * fwrite in chunks.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "mpgm_vtk.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ------------------------------------------------------------------------ */
+/* Atomic files                                                             */
+/* ------------------------------------------------------------------------ */
+
+enum { TMPNAME_CAP = 4096 + 8 };
+
+/* "path.tmp" into out[TMPNAME_CAP]; 0 if the name is too long. */
+static int tmp_name(const char *path, char *out) {
+  size_t n = strlen(path);
+  if (n + 5 > TMPNAME_CAP) return 0;
+  memcpy(out, path, n);
+  memcpy(out + n, ".tmp", 5);
+  return 1;
+}
+
+/* Close and delete the temporary after a failure; errors are ignored (the
+ * first one has been recorded already). */
+static void atomic_discard(const char *path, FILE *fp) {
+  char t[TMPNAME_CAP];
+  if (fp) fclose(fp);
+  if (tmp_name(path, t)) remove(t);
+}
+
+/* Open "path.tmp" for binary writing; *fp_out receives the FILE *. */
+int mpgm_atomic_open(mpgm_ctx *ctx, const char *path, void **fp_out) {
+  MPGM_CHECK(ctx, path && *path && fp_out, MPGM_ERR_INPUT,
+             "mpgm_atomic_open: empty path or NULL output");
+  *fp_out = NULL;
+  char t[TMPNAME_CAP];
+  MPGM_CHECK(ctx, tmp_name(path, t), MPGM_ERR_IO, "%s: %s", path,
+             strerror(ENAMETOOLONG));
+  FILE *fp = fopen(t, "wb");
+  MPGM_CHECK(ctx, fp != NULL, MPGM_ERR_IO, "%s: %s", path, strerror(errno));
+  *fp_out = fp;
+  return MPGM_OK;
+}
+
+/* Flush and close the temporary, then rename it to path. On any failure the
+ * temporary is removed, path is left as it was, and MPGM_ERR_IO returned. */
+int mpgm_atomic_close(mpgm_ctx *ctx, const char *path, void *fp_) {
+  FILE *fp = fp_;
+  char t[TMPNAME_CAP];
+  if (!path || !tmp_name(path, t)) {
+    if (fp) fclose(fp);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "mpgm_atomic_close: bad path");
+  }
+  MPGM_CHECK(ctx, fp != NULL, MPGM_ERR_INPUT, "%s: no file to close", path);
+  int err = 0;
+  errno = 0;
+  if (fflush(fp) != 0) err = errno ? errno : EIO;
+  if (!err && ferror(fp)) err = EIO; /* an earlier write failed */
+  errno = 0;
+  if (fclose(fp) != 0 && !err) err = errno ? errno : EIO;
+  if (!err && rename(t, path) != 0) err = errno ? errno : EIO;
+  if (err) remove(t);
+  MPGM_CHECK(ctx, !err, MPGM_ERR_IO, "%s: %s", path, strerror(err));
+  return MPGM_OK;
+}
+
+/* ------------------------------------------------------------------------ */
+/* Buffered number output                                                   */
+/* ------------------------------------------------------------------------ */
+
+enum { WBUF = 1 << 14, WSLACK = 64 };
+
+/* Output state: file, mode, first write errno, chunk buffer. */
+typedef struct {
+  FILE *fp;
+  int binary;
+  int err;
+  size_t n;
+  unsigned char buf[WBUF];
+} wstream;
+
+/* Hand the buffered bytes to stdio; remember the first failure. */
+static void w_flush(wstream *w) {
+  if (w->n && !w->err) {
+    errno = 0;
+    if (fwrite(w->buf, 1, w->n, w->fp) != w->n) w->err = errno ? errno : EIO;
+  }
+  w->n = 0;
+}
+
+/* Make room for at least WSLACK more bytes. */
+static void w_room(wstream *w) {
+  if (w->n + WSLACK > WBUF) w_flush(w);
+}
+
+/* Append a text line (header lines are short; longer text is chunked). */
+static void w_text(wstream *w, const char *s) {
+  size_t len = strlen(s);
+  while (len) {
+    w_room(w);
+    size_t k = WBUF - w->n < len ? WBUF - w->n : len;
+    memcpy(w->buf + w->n, s, k);
+    w->n += k;
+    s += k;
+    len -= k;
+  }
+}
+
+/* printf-style header line (at most 511 characters). */
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+static void w_line(wstream *w, const char *fmt, ...) {
+  char line[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(line, sizeof line, fmt, ap);
+  va_end(ap);
+  w_text(w, line);
+}
+
+/* One double: 8 big-endian bytes, or "%.17g" followed by sep. */
+static void w_double(wstream *w, double v, char sep) {
+  w_room(w);
+  if (w->binary) {
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    for (int k = 7; k >= 0; k--) w->buf[w->n++] = (unsigned char)(u >> (8 * k));
+  } else {
+    int k = snprintf((char *)w->buf + w->n, WSLACK, "%.17g%c", v, sep);
+    w->n += (size_t)k;
+  }
+}
+
+/* One int: 4 big-endian bytes (two's complement), or "%d" followed by sep. */
+static void w_int(wstream *w, int v, char sep) {
+  w_room(w);
+  if (w->binary) {
+    uint32_t u = (uint32_t)v;
+    for (int k = 3; k >= 0; k--) w->buf[w->n++] = (unsigned char)(u >> (8 * k));
+  } else {
+    int k = snprintf((char *)w->buf + w->n, WSLACK, "%d%c", v, sep);
+    w->n += (size_t)k;
+  }
+}
+
+/* End of a data block: binary blocks get their trailing newline; ASCII
+ * blocks already end with one. */
+static void w_end_block(wstream *w) {
+  if (w->binary) w_text(w, "\n");
+}
+
+/* ------------------------------------------------------------------------ */
+/* Legacy unstructured grid                                                 */
+/* ------------------------------------------------------------------------ */
+
+/* Reject arguments the format cannot represent (MPGM_ERR_INPUT). */
+static int vtk_check_args(mpgm_ctx *ctx, const char *path, int npoints,
+                          const double *x, int ncells, const int *cell_ptr,
+                          const int *conn, const int *cell_type, int nfields,
+                          const mpgm_vtk_field *fields) {
+  MPGM_CHECK(ctx, path && *path, MPGM_ERR_INPUT, "mpgm_vtk_write: empty path");
+  MPGM_CHECK(ctx, npoints >= 0 && (npoints == 0 || x), MPGM_ERR_INPUT,
+             "%s: bad points (n = %d)", path, npoints);
+  MPGM_CHECK(ctx, nfields >= 0 && (nfields == 0 || fields), MPGM_ERR_INPUT,
+             "%s: bad field list", path);
+  if (ncells == 0 && !conn) {
+    MPGM_CHECK(ctx, npoints <= INT_MAX / 2, MPGM_ERR_INPUT,
+               "%s: too many points for a vertex cloud", path);
+  } else {
+    MPGM_CHECK(ctx, ncells >= 0 && cell_ptr && conn && cell_type,
+               MPGM_ERR_INPUT, "%s: bad cells (n = %d)", path, ncells);
+    MPGM_CHECK(ctx, cell_ptr[0] >= 0, MPGM_ERR_INPUT, "%s: cell_ptr[0] < 0",
+               path);
+    for (int c = 0; c < ncells; c++) {
+      MPGM_CHECK(ctx, cell_ptr[c + 1] > cell_ptr[c] && cell_type[c] > 0,
+                 MPGM_ERR_INPUT, "%s: cell %d empty or bad type", path, c);
+      for (int k = cell_ptr[c]; k < cell_ptr[c + 1]; k++)
+        MPGM_CHECK(ctx, conn[k] >= 0 && conn[k] < npoints, MPGM_ERR_INPUT,
+                   "%s: cell %d refers to point %d of %d", path, c, conn[k],
+                   npoints);
+    }
+    long long size = (long long)ncells + cell_ptr[ncells] - cell_ptr[0];
+    MPGM_CHECK(ctx, size <= INT_MAX, MPGM_ERR_INPUT,
+               "%s: connectivity too large for the legacy format", path);
+  }
+  for (int f = 0; f < nfields; f++) {
+    const mpgm_vtk_field *fd = &fields[f];
+    int ok = fd->name && *fd->name && strlen(fd->name) < 256 &&
+             (npoints == 0 || fd->data) &&
+             (fd->kind == MPGM_VTK_SCALAR || fd->kind == MPGM_VTK_VECTOR2 ||
+              fd->kind == MPGM_VTK_STRESS4);
+    for (const char *s = ok ? fd->name : ""; *s; s++)
+      if ((unsigned char)*s <= ' ') ok = 0;
+    MPGM_CHECK(ctx, ok, MPGM_ERR_INPUT,
+               "%s: field %d: bad name, kind or data", path, f);
+  }
+  return MPGM_OK;
+}
+
+/* Write the header, points, cells and point data to w. */
+static void vtk_body(wstream *w, const char *title, int npoints,
+                     const double *x, int ncells, const int *cell_ptr,
+                     const int *conn, const int *cell_type, int nfields,
+                     const mpgm_vtk_field *fields) {
+  char t[256];
+  size_t m = 0;
+  for (const char *s = title ? title : "mpgm"; *s && m < 255; s++)
+    if (*s != '\n' && *s != '\r') t[m++] = *s;
+  t[m] = '\0';
+
+  w_line(w, "# vtk DataFile Version 3.0\n%s\n%s\nDATASET UNSTRUCTURED_GRID\n",
+         t, w->binary ? "BINARY" : "ASCII");
+  w_line(w, "POINTS %d double\n", npoints);
+  for (int p = 0; p < npoints; p++) {
+    w_double(w, x[2 * p], ' ');
+    w_double(w, x[2 * p + 1], ' ');
+    w_double(w, 0.0, '\n');
+  }
+  w_end_block(w);
+
+  if (ncells == 0 && !conn) { /* particle cloud: one vertex per point */
+    w_line(w, "CELLS %d %d\n", npoints, 2 * npoints);
+    for (int p = 0; p < npoints; p++) {
+      w_int(w, 1, ' ');
+      w_int(w, p, '\n');
+    }
+    w_end_block(w);
+    w_line(w, "CELL_TYPES %d\n", npoints);
+    for (int p = 0; p < npoints; p++) w_int(w, MPGM_VTK_VERTEX, '\n');
+    w_end_block(w);
+  } else {
+    w_line(w, "CELLS %d %d\n", ncells,
+           ncells + cell_ptr[ncells] - cell_ptr[0]);
+    for (int c = 0; c < ncells; c++) {
+      w_int(w, cell_ptr[c + 1] - cell_ptr[c], ' ');
+      for (int k = cell_ptr[c]; k < cell_ptr[c + 1]; k++)
+        w_int(w, conn[k], k + 1 < cell_ptr[c + 1] ? ' ' : '\n');
+    }
+    w_end_block(w);
+    w_line(w, "CELL_TYPES %d\n", ncells);
+    for (int c = 0; c < ncells; c++) w_int(w, cell_type[c], '\n');
+    w_end_block(w);
+  }
+
+  if (nfields > 0) w_line(w, "POINT_DATA %d\n", npoints);
+  for (int f = 0; f < nfields; f++) {
+    const mpgm_vtk_field *fd = &fields[f];
+    const double *d = fd->data;
+    if (fd->kind == MPGM_VTK_SCALAR) {
+      w_line(w, "SCALARS %s double 1\nLOOKUP_TABLE default\n", fd->name);
+      for (int p = 0; p < npoints; p++) w_double(w, d[p], '\n');
+    } else if (fd->kind == MPGM_VTK_VECTOR2) {
+      w_line(w, "VECTORS %s double\n", fd->name);
+      for (int p = 0; p < npoints; p++) {
+        w_double(w, d[2 * p], ' ');
+        w_double(w, d[2 * p + 1], ' ');
+        w_double(w, 0.0, '\n');
+      }
+    } else { /* {xx, yy, xy, zz} -> [[xx,xy,0],[xy,yy,0],[0,0,zz]] */
+      w_line(w, "TENSORS %s double\n", fd->name);
+      for (int p = 0; p < npoints; p++) {
+        const double *s = d + 4 * p;
+        const double row[9] = {s[0], s[2], 0.0, s[2], s[1], 0.0, 0.0, 0.0, s[3]};
+        for (int k = 0; k < 9; k++) w_double(w, row[k], k % 3 == 2 ? '\n' : ' ');
+      }
+    }
+    w_end_block(w);
+  }
+  w_flush(w);
+}
+
+/* See mpgm_vtk.h. */
+int mpgm_vtk_write(mpgm_ctx *ctx, const char *path, int binary,
+                   const char *title, int npoints, const double *x,
+                   int ncells, const int *cell_ptr, const int *conn,
+                   const int *cell_type, int nfields,
+                   const mpgm_vtk_field *fields) {
+  MPGM_CALL(vtk_check_args(ctx, path, npoints, x, ncells, cell_ptr, conn,
+                           cell_type, nfields, fields));
+  wstream *w = malloc(sizeof(*w));
+  MPGM_CHECK(ctx, w != NULL, MPGM_ERR_NOMEM, "%s: out of memory", path);
+  w->binary = binary != 0;
+  w->err = 0;
+  w->n = 0;
+  void *fp = NULL;
+  int ierr = mpgm_atomic_open(ctx, path, &fp);
+  if (ierr) {
+    free(w);
+    return ierr;
+  }
+  w->fp = fp;
+  vtk_body(w, title, npoints, x, ncells, cell_ptr, conn, cell_type, nfields,
+           fields);
+  int err = w->err;
+  free(w);
+  if (err) {
+    atomic_discard(path, fp);
+    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: %s", path, strerror(err));
+  }
+  return mpgm_atomic_close(ctx, path, fp);
+}
+
+/* ------------------------------------------------------------------------ */
+/* .pvd collections                                                         */
+/* ------------------------------------------------------------------------ */
+
+struct mpgm_pvd {
+  char *path;   /**< where the collection is written (owned) */
+  int n, cap;   /**< entries used / allocated                */
+  double *time; /**< time of every entry                     */
+  char **file;  /**< file of every entry (owned strings)     */
+};
+
+/* See mpgm_vtk.h. */
+int mpgm_pvd_create(mpgm_ctx *ctx, const char *path, mpgm_pvd **out) {
+  MPGM_CHECK(ctx, path && *path && out, MPGM_ERR_INPUT,
+             "mpgm_pvd_create: empty path or NULL output");
+  *out = NULL;
+  mpgm_pvd *p = calloc(1, sizeof(*p));
+  if (p) p->path = strdup(path);
+  if (!p || !p->path) {
+    mpgm_pvd_destroy(&p);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: out of memory", path);
+  }
+  *out = p;
+  return MPGM_OK;
+}
+
+/* Write s with the XML attribute escapes for &, <, >, ". */
+static void xml_escaped(FILE *fp, const char *s) {
+  for (; *s; s++) {
+    switch (*s) {
+    case '&': fputs("&amp;", fp); break;
+    case '<': fputs("&lt;", fp); break;
+    case '>': fputs("&gt;", fp); break;
+    case '"': fputs("&quot;", fp); break;
+    default: fputc(*s, fp);
+    }
+  }
+}
+
+/* Rewrite the whole collection atomically. */
+static int pvd_write(const mpgm_pvd *p, mpgm_ctx *ctx) {
+  void *vfp = NULL;
+  MPGM_CALL(mpgm_atomic_open(ctx, p->path, &vfp));
+  FILE *fp = vfp;
+  fputs("<?xml version=\"1.0\"?>\n"
+        "<VTKFile type=\"Collection\" version=\"0.1\" "
+        "byte_order=\"LittleEndian\">\n  <Collection>\n", fp);
+  for (int i = 0; i < p->n; i++) {
+    fprintf(fp, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"",
+            p->time[i]);
+    xml_escaped(fp, p->file[i]);
+    fputs("\"/>\n", fp);
+  }
+  fputs("  </Collection>\n</VTKFile>\n", fp);
+  return mpgm_atomic_close(ctx, p->path, fp); /* checks ferror */
+}
+
+/* See mpgm_vtk.h. On failure the entry is not kept. */
+int mpgm_pvd_add(mpgm_pvd *pvd, mpgm_ctx *ctx, double time, const char *file) {
+  MPGM_CHECK(ctx, pvd && file && *file, MPGM_ERR_INPUT,
+             "mpgm_pvd_add: NULL collection or empty file name");
+  MPGM_CHECK(ctx, isfinite(time), MPGM_ERR_INPUT, "%s: time %g not finite",
+             pvd->path, time);
+  if (pvd->n == pvd->cap) {
+    int cap = pvd->cap ? 2 * pvd->cap : 16;
+    MPGM_CHECK(ctx, cap > pvd->cap && (size_t)cap < SIZE_MAX / sizeof(double),
+               MPGM_ERR_NOMEM, "%s: too many entries", pvd->path);
+    double *t = realloc(pvd->time, (size_t)cap * sizeof(*t));
+    if (t) pvd->time = t;
+    char **f = t ? realloc(pvd->file, (size_t)cap * sizeof(*f)) : NULL;
+    if (f) pvd->file = f;
+    MPGM_CHECK(ctx, t && f, MPGM_ERR_NOMEM, "%s: out of memory", pvd->path);
+    pvd->cap = cap;
+  }
+  char *name = strdup(file);
+  MPGM_CHECK(ctx, name != NULL, MPGM_ERR_NOMEM, "%s: out of memory", pvd->path);
+  pvd->time[pvd->n] = time;
+  pvd->file[pvd->n] = name;
+  pvd->n++;
+  int ierr = pvd_write(pvd, ctx);
+  if (ierr) { /* roll back: the collection on disk is unchanged */
+    pvd->n--;
+    free(name);
+  }
+  return ierr;
+}
+
+/* See mpgm_vtk.h. */
+void mpgm_pvd_destroy(mpgm_pvd **pvd) {
+  if (!pvd || !*pvd) return;
+  mpgm_pvd *p = *pvd;
+  for (int i = 0; i < p->n; i++) free(p->file[i]);
+  free(p->file);
+  free(p->time);
+  free(p->path);
+  free(p);
+  *pvd = NULL;
+}

@@ -1,0 +1,25 @@
+/* mpgm_frontends.h -- front ends with persistent nodes (gmm/).
+ *
+ * mpgm_frontend_fem: UL-FEM, the reference method: each rectangle body is
+ * meshed with a structured grid of T3 or Q4 cells of size <= h; material
+ * points sit at the Gauss points of the cells (mesh.ppc per cell), nodes
+ * persist and move with the body, the connectivity of a point is its cell.
+ */
+#ifndef MPGM_FRONTENDS_H
+#define MPGM_FRONTENDS_H
+
+#include "mpgm_core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+extern const mpgm_frontend_ops mpgm_frontend_fem;
+
+/** Front end for a scene's method (NULL if the method has none). */
+const mpgm_frontend_ops *mpgm_frontend_for(int method);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

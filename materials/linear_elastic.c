@@ -1,0 +1,78 @@
+/* linear_elastic.c -- isotropic linear elasticity, small strain only.
+ *
+ *   eps   = sym(F - I)            (F = I + grad u in small-strain analysis)
+ *   sigma = lambda tr(eps) I + 2 mu eps,   plane strain: eps_zz = 0, so
+ *   s_zz  = lambda (eps_xx + eps_yy)
+ *   D     = [[lambda + 2 mu, lambda, 0], [lambda, lambda + 2 mu, 0],
+ *            [0, 0, mu]]      (Voigt {xx, yy, xy}, engineering shear)
+ *
+ * Constants after setup: c[0] = lambda [Pa], c[1] = mu [Pa].
+ */
+#include "mpgm_material.h"
+
+#include <math.h>
+#include <stdio.h>
+
+enum { P_E = 0, P_NU = 1 };
+enum { C_LAMBDA = 0, C_MU = 1 };
+
+static const mpgm_param_spec params[] = {
+    {"E", "Pa", NAN, 0.0, INFINITY, 1, 1, "Young's modulus (required)"},
+    {"nu", "-", NAN, -1.0, 0.5, 1, 1, "Poisson's ratio (required)"},
+};
+
+/* Check E and nu (the scene loader checks ranges too; a direct caller may
+ * not) and store the Lame constants. */
+static int setup(mpgm_material *m, char *msg, size_t msglen) {
+  double E = m->param[P_E], nu = m->param[P_NU];
+  if (!(E > 0.0 && isfinite(E)) || !(nu > -1.0 && nu < 0.5)) {
+    if (msg && msglen)
+      snprintf(msg, msglen,
+               "linear_elastic: need E > 0 and -1 < nu < 0.5 (E = %g, nu = %g)",
+               E, nu);
+    return MPGM_ERR_INPUT;
+  }
+  mpgm_lame(E, nu, &m->c[C_LAMBDA], &m->c[C_MU]);
+  m->symmetric = 1;
+  m->plastic = 0;
+  return MPGM_OK;
+}
+
+/* Stress and constant tangent of the linear law for grad u = F - I.
+ * Finite kinematics is not provided: MPGM_ERR_UNSUPPORTED. */
+static int update(const mpgm_material *m, int kin, const double F[4],
+                  const double dF[4], const double *state_n, double *state,
+                  double sigma[4], double D[9]) {
+  (void)dF;
+  (void)state_n;
+  (void)state;
+  if (kin != MPGM_KIN_SMALL) return MPGM_ERR_UNSUPPORTED;
+  const double lam = m->c[C_LAMBDA], mu = m->c[C_MU];
+  const double exx = F[0] - 1.0, eyy = F[3] - 1.0;
+  const double exy = 0.5 * (F[1] + F[2]); /* tensor shear strain */
+  const double ltr = lam * (exx + eyy);
+  sigma[0] = ltr + 2.0 * mu * exx;
+  sigma[1] = ltr + 2.0 * mu * eyy;
+  sigma[2] = 2.0 * mu * exy;
+  sigma[3] = ltr;
+  if (D) {
+    D[0] = lam + 2.0 * mu; D[1] = lam;            D[2] = 0.0;
+    D[3] = lam;            D[4] = lam + 2.0 * mu; D[5] = 0.0;
+    D[6] = 0.0;            D[7] = 0.0;            D[8] = mu;
+  }
+  return MPGM_OK;
+}
+
+/** Isotropic linear elasticity (small strain, plane strain); params E [Pa],
+ *  nu [-]. update() returns MPGM_ERR_UNSUPPORTED for MPGM_KIN_FINITE. */
+const mpgm_material_type mpgm_material_linear_elastic = {
+    .name = "linear_elastic",
+    .doc = "isotropic linear elasticity, small strain only (plane strain)",
+    .nparam = (int)(sizeof(params) / sizeof(params[0])),
+    .params = params,
+    .nstate = 0,
+    .finite = 0,
+    .setup = setup,
+    .init_state = NULL,
+    .update = update,
+};

@@ -1,0 +1,102 @@
+/* mpgm_material.h -- the material plug-in family.
+ *
+ * A material turns a deformation (F, or I + grad u in small-strain analysis)
+ * and the committed state of a point into the Cauchy stress and the spatial
+ * tangent the core assembles (K_mat = sum_p B^T D B v_p).
+ *
+ * Plane strain layout (MPGM_DIM = 2):
+ *   F, dF : 2x2 in-plane, row major {F11, F12, F21, F22}; F33 = 1.
+ *   sigma : {s_xx, s_yy, s_xy, s_zz} (Cauchy stress, Pa; s_zz out of plane).
+ *   D     : 3x3 row major, Voigt order {xx, yy, xy} with engineering shear
+ *           (B = [dN/dx 0; 0 dN/dy; dN/dy dN/dx]); Pa. For finite kinematics
+ *           D is the spatial tangent of the Cauchy stress (c = J^-1 c_tau,
+ *           c_tau the tangent of the Lie derivative of Kirchhoff stress), so
+ *           the geometric stiffness is added separately by the core.
+ *
+ * Each implementation is one .c exporting a `const mpgm_material_type`;
+ * the list of all of them is MPGM_MATERIAL_LIST in material_list.c.
+ */
+#ifndef MPGM_MATERIAL_H
+#define MPGM_MATERIAL_H
+
+#include "mpgm_base.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Kinematics of the analysis. */
+typedef enum {
+  MPGM_KIN_FINITE = 0, /**< updated Lagrangian, large deformation   */
+  MPGM_KIN_SMALL = 1   /**< linear small-strain analysis           */
+} mpgm_kinematics;
+
+/** One scalar parameter of a material, as the scene declares it. */
+typedef struct mpgm_param_spec {
+  const char *name; /**< JSON key, e.g. "E"                              */
+  const char *unit; /**< unit for docs and messages, e.g. "Pa"           */
+  double def;       /**< default value; NAN when the key is required      */
+  double lo, hi;    /**< admissible range                                */
+  int lo_open;      /**< 1: value must be > lo; 0: >= lo                 */
+  int hi_open;      /**< 1: value must be < hi; 0: <= hi                 */
+  const char *doc;  /**< one line for docs/scene-format.md               */
+} mpgm_param_spec;
+
+#define MPGM_MAT_MAXPARAM 8
+#define MPGM_MAT_MAXCONST 8
+
+typedef struct mpgm_material_type mpgm_material_type;
+
+/** A material instance (one per named material in the scene). */
+typedef struct mpgm_material {
+  const mpgm_material_type *type;      /**< implementation               */
+  char name[64];                       /**< name in the scene            */
+  double density;                      /**< reference density [kg/m^3]   */
+  double param[MPGM_MAT_MAXPARAM];     /**< in type->params order        */
+  double c[MPGM_MAT_MAXCONST];         /**< derived constants (setup)    */
+  int symmetric;   /**< 1 when the tangent D has major symmetry          */
+  int plastic;     /**< 1 when the material runs a return mapping        */
+} mpgm_material;
+
+struct mpgm_material_type {
+  const char *name;   /**< scene name, e.g. "neo_hookean"             */
+  const char *doc;    /**< one line for docs                          */
+  int nparam;         /**< entries of params                          */
+  const mpgm_param_spec *params; /**< parameter table (not incl. density) */
+  int nstate;         /**< state doubles per point (0 for elastic)    */
+  int finite;         /**< 1 when usable with MPGM_KIN_FINITE          */
+  /** Derive constants from m->param; set m->symmetric, m->plastic.
+   *  Returns 0, or MPGM_ERR_INPUT with msg filled (bad combination). */
+  int (*setup)(mpgm_material *m, char *msg, size_t msglen);
+  /** Initial state of a point (may be NULL when nstate == 0). */
+  void (*init_state)(const mpgm_material *m, double *state);
+  /** Stress and tangent.
+   *  kin     : MPGM_KIN_FINITE or MPGM_KIN_SMALL
+   *  F       : total deformation gradient (finite), or I + grad u (small)
+   *  dF      : increment over the step, F = dF F_n (finite; may be ignored)
+   *  state_n : committed state (nstate doubles; NULL if nstate == 0)
+   *  state   : out, trial state (may alias nothing; NULL if nstate == 0)
+   *  sigma   : out, Cauchy stress {xx, yy, xy, zz}
+   *  D       : out, 3x3 tangent (may be NULL: stress only)
+   *  Returns 0, MPGM_ERR_JACOBIAN (det F <= 0) or another recoverable code. */
+  int (*update)(const mpgm_material *m, int kin, const double F[4],
+                const double dF[4], const double *state_n, double *state,
+                double sigma[4], double D[9]);
+};
+
+/** Find an implementation by scene name; NULL if none. */
+const mpgm_material_type *mpgm_material_type_find(const char *name);
+
+/** All implementations, NULL-terminated (for docs and error messages). */
+const mpgm_material_type *const *mpgm_material_types(void);
+
+/** Lame constants from E [Pa] and nu. */
+static inline void mpgm_lame(double E, double nu, double *lambda, double *mu) {
+  *lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  *mu = E / (2.0 * (1.0 + nu));
+}
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,115 @@
+/* neo_hookean.c -- compressible neo-Hookean hyperelasticity.
+ *
+ * Stored energy (Simo & Pister form)
+ *   W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2,
+ * Cauchy stress (plane strain: F33 = 1, b = F F^T, b33 = 1)
+ *   sigma = (lambda ln J / J) I + (mu / J) (b - I),  s_zz = lambda ln J / J,
+ * spatial tangent of the Cauchy stress, c = J^-1 c_tau with
+ *   c_tau = lambda I (x) I + 2 (mu - lambda ln J) I_sym,
+ * i.e. in Voigt {xx, yy, xy} with engineering shear
+ *   D = [[l + 2 m, l, 0], [l, l + 2 m, 0], [0, 0, m]],
+ *   l = lambda / J,  m = (mu - lambda ln J) / J.
+ *
+ * Small-strain analysis uses the linear-elastic limit (identical to
+ * linear_elastic). Constants after setup: c[0] = lambda, c[1] = mu [Pa].
+ */
+#include "mpgm_material.h"
+
+#include <math.h>
+#include <stdio.h>
+
+enum { P_E = 0, P_NU = 1 };
+enum { C_LAMBDA = 0, C_MU = 1 };
+
+static const mpgm_param_spec params[] = {
+    {"E", "Pa", NAN, 0.0, INFINITY, 1, 1,
+     "Young's modulus of the linearised law (required)"},
+    {"nu", "-", NAN, -1.0, 0.5, 1, 1,
+     "Poisson's ratio of the linearised law (required)"},
+};
+
+/* Check E and nu and store the Lame constants. */
+static int setup(mpgm_material *m, char *msg, size_t msglen) {
+  double E = m->param[P_E], nu = m->param[P_NU];
+  if (!(E > 0.0 && isfinite(E)) || !(nu > -1.0 && nu < 0.5)) {
+    if (msg && msglen)
+      snprintf(msg, msglen,
+               "neo_hookean: need E > 0 and -1 < nu < 0.5 (E = %g, nu = %g)",
+               E, nu);
+    return MPGM_ERR_INPUT;
+  }
+  mpgm_lame(E, nu, &m->c[C_LAMBDA], &m->c[C_MU]);
+  m->symmetric = 1;
+  m->plastic = 0;
+  return MPGM_OK;
+}
+
+/* Linear-elastic limit for grad u = F - I (small-strain analysis). */
+static void update_small(double lam, double mu, const double F[4],
+                         double sigma[4], double D[9]) {
+  const double exx = F[0] - 1.0, eyy = F[3] - 1.0;
+  const double exy = 0.5 * (F[1] + F[2]);
+  const double ltr = lam * (exx + eyy);
+  sigma[0] = ltr + 2.0 * mu * exx;
+  sigma[1] = ltr + 2.0 * mu * eyy;
+  sigma[2] = 2.0 * mu * exy;
+  sigma[3] = ltr;
+  if (D) {
+    D[0] = lam + 2.0 * mu; D[1] = lam;            D[2] = 0.0;
+    D[3] = lam;            D[4] = lam + 2.0 * mu; D[5] = 0.0;
+    D[6] = 0.0;            D[7] = 0.0;            D[8] = mu;
+  }
+}
+
+/* Cauchy stress and spatial tangent for the total deformation gradient F
+ * (finite) or the linear limit (small). det F <= 0 (or not finite):
+ * MPGM_ERR_JACOBIAN, outputs left untouched. */
+static int update(const mpgm_material *m, int kin, const double F[4],
+                  const double dF[4], const double *state_n, double *state,
+                  double sigma[4], double D[9]) {
+  (void)dF;
+  (void)state_n;
+  (void)state;
+  const double lam = m->c[C_LAMBDA], mu = m->c[C_MU];
+  if (kin == MPGM_KIN_SMALL) {
+    update_small(lam, mu, F, sigma, D);
+    return MPGM_OK;
+  }
+  if (kin != MPGM_KIN_FINITE) return MPGM_ERR_UNSUPPORTED;
+
+  const double J = F[0] * F[3] - F[1] * F[2];
+  if (!(J > 0.0) || !isfinite(J)) return MPGM_ERR_JACOBIAN;
+  const double lnJ = log(J), iJ = 1.0 / J;
+  /* b - I, in-plane; (b - I)_zz = 0 */
+  const double bxx = F[0] * F[0] + F[1] * F[1] - 1.0;
+  const double byy = F[2] * F[2] + F[3] * F[3] - 1.0;
+  const double bxy = F[0] * F[2] + F[1] * F[3];
+  const double p = lam * lnJ * iJ, g = mu * iJ;
+  sigma[0] = p + g * bxx;
+  sigma[1] = p + g * byy;
+  sigma[2] = g * bxy;
+  sigma[3] = p;
+  if (D) {
+    const double l = lam * iJ, s = (mu - lam * lnJ) * iJ;
+    D[0] = l + 2.0 * s; D[1] = l;           D[2] = 0.0;
+    D[3] = l;           D[4] = l + 2.0 * s; D[5] = 0.0;
+    D[6] = 0.0;         D[7] = 0.0;         D[8] = s;
+  }
+  return MPGM_OK;
+}
+
+/** Compressible neo-Hookean solid (plane strain); params E [Pa], nu [-] of
+ *  the linearised law. Finite and small kinematics; det F <= 0 returns
+ *  MPGM_ERR_JACOBIAN. */
+const mpgm_material_type mpgm_material_neo_hookean = {
+    .name = "neo_hookean",
+    .doc = "compressible neo-Hookean hyperelasticity (linear limit in small "
+           "strain)",
+    .nparam = (int)(sizeof(params) / sizeof(params[0])),
+    .params = params,
+    .nstate = 0,
+    .finite = 1,
+    .setup = setup,
+    .init_state = NULL,
+    .update = update,
+};

@@ -1,0 +1,82 @@
+/* mpgm_solver.h -- the sparse linear solver plug-in family.
+ *
+ * Contract: the core owns a compressed-column matrix whose pattern is fixed
+ * while the connectivity is unchanged; each Newton iteration refills its
+ * values. A backend analyses the pattern once (analyse), factorises the
+ * values (factor) and solves (solve). analyse is called again only when the
+ * pattern changes. The matrix always holds the full pattern (both
+ * triangles), sorted row indices per column, no duplicates; a symmetric
+ * backend may read one triangle only.
+ */
+#ifndef MPGM_SOLVER_H
+#define MPGM_SOLVER_H
+
+#include "mpgm_base.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Compressed sparse column matrix (0-based), borrowed by the backends. */
+typedef struct mpgm_csc {
+  int n;          /**< rows = columns                          */
+  int nnz;        /**< stored entries = colptr[n]              */
+  int *colptr;    /**< n + 1 column starts                     */
+  int *rowind;    /**< nnz row indices, sorted in each column  */
+  double *val;    /**< nnz values                              */
+  int symmetric;  /**< 1 when the values are symmetric         */
+} mpgm_csc;
+
+/** Statistics a backend reports after factor. */
+typedef struct mpgm_solver_stats {
+  double nnz_factor; /**< entries in the factors (L, or L + U)  */
+  double flops;      /**< flop count of the factorisation, if known (else 0) */
+} mpgm_solver_stats;
+
+typedef struct mpgm_solver_type {
+  const char *name;  /**< scene name: "cholmod", "umfpack"                */
+  const char *doc;   /**< one line for docs                               */
+  int needs_spd;     /**< 1: only for symmetric positive definite matrices */
+  int (*create)(mpgm_ctx *ctx, void **data);
+  void (*destroy)(void *data); /**< accepts NULL and half-built data       */
+  /** Symbolic analysis (ordering) of A's pattern. */
+  int (*analyse)(void *data, mpgm_ctx *ctx, const mpgm_csc *A);
+  /** Numeric factorisation of A (same pattern as analysed).
+   *  Not positive definite / singular: MPGM_ERR_SINGULAR (recoverable). */
+  int (*factor)(void *data, mpgm_ctx *ctx, const mpgm_csc *A);
+  /** x = A^-1 b with the last factorisation (b, x of length n; may alias). */
+  int (*solve)(void *data, mpgm_ctx *ctx, const double *b, double *x);
+  /** Optional (may be NULL). */
+  int (*stats)(void *data, mpgm_solver_stats *st);
+} mpgm_solver_type;
+
+/** A solver instance. */
+typedef struct mpgm_solver {
+  const mpgm_solver_type *type;
+  void *data;
+  int analysed; /**< 1 after analyse for the current pattern */
+} mpgm_solver;
+
+/** Find a backend by name; NULL if none. */
+const mpgm_solver_type *mpgm_solver_type_find(const char *name);
+/** All backends, NULL-terminated. */
+const mpgm_solver_type *const *mpgm_solver_types(void);
+
+/** Create/destroy an instance (destroy accepts NULL, nulls the pointer). */
+int mpgm_solver_create(mpgm_ctx *ctx, const mpgm_solver_type *type,
+                       mpgm_solver **out);
+void mpgm_solver_destroy(mpgm_solver **s);
+/** Generic wrappers: time into ctx (MPGM_T_ANALYSE/FACTOR/SOLVE) and count
+ *  analyses, factorisations and solves in ctx. */
+int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A);
+int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A);
+int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
+                      double *x);
+/** Statistics of the last factorisation. (Named _get_ because
+ *  mpgm_solver_stats is the struct's typedef.) */
+int mpgm_solver_get_stats(mpgm_solver *s, mpgm_solver_stats *st);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

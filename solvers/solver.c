@@ -1,0 +1,145 @@
+/* solver.c -- the backend list and the generic wrappers of the linear
+ * solver family (timers and counters live here, not in the backends).
+ * Adding a backend: write its .c, add one line to MPGM_SOLVER_LIST. */
+#include "mpgm_solver.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define MPGM_SOLVER_LIST(X)                                                    \
+  X(mpgm_solver_cholmod)                                                       \
+  X(mpgm_solver_umfpack)
+
+#define MPGM_DECLARE(t) extern const mpgm_solver_type t;
+MPGM_SOLVER_LIST(MPGM_DECLARE)
+#undef MPGM_DECLARE
+
+#define MPGM_ADDR(t) &t,
+static const mpgm_solver_type *const all_types[] = {
+    MPGM_SOLVER_LIST(MPGM_ADDR) NULL};
+#undef MPGM_ADDR
+
+/** All backends, NULL-terminated. */
+const mpgm_solver_type *const *mpgm_solver_types(void) { return all_types; }
+
+/** The backend named `name`; NULL if none (or name NULL). */
+const mpgm_solver_type *mpgm_solver_type_find(const char *name) {
+  if (!name) return NULL;
+  for (int i = 0; all_types[i]; i++)
+    if (strcmp(all_types[i]->name, name) == 0) return all_types[i];
+  return NULL;
+}
+
+/** Create an instance of `type` in *out (NULL on failure).
+ *  Errors: MPGM_ERR_INPUT (NULL arguments), MPGM_ERR_UNSUPPORTED (no
+ *  create), MPGM_ERR_NOMEM, or the backend's code. A backend's create may
+ *  leave half-built data behind on failure: it is released here. */
+int mpgm_solver_create(mpgm_ctx *ctx, const mpgm_solver_type *type,
+                       mpgm_solver **out) {
+  MPGM_CHECK(ctx, out != NULL && type != NULL, MPGM_ERR_INPUT,
+             "mpgm_solver_create: NULL argument");
+  *out = NULL;
+  MPGM_CHECK(ctx, type->create != NULL, MPGM_ERR_UNSUPPORTED,
+             "solver %s: no create operation", type->name);
+  mpgm_solver *s;
+  MPGM_ALLOC(ctx, s, 1);
+  s->type = type;
+  s->data = NULL;
+  s->analysed = 0;
+  int ierr = type->create(ctx, &s->data);
+  if (ierr) {
+    mpgm_solver_destroy(&s);
+    return ierr;
+  }
+  *out = s;
+  return MPGM_OK;
+}
+
+/** Release an instance and set *s to NULL; accepts s == NULL, *s == NULL
+ *  and half-built instances. */
+void mpgm_solver_destroy(mpgm_solver **s) {
+  if (!s || !*s) return;
+  if ((*s)->type && (*s)->type->destroy) (*s)->type->destroy((*s)->data);
+  free(*s);
+  *s = NULL;
+}
+
+/* Cheap consistency checks of a matrix handed to a backend. */
+static int check_csc(mpgm_ctx *ctx, const mpgm_solver *s, const mpgm_csc *A) {
+  MPGM_CHECK(ctx, A != NULL, MPGM_ERR_INPUT, "solver %s: NULL matrix",
+             s->type->name);
+  MPGM_CHECK(ctx, A->n > 0, MPGM_ERR_INPUT,
+             "solver %s: matrix of order %d", s->type->name, A->n);
+  MPGM_CHECK(ctx, A->colptr && A->rowind && A->val, MPGM_ERR_INTERNAL,
+             "solver %s: matrix arrays missing", s->type->name);
+  MPGM_CHECK(ctx, A->colptr[0] == 0 && A->colptr[A->n] == A->nnz,
+             MPGM_ERR_INTERNAL,
+             "solver %s: colptr[0] = %d, colptr[n] = %d, nnz = %d",
+             s->type->name, A->colptr[0], A->colptr[A->n], A->nnz);
+  return MPGM_OK;
+}
+
+/** Symbolic analysis of A's pattern (call again when the pattern changes).
+ *  Times MPGM_T_ANALYSE, counts ctx->n_analyses (every call that reaches
+ *  the backend). Errors: MPGM_ERR_INPUT, MPGM_ERR_UNSUPPORTED, backend's. */
+int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A) {
+  MPGM_CHECK(ctx, s != NULL, MPGM_ERR_INPUT, "mpgm_solver_analyse: NULL solver");
+  if (!s->type->analyse)
+    MPGM_ERROR(ctx, MPGM_ERR_UNSUPPORTED, "solver %s: no analyse operation",
+               s->type->name);
+  MPGM_CALL(check_csc(ctx, s, A));
+  s->analysed = 0;
+  mpgm_timer_start(ctx, MPGM_T_ANALYSE);
+  int ierr = s->type->analyse(s->data, ctx, A);
+  mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+  ctx->n_analyses++;
+  if (ierr) return ierr;
+  s->analysed = 1;
+  return MPGM_OK;
+}
+
+/** Numeric factorisation of A (pattern as analysed). Times MPGM_T_FACTOR,
+ *  counts ctx->n_factorizations. Errors: MPGM_ERR_SINGULAR (recoverable:
+ *  singular / not positive definite), MPGM_ERR_INTERNAL (not analysed),
+ *  MPGM_ERR_UNSUPPORTED, backend's. */
+int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A) {
+  MPGM_CHECK(ctx, s != NULL, MPGM_ERR_INPUT, "mpgm_solver_factor: NULL solver");
+  if (!s->type->factor)
+    MPGM_ERROR(ctx, MPGM_ERR_UNSUPPORTED, "solver %s: no factor operation",
+               s->type->name);
+  MPGM_CALL(check_csc(ctx, s, A));
+  MPGM_CHECK(ctx, s->analysed, MPGM_ERR_INTERNAL,
+             "solver %s: factor called before analyse", s->type->name);
+  mpgm_timer_start(ctx, MPGM_T_FACTOR);
+  int ierr = s->type->factor(s->data, ctx, A);
+  mpgm_timer_stop(ctx, MPGM_T_FACTOR);
+  ctx->n_factorizations++;
+  return ierr;
+}
+
+/** x = A^-1 b with the last factorisation (b and x of length n, may
+ *  alias). Times MPGM_T_SOLVE, counts ctx->n_solves. Errors:
+ *  MPGM_ERR_INPUT, MPGM_ERR_UNSUPPORTED, backend's. */
+int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
+                      double *x) {
+  MPGM_CHECK(ctx, s != NULL && b != NULL && x != NULL, MPGM_ERR_INPUT,
+             "mpgm_solver_solve: NULL argument");
+  if (!s->type->solve)
+    MPGM_ERROR(ctx, MPGM_ERR_UNSUPPORTED, "solver %s: no solve operation",
+               s->type->name);
+  mpgm_timer_start(ctx, MPGM_T_SOLVE);
+  int ierr = s->type->solve(s->data, ctx, b, x);
+  mpgm_timer_stop(ctx, MPGM_T_SOLVE);
+  ctx->n_solves++;
+  return ierr;
+}
+
+/** Statistics of the last factorisation into *st (zeroed first).
+ *  Returns MPGM_ERR_UNSUPPORTED when the backend has no stats operation
+ *  (there is no context to record a message in), MPGM_ERR_INPUT on NULL. */
+int mpgm_solver_get_stats(mpgm_solver *s, mpgm_solver_stats *st) {
+  if (!s || !st) return MPGM_ERR_INPUT;
+  memset(st, 0, sizeof(*st));
+  if (!s->type->stats) return MPGM_ERR_UNSUPPORTED;
+  return s->type->stats(s->data, st);
+}

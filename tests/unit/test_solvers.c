@@ -1,0 +1,455 @@
+/* test_solvers.c -- conformance suite run over every linear solver backend
+ * in mpgm_solver_types(): no per-backend code, one check per line.
+ *
+ * Matrices are 5-point stencils on an nx x ny grid stored with the full
+ * pattern (both triangles, sorted rows), as the core stores its tangent:
+ *   A(r,c) = s (w(r,c) + conv sgn(c - r))  for grid neighbours r, c,
+ *   A(c,c) = s (shift + sum_q |w(c,q)|),   w(r,c) = -(1 + 0.3 sin(0.7 (r+c)))
+ * so conv = 0 gives a symmetric matrix, SPD for shift > 0 and indefinite
+ * for a negative shift well inside the spectrum (about [shift, shift + 8]).
+ *
+ * Checks: known SPD system (residual and error), refactorisation with new
+ * values and no new analysis (ctx counters), in-place solve, statistics,
+ * a new pattern, an unsymmetric system (needs_spd = 0), an indefinite
+ * symmetric system (MPGM_ERR_SINGULAR for SPD-only backends, followed by a
+ * successful refactorisation; solved otherwise), zero and structurally
+ * singular matrices (MPGM_ERR_SINGULAR), misuse and NULL destroys.
+ */
+#include "mpgm_solver.h"
+#include "mpgm_test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SCALE 2.385e3 /* high-entropy magnitude of the entries */
+
+/* ---- test matrices ------------------------------------------------------ */
+static double weight(int r, int c) { return -(1.0 + 0.3 * sin(0.7 * (r + c))); }
+
+/* Grid neighbours of node c in increasing order (the rows of column c
+ * besides c itself); returns their number. Node `hole` (or -1) is absent:
+ * it has no neighbours and is no one's neighbour. */
+static int neighbours(int nx, int ny, int c, int hole, int q[4]) {
+  int cx = c % nx, cy = c / nx, m = 0;
+  if (c == hole) return 0;
+  if (cy > 0) q[m++] = c - nx;
+  if (cx > 0) q[m++] = c - 1;
+  if (cx < nx - 1) q[m++] = c + 1;
+  if (cy < ny - 1) q[m++] = c + nx;
+  int k = 0;
+  for (int i = 0; i < m; i++)
+    if (q[i] != hole) q[k++] = q[i];
+  return k;
+}
+
+/* Allocate and fill A (see the file comment). Returns 0 or -1 (no memory). */
+static int build(int nx, int ny, int hole, double shift, double conv,
+                 double s, mpgm_csc *A) {
+  const int n = nx * ny;
+  A->n = n;
+  A->colptr = malloc(((size_t)n + 1) * sizeof(int));
+  A->rowind = malloc(5 * (size_t)n * sizeof(int));
+  A->val = malloc(5 * (size_t)n * sizeof(double));
+  if (!A->colptr || !A->rowind || !A->val) return -1;
+  int k = 0;
+  for (int c = 0; c < n; c++) {
+    int q[4], m = neighbours(nx, ny, c, hole, q);
+    double diag = shift;
+    for (int i = 0; i < m; i++) diag += fabs(weight(c, q[i]));
+    A->colptr[c] = k;
+    int i = 0;
+    for (; i < m && q[i] < c; i++, k++) { /* rows above the diagonal */
+      A->rowind[k] = q[i];
+      A->val[k] = s * (weight(q[i], c) + conv);
+    }
+    if (c != hole) {
+      A->rowind[k] = c;
+      A->val[k++] = s * diag;
+    }
+    for (; i < m; i++, k++) {
+      A->rowind[k] = q[i];
+      A->val[k] = s * (weight(q[i], c) - conv);
+    }
+  }
+  A->colptr[n] = k;
+  A->nnz = k;
+  A->symmetric = conv == 0.0;
+  return 0;
+}
+
+static void release(mpgm_csc *A) {
+  free(A->colptr);
+  free(A->rowind);
+  free(A->val);
+  memset(A, 0, sizeof(*A));
+}
+
+/* y = A x */
+static void matvec(const mpgm_csc *A, const double *x, double *y) {
+  for (int i = 0; i < A->n; i++) y[i] = 0.0;
+  for (int c = 0; c < A->n; c++)
+    for (int k = A->colptr[c]; k < A->colptr[c + 1]; k++)
+      y[A->rowind[k]] += A->val[k] * x[c];
+}
+
+/* max-row-sum norm */
+static double norm_inf_A(const mpgm_csc *A) {
+  double *rs = calloc((size_t)A->n, sizeof(double)), m = 0.0;
+  if (!rs) return NAN;
+  for (int k = 0; k < A->nnz; k++) rs[A->rowind[k]] += fabs(A->val[k]);
+  for (int i = 0; i < A->n; i++) m = rs[i] > m ? rs[i] : m;
+  free(rs);
+  return m;
+}
+
+static double norm_inf(const double *v, int n) {
+  double m = 0.0;
+  for (int i = 0; i < n; i++) m = fabs(v[i]) > m ? fabs(v[i]) : m;
+  return m;
+}
+
+/* Work vectors of one system with known solution xt and b = A xt. */
+typedef struct vecs { double *xt, *b, *x, *r; } vecs;
+
+static int vecs_alloc(int n, vecs *v) {
+  v->xt = malloc((size_t)n * sizeof(double));
+  v->b = malloc((size_t)n * sizeof(double));
+  v->x = malloc((size_t)n * sizeof(double));
+  v->r = malloc((size_t)n * sizeof(double));
+  return (v->xt && v->b && v->x && v->r) ? 0 : -1;
+}
+static void vecs_free(vecs *v) {
+  free(v->xt); free(v->b); free(v->x); free(v->r);
+}
+static void known_rhs(const mpgm_csc *A, vecs *v) {
+  for (int i = 0; i < A->n; i++) v->xt[i] = 1.2345 + sin(0.37 * i) + 0.01 * i;
+  matvec(A, v->xt, v->b);
+}
+
+/* Check a solution x of A x = b against xt: normwise backward error
+ * ||b - A x|| / (||A|| ||x|| + ||b||) and forward error ||x - xt|| / ||xt||
+ * (inf norms). */
+static void check_solution(const char *name, const char *what,
+                           const mpgm_csc *A, vecs *v, double tol_err) {
+  const int n = A->n;
+  matvec(A, v->x, v->r);
+  for (int i = 0; i < n; i++) v->r[i] = v->b[i] - v->r[i];
+  double be = norm_inf(v->r, n) /
+              (norm_inf_A(A) * norm_inf(v->x, n) + norm_inf(v->b, n));
+  for (int i = 0; i < n; i++) v->r[i] = v->x[i] - v->xt[i];
+  double fe = norm_inf(v->r, n) / norm_inf(v->xt, n);
+  mpgm_test_abs(be, 0.0, 1e-14, "%s: %s: backward error", name, what);
+  mpgm_test_abs(fe, 0.0, tol_err, "%s: %s: forward error", name, what);
+}
+
+/* ---- per-backend checks ------------------------------------------------- */
+
+/* Known SPD system, refactorisation, in-place solve, stats, new pattern. */
+static void check_spd(const mpgm_solver_type *t) {
+  const char *nm = t->name;
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_csc A = {0}, B = {0};
+  vecs v = {0}, w = {0};
+  mpgm_solver *s = NULL;
+  if (build(17, 13, -1, 0.3817, 0.0, SCALE, &A) || vecs_alloc(A.n, &v) ||
+      vecs_alloc(A.n, &w)) {
+    mpgm_test(0, "%s: allocation", nm);
+    goto done;
+  }
+  known_rhs(&A, &v);
+  int ierr = mpgm_solver_create(&ctx, t, &s);
+  mpgm_test(ierr == 0 && s != NULL, "%s: create (%d)", nm, ierr);
+  if (ierr) goto done;
+  int e1 = mpgm_solver_analyse(s, &ctx, &A);
+  int e2 = mpgm_solver_factor(s, &ctx, &A);
+  int e3 = mpgm_solver_solve(s, &ctx, v.b, v.x);
+  mpgm_test(e1 == 0 && e2 == 0 && e3 == 0,
+            "%s: SPD 17x13: analyse, factor, solve return %d %d %d (%s)", nm,
+            e1, e2, e3, ctx.msg);
+  check_solution(nm, "SPD 17x13", &A, &v, 1e-12);
+
+  mpgm_solver_stats st;
+  ierr = mpgm_solver_get_stats(s, &st);
+  mpgm_test(ierr == 0 && st.nnz_factor >= A.n && st.flops >= 0.0,
+            "%s: stats (%d): nnz(factor) = %g >= n = %d, flops = %g", nm, ierr,
+            st.nnz_factor, A.n, st.flops);
+
+  /* new values, same pattern: factor again without a new analysis */
+  if (build(17, 13, -1, 1.713, 0.0, 1.37 * SCALE, &B)) {
+    mpgm_test(0, "%s: allocation", nm);
+    goto done;
+  }
+  memcpy(A.val, B.val, (size_t)A.nnz * sizeof(double));
+  known_rhs(&A, &w);
+  e2 = mpgm_solver_factor(s, &ctx, &A);
+  e3 = mpgm_solver_solve(s, &ctx, w.b, w.x);
+  mpgm_test(e2 == 0 && e3 == 0, "%s: refactor, solve return %d %d", nm, e2, e3);
+  check_solution(nm, "SPD refactored", &A, &w, 1e-12);
+  mpgm_test(ctx.n_analyses == 1 && ctx.n_factorizations == 2 &&
+                ctx.n_solves == 2,
+            "%s: counters: %ld analyses (1), %ld factorizations (2), %ld "
+            "solves (2)", nm, ctx.n_analyses, ctx.n_factorizations,
+            ctx.n_solves);
+  mpgm_test(ctx.t[MPGM_T_ANALYSE] >= 0.0 && ctx.t[MPGM_T_FACTOR] > 0.0 &&
+                ctx.t[MPGM_T_SOLVE] > 0.0,
+            "%s: timers analyse %g, factor %g, solve %g s", nm,
+            ctx.t[MPGM_T_ANALYSE], ctx.t[MPGM_T_FACTOR], ctx.t[MPGM_T_SOLVE]);
+
+  /* in place: x and b alias */
+  memcpy(w.x, w.b, (size_t)A.n * sizeof(double));
+  e3 = mpgm_solver_solve(s, &ctx, w.x, w.x);
+  mpgm_test(e3 == 0, "%s: in-place solve returns %d", nm, e3);
+  check_solution(nm, "in-place solve", &A, &w, 1e-12);
+
+  /* a new pattern: analyse again on the same instance */
+  release(&B);
+  vecs_free(&w);
+  memset(&w, 0, sizeof(w));
+  if (build(11, 19, -1, 0.5273, 0.0, SCALE, &B) || vecs_alloc(B.n, &w)) {
+    mpgm_test(0, "%s: allocation", nm);
+    goto done;
+  }
+  known_rhs(&B, &w);
+  e1 = mpgm_solver_analyse(s, &ctx, &B);
+  e2 = mpgm_solver_factor(s, &ctx, &B);
+  e3 = mpgm_solver_solve(s, &ctx, w.b, w.x);
+  mpgm_test(e1 == 0 && e2 == 0 && e3 == 0 && ctx.n_analyses == 2,
+            "%s: new pattern 11x19: analyse, factor, solve return %d %d %d, "
+            "%ld analyses (2)", nm, e1, e2, e3, ctx.n_analyses);
+  check_solution(nm, "new pattern 11x19", &B, &w, 1e-12);
+  mpgm_test(ctx.code == 0, "%s: no error recorded (%s)", nm, ctx.msg);
+
+done:
+  mpgm_solver_destroy(&s);
+  mpgm_test(s == NULL, "%s: destroy nulls the pointer", nm);
+  release(&A);
+  release(&B);
+  vecs_free(&v);
+  vecs_free(&w);
+}
+
+/* One system on a fresh instance; returns the factor's code (solution
+ * checked when it is 0). */
+static int solve_fresh(const mpgm_solver_type *t, const char *what,
+                       const mpgm_csc *A, double tol_err, mpgm_ctx *ctx) {
+  const char *nm = t->name;
+  mpgm_solver *s = NULL;
+  vecs v = {0};
+  int ef = -1000;
+  if (vecs_alloc(A->n, &v)) {
+    mpgm_test(0, "%s: allocation", nm);
+    goto done;
+  }
+  known_rhs(A, &v);
+  int ierr = mpgm_solver_create(ctx, t, &s);
+  if (ierr == 0) ierr = mpgm_solver_analyse(s, ctx, A);
+  mpgm_test(ierr == 0, "%s: %s: create and analyse return %d", nm, what, ierr);
+  if (ierr) goto done;
+  ef = mpgm_solver_factor(s, ctx, A);
+  if (ef == 0) {
+    int es = mpgm_solver_solve(s, ctx, v.b, v.x);
+    mpgm_test(es == 0, "%s: %s: solve returns %d", nm, what, es);
+    check_solution(nm, what, A, &v, tol_err);
+  } else {
+    /* no valid factorisation: solve must refuse, not crash */
+    int es = mpgm_solver_solve(s, ctx, v.b, v.x);
+    mpgm_test(es != 0, "%s: %s: solve after a failed factor refused (%d)", nm,
+              what, es);
+  }
+done:
+  mpgm_solver_destroy(&s);
+  vecs_free(&v);
+  return ef;
+}
+
+/* Indefinite symmetric system: MPGM_ERR_SINGULAR for SPD-only backends,
+ * solved (forward error <= tol_err) otherwise. */
+static void check_indefinite(const mpgm_solver_type *t, int nx, int ny,
+                             double tol_err) {
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_csc A = {0};
+  char what[64];
+  snprintf(what, sizeof(what), "indefinite %dx%d", nx, ny);
+  if (build(nx, ny, -1, -3.1, 0.0, SCALE, &A) == 0) {
+    int ef = solve_fresh(t, what, &A, tol_err, &ctx);
+    if (t->needs_spd)
+      mpgm_test(ef == MPGM_ERR_SINGULAR && ctx.code == MPGM_ERR_SINGULAR &&
+                    ctx.msg[0] != '\0',
+                "%s: %s: MPGM_ERR_SINGULAR (%d) recorded: %s", t->name, what,
+                ef, ctx.msg);
+    else
+      mpgm_test(ef == 0, "%s: %s: factor returns %d (%s)", t->name, what, ef,
+                ctx.msg);
+  }
+  release(&A);
+}
+
+/* Factor indefinite values, then SPD values on the same instance (no new
+ * analysis): the second factorisation and the solve must succeed. */
+static void check_recovery(const mpgm_solver_type *t, int nx, int ny) {
+  const char *nm = t->name;
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_csc A = {0}, S = {0};
+  mpgm_solver *s = NULL;
+  vecs v = {0};
+  char what[80];
+  snprintf(what, sizeof(what), "%dx%d refactor after indefinite values", nx,
+           ny);
+  if (build(nx, ny, -1, -3.1, 0.0, SCALE, &A) == 0 &&
+      build(nx, ny, -1, 0.3817, 0.0, SCALE, &S) == 0 &&
+      vecs_alloc(S.n, &v) == 0 && mpgm_solver_create(&ctx, t, &s) == 0 &&
+      mpgm_solver_analyse(s, &ctx, &A) == 0) {
+    mpgm_solver_factor(s, &ctx, &A); /* fails for SPD-only backends */
+    mpgm_err_clear(&ctx);
+    known_rhs(&S, &v);
+    int ef = mpgm_solver_factor(s, &ctx, &S);
+    int es = mpgm_solver_solve(s, &ctx, v.b, v.x);
+    mpgm_test(ef == 0 && es == 0, "%s: %s: factor, solve %d %d", nm, what, ef,
+              es);
+    check_solution(nm, what, &S, &v, 1e-12);
+  } else {
+    mpgm_test(0, "%s: %s: set-up (%s)", nm, what, ctx.msg);
+  }
+  mpgm_solver_destroy(&s);
+  vecs_free(&v);
+  release(&S);
+  release(&A);
+}
+
+/* Unsymmetric, indefinite, zero and structurally singular matrices. */
+static void check_hard(const mpgm_solver_type *t) {
+  const char *nm = t->name;
+  mpgm_ctx ctx;
+  mpgm_csc A = {0};
+
+  if (!t->needs_spd) { /* convection-diffusion, cell Peclet about 0.8 */
+    mpgm_ctx_init(&ctx);
+    if (build(17, 13, -1, 0.05, 0.8, SCALE, &A) == 0) {
+      int ef = solve_fresh(t, "unsymmetric 17x13", &A, 1e-12, &ctx);
+      mpgm_test(ef == 0, "%s: unsymmetric 17x13: factor returns %d (%s)", nm,
+                ef, ctx.msg);
+    }
+    release(&A);
+  }
+
+  /* indefinite symmetric (shift -3.1 inside the spectrum); the larger grid
+   * makes CHOLMOD choose its supernodal factorisation */
+  check_indefinite(t, 17, 13, 1e-10);
+  check_indefinite(t, 100, 100, 1e-8);
+
+  /* a larger SPD system (supernodal in CHOLMOD) */
+  mpgm_ctx_init(&ctx);
+  if (build(100, 100, -1, 0.3817, 0.0, SCALE, &A) == 0) {
+    int ef = solve_fresh(t, "SPD 100x100", &A, 1e-12, &ctx);
+    mpgm_test(ef == 0, "%s: SPD 100x100: factor returns %d (%s)", nm, ef,
+              ctx.msg);
+  }
+  release(&A);
+
+  /* recovery after a failed factorisation (simplicial and supernodal) */
+  check_recovery(t, 17, 13);
+  check_recovery(t, 100, 100);
+
+  /* zero values on the full pattern */
+  mpgm_ctx_init(&ctx);
+  if (build(17, 13, -1, 0.3817, 0.0, 0.0, &A) == 0) {
+    int ef = solve_fresh(t, "zero matrix", &A, 1e-12, &ctx);
+    mpgm_test(ef == MPGM_ERR_SINGULAR && ctx.code == MPGM_ERR_SINGULAR,
+              "%s: zero matrix: MPGM_ERR_SINGULAR (%d): %s", nm, ef, ctx.msg);
+  }
+  release(&A);
+
+  /* structurally singular: node 100 has an empty row and column */
+  mpgm_ctx_init(&ctx);
+  if (build(17, 13, 100, 0.3817, 0.0, SCALE, &A) == 0) {
+    int ef = solve_fresh(t, "structurally singular", &A, 1e-12, &ctx);
+    mpgm_test(ef == MPGM_ERR_SINGULAR && ctx.code == MPGM_ERR_SINGULAR,
+              "%s: empty column: MPGM_ERR_SINGULAR (%d): %s", nm, ef, ctx.msg);
+  }
+  release(&A);
+}
+
+/* Misuse through the wrappers and NULL destroys. */
+static void check_misuse(const mpgm_solver_type *t) {
+  const char *nm = t->name;
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_csc A = {0};
+  mpgm_solver *s = NULL;
+  double b[4] = {1, 2, 3, 4}, x[4];
+  t->destroy(NULL);
+  mpgm_solver_destroy(NULL);
+  mpgm_solver_destroy(&s);
+  mpgm_test(s == NULL, "%s: destroy(NULL) accepted", nm);
+  if (build(2, 2, -1, 0.3817, 0.0, SCALE, &A) == 0 &&
+      mpgm_solver_create(&ctx, t, &s) == 0) {
+    int ef = mpgm_solver_factor(s, &ctx, &A);
+    mpgm_test(ef == MPGM_ERR_INTERNAL, "%s: factor before analyse refused (%d)",
+              nm, ef);
+    mpgm_err_clear(&ctx);
+    int ea = mpgm_solver_analyse(s, &ctx, &A);
+    int es = mpgm_solver_solve(s, &ctx, b, x);
+    mpgm_test(ea == 0 && es != 0, "%s: solve before factor refused (%d)", nm,
+              es);
+  } else {
+    mpgm_test(0, "%s: misuse set-up", nm);
+  }
+  mpgm_solver_destroy(&s); /* analysed, never factorised */
+  mpgm_test(s == NULL, "%s: destroy of an unfactorised instance", nm);
+  release(&A);
+}
+
+/* ---- a backend without optional operations ------------------------------ */
+static int bare_create(mpgm_ctx *ctx, void **data) {
+  (void)ctx;
+  *data = NULL;
+  return 0;
+}
+static void bare_destroy(void *data) { (void)data; }
+static const mpgm_solver_type bare = {.name = "bare", .doc = "no operations",
+                                      .create = bare_create,
+                                      .destroy = bare_destroy};
+
+static void check_wrappers(void) {
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_solver *s = NULL;
+  mpgm_csc A = {0};
+  mpgm_solver_stats st;
+  int ierr = mpgm_solver_create(&ctx, &bare, &s);
+  mpgm_test(ierr == 0 && s, "bare backend: create (%d)", ierr);
+  if (!ierr && build(2, 2, -1, 1.0, 0.0, 1.0, &A) == 0) {
+    ierr = mpgm_solver_analyse(s, &ctx, &A);
+    mpgm_test(ierr == MPGM_ERR_UNSUPPORTED && ctx.code == MPGM_ERR_UNSUPPORTED,
+              "missing analyse: MPGM_ERR_UNSUPPORTED recorded (%s)", ctx.msg);
+    ierr = mpgm_solver_get_stats(s, &st);
+    mpgm_test(ierr == MPGM_ERR_UNSUPPORTED, "missing stats: %d", ierr);
+  }
+  mpgm_solver_destroy(&s);
+  release(&A);
+}
+
+int main(void) {
+  const mpgm_solver_type *const *types = mpgm_solver_types();
+  int ntypes = 0;
+  while (types[ntypes]) ntypes++;
+  mpgm_test(ntypes >= 2, "solver list holds %d backends", ntypes);
+  mpgm_test(mpgm_solver_type_find("no_such_solver") == NULL &&
+                mpgm_solver_type_find(NULL) == NULL,
+            "unknown names are not found");
+  check_wrappers();
+  for (int i = 0; types[i]; i++) {
+    const mpgm_solver_type *t = types[i];
+    mpgm_test(mpgm_solver_type_find(t->name) == t, "%s: found by name",
+              t->name);
+    check_spd(t);
+    check_hard(t);
+    check_misuse(t);
+  }
+  return mpgm_test_summary();
+}
