@@ -250,6 +250,7 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
   memcpy(R, pb->fext, sizeof(double) * (size_t)n);
   if (want_K) memset(pb->K.val, 0, sizeof(double) * (size_t)pb->K.nnz);
   const double *an = pb->nodes.a_new;
+  const double *lift = want_K ? pb->lift : NULL;
   for (int p = 0; p < P->n; p++) {
     const double *s = P->sigma_t + 4 * p, *D = P->D_t + 9 * p;
     const double v = P->vol_t[p], m = P->mass[p];
@@ -283,20 +284,25 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
         DB[i][1] = D[3 * i + 1] * hy + D[3 * i + 2] * hx;
       }
       const double sh0 = s[0] * hx + s[2] * hy, sh1 = s[2] * hx + s[1] * hy;
+      const int Ib = C->node[k0 + b];
       for (int a = 0; a < nk; a++) {
         const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
-        double k00 = gx * DB[0][0] + gy * DB[2][0];
-        double k01 = gx * DB[0][1] + gy * DB[2][1];
-        double k10 = gy * DB[1][0] + gx * DB[2][0];
-        double k11 = gy * DB[1][1] + gx * DB[2][1];
-        double diag = geo ? gx * sh0 + gy * sh1 : 0.0;
-        diag *= v;
+        double diag = geo ? v * (gx * sh0 + gy * sh1) : 0.0;
         if (inertia) diag += kdyn * m * C->N[k0 + a] * C->N[k0 + b];
+        const double kab[4] = {v * (gx * DB[0][0] + gy * DB[2][0]) + diag,
+                               v * (gx * DB[0][1] + gy * DB[2][1]),
+                               v * (gy * DB[1][0] + gx * DB[2][0]),
+                               v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
         const int *e = sc + 4 * (a * nk + b);
-        if (e[0] >= 0) val[e[0]] += v * k00 + diag;
-        if (e[1] >= 0) val[e[1]] += v * k01;
-        if (e[2] >= 0) val[e[2]] += v * k10;
-        if (e[3] >= 0) val[e[3]] += v * k11 + diag;
+        for (int q = 0; q < 4; q++)
+          if (e[q] >= 0) val[e[q]] += kab[q];
+        if (lift) { /* free row of node a, fixed column of node b */
+          const int Ia = C->node[k0 + a];
+          for (int i = 0; i < 2; i++)
+            for (int j = 0; j < 2; j++)
+              if (dof[2 * Ia + i] >= 0 && dof[2 * Ib + j] < 0)
+                R[dof[2 * Ia + i]] -= kab[2 * i + j] * lift[2 * Ib + j];
+        }
       }
     }
   }

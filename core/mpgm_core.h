@@ -133,8 +133,16 @@ struct mpgm_problem {
   int *scatter;      /**< per point: 4 * n_p^2 positions in K.val (-1: fixed) */
   int *scatter_ptr;  /**< np + 1 offsets into scatter                   */
   double *R, *fext, *delta;
+  double *dubar;     /**< 2 per node: prescribed increment of the step   */
+  const double *lift; /**< when set (first iteration), assembly adds
+                           -K_free,fixed * lift to R: the prescribed increment
+                           enters Newton linearly, not as a jump of the
+                           boundary nodes alone                           */
   mpgm_solver *solver;
   int symmetric;     /**< all tangents symmetric (static or dynamic)    */
+  int solver_auto;   /**< solver chosen by "auto": may fall back to LU   */
+  int solver_switches; /**< times "auto" fell back from CHOLMOD to UMFPACK
+                            (tangent not positive definite)             */
 };
 
 /** Create a problem for a loaded scene with a front end. */

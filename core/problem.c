@@ -125,6 +125,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
     for (int d = 0; d < 2; d++)
       pb->fx.prescribed |= scene->bcs[i].fix[d] && scene->bcs[i].displacement[d] != 0.0;
   const mpgm_solver_type *st = scene->solver;
+  pb->solver_auto = !st;
   if (!st) st = mpgm_solver_type_find(pb->symmetric ? "cholmod" : "umfpack");
   int err = st ? mpgm_solver_create(ctx, st, &pb->solver)
                : mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "no solver backend");
@@ -137,7 +138,8 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
     pb->R = calloc(nd, sizeof(double));
     pb->fext = calloc(nd, sizeof(double));
     pb->delta = calloc(nd, sizeof(double));
-    if (!pb->R || !pb->fext || !pb->delta)
+    pb->dubar = calloc(2 * (size_t)pb->nodes.n + 1, sizeof(double));
+    if (!pb->R || !pb->fext || !pb->delta || !pb->dubar)
       err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
   }
   if (!err && pb->nodes.ndof == 0)
@@ -167,6 +169,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->R);
   free(pb->fext);
   free(pb->delta);
+  free(pb->dubar);
   mpgm_solver_destroy(&pb->solver);
   free(pb);
   *pp = NULL;

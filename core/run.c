@@ -71,6 +71,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "body_force_loops", (double)ctx->n_body_force);
   cJSON_AddNumberToObject(c, "inertia_loops", (double)ctx->n_mass);
   cJSON_AddNumberToObject(c, "step_cuts", 0);
+  cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
   cJSON_AddNumberToObject(c, "vtk_files", o->files);
   mpgm_solver_stats st = {0, 0};
   if (pb->solver && ctx->n_factorizations && mpgm_solver_get_stats(pb->solver, &st) == 0)
@@ -122,8 +123,9 @@ static int write_summary(mpgm_problem *pb, mpgm_output *o, const run_state *rs) 
 static void progress(const mpgm_problem *pb, long nsteps, double t0) {
   const double el = mpgm_wtime() - t0;
   const double eta = pb->step ? el / pb->step * (nsteps - pb->step) : 0.0;
-  fprintf(stderr, "\r\033[Kstep %ld/%ld  t = %.6g  newton %d  |R|/ref = %.2e  elapsed %.1fs  ETA %.1fs",
-          pb->step, nsteps, pb->scene->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t,
+  const int st = pb->scene->analysis == MPGM_ANALYSIS_STATIC;
+  fprintf(stderr, "\r\033[Kstep %ld/%ld  %s = %.6g  newton %d  |R|/ref = %.2e  elapsed %.1fs  ETA %.1fs",
+          pb->step, nsteps, st ? "load" : "t", st ? pb->lambda : pb->t,
           pb->last.iterations, pb->last.res_rel, el, eta);
   fflush(stderr);
 }
@@ -166,7 +168,8 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
     const long k = pb->step + 1;
     err = mpgm_step(pb);
     if (err) {
-      snprintf(msg, sizeof msg, "step %ld (t = %.9g) failed: %s", k, pb->t + pb->dt, ctx->msg);
+      snprintf(msg, sizeof msg, "step %ld (%s %.9g) failed: %s", k, dyn ? "t =" : "load factor",
+               dyn ? pb->t + pb->dt : (double)k / s->load_steps, ctx->msg);
       rs.status = "failed";
       rs.message = msg;
       rs.failed_step = k;

@@ -194,11 +194,13 @@ static int read_fix(jr_node *o, const char *key, int fix[2]) {
   if (!v) return jr_fail(o, key, "required key is missing (expected [\"x\"], [\"y\"] or [\"x\", \"y\"])");
   fix[0] = fix[1] = 0;
   if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) < 1 || cJSON_GetArraySize(v) > 2)
-    return jr_fail(o, key, "expected [\"x\"], [\"y\"] or [\"x\", \"y\"], found %s", jr_type(v));
+    return jr_fail(o, key, "expected [\"x\"], [\"y\"] or [\"x\", \"y\"], found %s%s", jr_type(v),
+                   cJSON_IsArray(v) ? " of another length" : "");
   for (const cJSON *c = v->child; c; c = c->next) {
     int d = cJSON_IsString(c) ? (strcmp(c->valuestring, "x") == 0 ? 0 : strcmp(c->valuestring, "y") == 0 ? 1 : -1) : -1;
-    if (d < 0) return jr_fail(o, key, "expected components \"x\" or \"y\", found %s%s%s", jr_type(c),
-                              cJSON_IsString(c) ? " " : "", cJSON_IsString(c) ? c->valuestring : "");
+    if (d < 0) return jr_fail(o, key, "expected components \"x\" or \"y\", found %s%s%s%s", jr_type(c),
+                              cJSON_IsString(c) ? " \"" : "", cJSON_IsString(c) ? c->valuestring : "",
+                              cJSON_IsString(c) ? "\"" : "");
     if (fix[d]) return jr_fail(o, key, "component \"%s\" listed twice", c->valuestring);
     fix[d] = 1;
   }
@@ -240,6 +242,22 @@ static int read_boundaries(jr_node *root, mpgm_scene *s) {
         return jr_fail(&box, NULL, "expected max >= min in x and y, found an inverted box");
     }
     MPGM_CALL(jr_num(&b, "tol", 1e-6 * s->h, 0, INFINITY, 0, 0, &bc->tol));
+    /* fem nodes lie on the bodies: a selector that misses every body picks no
+     * node (the front end checks the exact node selection when it meshes) */
+    int meets = s->method != MPGM_METHOD_FEM;
+    for (int k = 0; k < s->nbody && !meets; k++) {
+      const mpgm_scene_body *bd = &s->bodies[k];
+      const double t = bc->tol;
+      if (bc->select == MPGM_SELECT_BOX)
+        meets = bc->min[0] - t <= bd->max[0] && bc->max[0] + t >= bd->min[0] &&
+                bc->min[1] - t <= bd->max[1] && bc->max[1] + t >= bd->min[1];
+      else
+        meets = bc->value >= bd->min[bc->select] - t && bc->value <= bd->max[bc->select] + t;
+    }
+    if (!meets)
+      return jr_fail(&b, bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box",
+                     "expected a selector that meets a body (only bodies carry nodes), found none "
+                     "within tol = %g of it", bc->tol);
     MPGM_CALL(read_fix(&b, "fix", bc->fix));
     const double zero[2] = {0, 0};
     MPGM_CALL(jr_vec2(&b, "displacement", zero, bc->displacement));
@@ -264,6 +282,15 @@ static int read_probes(jr_node *root, mpgm_scene *s) {
     MPGM_CALL(check_name(&q, c->string));
     snprintf(s->probes[i].name, MPGM_NAME_LEN, "%s", c->string);
     MPGM_CALL(jr_vec2(&p, c->string, NULL, s->probes[i].x));
+    const double *x = s->probes[i].x;
+    int in = 0;
+    for (int b = 0; b < s->nbody && !in; b++) {
+      const mpgm_scene_body *bd = &s->bodies[b];
+      const double e = 1e-12 * (bd->max[0] - bd->min[0] + bd->max[1] - bd->min[1]);
+      in = x[0] >= bd->min[0] - e && x[0] <= bd->max[0] + e && x[1] >= bd->min[1] - e &&
+           x[1] <= bd->max[1] + e;
+    }
+    if (!in) return jr_fail(&q, NULL, "expected a position inside a body, found (%g, %g)", x[0], x[1]);
   }
   MPGM_CALL(jr_end(&p));
   return 0;
@@ -290,8 +317,9 @@ static int read_output(jr_node *root, mpgm_scene *s) {
         if (strcmp(field_names[i], c->valuestring) == 0) k = i;
       if (k < 0)
         return jr_fail(&o, "fields", "expected field names (displacement, velocity, stress, mass, "
-                       "volume, J, material, acceleration), found %s%s%s", jr_type(c),
-                       cJSON_IsString(c) ? " " : "", cJSON_IsString(c) ? c->valuestring : "");
+                       "volume, J, material, acceleration), found %s%s%s%s", jr_type(c),
+                       cJSON_IsString(c) ? " \"" : "", cJSON_IsString(c) ? c->valuestring : "",
+                       cJSON_IsString(c) ? "\"" : "");
       s->fields |= 1u << k;
     }
   }
@@ -403,13 +431,15 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
 }
 
 /* Split "a.b=value" overrides. */
-static int parse_sets(mpgm_ctx *ctx, int nset, const char *const *sets, jr_override *ov) {
+static int parse_sets(mpgm_ctx *ctx, const char *file, int nset, const char *const *sets,
+                      jr_override *ov) {
   for (int i = 0; i < nset; i++) {
     const char *eq = strchr(sets[i], '=');
     MPGM_CHECK(ctx, eq && eq != sets[i], MPGM_ERR_INPUT,
-               "--set %s: expected KEY=VALUE with a dotted KEY (e.g. mesh.h=0.125)", sets[i]);
+               "%s: %s: expected --set KEY=VALUE with a dotted KEY (e.g. mesh.h=0.125), found "
+               "\"%s\"", file, eq ? "(empty key)" : sets[i], sets[i]);
     size_t n = (size_t)(eq - sets[i]);
-    MPGM_CHECK(ctx, n < JR_PATH, MPGM_ERR_INPUT, "--set %s: key too long", sets[i]);
+    MPGM_CHECK(ctx, n < JR_PATH, MPGM_ERR_INPUT, "%s: --set %.40s...: key too long", file, sets[i]);
     memcpy(ov[i].path, sets[i], n);
     ov[i].path[n] = '\0';
     ov[i].value = eq + 1;
@@ -455,7 +485,7 @@ int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
   int err = (!s || !ov) ? mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory") : 0;
   jr_reader r = {.ctx = ctx, .file = file, .ov = ov, .nov = nset};
   cJSON *resolved = cJSON_CreateObject();
-  if (!err) err = parse_sets(ctx, nset, sets, ov);
+  if (!err) err = parse_sets(ctx, file, nset, sets, ov);
   if (!err) {
     snprintf(s->file, sizeof s->file, "%s", file);
     const char *base = strrchr(file, '/');

@@ -13,12 +13,20 @@ static double norm2(const double *x, int n) {
   return sqrt(s);
 }
 
-/* Predictor: free components start from du = 0; fixed components take the
- * increment of their (ramped) prescribed value. */
-static void predictor(mpgm_problem *pb) {
+/* Predictor (42): du = 0. Fixed components get the increment of their
+ * (ramped) prescribed value through the first Newton iteration: it solves
+ * K_ff delta = R(0) - K_fc dubar, so the whole body follows the boundary
+ * linearly instead of the boundary nodes jumping alone (which can invert
+ * the cells next to them). Returns 1 when some increment is non-zero. */
+static int predictor(mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
-  for (int i = 0; i < 2 * nd->n; i++)
-    nd->du[i] = nd->fix[i] ? pb->lambda * nd->ubar[i] - nd->u[i] : 0.0;
+  int any = 0;
+  for (int i = 0; i < 2 * nd->n; i++) {
+    nd->du[i] = 0.0;
+    pb->dubar[i] = nd->fix[i] ? pb->lambda * nd->ubar[i] - nd->u[i] : 0.0;
+    any |= pb->dubar[i] != 0.0;
+  }
+  return any;
 }
 
 /* Commit a converged step: points (material and tracers) and nodes. */
@@ -84,7 +92,8 @@ int mpgm_step(mpgm_problem *pb) {
   if (sc->analysis == MPGM_ANALYSIS_STATIC) pb->lambda = (double)(pb->step + 1) / sc->load_steps;
   else pb->lambda = fmin(1.0, (pb->t + pb->dt) / sc->t_end);
   MPGM_CALL(mpgm_body_force(pb));
-  predictor(pb);
+  const int lifted = predictor(pb);
+  pb->lift = lifted ? pb->dubar : NULL;
 
   const int n = nd->ndof;
   const double fnorm = norm2(pb->fext, n);
@@ -106,7 +115,7 @@ int mpgm_step(mpgm_problem *pb) {
      * residual then sits at its round-off floor, which grows with the
      * problem's size and stiffness) */
     const int res_ok = res <= sc->atol || res <= sc->rtol * ref;
-    if (res_ok || (it > 0 && info->du_rel <= sc->dtol)) break;
+    if (!pb->lift && (res_ok || (it > 0 && info->du_rel <= sc->dtol))) break;
     if (it == sc->max_iter)
       MPGM_ERROR(ctx, MPGM_ERR_NOT_CONVERGED,
                  "Newton did not converge in %d iterations (|R| = %.3e, |R|/ref = %.3e, "
@@ -118,10 +127,29 @@ int mpgm_step(mpgm_problem *pb) {
       MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
       pb->solver->analysed = 1;
     }
-    MPGM_CALL(mpgm_solver_factor(pb->solver, ctx, &pb->K));
+    err = mpgm_solver_factor(pb->solver, ctx, &pb->K);
+    if (err == MPGM_ERR_SINGULAR && pb->solver_auto && pb->solver->type->needs_spd) {
+      /* "auto" chose Cholesky for a symmetric tangent, but it is not positive
+       * definite (e.g. geometric stiffness under compression): use LU from
+       * now on, and say so in summary.json */
+      const mpgm_solver_type *lu = mpgm_solver_type_find("umfpack");
+      MPGM_CHECK(ctx, lu, MPGM_ERR_SOLVER, "%s (and no LU backend to fall back to)", ctx->msg);
+      mpgm_err_clear(ctx);
+      mpgm_solver_destroy(&pb->solver);
+      MPGM_CALL(mpgm_solver_create(ctx, lu, &pb->solver));
+      pb->solver_switches++;
+      MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
+      pb->solver->analysed = 1;
+      err = mpgm_solver_factor(pb->solver, ctx, &pb->K);
+    }
+    MPGM_CALL(err);
     MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
     double dd = 0.0, uu = 0.0;
     for (int i = 0; i < 2 * nd->n; i++) {
+      if (pb->lift && nd->dof[i] < 0) {
+        nd->du[i] = pb->dubar[i];
+        dd += nd->du[i] * nd->du[i];
+      }
       if (nd->dof[i] >= 0) {
         const double d = pb->delta[nd->dof[i]];
         nd->du[i] += d;
@@ -131,6 +159,7 @@ int mpgm_step(mpgm_problem *pb) {
     }
     if (!isfinite(dd)) MPGM_ERROR(ctx, MPGM_ERR_NAN, "Newton iteration %d: solution is not finite", it);
     info->du_rel = uu > 0.0 ? sqrt(dd / uu) : 0.0;
+    pb->lift = NULL;
     info->iterations = it + 1;
   }
   commit(pb);

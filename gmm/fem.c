@@ -27,12 +27,17 @@ static void fem_destroy(mpgm_problem *pb) {
   pb->fe_data = NULL;
 }
 
-/* Cells of a body meshed nx x ny over [min, max]. */
-static void body_grid(const mpgm_scene *s, const mpgm_scene_body *b, int *nx, int *ny) {
-  *nx = (int)ceil((b->max[0] - b->min[0]) / s->h - 1e-9);
-  *ny = (int)ceil((b->max[1] - b->min[1]) / s->h - 1e-9);
-  if (*nx < 1) *nx = 1;
-  if (*ny < 1) *ny = 1;
+/* Cells of a body meshed nx x ny over [min, max]; *cells (if not NULL)
+ * accumulates nx * ny unclamped, in double. */
+static void body_grid(const mpgm_scene *s, const mpgm_scene_body *b, int *nx, int *ny,
+                      double *cells) {
+  const double fx = fmax(1.0, ceil((b->max[0] - b->min[0]) / s->h - 1e-9));
+  const double fy = fmax(1.0, ceil((b->max[1] - b->min[1]) / s->h - 1e-9));
+  if (cells) *cells += fx * fy;
+  /* clamp before converting: a tiny h overflows int (the size check in
+   * fem_setup then rejects the mesh) */
+  *nx = fx > 1e9 ? 1000000000 : (int)fx;
+  *ny = fy > 1e9 ? 1000000000 : (int)fy;
 }
 
 static int fem_setup(mpgm_problem *pb) {
@@ -46,15 +51,18 @@ static int fem_setup(mpgm_problem *pb) {
   const int per_sq = s->cell == MPGM_CELL_Q4 ? 1 : 2;
   /* count */
   long nnode = 0, ncell = 0;
+  double squares = 0.0;
   for (int b = 0; b < s->nbody; b++) {
     int nx, ny;
-    body_grid(s, &s->bodies[b], &nx, &ny);
+    body_grid(s, &s->bodies[b], &nx, &ny, &squares);
     nnode += (long)(nx + 1) * (ny + 1);
     ncell += (long)nx * ny * per_sq;
   }
   MPGM_CHECK(ctx, nnode < 50000000 && ncell * s->ppc < 100000000, MPGM_ERR_INPUT,
-             "%s: mesh.h: expected a mesh of at most 5e7 nodes, found %ld nodes (h = %g)",
-             s->file, nnode, s->h);
+             "%s: mesh.h: expected a mesh of at most 5e7 nodes and 1e8 points, found about "
+             "%.3g nodes and %.3g points (h = %g)",
+             s->file, squares + nnode - (double)ncell / per_sq > squares ? squares : squares,
+             squares * per_sq * s->ppc, s->h);
   d->ncell = (int)ncell;
   const int npts = (int)ncell * s->ppc;
   MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, (int)nnode));
@@ -76,7 +84,7 @@ static int fem_setup(mpgm_problem *pb) {
     const mpgm_scene_body *bd = &s->bodies[b];
     const mpgm_material *mat = &s->mats[bd->material];
     int nx, ny;
-    body_grid(s, bd, &nx, &ny);
+    body_grid(s, bd, &nx, &ny, NULL);
     const double hx = (bd->max[0] - bd->min[0]) / nx, hy = (bd->max[1] - bd->min[1]) / ny;
     for (int j = 0; j <= ny; j++)
       for (int i = 0; i <= nx; i++) {
@@ -172,8 +180,10 @@ static int fem_setup(mpgm_problem *pb) {
         }
     }
     MPGM_CHECK(ctx, hits > 0, MPGM_ERR_INPUT,
-               "%s: boundaries.%d (\"%s\"): expected a selector that picks nodes, found none within "
-               "tol = %g of it", s->file, i, bc->name, bc->tol);
+               "%s: boundaries.%d.%s (\"%s\"): expected a selector that picks nodes, found none "
+               "within tol = %g of it", s->file, i,
+               bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box",
+               bc->name, bc->tol);
   }
   /* connectivity pattern: fixed for the whole run */
   const int np = npts + s->nprobe;
