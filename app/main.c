@@ -101,6 +101,13 @@ static int cmd_check(const args *a, mpgm_ctx *ctx) {
   char *et = cJSON_Print(e);
   printf("%s\n", text ? text : "{}");
   printf("effects: %s\n", et ? et : "{}");
+  char on[256] = "", off[256] = "";
+  for (const cJSON *c = e->child; c; c = c->next) {
+    char *l = cJSON_IsTrue(c) ? on : off;
+    size_t n = strlen(l);
+    snprintf(l + n, 256 - n, "%s%s", n ? ", " : "", c->string);
+  }
+  printf("effects that will run: %s; absent (cost nothing): %s\n", on[0] ? on : "none", off[0] ? off : "none");
   printf("scene %s is valid: method %s, shape %s, %d material(s), %d body(ies), %d boundary "
          "condition(s), %d probe(s)\n",
          a->scene, mpgm_method_name(s->method), s->shape->name, s->nmat, s->nbody, s->nbc, s->nprobe);

@@ -1,0 +1,415 @@
+/* test_patch.c -- patch tests through the real core (mpgm_problem_create +
+ * mpgm_step), driven by a front end of this file on a distorted mesh.
+ *
+ * Mesh: 4 x 3 cells (Q4, or T3 from splitting each quad along alternating
+ * diagonals) on [0, 2.385] x [0, 1.7]; every interior node moved randomly by
+ * up to 0.2 h per component (the cells stay convex); material points at the
+ * Gauss points of the cells (volume w detJ, mass density * volume). Every
+ * boundary node is fixed in x and y with ubar = u(X) = c + G X.
+ *
+ * Cases, one static load step each, no gravity:
+ *   (a) small kinematics, linear_elastic, |G| ~ 1e-3;
+ *   (b) small kinematics, neo_hookean (its linear limit);
+ *   (c) finite kinematics, neo_hookean, |G| ~ 0.15 with a rotation-like skew:
+ *       a homogeneous deformation also solves the nonlinear problem exactly.
+ * Checks: interior nodes' total displacement = u(X); every point's Cauchy
+ * stress = the stress of the homogeneous deformation (linear law of sym(G)
+ * for (a), (b); the material's update at F = I + G for (c)); F = I + G;
+ * point displacement = u(X); for (c) point positions x = X + u(X) and
+ * volumes det(I + G) vol0.
+ */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
+#include "mpgm_core.h"
+#include "mpgm_test.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* Patch tests are exact up to round-off: the solve of a well-conditioned
+ * system (~1e3 cond) and the Newton tolerance of the scene (rtol 1e-13). */
+#define TOL_PATCH 1e-10
+
+static const double LX = 2.385, LY = 1.7; /* domain [0, LX] x [0, LY] [m] */
+static const double E_MOD = 7.31e6, NU = 0.2847, RHO = 1851.3;
+
+/* ---- deterministic PRNG (xorshift64*) ---------------------------------- */
+typedef struct rng { uint64_t s; } rng;
+
+static double uniform(rng *r, double a, double b) {
+  r->s ^= r->s >> 12;
+  r->s ^= r->s << 25;
+  r->s ^= r->s >> 27;
+  uint64_t x = r->s * 0x2545F4914F6CDD1DULL;
+  return a + (b - a) * ((double)(x >> 11) * 0x1.0p-53);
+}
+
+/* ---- the test's front end: distorted structured mesh ---------------------- */
+
+/* What the front end builds. mpgm_problem_create calls setup before the
+ * caller can attach data, so the configuration is the test program's own
+ * file-level state, set before each problem is created. */
+typedef struct mesh_cfg {
+  int nx, ny;        /**< cells in x and y                         */
+  double jitter;     /**< interior node moves, fraction of h        */
+  uint64_t seed;     /**< of the node moves                         */
+  double c[2], G[4]; /**< ubar = c + G X on every boundary node    */
+} mesh_cfg;
+static mesh_cfg cfg;
+
+typedef struct mesh_data {
+  int cell, nn, ncell;
+  int *cnode;        /**< nn nodes per cell, counter-clockwise       */
+  int *cptr, *ctype; /**< for output                                 */
+  int *pcell;        /**< cell of every point                        */
+  double *pxi;       /**< local coordinates of every point           */
+} mesh_data;
+
+static void mesh_destroy(mpgm_problem *pb) {
+  mesh_data *d = pb->fe_data;
+  if (!d) return;
+  free(d->cnode);
+  free(d->cptr);
+  free(d->ctype);
+  free(d->pcell);
+  free(d->pxi);
+  free(d);
+  pb->fe_data = NULL;
+}
+
+static void cell_coords(const mesh_data *d, const double *x, int c, double *xn) {
+  const int *cn = d->cnode + (size_t)d->nn * c;
+  for (int a = 0; a < d->nn; a++) {
+    xn[2 * a] = x[2 * cn[a]];
+    xn[2 * a + 1] = x[2 * cn[a] + 1];
+  }
+}
+
+/* Strictly convex, counter-clockwise polygon. */
+static int convex(int nn, const double *xn) {
+  for (int i = 0; i < nn; i++) {
+    const int j = (i + 1) % nn, k = (i + 2) % nn;
+    const double ex = xn[2 * j] - xn[2 * i], ey = xn[2 * j + 1] - xn[2 * i + 1];
+    const double fx = xn[2 * k] - xn[2 * j], fy = xn[2 * k + 1] - xn[2 * j + 1];
+    if (!(ex * fy - ey * fx > 0.0)) return 0;
+  }
+  return 1;
+}
+
+static int mesh_setup(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  mesh_data *d;
+  MPGM_ALLOC(ctx, d, 1);
+  pb->fe_data = d;
+  d->cell = s->cell;
+  d->nn = mpgm_fe_nnode(s->cell);
+  const int nx = cfg.nx, ny = cfg.ny, per = s->cell == MPGM_CELL_Q4 ? 1 : 2;
+  const int nnode = (nx + 1) * (ny + 1), np = nx * ny * per * s->ppc;
+  d->ncell = nx * ny * per;
+  const mpgm_material *mat = &s->mats[s->bodies[0].material];
+  MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, nnode));
+  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, np, 0, mat->type->nstate));
+  MPGM_ALLOC(ctx, d->cnode, (size_t)d->nn * d->ncell);
+  MPGM_ALLOC(ctx, d->cptr, d->ncell + 1);
+  MPGM_ALLOC(ctx, d->ctype, d->ncell);
+  MPGM_ALLOC(ctx, d->pcell, np);
+  MPGM_ALLOC(ctx, d->pxi, 2 * np);
+  mpgm_nodes *nd = &pb->nodes;
+  mpgm_points *P = &pb->pts;
+  /* nodes: a regular grid, interior nodes moved by up to jitter h */
+  const double hx = LX / nx, hy = LY / ny;
+  rng r = {cfg.seed};
+  for (int j = 0; j <= ny; j++)
+    for (int i = 0; i <= nx; i++) {
+      const int k = j * (nx + 1) + i;
+      double x = i * hx, y = j * hy;
+      if (i > 0 && i < nx && j > 0 && j < ny) {
+        x += uniform(&r, -cfg.jitter, cfg.jitter) * hx;
+        y += uniform(&r, -cfg.jitter, cfg.jitter) * hy;
+      }
+      nd->X[2 * k] = nd->x[2 * k] = i == nx ? LX : x;
+      nd->X[2 * k + 1] = nd->x[2 * k + 1] = j == ny ? LY : y;
+    }
+  /* cells and their Gauss points */
+  double gxi[18], gw[9];
+  MPGM_CALL(mpgm_fe_gauss(s->cell, s->ppc, gxi, gw));
+  int c = 0, p = 0;
+  for (int j = 0; j < ny; j++)
+    for (int i = 0; i < nx; i++) {
+      const int q[4] = {j * (nx + 1) + i, j * (nx + 1) + i + 1, (j + 1) * (nx + 1) + i + 1,
+                        (j + 1) * (nx + 1) + i};
+      /* T3: alternate the diagonal so that both orientations occur */
+      const int alt = (i + j) % 2;
+      const int tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
+      const int tra[2][3] = {{q[0], q[1], q[3]}, {q[1], q[2], q[3]}};
+      for (int t = 0; t < per; t++, c++) {
+        int *cn = d->cnode + (size_t)d->nn * c;
+        if (per == 1) memcpy(cn, q, sizeof q);
+        else memcpy(cn, alt ? tra[t] : tri[t], sizeof tri[t]);
+        d->cptr[c + 1] = d->cptr[c] + d->nn;
+        d->ctype[c] = per == 1 ? 9 : 5;
+        double xn[2 * MPGM_FE_MAXNODE];
+        cell_coords(d, nd->X, c, xn);
+        MPGM_CHECK(ctx, convex(d->nn, xn), MPGM_ERR_INPUT, "test mesh: cell %d not convex", c);
+        for (int g = 0; g < s->ppc; g++, p++) {
+          double N[MPGM_FE_MAXNODE], dN[2 * MPGM_FE_MAXNODE], detJ;
+          MPGM_CALL(mpgm_fe_eval(s->cell, xn, gxi + 2 * g, N, dN, &detJ));
+          double x = 0.0, y = 0.0;
+          for (int a = 0; a < d->nn; a++) {
+            x += N[a] * xn[2 * a];
+            y += N[a] * xn[2 * a + 1];
+          }
+          P->x[2 * p] = P->x0[2 * p] = x;
+          P->x[2 * p + 1] = P->x0[2 * p + 1] = y;
+          P->vol[p] = P->vol0[p] = gw[g] * detJ;
+          P->mass[p] = mat->density * P->vol0[p];
+          P->mat[p] = s->bodies[0].material;
+          P->body[p] = 0;
+          if (mat->type->init_state && P->nstate)
+            mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
+          d->pcell[p] = c;
+          d->pxi[2 * p] = gxi[2 * g];
+          d->pxi[2 * p + 1] = gxi[2 * g + 1];
+        }
+      }
+    }
+  /* fixity: every boundary node, both components, ubar = c + G X */
+  for (int j = 0; j <= ny; j++)
+    for (int i = 0; i <= nx; i++) {
+      const int k = j * (nx + 1) + i;
+      if (!(i == 0 || i == nx || j == 0 || j == ny)) continue;
+      const double *X = nd->X + 2 * k;
+      for (int dd = 0; dd < 2; dd++) {
+        nd->fix[2 * k + dd] = 1;
+        nd->ubar[2 * k + dd] = cfg.c[dd] + cfg.G[2 * dd] * X[0] + cfg.G[2 * dd + 1] * X[1];
+      }
+    }
+  /* connectivity: the point's cell, for the whole run */
+  MPGM_CALL(mpgm_conn_reserve(ctx, &pb->conn, np, np * d->nn));
+  for (int k = 0; k < np; k++) {
+    pb->conn.ptr[k + 1] = pb->conn.ptr[k] + d->nn;
+    memcpy(pb->conn.node + pb->conn.ptr[k], d->cnode + (size_t)d->nn * d->pcell[k],
+           sizeof(int) * d->nn);
+  }
+  pb->conn.version = 1;
+  return 0;
+}
+
+/* N and grad N at the start-of-step node positions. */
+static int mesh_begin_step(mpgm_problem *pb) {
+  mesh_data *d = pb->fe_data;
+  mpgm_conn *C = &pb->conn;
+  for (int p = 0; p < pb->pts.n; p++) {
+    double xn[2 * MPGM_FE_MAXNODE];
+    cell_coords(d, pb->nodes.x, d->pcell[p], xn);
+    const int k0 = C->ptr[p];
+    int err = mpgm_fe_eval(d->cell, xn, d->pxi + 2 * p, C->N + k0, C->dN + 2 * k0, NULL);
+    if (err) MPGM_ERROR(pb->ctx, err, "test mesh: cell %d inverted", d->pcell[p]);
+  }
+  return 0;
+}
+
+static int mesh_end_step(mpgm_problem *pb) {
+  (void)pb;
+  return 0;
+}
+
+static int mesh_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
+                      const int **type) {
+  mesh_data *d = pb->fe_data;
+  *ncells = d->ncell;
+  *ptr = d->cptr;
+  *conn = d->cnode;
+  *type = d->ctype;
+  return 0;
+}
+
+static const mpgm_frontend_ops mesh_frontend = {
+    .name = "test-distorted-mesh",
+    .setup = mesh_setup,
+    .begin_step = mesh_begin_step,
+    .end_step = mesh_end_step,
+    .cells = mesh_cells,
+    .destroy = mesh_destroy,
+};
+
+/* ---- scene files ----------------------------------------------------------- */
+
+/* Write a scene to dir/name.json; path receives the file name. */
+static int write_scene(const char *dir, const char *name, int cell, const char *kin,
+                       const char *mat, char *path, size_t len) {
+  snprintf(path, len, "%s/%s.json", dir, name);
+  FILE *f = fopen(path, "w");
+  if (!f) return -1;
+  fprintf(f,
+          "{\n"
+          "  \"description\": \"patch test %s\",\n"
+          "  \"method\": \"fem\",\n"
+          "  \"shape\": {\"kind\": \"fe\"},\n"
+          "  \"mesh\": {\"h\": 0.6, \"cell\": \"%s\", \"ppc\": %d,\n"
+          "           \"domain\": {\"min\": [0.0, 0.0], \"max\": [%.17g, %.17g]}},\n"
+          "  \"kinematics\": \"%s\",\n"
+          "  \"time\": {\"analysis\": \"static\", \"load_steps\": 1},\n"
+          "  \"solver\": {\"linear\": \"auto\", \"rtol\": 1e-13, \"atol\": 0.0, \"dtol\": 1e-12,\n"
+          "             \"max_iterations\": 25},\n"
+          "  \"materials\": {\"m\": {\"type\": \"%s\", \"density\": %.17g, \"E\": %.17g, "
+          "\"nu\": %.17g}},\n"
+          "  \"bodies\": [{\"name\": \"block\", \"material\": \"m\",\n"
+          "              \"rectangle\": {\"min\": [0.0, 0.0], \"max\": [%.17g, %.17g]}}],\n"
+          "  \"gravity\": [0.0, 0.0],\n"
+          "  \"output\": {\"vtk\": \"none\"}\n"
+          "}\n",
+          name, cell == MPGM_CELL_Q4 ? "quad" : "tri", cell == MPGM_CELL_Q4 ? 4 : 3, LX, LY, kin,
+          mat, RHO, E_MOD, NU, LX, LY);
+  return fclose(f) ? -1 : 0;
+}
+
+/* ---- one patch test ---------------------------------------------------------- */
+
+typedef struct patch_case {
+  const char *name;
+  const char *kin, *mat;
+  int finite;
+} patch_case;
+
+static double max_abs(const double *v, int n) {
+  double m = 0.0;
+  for (int i = 0; i < n; i++) m = fmax(m, fabs(v[i]));
+  return m;
+}
+
+static void run_patch(const char *dir, const patch_case *pc, int cell, rng *r) {
+  const char *cn = cell == MPGM_CELL_Q4 ? "Q4" : "T3";
+  char name[64], path[512];
+  snprintf(name, sizeof name, "patch_%s_%s", pc->name, cn);
+  int err = write_scene(dir, name, cell, pc->kin, pc->mat, path, sizeof path);
+  mpgm_test(err == 0, "%s: scene written", name);
+  if (err) return;
+  /* the prescribed linear field */
+  memset(&cfg, 0, sizeof cfg);
+  cfg.nx = 4;
+  cfg.ny = 3;
+  cfg.jitter = 0.2;
+  cfg.seed = 0x5DEECE66DULL + (uint64_t)cell * 977u;
+  if (pc->finite) {
+    /* stretch/shear ~0.1 plus a skew (rotation-like) part ~0.15 */
+    const double w = uniform(r, 0.12, 0.16) * (uniform(r, -1, 1) < 0 ? -1.0 : 1.0);
+    const double sxy = uniform(r, -0.08, 0.08);
+    cfg.G[0] = uniform(r, -0.12, 0.12);
+    cfg.G[1] = sxy - w;
+    cfg.G[2] = sxy + w;
+    cfg.G[3] = uniform(r, -0.12, 0.12);
+    cfg.c[0] = uniform(r, -0.05, 0.05);
+    cfg.c[1] = uniform(r, -0.05, 0.05);
+  } else {
+    for (int i = 0; i < 4; i++) cfg.G[i] = uniform(r, -1.3e-3, 1.3e-3);
+    cfg.c[0] = uniform(r, -1e-3, 1e-3);
+    cfg.c[1] = uniform(r, -1e-3, 1e-3);
+  }
+  const double *G = cfg.G, *c = cfg.c;
+
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_scene *sc = NULL;
+  mpgm_problem *pb = NULL;
+  err = mpgm_scene_load(&ctx, path, 0, NULL, &sc);
+  mpgm_test(err == 0, "%s: scene loads (%d: %s)", name, err, ctx.msg);
+  if (!err) err = mpgm_problem_create(&ctx, sc, &mesh_frontend, &pb);
+  mpgm_test(err == 0, "%s: problem created (%d: %s)", name, err, ctx.msg);
+  if (!err) err = mpgm_step(pb);
+  mpgm_test(err == 0, "%s: step converges (%d: %s)", name, err, ctx.msg);
+  if (err) {
+    mpgm_problem_destroy(&pb);
+    mpgm_scene_destroy(&sc);
+    return;
+  }
+  mpgm_test(pb->last.iterations >= 1 && pb->last.iterations <= (pc->finite ? 10 : 3),
+            "%s: Newton iterations (%d)", name, pb->last.iterations);
+
+  /* nodes: total displacement = u(X) */
+  const mpgm_nodes *nd = &pb->nodes;
+  const mpgm_points *P = &pb->pts;
+  const double umax = max_abs(nd->ubar, 2 * nd->n);
+  double ei = 0.0, eb = 0.0;
+  int ninterior = 0;
+  for (int k = 0; k < nd->n; k++) {
+    const double *X = nd->X + 2 * k;
+    const double ue[2] = {c[0] + G[0] * X[0] + G[1] * X[1], c[1] + G[2] * X[0] + G[3] * X[1]};
+    const double e = fmax(fabs(nd->u[2 * k] - ue[0]), fabs(nd->u[2 * k + 1] - ue[1]));
+    if (nd->fix[2 * k]) eb = fmax(eb, e);
+    else { ei = fmax(ei, e); ninterior++; }
+  }
+  mpgm_test(ninterior == (cfg.nx - 1) * (cfg.ny - 1) && nd->ndof == 2 * ninterior,
+            "%s: %d interior nodes free", name, ninterior);
+  mpgm_test_abs(ei / umax, 0.0, TOL_PATCH, "%s: interior nodes u = c + G X (rel)", name);
+  mpgm_test_abs(eb / umax, 0.0, TOL_PATCH, "%s: boundary nodes u = ubar (rel)", name);
+
+  /* points: F, stress, displacement, position, volume */
+  const double Fe[4] = {1.0 + G[0], G[1], G[2], 1.0 + G[3]};
+  const mpgm_material *m = &sc->mats[0];
+  double se[4];
+  if (pc->finite) {
+    err = m->type->update(m, MPGM_KIN_FINITE, Fe, Fe, NULL, NULL, se, NULL);
+    mpgm_test(err == 0, "%s: material update at F = I + G", name);
+  } else {
+    double lam, mu;
+    mpgm_lame(E_MOD, NU, &lam, &mu);
+    const double tr = G[0] + G[3];
+    se[0] = lam * tr + 2.0 * mu * G[0];
+    se[1] = lam * tr + 2.0 * mu * G[3];
+    se[2] = mu * (G[1] + G[2]);
+    se[3] = lam * tr;
+  }
+  const double snorm = sqrt(se[0] * se[0] + se[1] * se[1] + 2 * se[2] * se[2] + se[3] * se[3]);
+  const double J = Fe[0] * Fe[3] - Fe[1] * Fe[2];
+  double es = 0.0, eF = 0.0, eu = 0.0, ex = 0.0, ev = 0.0;
+  for (int p = 0; p < P->n; p++) {
+    const double *s = P->sigma + 4 * p, *F = P->F + 4 * p, *X = P->x0 + 2 * p;
+    for (int i = 0; i < 4; i++) {
+      es = fmax(es, fabs(s[i] - se[i]));
+      eF = fmax(eF, fabs(F[i] - Fe[i]));
+    }
+    const double ue[2] = {c[0] + G[0] * X[0] + G[1] * X[1], c[1] + G[2] * X[0] + G[3] * X[1]};
+    for (int d = 0; d < 2; d++) {
+      eu = fmax(eu, fabs(P->u[2 * p + d] - ue[d]));
+      /* finite: the points move with the body; small: they stay */
+      ex = fmax(ex, fabs(P->x[2 * p + d] - (X[d] + (pc->finite ? ue[d] : 0.0))));
+    }
+    ev = fmax(ev, fabs(P->vol[p] - (pc->finite ? J : 1.0) * P->vol0[p]) / P->vol0[p]);
+  }
+  mpgm_test(snorm > 0.0, "%s: non-trivial stress (|sigma| = %g Pa)", name, snorm);
+  mpgm_test_abs(es / snorm, 0.0, TOL_PATCH, "%s: every point's sigma = homogeneous stress (rel)",
+                name);
+  mpgm_test_abs(eF, 0.0, TOL_PATCH, "%s: every point's F = I + G", name);
+  mpgm_test_abs(eu / umax, 0.0, TOL_PATCH, "%s: every point's u = c + G X (rel)", name);
+  mpgm_test_abs(ex / umax, 0.0, TOL_PATCH, "%s: point positions x = X%s (rel)", name,
+                pc->finite ? " + u(X)" : "");
+  mpgm_test_abs(ev, 0.0, TOL_PATCH, "%s: point volumes = %s vol0", name,
+                pc->finite ? "det(I + G)" : "");
+  mpgm_problem_destroy(&pb);
+  mpgm_scene_destroy(&sc);
+  mpgm_test(pb == NULL && sc == NULL, "%s: destroy nulls the pointers", name);
+  unlink(path);
+}
+
+int main(void) {
+  char dir[] = "/tmp/mpgm_patch_XXXXXX";
+  if (!mkdtemp(dir)) {
+    mpgm_test(0, "mkdtemp %s", dir);
+    return mpgm_test_summary();
+  }
+  const patch_case cases[] = {
+      {"a_small_linear_elastic", "small", "linear_elastic", 0},
+      {"b_small_neo_hookean", "small", "neo_hookean", 0},
+      {"c_finite_neo_hookean", "finite", "neo_hookean", 1},
+  };
+  rng r = {0x2545F4914F6CDD1DULL};
+  for (int cell = MPGM_CELL_T3; cell <= MPGM_CELL_Q4; cell++)
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) run_patch(dir, &cases[i], cell, &r);
+  mpgm_test(rmdir(dir) == 0, "temporary directory %s removed", dir);
+  return mpgm_test_summary();
+}

@@ -1,0 +1,357 @@
+/* test_shapefn.c -- conformance suite run over every shape-function kind in
+ * mpgm_shapefn_types() that needs cells (today "fe"), for both cell kinds
+ * (T3, Q4), on a regular cell and on randomly distorted (valid, convex)
+ * cells, at random interior points and at every point of every Gauss rule:
+ *
+ *   - partition of unity  sum N_I = 1;
+ *   - linear reproduction sum N_I x_I = x  and  sum x_I (x) grad N_I = I;
+ *   - grad N against central differences of N with respect to the physical
+ *     point (local coordinates of the perturbed point from mpgm_fe_local);
+ *   - mpgm_fe_local inverts the reference mapping of mpgm_fe_ref;
+ *   - Gauss rules: points inside the reference cell, sum w detJ = cell area,
+ *     monomials up to the rule's degree integrated exactly on the reference
+ *     cell (and the first monomial above it not: the degree is tight);
+ *   - an inverted (clockwise) cell returns MPGM_ERR_JACOBIAN.
+ */
+#include "mpgm_shapefn.h"
+#include "mpgm_test.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+/* Round-off of sums of a few O(1) products, with a margin for the
+ * ill-conditioning of distorted cells (~4500 eps). */
+#define TOL_EXACT 1e-12
+/* Central differences: truncation O(h^2 |N'''|) + rounding O(eps / h). */
+#define TOL_FD 1e-6
+#define FD_STEP 1e-5  /* relative to the cell size */
+
+#define N_DISTORTED 16 /* random cells per cell kind */
+#define N_RANDOM 8     /* random interior points per cell */
+
+static const double PI = 3.14159265358979323846;
+static const double LX = 2.385, LY = 1.7; /* regular cell size [m] */
+
+/* ---- deterministic PRNG (xorshift64*) ---------------------------------- */
+typedef struct rng { uint64_t s; } rng;
+
+static double uniform(rng *r, double a, double b) {
+  r->s ^= r->s >> 12;
+  r->s ^= r->s << 25;
+  r->s ^= r->s >> 27;
+  uint64_t x = r->s * 0x2545F4914F6CDD1DULL;
+  return a + (b - a) * ((double)(x >> 11) * 0x1.0p-53);
+}
+
+static const char *cell_name(int cell) { return cell == MPGM_CELL_T3 ? "T3" : "Q4"; }
+
+/* ---- cells ---------------------------------------------------------------- */
+
+/* Polygon area (shoelace; positive for counter-clockwise nodes). */
+static double area(int nn, const double *xn) {
+  double a = 0.0;
+  for (int i = 0; i < nn; i++) {
+    const int j = (i + 1) % nn;
+    a += xn[2 * i] * xn[2 * j + 1] - xn[2 * j] * xn[2 * i + 1];
+  }
+  return 0.5 * a;
+}
+
+/* Strictly convex, counter-clockwise: every corner turns left by a margin. */
+static int convex(int nn, const double *xn) {
+  const double a = area(nn, xn);
+  for (int i = 0; i < nn; i++) {
+    const int j = (i + 1) % nn, k = (i + 2) % nn;
+    const double ex = xn[2 * j] - xn[2 * i], ey = xn[2 * j + 1] - xn[2 * i + 1];
+    const double fx = xn[2 * k] - xn[2 * j], fy = xn[2 * k + 1] - xn[2 * j + 1];
+    if (!(ex * fy - ey * fx > 0.05 * a)) return 0;
+  }
+  return 1;
+}
+
+/* The undistorted cell: rectangle LX x LY (Q4) or its lower-left half (T3),
+ * away from the origin so that coordinates are not trivially small. */
+static void regular_cell(int cell, double *xn) {
+  const double x0 = 0.3173, y0 = -0.4621;
+  const double q[4][2] = {{x0, y0}, {x0 + LX, y0}, {x0 + LX, y0 + LY}, {x0, y0 + LY}};
+  const double t[3][2] = {{x0, y0}, {x0 + LX, y0}, {x0, y0 + LY}};
+  for (int a = 0; a < mpgm_fe_nnode(cell); a++) {
+    xn[2 * a] = cell == MPGM_CELL_T3 ? t[a][0] : q[a][0];
+    xn[2 * a + 1] = cell == MPGM_CELL_T3 ? t[a][1] : q[a][1];
+  }
+}
+
+/* A random valid cell: the regular one with every node moved by up to
+ * 0.3 of the cell size, then rotated and translated; redrawn until convex. */
+static void distorted_cell(int cell, rng *r, double *xn) {
+  const int nn = mpgm_fe_nnode(cell);
+  double y[2 * MPGM_FE_MAXNODE];
+  do {
+    regular_cell(cell, y);
+    for (int a = 0; a < nn; a++) {
+      y[2 * a] += uniform(r, -0.3, 0.3) * LX;
+      y[2 * a + 1] += uniform(r, -0.3, 0.3) * LY;
+    }
+  } while (!convex(nn, y));
+  const double th = uniform(r, -PI, PI), c = cos(th), s = sin(th);
+  const double tx = uniform(r, -3.1, 3.1), ty = uniform(r, -3.1, 3.1);
+  for (int a = 0; a < nn; a++) {
+    xn[2 * a] = c * y[2 * a] - s * y[2 * a + 1] + tx;
+    xn[2 * a + 1] = s * y[2 * a] + c * y[2 * a + 1] + ty;
+  }
+}
+
+/* Cell size: longest edge. */
+static double cell_size(int nn, const double *xn) {
+  double h = 0.0;
+  for (int i = 0; i < nn; i++) {
+    const int j = (i + 1) % nn;
+    h = fmax(h, hypot(xn[2 * j] - xn[2 * i], xn[2 * j + 1] - xn[2 * i + 1]));
+  }
+  return h;
+}
+
+/* Physical point of local coordinates xi (reference mapping). */
+static void map_point(int cell, const double *xn, const double xi[2], double x[2]) {
+  double N[MPGM_FE_MAXNODE];
+  mpgm_fe_ref(cell, xi, N, NULL);
+  x[0] = x[1] = 0.0;
+  for (int a = 0; a < mpgm_fe_nnode(cell); a++) {
+    x[0] += N[a] * xn[2 * a];
+    x[1] += N[a] * xn[2 * a + 1];
+  }
+}
+
+static void random_xi(int cell, rng *r, double xi[2]) {
+  if (cell == MPGM_CELL_Q4) {
+    xi[0] = uniform(r, -0.98, 0.98);
+    xi[1] = uniform(r, -0.98, 0.98);
+    return;
+  }
+  double a = uniform(r, 0.01, 0.99), b = uniform(r, 0.01, 0.99);
+  if (a + b > 0.99) { a = 1.0 - a; b = 1.0 - b; } /* reflect into the triangle */
+  xi[0] = a;
+  xi[1] = b;
+}
+
+/* Evaluate a kind at physical point x of the cell (local coordinates from
+ * mpgm_fe_local). */
+static int eval_at(const mpgm_shapefn_type *t, int cell, const double *xn, const double x[2],
+                   double *N, double *dN) {
+  mpgm_shape_query q = {.n = mpgm_fe_nnode(cell), .xn = xn, .xp = {x[0], x[1]}, .cell = cell};
+  int err = mpgm_fe_local(cell, xn, x, q.xi);
+  if (err) return err;
+  return t->eval(&q, N, dN);
+}
+
+/* ---- checks at one point ------------------------------------------------- */
+static void check_point(const mpgm_shapefn_type *t, int cell, const double *xn,
+                        const double xi[2], const char *where) {
+  const int nn = mpgm_fe_nnode(cell);
+  const double h = cell_size(nn, xn);
+  const char *cn = cell_name(cell);
+  double x[2];
+  map_point(cell, xn, xi, x);
+
+  /* mpgm_fe_local inverts the reference mapping */
+  double xl[2] = {NAN, NAN};
+  int err = mpgm_fe_local(cell, xn, x, xl);
+  mpgm_test(err == 0, "%s %s %s: mpgm_fe_local returns %d", t->name, cn, where, err);
+  mpgm_test_abs(fabs(xl[0] - xi[0]) + fabs(xl[1] - xi[1]), 0.0, TOL_EXACT,
+                "%s %s %s: mpgm_fe_local(x(xi)) = xi", t->name, cn, where);
+
+  mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {x[0], x[1]}, .cell = cell,
+                        .xi = {xi[0], xi[1]}};
+  double N[MPGM_FE_MAXNODE], dN[2 * MPGM_FE_MAXNODE];
+  err = t->eval(&q, N, dN);
+  mpgm_test(err == 0, "%s %s %s: eval returns %d", t->name, cn, where, err);
+  if (err) return;
+
+  double sum = 0.0, rx = 0.0, ry = 0.0, Id[4] = {0, 0, 0, 0};
+  for (int a = 0; a < nn; a++) {
+    sum += N[a];
+    rx += N[a] * xn[2 * a];
+    ry += N[a] * xn[2 * a + 1];
+    for (int i = 0; i < 2; i++)
+      for (int j = 0; j < 2; j++) Id[2 * i + j] += xn[2 * a + i] * dN[2 * a + j];
+  }
+  mpgm_test_abs(sum, 1.0, TOL_EXACT, "%s %s %s: partition of unity", t->name, cn, where);
+  const double xs = fmax(fabs(x[0]), fabs(x[1])) + h;
+  mpgm_test_abs(fabs(rx - x[0]) + fabs(ry - x[1]), 0.0, TOL_EXACT * xs,
+                "%s %s %s: sum N x_I = x", t->name, cn, where);
+  mpgm_test_abs(fabs(Id[0] - 1.0) + fabs(Id[1]) + fabs(Id[2]) + fabs(Id[3] - 1.0), 0.0,
+                TOL_EXACT * xs / h, "%s %s %s: sum x_I (x) grad N_I = I", t->name, cn, where);
+
+  /* grad N against central differences of N(x) */
+  const double e = FD_STEP * h;
+  double gmax = 0.0, emax = 0.0;
+  int ok = 1;
+  for (int a = 0; a < 2 * nn; a++) gmax = fmax(gmax, fabs(dN[a]));
+  for (int d = 0; d < 2; d++) {
+    double xp[2] = {x[0], x[1]}, xm[2] = {x[0], x[1]};
+    double Np[MPGM_FE_MAXNODE], Nm[MPGM_FE_MAXNODE], dd[2 * MPGM_FE_MAXNODE];
+    xp[d] += e;
+    xm[d] -= e;
+    ok &= eval_at(t, cell, xn, xp, Np, dd) == 0 && eval_at(t, cell, xn, xm, Nm, dd) == 0;
+    for (int a = 0; a < nn; a++)
+      emax = fmax(emax, fabs((Np[a] - Nm[a]) / (2.0 * e) - dN[2 * a + d]));
+  }
+  mpgm_test(ok, "%s %s %s: evaluation at perturbed points", t->name, cn, where);
+  mpgm_test_abs(emax / gmax, 0.0, TOL_FD, "%s %s %s: grad N = central differences (rel)",
+                t->name, cn, where);
+}
+
+/* Every Gauss point and N_RANDOM random points of one cell; the area rule. */
+static void check_cell(const mpgm_shapefn_type *t, int cell, const double *xn, rng *r,
+                       const char *cname) {
+  const int nn = mpgm_fe_nnode(cell);
+  const char *cn = cell_name(cell);
+  const int rules[2][3] = {{1, 3, 0}, {1, 4, 9}};
+  char where[96];
+  for (int k = 0; k < N_RANDOM; k++) {
+    double xi[2];
+    random_xi(cell, r, xi);
+    snprintf(where, sizeof where, "%s random point %d", cname, k);
+    check_point(t, cell, xn, xi, where);
+  }
+  for (int ir = 0; ir < 3 && rules[cell][ir]; ir++) {
+    const int np = rules[cell][ir];
+    double gxi[18], gw[9], sum = 0.0;
+    int err = mpgm_fe_gauss(cell, np, gxi, gw);
+    mpgm_test(err == 0, "%s %s: %d-point rule returns %d", t->name, cn, np, err);
+    if (err) continue;
+    for (int g = 0; g < np; g++) {
+      snprintf(where, sizeof where, "%s Gauss %d/%d", cname, g, np);
+      check_point(t, cell, xn, gxi + 2 * g, where);
+      double N[MPGM_FE_MAXNODE], dN[2 * MPGM_FE_MAXNODE], detJ = NAN;
+      err |= mpgm_fe_eval(cell, xn, gxi + 2 * g, N, dN, &detJ);
+      sum += gw[g] * detJ;
+    }
+    mpgm_test(err == 0, "%s %s %s: %d-point rule: mpgm_fe_eval at every point", t->name, cn,
+              cname, np);
+    mpgm_test_rel(sum, area(nn, xn), TOL_EXACT, "%s %s %s: %d-point rule: sum w detJ = area",
+                  t->name, cn, cname, np);
+  }
+}
+
+/* ---- Gauss rules on the reference cell ------------------------------------ */
+
+static double factorial(int n) { return n <= 1 ? 1.0 : n * factorial(n - 1); }
+
+/* Exact integral of xi^a eta^b over the reference cell. */
+static double exact_monomial(int cell, int a, int b) {
+  if (cell == MPGM_CELL_T3) return factorial(a) * factorial(b) / factorial(a + b + 2);
+  return (a % 2 ? 0.0 : 2.0 / (a + 1)) * (b % 2 ? 0.0 : 2.0 / (b + 1));
+}
+
+static double rule_monomial(int np, const double *xi, const double *w, int a, int b) {
+  double s = 0.0;
+  for (int g = 0; g < np; g++) s += w[g] * pow(xi[2 * g], a) * pow(xi[2 * g + 1], b);
+  return s;
+}
+
+/* T3 rules (1, 3 points) are exact for total degree 1, 2; Q4 n x n rules
+ * for degree 2n - 1 in each variable. */
+static void check_rules(void) {
+  const int t3[2][2] = {{1, 1}, {3, 2}};        /* {points, total degree} */
+  const int q4[3][2] = {{1, 1}, {4, 3}, {9, 5}}; /* {points, degree per variable} */
+  double xi[18], w[9];
+  for (int k = 0; k < 2; k++) {
+    const int np = t3[k][0], deg = t3[k][1];
+    int err = mpgm_fe_gauss(MPGM_CELL_T3, np, xi, w);
+    mpgm_test(err == 0, "T3 %d-point rule returns %d", np, err);
+    if (err) continue;
+    int inside = 1;
+    for (int g = 0; g < np; g++) inside &= mpgm_fe_inside(MPGM_CELL_T3, xi + 2 * g, 0.0) && w[g] > 0;
+    mpgm_test(inside, "T3 %d-point rule: points inside, weights positive", np);
+    for (int a = 0; a <= deg; a++)
+      for (int b = 0; a + b <= deg; b++)
+        mpgm_test_abs(rule_monomial(np, xi, w, a, b), exact_monomial(MPGM_CELL_T3, a, b),
+                      TOL_EXACT, "T3 %d-point rule integrates xi^%d eta^%d", np, a, b);
+    const int a = deg + 1; /* degree is tight: xi^(deg+1) is not exact */
+    mpgm_test(fabs(rule_monomial(np, xi, w, a, 0) - exact_monomial(MPGM_CELL_T3, a, 0)) > 1e-6,
+              "T3 %d-point rule is not exact for xi^%d", np, a);
+  }
+  for (int k = 0; k < 3; k++) {
+    const int np = q4[k][0], deg = q4[k][1];
+    int err = mpgm_fe_gauss(MPGM_CELL_Q4, np, xi, w);
+    mpgm_test(err == 0, "Q4 %d-point rule returns %d", np, err);
+    if (err) continue;
+    int inside = 1;
+    for (int g = 0; g < np; g++) inside &= mpgm_fe_inside(MPGM_CELL_Q4, xi + 2 * g, 0.0) && w[g] > 0;
+    mpgm_test(inside, "Q4 %d-point rule: points inside, weights positive", np);
+    for (int a = 0; a <= deg; a++)
+      for (int b = 0; b <= deg; b++)
+        mpgm_test_abs(rule_monomial(np, xi, w, a, b), exact_monomial(MPGM_CELL_Q4, a, b),
+                      TOL_EXACT, "Q4 %d-point rule integrates xi^%d eta^%d", np, a, b);
+    const int a = deg + 1;
+    mpgm_test(fabs(rule_monomial(np, xi, w, a, 0) - exact_monomial(MPGM_CELL_Q4, a, 0)) > 1e-6,
+              "Q4 %d-point rule is not exact for xi^%d", np, a);
+  }
+  /* unsupported counts are refused */
+  mpgm_test(mpgm_fe_gauss(MPGM_CELL_T3, 4, xi, w) == MPGM_ERR_INPUT &&
+                mpgm_fe_gauss(MPGM_CELL_Q4, 3, xi, w) == MPGM_ERR_INPUT,
+            "unsupported Gauss point counts return MPGM_ERR_INPUT");
+}
+
+/* ---- inverted cells ----------------------------------------------------------- */
+static void check_inverted(const mpgm_shapefn_type *t, int cell, const double *xn,
+                           const char *cname) {
+  const int nn = mpgm_fe_nnode(cell);
+  const char *cn = cell_name(cell);
+  double rev[2 * MPGM_FE_MAXNODE]; /* same nodes, clockwise */
+  for (int a = 0; a < nn; a++) {
+    rev[2 * a] = xn[2 * (nn - 1 - a)];
+    rev[2 * a + 1] = xn[2 * (nn - 1 - a) + 1];
+  }
+  double xi[2], N[MPGM_FE_MAXNODE], dN[2 * MPGM_FE_MAXNODE], detJ = 0.0;
+  xi[0] = cell == MPGM_CELL_T3 ? 0.2817 : 0.1934;
+  xi[1] = cell == MPGM_CELL_T3 ? 0.3529 : -0.4172;
+  int err = mpgm_fe_eval(cell, rev, xi, N, dN, &detJ);
+  mpgm_test(err == MPGM_ERR_JACOBIAN && detJ < 0.0,
+            "%s %s %s inverted: mpgm_fe_eval returns MPGM_ERR_JACOBIAN (got %d, detJ %g)",
+            t->name, cn, cname, err, detJ);
+  mpgm_shape_query q = {.n = nn, .xn = rev, .cell = cell, .xi = {xi[0], xi[1]}};
+  map_point(cell, rev, xi, q.xp);
+  err = t->eval(&q, N, dN);
+  mpgm_test(err == MPGM_ERR_JACOBIAN, "%s %s %s inverted: eval returns MPGM_ERR_JACOBIAN (got %d)",
+            t->name, cn, cname, err);
+  /* a wrong node count is refused rather than read out of bounds */
+  q.xn = xn;
+  q.n = nn - 1;
+  err = t->eval(&q, N, dN);
+  mpgm_test(err != 0, "%s %s %s: eval with %d nodes fails (got %d)", t->name, cn, cname, nn - 1,
+            err);
+}
+
+int main(void) {
+  const mpgm_shapefn_type *const *all = mpgm_shapefn_types();
+  int ncell_kinds = 0;
+  check_rules();
+  for (int it = 0; all[it]; it++) {
+    const mpgm_shapefn_type *t = all[it];
+    mpgm_test(t->name && mpgm_shapefn_type_find(t->name) == t && t->eval,
+              "%s: found by name, eval set", t->name);
+    if (!t->needs_cell) continue;
+    ncell_kinds++;
+    for (int cell = MPGM_CELL_T3; cell <= MPGM_CELL_Q4; cell++) {
+      rng r = {0x9E3779B97F4A7C15ULL ^ (uint64_t)(1 + it * 2 + cell)};
+      double xn[2 * MPGM_FE_MAXNODE];
+      regular_cell(cell, xn);
+      check_cell(t, cell, xn, &r, "regular");
+      check_inverted(t, cell, xn, "regular");
+      for (int k = 0; k < N_DISTORTED; k++) {
+        char cname[32];
+        snprintf(cname, sizeof cname, "distorted %d", k);
+        distorted_cell(cell, &r, xn);
+        check_cell(t, cell, xn, &r, cname);
+        check_inverted(t, cell, xn, cname);
+      }
+    }
+  }
+  mpgm_test(ncell_kinds > 0, "at least one cell-based kind (%d)", ncell_kinds);
+  mpgm_test(mpgm_shapefn_type_find("no-such-kind") == NULL, "unknown kind name: NULL");
+  return mpgm_test_summary();
+}
