@@ -8,7 +8,7 @@
  *
  * Constants after setup: c[0] = lambda [Pa], c[1] = mu [Pa].
  */
-#include "mpgm_material.h"
+#include "elastic_impl.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -24,18 +24,7 @@ static const mpgm_param_spec params[] = {
 /* Check E and nu (the scene loader checks ranges too; a direct caller may
  * not) and store the Lame constants. */
 static int setup(mpgm_material *m, char *msg, size_t msglen) {
-  double E = m->param[P_E], nu = m->param[P_NU];
-  if (!(E > 0.0 && isfinite(E)) || !(nu > -1.0 && nu < 0.5)) {
-    if (msg && msglen)
-      snprintf(msg, msglen,
-               "linear_elastic: need E > 0 and -1 < nu < 0.5 (E = %g, nu = %g)",
-               E, nu);
-    return MPGM_ERR_INPUT;
-  }
-  mpgm_lame(E, nu, &m->c[C_LAMBDA], &m->c[C_MU]);
-  m->symmetric = 1;
-  m->plastic = 0;
-  return MPGM_OK;
+  return mpgm_elastic_setup(m, "linear_elastic", msg, msglen);
 }
 
 /* Stress and constant tangent of the linear law for grad u = F - I.
@@ -47,19 +36,7 @@ static int update(const mpgm_material *m, int kin, const double F[4],
   (void)state_n;
   (void)state;
   if (kin != MPGM_KIN_SMALL) return MPGM_ERR_UNSUPPORTED;
-  const double lam = m->c[C_LAMBDA], mu = m->c[C_MU];
-  const double exx = F[0] - 1.0, eyy = F[3] - 1.0;
-  const double exy = 0.5 * (F[1] + F[2]); /* tensor shear strain */
-  const double ltr = lam * (exx + eyy);
-  sigma[0] = ltr + 2.0 * mu * exx;
-  sigma[1] = ltr + 2.0 * mu * eyy;
-  sigma[2] = 2.0 * mu * exy;
-  sigma[3] = ltr;
-  if (D) {
-    D[0] = lam + 2.0 * mu; D[1] = lam;            D[2] = 0.0;
-    D[3] = lam;            D[4] = lam + 2.0 * mu; D[5] = 0.0;
-    D[6] = 0.0;            D[7] = 0.0;            D[8] = mu;
-  }
+  mpgm_elastic_small(m->c[C_LAMBDA], m->c[C_MU], F, sigma, D);
   return MPGM_OK;
 }
 

@@ -13,7 +13,7 @@
  * Small-strain analysis uses the linear-elastic limit (identical to
  * linear_elastic). Constants after setup: c[0] = lambda, c[1] = mu [Pa].
  */
-#include "mpgm_material.h"
+#include "elastic_impl.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -30,35 +30,7 @@ static const mpgm_param_spec params[] = {
 
 /* Check E and nu and store the Lame constants. */
 static int setup(mpgm_material *m, char *msg, size_t msglen) {
-  double E = m->param[P_E], nu = m->param[P_NU];
-  if (!(E > 0.0 && isfinite(E)) || !(nu > -1.0 && nu < 0.5)) {
-    if (msg && msglen)
-      snprintf(msg, msglen,
-               "neo_hookean: need E > 0 and -1 < nu < 0.5 (E = %g, nu = %g)",
-               E, nu);
-    return MPGM_ERR_INPUT;
-  }
-  mpgm_lame(E, nu, &m->c[C_LAMBDA], &m->c[C_MU]);
-  m->symmetric = 1;
-  m->plastic = 0;
-  return MPGM_OK;
-}
-
-/* Linear-elastic limit for grad u = F - I (small-strain analysis). */
-static void update_small(double lam, double mu, const double F[4],
-                         double sigma[4], double D[9]) {
-  const double exx = F[0] - 1.0, eyy = F[3] - 1.0;
-  const double exy = 0.5 * (F[1] + F[2]);
-  const double ltr = lam * (exx + eyy);
-  sigma[0] = ltr + 2.0 * mu * exx;
-  sigma[1] = ltr + 2.0 * mu * eyy;
-  sigma[2] = 2.0 * mu * exy;
-  sigma[3] = ltr;
-  if (D) {
-    D[0] = lam + 2.0 * mu; D[1] = lam;            D[2] = 0.0;
-    D[3] = lam;            D[4] = lam + 2.0 * mu; D[5] = 0.0;
-    D[6] = 0.0;            D[7] = 0.0;            D[8] = mu;
-  }
+  return mpgm_elastic_setup(m, "neo_hookean", msg, msglen);
 }
 
 /* Cauchy stress and spatial tangent for the total deformation gradient F
@@ -72,7 +44,7 @@ static int update(const mpgm_material *m, int kin, const double F[4],
   (void)state;
   const double lam = m->c[C_LAMBDA], mu = m->c[C_MU];
   if (kin == MPGM_KIN_SMALL) {
-    update_small(lam, mu, F, sigma, D);
+    mpgm_elastic_small(lam, mu, F, sigma, D);
     return MPGM_OK;
   }
   if (kin != MPGM_KIN_FINITE) return MPGM_ERR_UNSUPPORTED;

@@ -45,3 +45,11 @@ int mpgm_test_summary(void) {
   printf("%d passed, %d failed\n", n_pass, n_fail);
   return n_fail ? EXIT_FAILURE : EXIT_SUCCESS;
 }
+
+double uniform(rng *r, double a, double b) {
+  r->s ^= r->s >> 12;
+  r->s ^= r->s << 25;
+  r->s ^= r->s >> 27;
+  const uint64_t x = r->s * 0x2545F4914F6CDD1DULL;
+  return a + (b - a) * ((double)(x >> 11) * 0x1.0p-53);
+}

@@ -4,6 +4,7 @@
 #define MPGM_TEST_H
 
 #include <float.h>
+#include <stdint.h>
 
 #define TEST_TOL0 (2.0 * DBL_EPSILON)
 #define TEST_TOL1 (16.0 * DBL_EPSILON)
@@ -22,6 +23,10 @@ void mpgm_test_abs(double result, double expected, double tol,
                    const char *fmt, ...);
 /** Check a condition. */
 void mpgm_test(int ok, const char *fmt, ...);
+/** Deterministic PRNG (xorshift64*): tests are repeatable bit for bit. */
+typedef struct rng { uint64_t s; } rng;
+/** Uniform double in [a, b). The state must be seeded non-zero. */
+double uniform(rng *r, double a, double b);
 /** Print the summary line "N passed, M failed" and return the exit status. */
 int mpgm_test_summary(void);
 

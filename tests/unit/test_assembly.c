@@ -46,17 +46,6 @@ static const double E_MOD = 7.31e6, NU = 0.2847, RHO = 1851.3;
 /* dynamic: dt such that m / (beta dt^2) is comparable to the stiffness */
 static const double DT = 8.53e-3, T_END = 1.7;
 
-/* ---- deterministic PRNG (xorshift64*) ---------------------------------- */
-typedef struct rng { uint64_t s; } rng;
-
-static double uniform(rng *r, double a, double b) {
-  r->s ^= r->s >> 12;
-  r->s ^= r->s << 25;
-  r->s ^= r->s >> 27;
-  uint64_t x = r->s * 0x2545F4914F6CDD1DULL;
-  return a + (b - a) * ((double)(x >> 11) * 0x1.0p-53);
-}
-
 /* ---- the test's front end: distorted structured mesh ---------------------- */
 /* (same as in test_patch.c, with the fixity of a clamped block) */
 

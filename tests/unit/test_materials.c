@@ -29,17 +29,6 @@
 #define N_SMALL 8    /* random displacement gradients per type       */
 static const double PI = 3.14159265358979323846;
 
-/* ---- deterministic PRNG (xorshift64*) ---------------------------------- */
-typedef struct rng { uint64_t s; } rng;
-
-static double uniform(rng *r, double a, double b) {
-  r->s ^= r->s >> 12;
-  r->s ^= r->s << 25;
-  r->s ^= r->s >> 27;
-  uint64_t x = r->s * 0x2545F4914F6CDD1DULL;
-  return a + (b - a) * ((double)(x >> 11) * 0x1.0p-53);
-}
-
 /* ---- 2x2 row-major helpers ---------------------------------------------- */
 static void mul(const double A[4], const double B[4], double C[4]) {
   double c0 = A[0] * B[0] + A[1] * B[2], c1 = A[0] * B[1] + A[1] * B[3];

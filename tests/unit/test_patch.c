@@ -36,17 +36,6 @@
 static const double LX = 2.385, LY = 1.7; /* domain [0, LX] x [0, LY] [m] */
 static const double E_MOD = 7.31e6, NU = 0.2847, RHO = 1851.3;
 
-/* ---- deterministic PRNG (xorshift64*) ---------------------------------- */
-typedef struct rng { uint64_t s; } rng;
-
-static double uniform(rng *r, double a, double b) {
-  r->s ^= r->s >> 12;
-  r->s ^= r->s << 25;
-  r->s ^= r->s >> 27;
-  uint64_t x = r->s * 0x2545F4914F6CDD1DULL;
-  return a + (b - a) * ((double)(x >> 11) * 0x1.0p-53);
-}
-
 /* ---- the test's front end: distorted structured mesh ---------------------- */
 
 /* What the front end builds. mpgm_problem_create calls setup before the

@@ -34,17 +34,6 @@
 static const double PI = 3.14159265358979323846;
 static const double LX = 2.385, LY = 1.7; /* regular cell size [m] */
 
-/* ---- deterministic PRNG (xorshift64*) ---------------------------------- */
-typedef struct rng { uint64_t s; } rng;
-
-static double uniform(rng *r, double a, double b) {
-  r->s ^= r->s >> 12;
-  r->s ^= r->s << 25;
-  r->s ^= r->s >> 27;
-  uint64_t x = r->s * 0x2545F4914F6CDD1DULL;
-  return a + (b - a) * ((double)(x >> 11) * 0x1.0p-53);
-}
-
 static const char *cell_name(int cell) { return cell == MPGM_CELL_T3 ? "T3" : "Q4"; }
 
 /* ---- cells ---------------------------------------------------------------- */
