@@ -79,7 +79,7 @@ static int lookup(jr_node *o, const char *key, int as, const cJSON **out) {
     char *end = NULL;
     errno = 0;
     double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE)
+    if (end == s || *end != '\0' || (errno == ERANGE && isinf(v)))
       return jr_fail(o, key, "expected a number, found '%s' (from --set)", s);
     *out = keep(o->r, cJSON_CreateNumber(v));
   } else if (as == AS_STRING) {

@@ -27,15 +27,18 @@ static void fem_destroy(mpgm_problem *pb) {
   pb->fe_data = NULL;
 }
 
-/* Cells of a body meshed nx x ny over [min, max]; *cells (if not NULL)
- * accumulates nx * ny unclamped, in double. */
+/* Cells of a body meshed nx x ny over [min, max]; count (if not NULL)
+ * accumulates its nodes and cells, unclamped, in double. */
 static void body_grid(const mpgm_scene *s, const mpgm_scene_body *b, int *nx, int *ny,
-                      double *cells) {
+                      double count[2]) {
   const double fx = fmax(1.0, ceil((b->max[0] - b->min[0]) / s->h - 1e-9));
   const double fy = fmax(1.0, ceil((b->max[1] - b->min[1]) / s->h - 1e-9));
-  if (cells) *cells += fx * fy;
-  /* clamp before converting: a tiny h overflows int (the size check in
-   * fem_setup then rejects the mesh) */
+  if (count) {
+    count[0] += (fx + 1.0) * (fy + 1.0);
+    count[1] += fx * fy;
+  }
+  /* clamp before converting: a tiny h overflows int (fem_setup checks the
+   * size in double first) */
   *nx = fx > 1e9 ? 1000000000 : (int)fx;
   *ny = fy > 1e9 ? 1000000000 : (int)fy;
 }
@@ -49,20 +52,19 @@ static int fem_setup(mpgm_problem *pb) {
   d->cell = s->cell;
   d->nn = mpgm_fe_nnode(s->cell);
   const int per_sq = s->cell == MPGM_CELL_Q4 ? 1 : 2;
-  /* count */
+  /* count: in double first, so a tiny h cannot overflow the integers */
+  double count[2] = {0.0, 0.0};
+  int nx, ny;
+  for (int b = 0; b < s->nbody; b++) body_grid(s, &s->bodies[b], &nx, &ny, count);
+  MPGM_CHECK(ctx, count[0] < 5e7 && count[1] * per_sq * s->ppc < 1e8, MPGM_ERR_INPUT,
+             "%s: mesh.h: expected a mesh of at most 5e7 nodes and 1e8 points, found %.4g nodes "
+             "and %.4g points (h = %g)", s->file, count[0], count[1] * per_sq * s->ppc, s->h);
   long nnode = 0, ncell = 0;
-  double squares = 0.0;
   for (int b = 0; b < s->nbody; b++) {
-    int nx, ny;
-    body_grid(s, &s->bodies[b], &nx, &ny, &squares);
+    body_grid(s, &s->bodies[b], &nx, &ny, NULL);
     nnode += (long)(nx + 1) * (ny + 1);
     ncell += (long)nx * ny * per_sq;
   }
-  MPGM_CHECK(ctx, nnode < 50000000 && ncell * s->ppc < 100000000, MPGM_ERR_INPUT,
-             "%s: mesh.h: expected a mesh of at most 5e7 nodes and 1e8 points, found about "
-             "%.3g nodes and %.3g points (h = %g)",
-             s->file, squares + nnode - (double)ncell / per_sq > squares ? squares : squares,
-             squares * per_sq * s->ppc, s->h);
   d->ncell = (int)ncell;
   const int npts = (int)ncell * s->ppc;
   MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, (int)nnode));
