@@ -1,31 +1,11 @@
-/* fem.c -- UL-FEM front end: persistent nodes with element connectivity. */
+/* fem.c -- UL-FEM front end: each rectangle body meshed by a structured
+ * grid of Q4 cells (or two T3 per square) of size <= mesh.h; the problem is
+ * then built by mpgm_fem_setup_mesh (fem_mesh.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "mpgm_frontends.h"
-
-typedef struct fem_data {
-  int cell;        /**< mpgm_cell_kind of every cell                  */
-  int nn;          /**< nodes per cell                                */
-  int ncell;
-  int *cnode;      /**< nn node ids per cell (counter-clockwise)       */
-  int *cptr, *ctype; /**< CSR offsets and VTK types, for output        */
-  int *pcell;      /**< cell of every point (material and tracer)      */
-  double *pxi;     /**< local coordinates of every point, 2 each       */
-} fem_data;
-
-static void fem_destroy(mpgm_problem *pb) {
-  fem_data *d = pb->fe_data;
-  if (!d) return;
-  free(d->cnode);
-  free(d->cptr);
-  free(d->ctype);
-  free(d->pcell);
-  free(d->pxi);
-  free(d);
-  pb->fe_data = NULL;
-}
 
 /* Cells of a body meshed nx x ny over [min, max]; count (if not NULL)
  * accumulates its nodes and cells, unclamped, in double. */
@@ -46,12 +26,7 @@ static void body_grid(const mpgm_scene *s, const mpgm_scene_body *b, int *nx, in
 static int fem_setup(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
-  fem_data *d;
-  MPGM_ALLOC(ctx, d, 1);
-  pb->fe_data = d;
-  d->cell = s->cell;
-  d->nn = mpgm_fe_nnode(s->cell);
-  const int per_sq = s->cell == MPGM_CELL_Q4 ? 1 : 2;
+  const int per_sq = s->cell == MPGM_CELL_Q4 ? 1 : 2, nn = mpgm_fe_nnode(s->cell);
   /* count: in double first, so a tiny h cannot overflow the integers */
   double count[2] = {0.0, 0.0};
   int nx, ny;
@@ -59,42 +34,23 @@ static int fem_setup(mpgm_problem *pb) {
   MPGM_CHECK(ctx, count[0] < 5e7 && count[1] * per_sq * s->ppc < 1e8, MPGM_ERR_INPUT,
              "%s: mesh.h: expected a mesh of at most 5e7 nodes and 1e8 points, found %.4g nodes "
              "and %.4g points (h = %g)", s->file, count[0], count[1] * per_sq * s->ppc, s->h);
-  long nnode = 0, ncell = 0;
-  for (int b = 0; b < s->nbody; b++) {
-    body_grid(s, &s->bodies[b], &nx, &ny, NULL);
-    nnode += (long)(nx + 1) * (ny + 1);
-    ncell += (long)nx * ny * per_sq;
+  const int nnode = (int)count[0], ncell = (int)count[1] * per_sq;
+  double *X = malloc(sizeof(double) * 2 * (size_t)nnode);
+  int *cnode = malloc(sizeof(int) * (size_t)nn * ncell), *cbody = malloc(sizeof(int) * (size_t)ncell);
+  if (!X || !cnode || !cbody) {
+    free(X); free(cnode); free(cbody);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (mesh of %d nodes)", nnode);
   }
-  d->ncell = (int)ncell;
-  const int npts = (int)ncell * s->ppc;
-  MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, (int)nnode));
-  int nstate = 0;
-  for (int i = 0; i < s->nmat; i++)
-    if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
-  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, npts, s->nprobe, nstate));
-  MPGM_ALLOC(ctx, d->cnode, (size_t)d->nn * ncell);
-  MPGM_ALLOC(ctx, d->cptr, ncell + 1);
-  MPGM_ALLOC(ctx, d->ctype, ncell);
-  MPGM_ALLOC(ctx, d->pcell, npts + s->nprobe);
-  MPGM_ALLOC(ctx, d->pxi, 2 * (size_t)(npts + s->nprobe));
-  mpgm_nodes *nd = &pb->nodes;
-  mpgm_points *P = &pb->pts;
-  double gxi[18], gw[9];
-  MPGM_CALL(mpgm_fe_gauss(s->cell, s->ppc, gxi, gw));
-  int n0 = 0, c = 0, p = 0;
+  int n0 = 0, c = 0;
   for (int b = 0; b < s->nbody; b++) {
     const mpgm_scene_body *bd = &s->bodies[b];
-    const mpgm_material *mat = &s->mats[bd->material];
-    int nx, ny;
     body_grid(s, bd, &nx, &ny, NULL);
     const double hx = (bd->max[0] - bd->min[0]) / nx, hy = (bd->max[1] - bd->min[1]) / ny;
     for (int j = 0; j <= ny; j++)
       for (int i = 0; i <= nx; i++) {
         const int k = n0 + j * (nx + 1) + i;
-        nd->X[2 * k] = nd->x[2 * k] = i == nx ? bd->max[0] : bd->min[0] + i * hx;
-        nd->X[2 * k + 1] = nd->x[2 * k + 1] = j == ny ? bd->max[1] : bd->min[1] + j * hy;
-        nd->v[2 * k] = bd->velocity[0];
-        nd->v[2 * k + 1] = bd->velocity[1];
+        X[2 * k] = i == nx ? bd->max[0] : bd->min[0] + i * hx;
+        X[2 * k + 1] = j == ny ? bd->max[1] : bd->min[1] + j * hy;
       }
     for (int j = 0; j < ny; j++)
       for (int i = 0; i < nx; i++) {
@@ -102,145 +58,27 @@ static int fem_setup(mpgm_problem *pb) {
                           n0 + (j + 1) * (nx + 1) + i + 1, n0 + (j + 1) * (nx + 1) + i};
         const int tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
         for (int t = 0; t < per_sq; t++, c++) {
-          int *cn = d->cnode + (size_t)d->nn * c;
-          if (per_sq == 1) memcpy(cn, q, sizeof q);
-          else memcpy(cn, tri[t], sizeof tri[t]);
-          d->cptr[c + 1] = d->cptr[c] + d->nn;
-          d->ctype[c] = s->cell == MPGM_CELL_Q4 ? 9 : 5; /* VTK_QUAD, VTK_TRIANGLE */
-          double xn[2 * MPGM_FE_MAXNODE];
-          for (int a = 0; a < d->nn; a++) {
-            xn[2 * a] = nd->X[2 * cn[a]];
-            xn[2 * a + 1] = nd->X[2 * cn[a] + 1];
-          }
-          for (int g = 0; g < s->ppc; g++, p++) {
-            double N[MPGM_FE_MAXNODE], dN[2 * MPGM_FE_MAXNODE], detJ;
-            MPGM_CALL(mpgm_fe_eval(s->cell, xn, gxi + 2 * g, N, dN, &detJ));
-            double x = 0, y = 0;
-            for (int a = 0; a < d->nn; a++) {
-              x += N[a] * xn[2 * a];
-              y += N[a] * xn[2 * a + 1];
-            }
-            P->x[2 * p] = P->x0[2 * p] = x;
-            P->x[2 * p + 1] = P->x0[2 * p + 1] = y;
-            P->vol[p] = P->vol0[p] = gw[g] * detJ;
-            P->mass[p] = mat->density * P->vol0[p];
-            P->v[2 * p] = bd->velocity[0];
-            P->v[2 * p + 1] = bd->velocity[1];
-            P->mat[p] = bd->material;
-            P->body[p] = b;
-            if (mat->type->init_state && nstate)
-              mat->type->init_state(mat, P->state + (size_t)nstate * p);
-            d->pcell[p] = c;
-            d->pxi[2 * p] = gxi[2 * g];
-            d->pxi[2 * p + 1] = gxi[2 * g + 1];
-          }
+          memcpy(cnode + (size_t)nn * c, per_sq == 1 ? q : tri[t], sizeof(int) * nn);
+          cbody[c] = b;
         }
       }
     n0 += (nx + 1) * (ny + 1);
   }
-  /* probes: the cell holding the reference position */
-  for (int k = 0; k < s->nprobe; k++, p++) {
-    const double *xp = s->probes[k].x;
-    int found = -1;
-    for (int cc = 0; cc < d->ncell && found < 0; cc++) {
-      const int *cn = d->cnode + (size_t)d->nn * cc;
-      double xn[2 * MPGM_FE_MAXNODE], xi[2];
-      for (int a = 0; a < d->nn; a++) {
-        xn[2 * a] = nd->X[2 * cn[a]];
-        xn[2 * a + 1] = nd->X[2 * cn[a] + 1];
-      }
-      if (mpgm_fe_local(s->cell, xn, xp, xi) == 0 && mpgm_fe_inside(s->cell, xi, 1e-10)) {
-        found = cc;
-        d->pxi[2 * p] = xi[0];
-        d->pxi[2 * p + 1] = xi[1];
-      }
-    }
-    MPGM_CHECK(ctx, found >= 0, MPGM_ERR_INPUT,
-               "%s: probes.%s: expected a position inside a body, found (%g, %g)", s->file,
-               s->probes[k].name, xp[0], xp[1]);
-    d->pcell[p] = found;
-    P->x[2 * p] = P->x0[2 * p] = xp[0];
-    P->x[2 * p + 1] = P->x0[2 * p + 1] = xp[1];
-  }
-  /* boundaries: nodes selected by a geometric predicate */
-  for (int i = 0; i < s->nbc; i++) {
-    const mpgm_scene_boundary *bc = &s->bcs[i];
-    int hits = 0;
-    for (int k = 0; k < nd->n; k++) {
-      const double x = nd->X[2 * k], y = nd->X[2 * k + 1];
-      int in;
-      if (bc->select == MPGM_SELECT_X) in = fabs(x - bc->value) <= bc->tol;
-      else if (bc->select == MPGM_SELECT_Y) in = fabs(y - bc->value) <= bc->tol;
-      else in = x >= bc->min[0] - bc->tol && x <= bc->max[0] + bc->tol &&
-                y >= bc->min[1] - bc->tol && y <= bc->max[1] + bc->tol;
-      if (!in) continue;
-      hits++;
-      for (int dd = 0; dd < 2; dd++)
-        if (bc->fix[dd]) {
-          nd->fix[2 * k + dd] = 1;
-          nd->ubar[2 * k + dd] = bc->displacement[dd];
-        }
-    }
-    MPGM_CHECK(ctx, hits > 0, MPGM_ERR_INPUT,
-               "%s: boundaries.%d.%s (\"%s\"): expected a selector that picks nodes, found none "
-               "within tol = %g of it", s->file, i,
-               bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box",
-               bc->name, bc->tol);
-  }
-  /* connectivity pattern: fixed for the whole run */
-  const int np = npts + s->nprobe;
-  MPGM_CALL(mpgm_conn_reserve(ctx, &pb->conn, np, np * d->nn));
-  for (int q = 0; q < np; q++) {
-    pb->conn.ptr[q + 1] = pb->conn.ptr[q] + d->nn;
-    memcpy(pb->conn.node + pb->conn.ptr[q], d->cnode + (size_t)d->nn * d->pcell[q],
-           sizeof(int) * d->nn);
-  }
-  pb->conn.version = 1;
-  return 0;
-}
-
-/* N and grad N at the start-of-step node positions. */
-static int fem_begin_step(mpgm_problem *pb) {
-  fem_data *d = pb->fe_data;
-  mpgm_conn *C = &pb->conn;
-  const double *x = pb->nodes.x;
-  const int np = pb->pts.n + pb->pts.nprobe;
-  for (int p = 0; p < np; p++) {
-    const int k0 = C->ptr[p];
-    double xn[2 * MPGM_FE_MAXNODE];
-    for (int a = 0; a < d->nn; a++) {
-      xn[2 * a] = x[2 * C->node[k0 + a]];
-      xn[2 * a + 1] = x[2 * C->node[k0 + a] + 1];
-    }
-    int err = mpgm_fe_eval(d->cell, xn, d->pxi + 2 * p, C->N + k0, C->dN + 2 * k0, NULL);
-    if (err && p < pb->pts.n)
-      MPGM_ERROR(pb->ctx, err, "cell %d of point %d is inverted (det J <= 0)", d->pcell[p], p);
-  }
-  return 0;
-}
-
-static int fem_end_step(mpgm_problem *pb) {
-  (void)pb; /* nodes persist: the core has moved them */
-  return 0;
-}
-
-static int fem_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
-                     const int **type) {
-  fem_data *d = pb->fe_data;
-  *ncells = d->ncell;
-  *ptr = d->cptr;
-  *conn = d->cnode;
-  *type = d->ctype;
-  return 0;
+  const mpgm_fem_mesh mesh = {s->cell, nnode, X, ncell, cnode, cbody};
+  int err = mpgm_fem_setup_mesh(pb, &mesh);
+  free(X);
+  free(cnode);
+  free(cbody);
+  return err;
 }
 
 const mpgm_frontend_ops mpgm_frontend_fem = {
     .name = "fem",
     .setup = fem_setup,
-    .begin_step = fem_begin_step,
-    .end_step = fem_end_step,
-    .cells = fem_cells,
-    .destroy = fem_destroy,
+    .begin_step = mpgm_fem_begin_step,
+    .end_step = mpgm_fem_end_step,
+    .cells = mpgm_fem_cells,
+    .destroy = mpgm_fem_destroy,
 };
 
 const mpgm_frontend_ops *mpgm_frontend_for(int method) {

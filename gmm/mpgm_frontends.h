@@ -16,6 +16,35 @@ extern "C" {
 
 extern const mpgm_frontend_ops mpgm_frontend_fem;
 
+/** A conforming mesh of FE cells, as a mesher (or a test) makes it. */
+typedef struct mpgm_fem_mesh {
+  int cell;         /**< mpgm_cell_kind of every cell                     */
+  int nnode;        /**< nodes                                            */
+  const double *X;  /**< initial node positions, 2 per node [m]           */
+  int ncell;        /**< cells                                            */
+  const int *cnode; /**< mpgm_fe_nnode(cell) node ids per cell, counter-
+                         clockwise                                        */
+  const int *cbody; /**< scene body of every cell (material, velocity)     */
+} mpgm_fem_mesh;
+
+/** The persistent-node FE problem of a mesh (arrays are copied): nodes with
+ *  the initial velocity of their body, material points at the Gauss points
+ *  of every cell (scene mesh.ppc; volume w det J, mass density * volume),
+ *  probes located in the cell holding them, scene boundaries applied to
+ *  the nodes, and the connectivity (point -> its cell's nodes). Sets
+ *  pb->fe_data; for the setup operation of a front end. Errors:
+ *  MPGM_ERR_INPUT (probe outside the mesh, boundary selecting no node),
+ *  MPGM_ERR_JACOBIAN (inverted cell), MPGM_ERR_NOMEM. */
+int mpgm_fem_setup_mesh(mpgm_problem *pb, const mpgm_fem_mesh *m);
+
+/** The operations shared by every front end built on mpgm_fem_setup_mesh
+ *  (begin_step: N and grad N at the start-of-step node positions). */
+int mpgm_fem_begin_step(mpgm_problem *pb);
+int mpgm_fem_end_step(mpgm_problem *pb);
+int mpgm_fem_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
+                   const int **type);
+void mpgm_fem_destroy(mpgm_problem *pb);
+
 /** Front end for a scene's method (NULL if the method has none). */
 const mpgm_frontend_ops *mpgm_frontend_for(int method);
 

@@ -21,6 +21,7 @@
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include "mpgm_core.h"
 #include "mpgm_test.h"
+#include "support_mesh.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -49,124 +50,13 @@ typedef struct mesh_cfg {
 } mesh_cfg;
 static mesh_cfg cfg;
 
-typedef struct mesh_data {
-  int cell, nn, ncell;
-  int *cnode;        /**< nn nodes per cell, counter-clockwise       */
-  int *cptr, *ctype; /**< for output                                 */
-  int *pcell;        /**< cell of every point                        */
-  double *pxi;       /**< local coordinates of every point           */
-} mesh_data;
-
-static void mesh_destroy(mpgm_problem *pb) {
-  mesh_data *d = pb->fe_data;
-  if (!d) return;
-  free(d->cnode);
-  free(d->cptr);
-  free(d->ctype);
-  free(d->pcell);
-  free(d->pxi);
-  free(d);
-  pb->fe_data = NULL;
-}
-
-static void cell_coords(const mesh_data *d, const double *x, int c, double *xn) {
-  const int *cn = d->cnode + (size_t)d->nn * c;
-  for (int a = 0; a < d->nn; a++) {
-    xn[2 * a] = x[2 * cn[a]];
-    xn[2 * a + 1] = x[2 * cn[a] + 1];
-  }
-}
-
-/* Strictly convex, counter-clockwise polygon. */
-static int convex(int nn, const double *xn) {
-  for (int i = 0; i < nn; i++) {
-    const int j = (i + 1) % nn, k = (i + 2) % nn;
-    const double ex = xn[2 * j] - xn[2 * i], ey = xn[2 * j + 1] - xn[2 * i + 1];
-    const double fx = xn[2 * k] - xn[2 * j], fy = xn[2 * k + 1] - xn[2 * j + 1];
-    if (!(ex * fy - ey * fx > 0.0)) return 0;
-  }
-  return 1;
-}
-
+/* The distorted mesh goes through mpgm_fem_setup_mesh, the same path as the
+ * UL-FEM front end; only the fixity is the test's own. */
 static int mesh_setup(mpgm_problem *pb) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
-  mesh_data *d;
-  MPGM_ALLOC(ctx, d, 1);
-  pb->fe_data = d;
-  d->cell = s->cell;
-  d->nn = mpgm_fe_nnode(s->cell);
-  const int nx = cfg.nx, ny = cfg.ny, per = s->cell == MPGM_CELL_Q4 ? 1 : 2;
-  const int nnode = (nx + 1) * (ny + 1), np = nx * ny * per * s->ppc;
-  d->ncell = nx * ny * per;
-  const mpgm_material *mat = &s->mats[s->bodies[0].material];
-  MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, nnode));
-  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, np, 0, mat->type->nstate));
-  MPGM_ALLOC(ctx, d->cnode, (size_t)d->nn * d->ncell);
-  MPGM_ALLOC(ctx, d->cptr, d->ncell + 1);
-  MPGM_ALLOC(ctx, d->ctype, d->ncell);
-  MPGM_ALLOC(ctx, d->pcell, np);
-  MPGM_ALLOC(ctx, d->pxi, 2 * np);
-  mpgm_nodes *nd = &pb->nodes;
-  mpgm_points *P = &pb->pts;
-  /* nodes: a regular grid, interior nodes moved by up to jitter h */
-  const double hx = LX / nx, hy = LY / ny;
-  rng r = {cfg.seed};
-  for (int j = 0; j <= ny; j++)
-    for (int i = 0; i <= nx; i++) {
-      const int k = j * (nx + 1) + i;
-      double x = i * hx, y = j * hy;
-      if (i > 0 && i < nx && j > 0 && j < ny) {
-        x += uniform(&r, -cfg.jitter, cfg.jitter) * hx;
-        y += uniform(&r, -cfg.jitter, cfg.jitter) * hy;
-      }
-      nd->X[2 * k] = nd->x[2 * k] = i == nx ? LX : x;
-      nd->X[2 * k + 1] = nd->x[2 * k + 1] = j == ny ? LY : y;
-    }
-  /* cells and their Gauss points */
-  double gxi[18], gw[9];
-  MPGM_CALL(mpgm_fe_gauss(s->cell, s->ppc, gxi, gw));
-  int c = 0, p = 0;
-  for (int j = 0; j < ny; j++)
-    for (int i = 0; i < nx; i++) {
-      const int q[4] = {j * (nx + 1) + i, j * (nx + 1) + i + 1, (j + 1) * (nx + 1) + i + 1,
-                        (j + 1) * (nx + 1) + i};
-      /* T3: alternate the diagonal so that both orientations occur */
-      const int alt = (i + j) % 2;
-      const int tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
-      const int tra[2][3] = {{q[0], q[1], q[3]}, {q[1], q[2], q[3]}};
-      for (int t = 0; t < per; t++, c++) {
-        int *cn = d->cnode + (size_t)d->nn * c;
-        if (per == 1) memcpy(cn, q, sizeof q);
-        else memcpy(cn, alt ? tra[t] : tri[t], sizeof tri[t]);
-        d->cptr[c + 1] = d->cptr[c] + d->nn;
-        d->ctype[c] = per == 1 ? 9 : 5;
-        double xn[2 * MPGM_FE_MAXNODE];
-        cell_coords(d, nd->X, c, xn);
-        MPGM_CHECK(ctx, convex(d->nn, xn), MPGM_ERR_INPUT, "test mesh: cell %d not convex", c);
-        for (int g = 0; g < s->ppc; g++, p++) {
-          double N[MPGM_FE_MAXNODE], dN[2 * MPGM_FE_MAXNODE], detJ;
-          MPGM_CALL(mpgm_fe_eval(s->cell, xn, gxi + 2 * g, N, dN, &detJ));
-          double x = 0.0, y = 0.0;
-          for (int a = 0; a < d->nn; a++) {
-            x += N[a] * xn[2 * a];
-            y += N[a] * xn[2 * a + 1];
-          }
-          P->x[2 * p] = P->x0[2 * p] = x;
-          P->x[2 * p + 1] = P->x0[2 * p + 1] = y;
-          P->vol[p] = P->vol0[p] = gw[g] * detJ;
-          P->mass[p] = mat->density * P->vol0[p];
-          P->mat[p] = s->bodies[0].material;
-          P->body[p] = 0;
-          if (mat->type->init_state && P->nstate)
-            mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
-          d->pcell[p] = c;
-          d->pxi[2 * p] = gxi[2 * g];
-          d->pxi[2 * p + 1] = gxi[2 * g + 1];
-        }
-      }
-    }
+  MPGM_CALL(support_distorted_mesh(pb, cfg.nx, cfg.ny, LX, LY, cfg.jitter, cfg.seed));
   /* fixity: every boundary node, both components, ubar = c + G X */
+  mpgm_nodes *nd = &pb->nodes;
+  const int nx = cfg.nx, ny = cfg.ny;
   for (int j = 0; j <= ny; j++)
     for (int i = 0; i <= nx; i++) {
       const int k = j * (nx + 1) + i;
@@ -177,53 +67,16 @@ static int mesh_setup(mpgm_problem *pb) {
         nd->ubar[2 * k + dd] = cfg.c[dd] + cfg.G[2 * dd] * X[0] + cfg.G[2 * dd + 1] * X[1];
       }
     }
-  /* connectivity: the point's cell, for the whole run */
-  MPGM_CALL(mpgm_conn_reserve(ctx, &pb->conn, np, np * d->nn));
-  for (int k = 0; k < np; k++) {
-    pb->conn.ptr[k + 1] = pb->conn.ptr[k] + d->nn;
-    memcpy(pb->conn.node + pb->conn.ptr[k], d->cnode + (size_t)d->nn * d->pcell[k],
-           sizeof(int) * d->nn);
-  }
-  pb->conn.version = 1;
-  return 0;
-}
-
-/* N and grad N at the start-of-step node positions. */
-static int mesh_begin_step(mpgm_problem *pb) {
-  mesh_data *d = pb->fe_data;
-  mpgm_conn *C = &pb->conn;
-  for (int p = 0; p < pb->pts.n; p++) {
-    double xn[2 * MPGM_FE_MAXNODE];
-    cell_coords(d, pb->nodes.x, d->pcell[p], xn);
-    const int k0 = C->ptr[p];
-    int err = mpgm_fe_eval(d->cell, xn, d->pxi + 2 * p, C->N + k0, C->dN + 2 * k0, NULL);
-    if (err) MPGM_ERROR(pb->ctx, err, "test mesh: cell %d inverted", d->pcell[p]);
-  }
-  return 0;
-}
-
-static int mesh_end_step(mpgm_problem *pb) {
-  (void)pb;
-  return 0;
-}
-
-static int mesh_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
-                      const int **type) {
-  mesh_data *d = pb->fe_data;
-  *ncells = d->ncell;
-  *ptr = d->cptr;
-  *conn = d->cnode;
-  *type = d->ctype;
   return 0;
 }
 
 static const mpgm_frontend_ops mesh_frontend = {
     .name = "test-distorted-mesh",
     .setup = mesh_setup,
-    .begin_step = mesh_begin_step,
-    .end_step = mesh_end_step,
-    .cells = mesh_cells,
-    .destroy = mesh_destroy,
+    .begin_step = mpgm_fem_begin_step,
+    .end_step = mpgm_fem_end_step,
+    .cells = mpgm_fem_cells,
+    .destroy = mpgm_fem_destroy,
 };
 
 /* ---- scene files ----------------------------------------------------------- */

@@ -1,0 +1,194 @@
+/* fem_mesh.c -- persistent-node FE problems over any conforming mesh of T3
+ * or Q4 cells: nodes, Gauss points, probes, boundaries, connectivity, and
+ * the shape functions of every step (mpgm_frontends.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_frontends.h"
+
+typedef struct fem_data {
+  int cell;        /**< mpgm_cell_kind of every cell                  */
+  int nn;          /**< nodes per cell                                */
+  int ncell;
+  int *cnode;      /**< nn node ids per cell (counter-clockwise)       */
+  int *cptr, *ctype; /**< CSR offsets and VTK types, for output        */
+  int *pcell;      /**< cell of every point (material and tracer)      */
+  double *pxi;     /**< local coordinates of every point, 2 each       */
+} fem_data;
+
+void mpgm_fem_destroy(mpgm_problem *pb) {
+  fem_data *d = pb->fe_data;
+  if (!d) return;
+  free(d->cnode);
+  free(d->cptr);
+  free(d->ctype);
+  free(d->pcell);
+  free(d->pxi);
+  free(d);
+  pb->fe_data = NULL;
+}
+
+static void cell_coords(const fem_data *d, const double *x, int c, double *xn) {
+  const int *cn = d->cnode + (size_t)d->nn * c;
+  for (int a = 0; a < d->nn; a++) {
+    xn[2 * a] = x[2 * cn[a]];
+    xn[2 * a + 1] = x[2 * cn[a] + 1];
+  }
+}
+
+int mpgm_fem_setup_mesh(mpgm_problem *pb, const mpgm_fem_mesh *m) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  fem_data *d;
+  MPGM_ALLOC(ctx, d, 1);
+  pb->fe_data = d;
+  d->cell = m->cell;
+  d->nn = mpgm_fe_nnode(m->cell);
+  d->ncell = m->ncell;
+  const int npts = m->ncell * s->ppc;
+  MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, m->nnode));
+  int nstate = 0;
+  for (int i = 0; i < s->nmat; i++)
+    if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
+  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, npts, s->nprobe, nstate));
+  MPGM_ALLOC(ctx, d->cnode, (size_t)d->nn * m->ncell);
+  MPGM_ALLOC(ctx, d->cptr, m->ncell + 1);
+  MPGM_ALLOC(ctx, d->ctype, m->ncell);
+  MPGM_ALLOC(ctx, d->pcell, npts + s->nprobe);
+  MPGM_ALLOC(ctx, d->pxi, 2 * (size_t)(npts + s->nprobe));
+  memcpy(d->cnode, m->cnode, sizeof(int) * (size_t)d->nn * m->ncell);
+  mpgm_nodes *nd = &pb->nodes;
+  mpgm_points *P = &pb->pts;
+  memcpy(nd->X, m->X, sizeof(double) * 2 * (size_t)m->nnode);
+  memcpy(nd->x, m->X, sizeof(double) * 2 * (size_t)m->nnode);
+  double gxi[18], gw[9];
+  MPGM_CALL(mpgm_fe_gauss(m->cell, s->ppc, gxi, gw));
+  int p = 0;
+  for (int c = 0; c < m->ncell; c++) {
+    const int b = m->cbody[c];
+    const mpgm_scene_body *bd = &s->bodies[b];
+    const mpgm_material *mat = &s->mats[bd->material];
+    const int *cn = d->cnode + (size_t)d->nn * c;
+    d->cptr[c + 1] = d->cptr[c] + d->nn;
+    d->ctype[c] = m->cell == MPGM_CELL_Q4 ? 9 : 5; /* VTK_QUAD, VTK_TRIANGLE */
+    for (int a = 0; a < d->nn; a++) {
+      nd->v[2 * cn[a]] = bd->velocity[0];
+      nd->v[2 * cn[a] + 1] = bd->velocity[1];
+    }
+    double xn[2 * MPGM_FE_MAXNODE];
+    cell_coords(d, nd->X, c, xn);
+    for (int g = 0; g < s->ppc; g++, p++) {
+      double N[MPGM_FE_MAXNODE], dN[2 * MPGM_FE_MAXNODE], detJ;
+      int err = mpgm_fe_eval(m->cell, xn, gxi + 2 * g, N, dN, &detJ);
+      MPGM_CHECK(ctx, !err, err, "%s: cell %d of body \"%s\" is inverted (det J = %g)", s->file, c,
+                 bd->name, detJ);
+      double x = 0, y = 0;
+      for (int a = 0; a < d->nn; a++) {
+        x += N[a] * xn[2 * a];
+        y += N[a] * xn[2 * a + 1];
+      }
+      P->x[2 * p] = P->x0[2 * p] = x;
+      P->x[2 * p + 1] = P->x0[2 * p + 1] = y;
+      P->vol[p] = P->vol0[p] = gw[g] * detJ;
+      P->mass[p] = mat->density * P->vol0[p];
+      P->v[2 * p] = bd->velocity[0];
+      P->v[2 * p + 1] = bd->velocity[1];
+      P->mat[p] = bd->material;
+      P->body[p] = b;
+      if (mat->type->init_state && nstate)
+        mat->type->init_state(mat, P->state + (size_t)nstate * p);
+      d->pcell[p] = c;
+      d->pxi[2 * p] = gxi[2 * g];
+      d->pxi[2 * p + 1] = gxi[2 * g + 1];
+    }
+  }
+  /* probes: the cell holding the reference position */
+  for (int k = 0; k < s->nprobe; k++, p++) {
+    const double *xp = s->probes[k].x;
+    int found = -1;
+    for (int cc = 0; cc < d->ncell && found < 0; cc++) {
+      double xn[2 * MPGM_FE_MAXNODE], xi[2];
+      cell_coords(d, nd->X, cc, xn);
+      if (mpgm_fe_local(m->cell, xn, xp, xi) == 0 && mpgm_fe_inside(m->cell, xi, 1e-10)) {
+        found = cc;
+        d->pxi[2 * p] = xi[0];
+        d->pxi[2 * p + 1] = xi[1];
+      }
+    }
+    MPGM_CHECK(ctx, found >= 0, MPGM_ERR_INPUT,
+               "%s: probes.%s: expected a position inside a body, found (%g, %g)", s->file,
+               s->probes[k].name, xp[0], xp[1]);
+    d->pcell[p] = found;
+    P->x[2 * p] = P->x0[2 * p] = xp[0];
+    P->x[2 * p + 1] = P->x0[2 * p + 1] = xp[1];
+  }
+  /* boundaries: nodes selected by a geometric predicate */
+  for (int i = 0; i < s->nbc; i++) {
+    const mpgm_scene_boundary *bc = &s->bcs[i];
+    int hits = 0;
+    for (int k = 0; k < nd->n; k++) {
+      const double x = nd->X[2 * k], y = nd->X[2 * k + 1];
+      int in;
+      if (bc->select == MPGM_SELECT_X) in = fabs(x - bc->value) <= bc->tol;
+      else if (bc->select == MPGM_SELECT_Y) in = fabs(y - bc->value) <= bc->tol;
+      else in = x >= bc->min[0] - bc->tol && x <= bc->max[0] + bc->tol &&
+                y >= bc->min[1] - bc->tol && y <= bc->max[1] + bc->tol;
+      if (!in) continue;
+      hits++;
+      for (int dd = 0; dd < 2; dd++)
+        if (bc->fix[dd]) {
+          nd->fix[2 * k + dd] = 1;
+          nd->ubar[2 * k + dd] = bc->displacement[dd];
+        }
+    }
+    MPGM_CHECK(ctx, hits > 0, MPGM_ERR_INPUT,
+               "%s: boundaries.%d.%s (\"%s\"): expected a selector that picks nodes, found none "
+               "within tol = %g of it", s->file, i,
+               bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box",
+               bc->name, bc->tol);
+  }
+  /* connectivity pattern: fixed for the whole run */
+  const int np = npts + s->nprobe;
+  MPGM_CALL(mpgm_conn_reserve(ctx, &pb->conn, np, np * d->nn));
+  for (int q = 0; q < np; q++) {
+    pb->conn.ptr[q + 1] = pb->conn.ptr[q] + d->nn;
+    memcpy(pb->conn.node + pb->conn.ptr[q], d->cnode + (size_t)d->nn * d->pcell[q],
+           sizeof(int) * d->nn);
+  }
+  pb->conn.version = 1;
+  return 0;
+}
+
+/* N and grad N at the start-of-step node positions. */
+int mpgm_fem_begin_step(mpgm_problem *pb) {
+  fem_data *d = pb->fe_data;
+  mpgm_conn *C = &pb->conn;
+  const double *x = pb->nodes.x;
+  const int np = pb->pts.n + pb->pts.nprobe;
+  for (int p = 0; p < np; p++) {
+    const int k0 = C->ptr[p];
+    double xn[2 * MPGM_FE_MAXNODE];
+    cell_coords(d, x, d->pcell[p], xn);
+    int err = mpgm_fe_eval(d->cell, xn, d->pxi + 2 * p, C->N + k0, C->dN + 2 * k0, NULL);
+    if (err && p < pb->pts.n)
+      MPGM_ERROR(pb->ctx, err, "cell %d of point %d is inverted (det J <= 0)", d->pcell[p], p);
+  }
+  return 0;
+}
+
+int mpgm_fem_end_step(mpgm_problem *pb) {
+  (void)pb; /* nodes persist: the core has moved them */
+  return 0;
+}
+
+int mpgm_fem_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
+                   const int **type) {
+  fem_data *d = pb->fe_data;
+  *ncells = d->ncell;
+  *ptr = d->cptr;
+  *conn = d->cnode;
+  *type = d->ctype;
+  return 0;
+}
+
