@@ -80,9 +80,12 @@ int mpgm_eval_points(mpgm_problem *pb) {
 
 /* ---- sparsity pattern ------------------------------------------------- */
 
-static int cmp_u64(const void *a, const void *b) {
-  uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-  return (x > y) - (x < y);
+/* 1 when point p is connected to the same nodes, in the same order, as p-1. */
+static int same_nodes(const mpgm_conn *C, int p) {
+  if (p == 0) return 0;
+  const int n = C->ptr[p + 1] - C->ptr[p];
+  if (n != C->ptr[p] - C->ptr[p - 1]) return 0;
+  return memcmp(C->node + C->ptr[p], C->node + C->ptr[p - 1], sizeof(int) * (size_t)n) == 0;
 }
 
 int mpgm_pattern_build(mpgm_problem *pb) {
@@ -90,30 +93,45 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
   const int np = pb->pts.n, nn = nd->n;
-  mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
-  /* node pairs (column node, row node) of every point, sorted and unique */
-  size_t npair = 0;
-  for (int p = 0; p < np; p++) {
-    size_t k = (size_t)(C->ptr[p + 1] - C->ptr[p]);
-    npair += k * k;
-  }
-  uint64_t *pair = malloc((npair ? npair : 1) * sizeof *pair);
-  int *nptr = calloc((size_t)nn + 1, sizeof *nptr);
-  if (!pair || !nptr) {
-    free(pair); free(nptr);
-    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
-  }
-  size_t q = 0;
+  mpgm_timer_start(ctx, MPGM_T_ANALYSE); /* symbolic work, once per pattern */
+  /* node graph: the neighbours of node J are the nodes of every point
+   * connected to J; built through the node -> points transpose with a
+   * marker per node (O(entries)), each list sorted (they are short) */
+  int *tptr = calloc((size_t)nn + 2, sizeof(int)), *nptr = calloc((size_t)nn + 1, sizeof(int));
+  int *mark = malloc(((size_t)nn + 1) * sizeof(int));
+  int *tpt = malloc(((size_t)C->ptr[np] + 1) * sizeof(int));
+  int *pair = NULL; /* neighbour lists, CSR over nptr */
+  if (!tptr || !nptr || !mark || !tpt) goto oom;
+  for (int k = 0; k < C->ptr[np]; k++) tptr[C->node[k] + 2]++;
+  for (int i = 0; i < nn; i++) tptr[i + 2] += tptr[i + 1];
   for (int p = 0; p < np; p++)
-    for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++)
-      for (int b = C->ptr[p]; b < C->ptr[p + 1]; b++)
-        pair[q++] = ((uint64_t)C->node[b] << 32) | (uint32_t)C->node[a];
-  qsort(pair, npair, sizeof *pair, cmp_u64);
-  size_t nu = 0;
-  for (size_t i = 0; i < npair; i++)
-    if (i == 0 || pair[i] != pair[i - 1]) pair[nu++] = pair[i];
-  for (size_t i = 0; i < nu; i++) nptr[(pair[i] >> 32) + 1]++;
-  for (int i = 0; i < nn; i++) nptr[i + 1] += nptr[i];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) tpt[tptr[C->node[k] + 1]++] = p;
+  for (int pass = 0; pass < 2; pass++) {
+    for (int i = 0; i < nn; i++) mark[i] = -1;
+    for (int J = 0; J < nn; J++) {
+      int cnt = 0, *list = pass ? pair + nptr[J] : NULL;
+      for (int t = tptr[J]; t < tptr[J + 1]; t++)
+        for (int k = C->ptr[tpt[t]]; k < C->ptr[tpt[t] + 1]; k++) {
+          const int I = C->node[k];
+          if (mark[I] == J) continue;
+          mark[I] = J;
+          if (pass) { /* insertion into the sorted list */
+            int w = cnt;
+            while (w > 0 && list[w - 1] > I) { list[w] = list[w - 1]; w--; }
+            list[w] = I;
+          }
+          cnt++;
+        }
+      if (!pass) nptr[J + 1] = cnt;
+    }
+    if (!pass) {
+      for (int i = 0; i < nn; i++) nptr[i + 1] += nptr[i];
+      pair = malloc(((size_t)nptr[nn] + 1) * sizeof(int));
+      if (!pair) goto oom;
+    }
+  }
+  free(tptr); free(mark); free(tpt);
+  tptr = mark = tpt = NULL;
   /* count entries */
   const int n = nd->ndof;
   mpgm_csc *K = &pb->K;
@@ -124,7 +142,7 @@ int mpgm_pattern_build(mpgm_problem *pb) {
     for (int j = 0; j < 2; j++) {
       if (nd->dof[2 * J + j] < 0) continue;
       for (int t = nptr[J]; t < nptr[J + 1]; t++) {
-        const int I = (int)(pair[t] & 0xffffffffu);
+        const int I = pair[t];
         nnz += (nd->dof[2 * I] >= 0) + (nd->dof[2 * I + 1] >= 0);
       }
     }
@@ -140,7 +158,7 @@ int mpgm_pattern_build(mpgm_problem *pb) {
       const int col = nd->dof[2 * J + j];
       if (col < 0) continue;
       for (int t = nptr[J]; t < nptr[J + 1]; t++) {
-        const int I = (int)(pair[t] & 0xffffffffu);
+        const int I = pair[t];
         for (int i = 0; i < 2; i++)
           if (nd->dof[2 * I + i] >= 0) K->rowind[e++] = nd->dof[2 * I + i];
       }
@@ -151,19 +169,28 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   K->symmetric = pb->symmetric;
   free(pair);
   free(nptr);
-  /* scatter map: position of every (a, b, i, j) entry of every point */
-  free(pb->scatter); free(pb->scatter_ptr);
+  /* scatter map: position of every (a, b, i, j) entry, once per run of
+   * consecutive points connected to the same nodes */
+  free(pb->scatter); free(pb->scatter_ptr); free(pb->kloc);
+  pb->scatter = NULL; pb->kloc = NULL;
   pb->scatter_ptr = malloc(((size_t)np + 1) * sizeof(int));
+  MPGM_CHECK(ctx, pb->scatter_ptr, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   size_t ns = 0;
+  int maxk = 1;
   for (int p = 0; p < np; p++) {
-    size_t k = (size_t)(C->ptr[p + 1] - C->ptr[p]);
-    ns += 4 * k * k;
+    const int k = C->ptr[p + 1] - C->ptr[p];
+    if (k > maxk) maxk = k;
+    if (!same_nodes(C, p)) ns += 4 * (size_t)k * k;
   }
   pb->scatter = malloc((ns ? ns : 1) * sizeof(int));
-  if (!pb->scatter_ptr || !pb->scatter)
-    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (scatter map)");
+  pb->kloc = malloc(4 * (size_t)maxk * maxk * sizeof(double));
+  MPGM_CHECK(ctx, pb->scatter && pb->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   size_t s = 0;
   for (int p = 0; p < np; p++) {
+    if (same_nodes(C, p)) {
+      pb->scatter_ptr[p] = pb->scatter_ptr[p - 1];
+      continue;
+    }
     pb->scatter_ptr[p] = (int)s;
     for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++)
       for (int b = C->ptr[p]; b < C->ptr[p + 1]; b++)
@@ -187,8 +214,11 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   pb->scatter_ptr[np] = (int)s;
   pb->pattern_version = C->version;
   pb->solver->analysed = 0;
-  mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+  mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   return 0;
+oom:
+  free(tptr); free(nptr); free(mark); free(tpt); free(pair);
+  MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
 }
 
 /* ---- external force --------------------------------------------------- */
@@ -230,6 +260,15 @@ static void newmark_correct(mpgm_problem *pb) {
   }
 }
 
+/* Add the local matrix of a run of points into K through its scatter map. */
+static void flush_run(mpgm_problem *pb, int run, int n) {
+  if (run < 0) return;
+  const int *sc = pb->scatter + run;
+  double *val = pb->K.val;
+  for (int q = 0; q < n; q++)
+    if (sc[q] >= 0) val[sc[q]] += pb->kloc[q];
+}
+
 int mpgm_assemble(mpgm_problem *pb, int want_K) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_points *P = &pb->pts;
@@ -251,6 +290,8 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
   if (want_K) memset(pb->K.val, 0, sizeof(double) * (size_t)pb->K.nnz);
   const double *an = pb->nodes.a_new;
   const double *lift = want_K ? pb->lift : NULL;
+  double *kl = pb->kloc;
+  int run = -1, run_n = 0; /* scatter offset and size of the open run */
   for (int p = 0; p < P->n; p++) {
     const double *s = P->sigma_t + 4 * p, *D = P->D_t + 9 * p;
     const double v = P->vol_t[p], m = P->mass[p];
@@ -273,8 +314,12 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
       if (dof[2 * I + 1] >= 0) R[dof[2 * I + 1]] -= f1;
     }
     if (!want_K) continue;
-    const int *sc = pb->scatter + pb->scatter_ptr[p];
-    double *val = pb->K.val;
+    if (pb->scatter_ptr[p] != run) { /* a new run of points: flush the last */
+      flush_run(pb, run, run_n);
+      run = pb->scatter_ptr[p];
+      run_n = 4 * nk * nk;
+      memset(kl, 0, sizeof(double) * (size_t)run_n);
+    }
     for (int b = 0; b < nk; b++) {
       const double hx = C->g[2 * (k0 + b)], hy = C->g[2 * (k0 + b) + 1];
       /* DB = D B_b (3 x 2) */
@@ -293,9 +338,8 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
                                v * (gx * DB[0][1] + gy * DB[2][1]),
                                v * (gy * DB[1][0] + gx * DB[2][0]),
                                v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
-        const int *e = sc + 4 * (a * nk + b);
-        for (int q = 0; q < 4; q++)
-          if (e[q] >= 0) val[e[q]] += kab[q];
+        double *e = kl + 4 * (a * nk + b);
+        for (int q = 0; q < 4; q++) e[q] += kab[q];
         if (lift) { /* free row of node a, fixed column of node b */
           const int Ia = C->node[k0 + a];
           for (int i = 0; i < 2; i++)
@@ -306,6 +350,7 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
       }
     }
   }
+  if (want_K) flush_run(pb, run, run_n);
   mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
   return 0;
 }

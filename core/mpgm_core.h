@@ -130,8 +130,12 @@ struct mpgm_problem {
   /* linear system */
   mpgm_csc K;
   int pattern_version; /**< conn.version the pattern was built for      */
-  int *scatter;      /**< per point: 4 * n_p^2 positions in K.val (-1: fixed) */
-  int *scatter_ptr;  /**< np + 1 offsets into scatter                   */
+  int *scatter;      /**< per run of points with the same nodes: 4 n_p^2
+                          positions in K.val (-1: fixed component)      */
+  int *scatter_ptr;  /**< per point: offset of its run's map in scatter;
+                          consecutive points with identical node lists
+                          (the Gauss points of one cell) share it       */
+  double *kloc;      /**< local matrix of a run (4 max n_p^2)           */
   double *R, *fext, *delta;
   double *dubar;     /**< 2 per node: prescribed increment of the step   */
   const double *lift; /**< when set (first iteration), assembly adds
