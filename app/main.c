@@ -1,6 +1,6 @@
 /* main.c -- the mpgm command line: run, check. Only app/ decides exit codes:
  * 0 success, 1 simulation failed, 2 bad input, 3 I/O error. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700
 #include <cjson/cJSON.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -138,8 +138,9 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
       fprintf(stderr, "mpgm: output written up to the last completed step is in %s "
               "(summary.json says where the run stopped)\n", dir);
   } else {
-    printf("results: %s (summary.json, probes.csv, points.pvd%s)\n", dir,
-           fe->cells ? ", mesh.pvd" : "");
+    char abs[4096];
+    printf("results: %s (summary.json, probes.csv, points.pvd%s)\n",
+           realpath(dir, abs) ? abs : dir, fe->cells ? ", mesh.pvd" : "");
     rc = EXIT_OK;
   }
   mpgm_scene_destroy(&s);
