@@ -139,7 +139,7 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
               "(summary.json says where the run stopped)\n", dir);
   } else {
     char abs[4096];
-    printf("results: %s (summary.json, probes.csv, points.pvd%s)\n",
+    printf("results: %s (summary.json, probes.csv, steps.csv, points.pvd%s)\n",
            realpath(dir, abs) ? abs : dir, fe->cells ? ", mesh.pvd" : "");
     rc = EXIT_OK;
   }

@@ -12,6 +12,8 @@ typedef struct mpgm_output {
   int ncol;       /**< probe columns (2 per probe)                */
   int nrow, caprow;
   double *hist;   /**< probe history rows: step, time, columns     */
+  int nstep, capstep;
+  double *steps;  /**< per converged step: STEP_COLS values         */
 } mpgm_output;
 
 int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir);
@@ -20,6 +22,10 @@ void mpgm_output_close(mpgm_output *o);
 int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb);
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
 int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
+/** Newton record of the step just converged (wall: its wall time [s]). */
+int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, double wall);
+/** DIR/steps.csv: one row per converged step with its Newton norms. */
+int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
 /** Write a cJSON tree atomically. */
 int mpgm_write_json(mpgm_ctx *ctx, const char *path, const void *json);
 

@@ -69,7 +69,49 @@ void mpgm_output_close(mpgm_output *o) {
   mpgm_pvd_destroy((mpgm_pvd **)&o->pvd_points);
   mpgm_pvd_destroy((mpgm_pvd **)&o->pvd_mesh);
   free(o->hist);
+  free(o->steps);
   o->hist = NULL;
+  o->steps = NULL;
+}
+
+enum { STEP_COLS = 8 };
+
+int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, double wall) {
+  if (o->nstep == o->capstep) {
+    int cap = o->capstep ? 2 * o->capstep : 256;
+    double *h = realloc(o->steps, sizeof(double) * STEP_COLS * (size_t)cap);
+    MPGM_CHECK(ctx, h, MPGM_ERR_NOMEM, "out of memory (step history)");
+    o->steps = h;
+    o->capstep = cap;
+  }
+  double *row = o->steps + (size_t)STEP_COLS * o->nstep++;
+  const mpgm_newton_info *n = &pb->last;
+  row[0] = (double)pb->step;
+  row[1] = pb->scene->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t;
+  row[2] = n->iterations;
+  row[3] = n->res0;
+  row[4] = n->res;
+  row[5] = n->res_rel;
+  row[6] = n->du_rel;
+  row[7] = wall;
+  return 0;
+}
+
+int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
+  char path[MPGM_PATH_LEN + 64];
+  snprintf(path, sizeof path, "%s/steps.csv", o->dir);
+  void *fv;
+  MPGM_CALL(mpgm_atomic_open(ctx, path, &fv));
+  FILE *f = fv;
+  fprintf(f, "step,%s,newton_iterations,residual_initial,residual,residual_relative,"
+          "increment_relative,wall_s\n",
+          pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
+  for (int r = 0; r < o->nstep; r++) {
+    const double *row = o->steps + (size_t)STEP_COLS * r;
+    fprintf(f, "%ld,%.17g,%d,%.6e,%.6e,%.6e,%.6e,%.6e\n", (long)row[0], row[1], (int)row[2],
+            row[3], row[4], row[5], row[6], row[7]);
+  }
+  return mpgm_atomic_close(ctx, path, f);
 }
 
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {

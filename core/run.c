@@ -166,6 +166,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
     double before[MPGM_T_COUNT];
     memcpy(before, ctx->t, sizeof before);
     const long k = pb->step + 1;
+    const double ts = mpgm_wtime();
     err = mpgm_step(pb);
     if (err) {
       snprintf(msg, sizeof msg, "step %ld (%s %.9g) failed: %s", k, dyn ? "t =" : "load factor",
@@ -178,9 +179,11 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
     if (opts && opts->per_iteration) print_split(pb, before);
     mpgm_timer_start(ctx, MPGM_T_OUTPUT);
     err = mpgm_output_probes_record(ctx, &o, pb);
+    if (!err) err = mpgm_output_step_record(ctx, &o, pb, mpgm_wtime() - ts);
     if (!err && (pb->step % s->every == 0 || pb->step == nsteps)) {
       err = mpgm_output_vtk(ctx, &o, pb);
       if (!err) err = mpgm_output_probes_write(ctx, &o, pb);
+      if (!err) err = mpgm_output_steps_write(ctx, &o, pb);
     }
     mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
     if (opts && opts->progress) progress(pb, nsteps, t0);
@@ -191,6 +194,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
   mpgm_err_clear(ctx);
   rs.wall = mpgm_wtime() - t0;
   int werr = mpgm_output_probes_write(ctx, &o, pb);
+  if (!werr) werr = mpgm_output_steps_write(ctx, &o, pb);
   if (!werr) werr = write_summary(pb, &o, &rs);
   if (err) {
     const int code = keep.code ? keep.code : err;
