@@ -12,6 +12,21 @@
 
 #include "mpgm_vtk.h"
 
+enum { STEP_COLS = 8 };
+
+/* Append a row of width doubles to a growable table; *row points to it. */
+static int table_push(mpgm_ctx *ctx, double **buf, int *n, int *cap, int width, double **row) {
+  if (*n == *cap) {
+    const int c = *cap ? 2 * *cap : 256;
+    double *h = realloc(*buf, sizeof(double) * (size_t)width * c);
+    MPGM_CHECK(ctx, h, MPGM_ERR_NOMEM, "out of memory (history of %d rows)", c);
+    *buf = h;
+    *cap = c;
+  }
+  *row = *buf + (size_t)width * (*n)++;
+  return 0;
+}
+
 int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir) {
   char buf[MPGM_PATH_LEN + 32];
   snprintf(buf, sizeof buf, "%s", dir);
@@ -74,17 +89,9 @@ void mpgm_output_close(mpgm_output *o) {
   o->steps = NULL;
 }
 
-enum { STEP_COLS = 8 };
-
 int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, double wall) {
-  if (o->nstep == o->capstep) {
-    int cap = o->capstep ? 2 * o->capstep : 256;
-    double *h = realloc(o->steps, sizeof(double) * STEP_COLS * (size_t)cap);
-    MPGM_CHECK(ctx, h, MPGM_ERR_NOMEM, "out of memory (step history)");
-    o->steps = h;
-    o->capstep = cap;
-  }
-  double *row = o->steps + (size_t)STEP_COLS * o->nstep++;
+  double *row = NULL;
+  MPGM_CALL(table_push(ctx, &o->steps, &o->nstep, &o->capstep, STEP_COLS, &row));
   const mpgm_newton_info *n = &pb->last;
   row[0] = (double)pb->step;
   row[1] = pb->scene->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t;
@@ -115,15 +122,8 @@ int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *p
 }
 
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
-  const int w = 2 + o->ncol;
-  if (o->nrow == o->caprow) {
-    int cap = o->caprow ? 2 * o->caprow : 256;
-    double *h = realloc(o->hist, sizeof(double) * (size_t)w * cap);
-    MPGM_CHECK(ctx, h, MPGM_ERR_NOMEM, "out of memory (probe history)");
-    o->hist = h;
-    o->caprow = cap;
-  }
-  double *row = o->hist + (size_t)w * o->nrow++;
+  double *row = NULL;
+  MPGM_CALL(table_push(ctx, &o->hist, &o->nrow, &o->caprow, 2 + o->ncol, &row));
   row[0] = (double)pb->step;
   row[1] = pb->scene->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t;
   const int p0 = pb->pts.n;
