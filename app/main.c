@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "mpgm_frontends.h"
+#include "mpgm_mpm.h"
 #include "mpgm_run.h"
 #include "mpgm_scene.h"
 
@@ -25,6 +26,15 @@ static void usage(FILE *f) {
           "\n"
           "exit codes: 0 success, 1 simulation failed, 2 bad input, 3 I/O error\n"
           "scene format: docs/scene-format.md\n");
+}
+
+/* The front end of each method (the only place that knows them all). */
+static const mpgm_frontend_ops *frontend_for(int method) {
+  switch (method) {
+  case MPGM_METHOD_FEM: return &mpgm_frontend_fem;
+  case MPGM_METHOD_MPM: return &mpgm_frontend_mpm;
+  default: return NULL;
+  }
 }
 
 static int exit_code(int code) {
@@ -122,7 +132,7 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
   mpgm_scene *s = NULL;
   int err = mpgm_scene_load(ctx, a->scene, a->nset, a->sets, &s);
   if (err) return report_error(ctx, err);
-  const mpgm_frontend_ops *fe = mpgm_frontend_for(s->method);
+  const mpgm_frontend_ops *fe = frontend_for(s->method);
   if (!fe) {
     fprintf(stderr, "mpgm: %s: method: no front end for \"%s\"\n", a->scene, mpgm_method_name(s->method));
     mpgm_scene_destroy(&s);

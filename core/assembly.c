@@ -229,8 +229,11 @@ int mpgm_body_force(mpgm_problem *pb) {
   memset(pb->fext, 0, sizeof(double) * (size_t)n);
   if (!pb->fx.gravity) return 0;
   mpgm_timer_start(ctx, MPGM_T_BODYFORCE);
-  const double gx = pb->lambda * pb->scene->gravity[0];
-  const double gy = pb->lambda * pb->scene->gravity[1];
+  /* static: gravity grows with the load factor; dynamic: it acts in full
+   * from the start (only prescribed displacements are ramped in time) */
+  const double f = pb->fx.inertia ? 1.0 : pb->lambda;
+  const double gx = f * pb->scene->gravity[0];
+  const double gy = f * pb->scene->gravity[1];
   const mpgm_conn *C = &pb->conn;
   const int *dof = pb->nodes.dof;
   for (int p = 0; p < pb->pts.n; p++) {
@@ -352,5 +355,35 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
   }
   if (want_K) flush_run(pb, run, run_n);
   mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+  return 0;
+}
+
+int mpgm_reactions(mpgm_problem *pb, double *r) {
+  const mpgm_points *P = &pb->pts;
+  const mpgm_conn *C = &pb->conn;
+  const mpgm_nodes *nd = &pb->nodes;
+  const int inertia = pb->fx.inertia;
+  const double f = inertia ? 1.0 : pb->lambda;
+  const double g[2] = {pb->fx.gravity ? f * pb->scene->gravity[0] : 0.0,
+                       pb->fx.gravity ? f * pb->scene->gravity[1] : 0.0};
+  memset(r, 0, sizeof(double) * 2 * (size_t)nd->n);
+  for (int p = 0; p < P->n; p++) {
+    const double *s = P->sigma_t + 4 * p, v = P->vol_t[p], m = P->mass[p];
+    double ap[2] = {0, 0};
+    if (inertia)
+      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+        ap[0] += C->N[k] * nd->a_new[2 * C->node[k]];
+        ap[1] += C->N[k] * nd->a_new[2 * C->node[k] + 1];
+      }
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      if (!nd->fix[2 * I] && !nd->fix[2 * I + 1]) continue;
+      const double gx = C->g[2 * k], gy = C->g[2 * k + 1], mN = m * C->N[k];
+      r[2 * I] += v * (s[0] * gx + s[2] * gy) + mN * (ap[0] - g[0]);
+      r[2 * I + 1] += v * (s[2] * gx + s[1] * gy) + mN * (ap[1] - g[1]);
+    }
+  }
+  for (int i = 0; i < 2 * nd->n; i++)
+    if (!nd->fix[i]) r[i] = 0.0;
   return 0;
 }

@@ -48,7 +48,10 @@ typedef struct mpgm_points {
 
 /** Nodes (degrees of freedom carriers). */
 typedef struct mpgm_nodes {
-  int n;          /**< nodes                                            */
+  int n;          /**< nodes in use                                     */
+  int cap;        /**< allocated nodes (n <= cap; MPM: the whole grid)  */
+  double *mass;   /**< nodal mass projected from the points [kg]
+                       (front ends that project; else 0)              */
   double *X;      /**< initial position, 2 per node [m]                 */
   double *x;      /**< position at the start of the step [m]            */
   double *u;      /**< total displacement at the start of the step [m]  */
@@ -56,6 +59,9 @@ typedef struct mpgm_nodes {
   double *v, *a;  /**< velocity / acceleration at the start of the step */
   double *v_new, *a_new; /**< Newmark-corrected values of the iterate   */
   unsigned char *fix;    /**< 2 per node: 1 when the component is fixed */
+  signed char *contact;  /**< per node: 0, or +-(axis + 1) for a node on a
+                              unilateral contact plane whose normal is that
+                              axis, the body on the + or - side         */
   double *ubar;   /**< 2 per node: prescribed total displacement at the
                        end of the run (fixed components; ramped)        */
   int *dof;       /**< 2 per node: equation number, -1 when fixed       */
@@ -81,18 +87,28 @@ typedef struct mpgm_effects {
   int geometric;      /**< finite kinematics: K_geo and config update   */
   int plasticity;     /**< a plastic material is used                   */
   int prescribed;     /**< non-zero prescribed displacements            */
+  int contact;        /**< unilateral contact planes (active set)        */
 } mpgm_effects;
 
 typedef struct mpgm_problem mpgm_problem;
 
+/** How a front end updates the velocity of its points after a step. */
+typedef enum {
+  MPGM_PV_INTERPOLATE = 0, /**< v_p = sum N_I v_I (persistent nodes)      */
+  MPGM_PV_NEWMARK = 1      /**< v_p += dt/2 (a_p^n + a_p^n+1), a_p^n+1 =
+                                sum N_I a_I (eq 48; grid reset: MPM)     */
+} mpgm_point_velocity;
+
 /** Front-end operations (the seam between method and physics). */
 typedef struct mpgm_frontend_ops {
   const char *name;
+  int point_velocity; /**< mpgm_point_velocity                          */
   /** Create nodes, points (with probes) and fixity from the scene. */
   int (*setup)(mpgm_problem *pb);
   /** Fill pb->conn for the step (N, dN at the start-of-step configuration)
    *  and nodal v, a (history or projection). Bump conn.version when the
-   *  pattern changed. */
+   *  node set, fixity or pattern changed (the core then renumbers the
+   *  equations and rebuilds the pattern). */
   int (*begin_step)(mpgm_problem *pb);
   /** After the core committed the points: move/reset nodes. */
   int (*end_step)(mpgm_problem *pb);
@@ -147,6 +163,9 @@ struct mpgm_problem {
   int solver_auto;   /**< solver chosen by "auto": may fall back to LU   */
   int solver_switches; /**< times "auto" fell back from CHOLMOD to UMFPACK
                             (tangent not positive definite)             */
+  double *react;     /**< 2 per node: support force on the body at fixed
+                          components (mpgm_reactions)                   */
+  long contact_rounds; /**< extra solves of steps whose contact set changed */
 };
 
 /** Create a problem for a loaded scene with a front end. */
@@ -176,6 +195,14 @@ int mpgm_eval_points(mpgm_problem *pb);
 int mpgm_assemble(mpgm_problem *pb, int want_K);
 /** (Re)build the sparsity pattern and scatter map from the connectivity. */
 int mpgm_pattern_build(mpgm_problem *pb);
+/** 1 when a scene boundary selects the node at X (plane within tol, or box). */
+int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[2]);
+
+/** Support forces at the fixed components of the current iterate:
+ *  r = f_int + f_inertia - f_ext there (0 at free components); r has 2
+ *  doubles per node. Uses the trial state of the last mpgm_eval_points. */
+int mpgm_reactions(mpgm_problem *pb, double *r);
+
 /** External force (gravity times load factor) into pb->fext. */
 int mpgm_body_force(mpgm_problem *pb);
 

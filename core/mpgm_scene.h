@@ -10,6 +10,7 @@
 
 #include "mpgm_base.h"
 #include "mpgm_material.h"
+#include "mpgm_reference.h"
 #include "mpgm_shapefn.h"
 #include "mpgm_solver.h"
 
@@ -19,12 +20,22 @@ extern "C" {
 
 #define MPGM_NAME_LEN 64
 #define MPGM_PATH_LEN 1024
+#define MPGM_POLYGON_MAX 256 /**< most vertices of a polygon body */
 
-typedef enum { MPGM_METHOD_FEM = 0 } mpgm_method;
+typedef enum { MPGM_METHOD_FEM = 0, MPGM_METHOD_MPM = 1 } mpgm_method;
 typedef enum { MPGM_ANALYSIS_STATIC = 0, MPGM_ANALYSIS_DYNAMIC = 1 } mpgm_analysis;
 typedef enum { MPGM_VTK_NONE = 0, MPGM_VTK_OUT_ASCII = 1, MPGM_VTK_OUT_BINARY = 2 } mpgm_vtk_mode;
-typedef enum { MPGM_GEOM_RECTANGLE = 0 } mpgm_geometry;
+typedef enum { MPGM_GEOM_RECTANGLE = 0, MPGM_GEOM_DISK = 1, MPGM_GEOM_POLYGON = 2 } mpgm_geometry;
 typedef enum { MPGM_SELECT_X = 0, MPGM_SELECT_Y = 1, MPGM_SELECT_BOX = 2 } mpgm_select;
+/** How a boundary's fixed components were given. */
+typedef enum {
+  MPGM_COND_FIX = 0,   /**< explicit "fix": [...] list                  */
+  MPGM_COND_STICK = 1, /**< "condition": "stick": both components       */
+  MPGM_COND_SLIP = 2,  /**< "condition": "slip": the plane's normal only */
+  MPGM_COND_CONTACT = 3 /**< "condition": "contact": no slip while the body
+                             presses on the plane, released where it would
+                             be pulled (unilateral; method mpm)          */
+} mpgm_condition;
 
 /** Output fields of material points (bit mask). */
 typedef enum {
@@ -39,11 +50,20 @@ typedef enum {
   MPGM_FIELD_ALL = (1 << 8) - 1
 } mpgm_field;
 
+/** A body: one material, one reference geometry, an initial velocity.
+ *  Whatever the geometry, min/max hold its bounding box (the rectangle
+ *  itself for MPGM_GEOM_RECTANGLE); mpgm_body_contains relies on it. */
 typedef struct mpgm_scene_body {
   char name[MPGM_NAME_LEN];
   int material;        /**< index into scene materials               */
   int geometry;        /**< mpgm_geometry                            */
-  double min[2], max[2]; /**< rectangle corners [m]                  */
+  double min[2], max[2]; /**< bounding box (rectangle: its corners) [m] */
+  double centre[2];    /**< disk: centre [m]                         */
+  double radius;       /**< disk: radius [m]                         */
+  int npoints;         /**< polygon: vertices (3..MPGM_POLYGON_MAX)   */
+  double points[2 * MPGM_POLYGON_MAX]; /**< polygon: x0, y0, x1, y1, ...
+                            in the order given (either orientation);
+                            simple, no repeated vertex [m]          */
   double velocity[2];  /**< initial velocity [m/s]                   */
 } mpgm_scene_body;
 
@@ -53,7 +73,10 @@ typedef struct mpgm_scene_boundary {
   double value;        /**< x or y of the selecting line [m]         */
   double min[2], max[2]; /**< box [m]                                */
   double tol;          /**< selection tolerance [m]                  */
-  int fix[2];          /**< 1: component fixed                       */
+  int condition;       /**< mpgm_condition (how fix was given)        */
+  int fix[2];          /**< 1: component fixed (after condition)      */
+  int side;            /**< contact: +1 body on the + side of the plane
+                            (a floor or left wall), -1 on the - side    */
   double displacement[2]; /**< prescribed value of fixed components at
                                the end of the run [m] (ramped)        */
 } mpgm_scene_boundary;
@@ -72,6 +95,10 @@ typedef struct mpgm_scene {
   double h;                 /**< cell size [m]                         */
   int cell;                 /**< mpgm_cell_kind                        */
   int ppc;                  /**< points per cell                       */
+  double min_node_mass;     /**< MPM: grid nodes lighter than this fraction
+                                 of the step's heaviest node get no
+                                 equations (default 1e-2 in static
+                                 analysis, 0 in dynamic)                */
   double dom_min[2], dom_max[2]; /**< domain box [m]                   */
   /* kinematics and time */
   int kinematics;           /**< mpgm_kinematics                       */
@@ -94,6 +121,7 @@ typedef struct mpgm_scene {
   int nprobe;
   mpgm_scene_probe *probes;
   double gravity[2];        /**< [m/s^2]                               */
+  mpgm_reference reference; /**< reference solution; type NULL if none  */
   /* output */
   char out_dir[MPGM_PATH_LEN];
   int every;                /**< write VTK every n steps                */
@@ -111,8 +139,20 @@ int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
 void mpgm_scene_destroy(mpgm_scene **s);
 /** The resolved scene as indented JSON (caller frees with free()). */
 char *mpgm_scene_resolved_json(const mpgm_scene *s);
-/** Name of the method ("fem"). */
+/** Name of the method ("fem", "mpm"; "?" if out of range). */
 const char *mpgm_method_name(int method);
+
+/** 1 when the reference position x [m] lies inside body b or on its
+ *  boundary within 1e-12 of the body's size (width + height of its bounding
+ *  box; for a disk, its diameter), else 0. Needs b->min/max to hold the
+ *  bounding box (the loader fills them; see mpgm_body_bbox). Polygons: a
+ *  crossing-number test with the half-open rule, after a distance test
+ *  against every edge near x, so vertices and edges count as inside.
+ *  No allocation; safe to call from per-point loops. */
+int mpgm_body_contains(const mpgm_scene_body *b, const double x[2]);
+/** Bounding box [m] of body b, computed from its geometry data (rectangle
+ *  corners, disk centre and radius, polygon vertices). */
+void mpgm_body_bbox(const mpgm_scene_body *b, double min[2], double max[2]);
 
 #ifdef __cplusplus
 }

@@ -45,6 +45,8 @@ static void points_free(mpgm_points *p) {
 
 int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n) {
   nd->n = n;
+  nd->cap = n;
+  MPGM_ALLOC(ctx, nd->mass, n);
   MPGM_ALLOC(ctx, nd->X, 2 * n);
   MPGM_ALLOC(ctx, nd->x, 2 * n);
   MPGM_ALLOC(ctx, nd->u, 2 * n);
@@ -54,13 +56,14 @@ int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n) {
   MPGM_ALLOC(ctx, nd->v_new, 2 * n);
   MPGM_ALLOC(ctx, nd->a_new, 2 * n);
   MPGM_ALLOC(ctx, nd->fix, 2 * n);
+  MPGM_ALLOC(ctx, nd->contact, n);
   MPGM_ALLOC(ctx, nd->ubar, 2 * n);
   MPGM_ALLOC(ctx, nd->dof, 2 * n);
   return 0;
 }
 
 static void nodes_free(mpgm_nodes *nd) {
-  void *arr[] = {nd->X, nd->x, nd->u, nd->du, nd->v, nd->a, nd->v_new, nd->a_new,
+  void *arr[] = {nd->contact, nd->mass, nd->X, nd->x, nd->u, nd->du, nd->v, nd->a, nd->v_new, nd->a_new,
                  nd->fix, nd->ubar, nd->dof};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   memset(nd, 0, sizeof *nd);
@@ -124,6 +127,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
   for (int i = 0; i < scene->nbc; i++)
     for (int d = 0; d < 2; d++)
       pb->fx.prescribed |= scene->bcs[i].fix[d] && scene->bcs[i].displacement[d] != 0.0;
+  for (int i = 0; i < scene->nbc; i++) pb->fx.contact |= scene->bcs[i].condition == MPGM_COND_CONTACT;
   const mpgm_solver_type *st = scene->solver;
   pb->solver_auto = !st;
   if (!st) st = mpgm_solver_type_find(pb->symmetric ? "cholmod" : "umfpack");
@@ -134,15 +138,18 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
   mpgm_timer_stop(ctx, MPGM_T_SHAPE);
   if (!err) {
     mpgm_nodes_number(&pb->nodes);
-    const int nd = pb->nodes.ndof > 0 ? pb->nodes.ndof : 1;
+    /* sized by the node capacity: a front end whose node set changes every
+     * step (MPM) never has more than its capacity */
+    const size_t nd = 2 * (size_t)pb->nodes.cap + 1;
     pb->R = calloc(nd, sizeof(double));
     pb->fext = calloc(nd, sizeof(double));
     pb->delta = calloc(nd, sizeof(double));
-    pb->dubar = calloc(2 * (size_t)pb->nodes.n + 1, sizeof(double));
-    if (!pb->R || !pb->fext || !pb->delta || !pb->dubar)
+    pb->dubar = calloc(nd, sizeof(double));
+    pb->react = calloc(nd, sizeof(double));
+    if (!pb->R || !pb->fext || !pb->delta || !pb->dubar || !pb->react)
       err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
   }
-  if (!err && pb->nodes.ndof == 0)
+  if (!err && pb->nodes.n > 0 && pb->nodes.ndof == 0)
     err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
                        "%s: boundaries: every degree of freedom is fixed; nothing to solve",
                        scene->file);
@@ -171,6 +178,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->fext);
   free(pb->delta);
   free(pb->dubar);
+  free(pb->react);
   mpgm_solver_destroy(&pb->solver);
   free(pb);
   *pp = NULL;

@@ -19,6 +19,7 @@ void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
   for (int i = 0; i < s->nbc; i++)
     for (int d = 0; d < 2; d++)
       fx->prescribed |= s->bcs[i].fix[d] && s->bcs[i].displacement[d] != 0.0;
+  for (int i = 0; i < s->nbc; i++) fx->contact |= s->bcs[i].condition == MPGM_COND_CONTACT;
 }
 
 void *mpgm_effects_json(const mpgm_effects *fx) {
@@ -29,6 +30,7 @@ void *mpgm_effects_json(const mpgm_effects *fx) {
   cJSON_AddBoolToObject(e, "configuration_update", fx->geometric);
   cJSON_AddBoolToObject(e, "plasticity", fx->plasticity);
   cJSON_AddBoolToObject(e, "prescribed_displacement", fx->prescribed);
+  cJSON_AddBoolToObject(e, "contact", fx->contact);
   return e;
 }
 
@@ -72,6 +74,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "inertia_loops", (double)ctx->n_mass);
   cJSON_AddNumberToObject(c, "step_cuts", 0);
   cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
+  cJSON_AddNumberToObject(c, "contact_resolves", (double)pb->contact_rounds);
   cJSON_AddNumberToObject(c, "vtk_files", o->files);
   mpgm_solver_stats st = {0, 0};
   if (pb->solver && ctx->n_factorizations && mpgm_solver_get_stats(pb->solver, &st) == 0)
@@ -106,6 +109,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   }
   cJSON_AddNumberToObject(m, "mass_total", mass);
   cJSON_AddNumberToObject(m, "volume_total", vol);
+  (void)mpgm_reference_metrics(s, o->nrow, 2 + o->ncol, o->hist, m);
   cJSON *out = cJSON_AddObjectToObject(j, "output");
   cJSON_AddStringToObject(out, "dir", o->dir);
   return j;

@@ -9,18 +9,20 @@
 #include <string.h>
 
 #include "json_reader.h"
+#include "scene_impl.h"
 
-static const char *const method_names[] = {"fem", NULL};
+static const char *const method_names[] = {"fem", "mpm", NULL}; /* = mpgm_method */
 static const char *const cell_names[] = {"tri", "quad", NULL}; /* = mpgm_cell_kind */
 static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", NULL};
 static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
 static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
                                           "volume", "J", "material", "acceleration", NULL};
-static const char *const future_methods[] = {"mpm", "gmm", NULL};
+static const char *const future_methods[] = {"gmm", NULL};
+static const char *const condition_names[] = {"stick", "slip", "contact", NULL}; /* = mpgm_condition - 1 */
 
 const char *mpgm_method_name(int method) {
-  return (method >= 0 && method < 1) ? method_names[method] : "?";
+  return (method >= 0 && method < 2) ? method_names[method] : "?";
 }
 
 /* Read a whole file; MPGM_ERR_IO on failure. */
@@ -139,6 +141,75 @@ static int find_material(const mpgm_scene *s, const char *name) {
   return -1;
 }
 
+/* "points": [[x, y], ...] of a polygon (validated: simple, with area). */
+static int read_polygon_points(jr_node *g, mpgm_scene_body *body) {
+  const cJSON *v = jr_override_json(g, "points");
+  if (!v) v = jr_raw(g, "points");
+  else jr_raw(g, "points");
+  if (!v) return jr_fail(g, "points", "required key is missing (expected [[x, y], ...], at least 3 points)");
+  if (!cJSON_IsArray(v))
+    return jr_fail(g, "points", "expected an array of points [[x, y], ...], found %s", jr_type(v));
+  const int n = cJSON_GetArraySize(v);
+  if (n > MPGM_POLYGON_MAX)
+    return jr_fail(g, "points", "expected at most %d points, found %d", MPGM_POLYGON_MAX, n);
+  int i = 0;
+  for (const cJSON *c = v->child; c; c = c->next, i++) {
+    if (!cJSON_IsArray(c) || cJSON_GetArraySize(c) != 2)
+      return jr_fail(g, "points", "expected points [x, y], found %s%s at index %d", jr_type(c),
+                     cJSON_IsArray(c) ? " of another length" : "", i);
+    for (int d = 0; d < 2; d++) {
+      const cJSON *e = cJSON_GetArrayItem(c, d);
+      if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
+        return jr_fail(g, "points", "expected points [x, y] of 2 finite numbers, found %s in point %d",
+                       jr_type(e), i);
+      body->points[2 * i + d] = e->valuedouble;
+    }
+  }
+  body->npoints = n;
+  char msg[256] = "";
+  if (mpgm_polygon_check(body->points, n, msg, sizeof msg)) return jr_fail(g, "points", "%s", msg);
+  cJSON *a = cJSON_AddArrayToObject(g->out, "points");
+  for (int k = 0; k < n; k++) cJSON_AddItemToArray(a, cJSON_CreateDoubleArray(body->points + 2 * k, 2));
+  return 0;
+}
+
+/* Exactly one of "rectangle", "disk", "polygon"; fills the geometry and the
+ * bounding box (body->min/max). *g is the geometry's node, for messages. */
+static int read_geometry(jr_node *b, mpgm_scene_body *body, jr_node *g) {
+  const cJSON *hr = jr_raw(b, "rectangle"), *hd = jr_raw(b, "disk"), *hp = jr_raw(b, "polygon");
+  const int ng = !!hr + !!hd + !!hp;
+  if (ng > 1)
+    return jr_fail(b, NULL, "expected exactly one geometry: \"rectangle\", \"disk\" or \"polygon\", "
+                   "found %d", ng);
+  if (ng == 0 && !jr_override_json(b, "rectangle"))
+    return jr_fail(b, "rectangle", "required key is missing (expected one geometry: \"rectangle\": "
+                   "{\"min\", \"max\"}, \"disk\": {\"centre\", \"radius\"} or \"polygon\": "
+                   "{\"points\"})");
+  if (hd) {
+    body->geometry = MPGM_GEOM_DISK;
+    MPGM_CALL(jr_child(b, "disk", 1, g));
+    MPGM_CALL(jr_vec2(g, "centre", NULL, body->centre));
+    MPGM_CALL(jr_num(g, "radius", NAN, 0, INFINITY, 1, 0, &body->radius));
+    MPGM_CALL(jr_end(g));
+  } else if (hp) {
+    body->geometry = MPGM_GEOM_POLYGON;
+    MPGM_CALL(jr_child(b, "polygon", 1, g));
+    MPGM_CALL(read_polygon_points(g, body));
+    MPGM_CALL(jr_end(g));
+  } else {
+    body->geometry = MPGM_GEOM_RECTANGLE;
+    MPGM_CALL(jr_child(b, "rectangle", 1, g));
+    MPGM_CALL(jr_vec2(g, "min", NULL, body->min));
+    MPGM_CALL(jr_vec2(g, "max", NULL, body->max));
+    MPGM_CALL(jr_end(g));
+    if (!(body->max[0] > body->min[0]) || !(body->max[1] > body->min[1]))
+      return jr_fail(g, NULL, "expected max > min in x and y (a body with area), found an empty "
+                     "rectangle [%g, %g] x [%g, %g]", body->min[0], body->max[0], body->min[1], body->max[1]);
+  }
+  mpgm_body_bbox(body, body->min, body->max);
+  return 0;
+}
+
 static int read_bodies(jr_node *root, mpgm_scene *s) {
   const cJSON *arr = NULL;
   MPGM_CALL(get_array(root, "bodies", &arr));
@@ -166,14 +237,10 @@ static int read_bodies(jr_node *root, mpgm_scene *s) {
                      list, mname);
     }
     jr_node g;
-    MPGM_CALL(jr_child(&b, "rectangle", 1, &g));
-    body->geometry = MPGM_GEOM_RECTANGLE;
-    MPGM_CALL(jr_vec2(&g, "min", NULL, body->min));
-    MPGM_CALL(jr_vec2(&g, "max", NULL, body->max));
-    MPGM_CALL(jr_end(&g));
-    if (!(body->max[0] > body->min[0]) || !(body->max[1] > body->min[1]))
-      return jr_fail(&g, NULL, "expected max > min in x and y (a body with area), found an empty "
-                     "rectangle [%g, %g] x [%g, %g]", body->min[0], body->max[0], body->min[1], body->max[1]);
+    MPGM_CALL(read_geometry(&b, body, &g));
+    if (s->method == MPGM_METHOD_FEM && body->geometry != MPGM_GEOM_RECTANGLE)
+      return jr_fail(&b, NULL, "method fem meshes rectangle bodies only; use method mpm for disk and "
+                     "polygon bodies");
     const double zero[2] = {0, 0};
     MPGM_CALL(jr_vec2(&b, "velocity", zero, body->velocity));
     MPGM_CALL(jr_end(&b));
@@ -191,7 +258,9 @@ static int read_fix(jr_node *o, const char *key, int fix[2]) {
   const cJSON *v = jr_override_json(o, key);
   if (!v) v = jr_raw(o, key);
   else jr_raw(o, key);
-  if (!v) return jr_fail(o, key, "required key is missing (expected [\"x\"], [\"y\"] or [\"x\", \"y\"])");
+  if (!v)
+    return jr_fail(o, key, "required key is missing (expected \"fix\": [\"x\"], [\"y\"] or [\"x\", \"y\"], "
+                   "or \"condition\": \"stick\" | \"slip\")");
   fix[0] = fix[1] = 0;
   if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) < 1 || cJSON_GetArraySize(v) > 2)
     return jr_fail(o, key, "expected [\"x\"], [\"y\"] or [\"x\", \"y\"], found %s%s", jr_type(v),
@@ -208,6 +277,17 @@ static int read_fix(jr_node *o, const char *key, int fix[2]) {
   if (fix[0]) cJSON_AddItemToArray(a, cJSON_CreateString("x"));
   if (fix[1]) cJSON_AddItemToArray(a, cJSON_CreateString("y"));
   return 0;
+}
+
+/* The selector of bc meets body bd within bc->tol: lines against the body's
+ * extent across them (exact for any connected body), boxes against the
+ * body itself. */
+static int selector_meets_body(const mpgm_scene_boundary *bc, const mpgm_scene_body *bd) {
+  const double t = bc->tol;
+  if (bc->select != MPGM_SELECT_BOX)
+    return bc->value >= bd->min[bc->select] - t && bc->value <= bd->max[bc->select] + t;
+  const double lo[2] = {bc->min[0] - t, bc->min[1] - t}, hi[2] = {bc->max[0] + t, bc->max[1] + t};
+  return mpgm_body_meets_box(bd, lo, hi);
 }
 
 static int read_boundaries(jr_node *root, mpgm_scene *s) {
@@ -243,24 +323,64 @@ static int read_boundaries(jr_node *root, mpgm_scene *s) {
     }
     MPGM_CALL(jr_num(&b, "tol", 1e-6 * s->h, 0, INFINITY, 0, 0, &bc->tol));
     /* fem nodes lie on the bodies: a selector that misses every body picks no
-     * node (the front end checks the exact node selection when it meshes) */
-    int meets = s->method != MPGM_METHOD_FEM;
-    for (int k = 0; k < s->nbody && !meets; k++) {
-      const mpgm_scene_body *bd = &s->bodies[k];
-      const double t = bc->tol;
-      if (bc->select == MPGM_SELECT_BOX)
-        meets = bc->min[0] - t <= bd->max[0] && bc->max[0] + t >= bd->min[0] &&
-                bc->min[1] - t <= bd->max[1] && bc->max[1] + t >= bd->min[1];
-      else
-        meets = bc->value >= bd->min[bc->select] - t && bc->value <= bd->max[bc->select] + t;
+     * node (the front end checks the exact node selection when it meshes).
+     * mpm grid nodes cover mesh.domain: the selector must meet the domain. */
+    const char *selkey = bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box";
+    if (s->method == MPGM_METHOD_FEM) {
+      int meets = 0;
+      for (int k = 0; k < s->nbody && !meets; k++)
+        meets = selector_meets_body(bc, &s->bodies[k]);
+      if (!meets)
+        return jr_fail(&b, selkey, "expected a selector that meets a body (only bodies carry nodes), "
+                       "found none within tol = %g of it", bc->tol);
+    } else {
+      mpgm_scene_body dom = {.geometry = MPGM_GEOM_RECTANGLE};
+      memcpy(dom.min, s->dom_min, sizeof dom.min);
+      memcpy(dom.max, s->dom_max, sizeof dom.max);
+      if (!selector_meets_body(bc, &dom))
+        return jr_fail(&b, selkey, "expected a selector that meets mesh.domain (the background grid "
+                       "covers the domain), found none within tol = %g of it", bc->tol);
     }
-    if (!meets)
-      return jr_fail(&b, bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box",
-                     "expected a selector that meets a body (only bodies carry nodes), found none "
-                     "within tol = %g of it", bc->tol);
-    MPGM_CALL(read_fix(&b, "fix", bc->fix));
+    const cJSON *hf = jr_raw(&b, "fix"), *hc = jr_raw(&b, "condition");
+    if (hf && hc)
+      return jr_fail(&b, NULL, "expected either \"fix\": [...] or \"condition\": \"stick\" | \"slip\", "
+                     "found both");
+    if (hc) {
+      int c;
+      MPGM_CALL(jr_enum(&b, "condition", condition_names, -1, &c));
+      bc->condition = c + 1;
+      if (bc->condition == MPGM_COND_SLIP && bc->select == MPGM_SELECT_BOX)
+        return jr_fail(&b, "condition", "\"slip\" fixes the normal component of a plane selector "
+                       "(\"x\" or \"y\"); a box selector has no normal (use \"stick\" or \"fix\")");
+      if (bc->condition == MPGM_COND_CONTACT) {
+        if (bc->select == MPGM_SELECT_BOX)
+          return jr_fail(&b, "condition", "\"contact\" needs a plane selector (\"x\" or \"y\"), "
+                         "found a box");
+        if (s->method != MPGM_METHOD_MPM)
+          return jr_fail(&b, "condition", "\"contact\" is a grid condition of method mpm (grid "
+                         "nodes stay on the plane); found method %s", mpgm_method_name(s->method));
+        const int ax = bc->select == MPGM_SELECT_X ? 0 : 1;
+        const double tol = 1e-9 * (s->dom_max[ax] - s->dom_min[ax]) + bc->tol;
+        if (fabs(bc->value - s->dom_min[ax]) <= tol) bc->side = 1;
+        else if (fabs(bc->value - s->dom_max[ax]) <= tol) bc->side = -1;
+        else
+          return jr_fail(&b, ax ? "y" : "x", "expected a contact plane on the boundary of mesh.domain "
+                         "(%c = %g or %g, so the body is on one side), found %g", "xy"[ax],
+                         s->dom_min[ax], s->dom_max[ax], bc->value);
+      }
+      /* the resolved scene keeps "condition" only, so it loads again as is */
+      bc->fix[0] = bc->condition != MPGM_COND_SLIP || bc->select == MPGM_SELECT_X;
+      bc->fix[1] = bc->condition != MPGM_COND_SLIP || bc->select == MPGM_SELECT_Y;
+    } else {
+      bc->condition = MPGM_COND_FIX;
+      MPGM_CALL(read_fix(&b, "fix", bc->fix));
+    }
     const double zero[2] = {0, 0};
     MPGM_CALL(jr_vec2(&b, "displacement", zero, bc->displacement));
+    if (s->method == MPGM_METHOD_MPM && (bc->displacement[0] != 0.0 || bc->displacement[1] != 0.0))
+      return jr_fail(&b, "displacement", "expected [0, 0] with method mpm (the background grid is reset "
+                     "every step; prescribed displacements need persistent nodes: method fem), found "
+                     "[%g, %g]", bc->displacement[0], bc->displacement[1]);
     MPGM_CALL(jr_end(&b));
   }
   return 0;
@@ -284,12 +404,7 @@ static int read_probes(jr_node *root, mpgm_scene *s) {
     MPGM_CALL(jr_vec2(&p, c->string, NULL, s->probes[i].x));
     const double *x = s->probes[i].x;
     int in = 0;
-    for (int b = 0; b < s->nbody && !in; b++) {
-      const mpgm_scene_body *bd = &s->bodies[b];
-      const double e = 1e-12 * (bd->max[0] - bd->min[0] + bd->max[1] - bd->min[1]);
-      in = x[0] >= bd->min[0] - e && x[0] <= bd->max[0] + e && x[1] >= bd->min[1] - e &&
-           x[1] <= bd->max[1] + e;
-    }
+    for (int b = 0; b < s->nbody && !in; b++) in = mpgm_body_contains(&s->bodies[b], x);
     if (!in) return jr_fail(&q, NULL, "expected a position inside a body, found (%g, %g)", x[0], x[1]);
   }
   MPGM_CALL(jr_end(&p));
@@ -337,7 +452,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   if (!mv) mv = jr_raw(root, "method");
   for (int i = 0; mv && cJSON_IsString(mv) && future_methods[i]; i++)
     if (strcmp(mv->valuestring, future_methods[i]) == 0)
-      return jr_fail(root, "method", "method \"%s\" is not available in this build yet (expected \"fem\")",
+      return jr_fail(root, "method", "method \"%s\" is not available in this build yet (expected \"fem\" or \"mpm\")",
                      mv->valuestring);
   /* re-read through the typed path (consumes the override again: harmless) */
   MPGM_CALL(jr_enum(root, "method", method_names, MPGM_METHOD_FEM, &s->method));
@@ -359,6 +474,9 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&mesh, "h", NAN, 0, INFINITY, 1, 0, &s->h));
   MPGM_CALL(jr_enum(&mesh, "cell", cell_names, MPGM_CELL_Q4, &s->cell));
   MPGM_CALL(jr_int(&mesh, "ppc", s->cell == MPGM_CELL_Q4 ? 4 : 3, 1, 9, &s->ppc));
+  /* default by analysis (set below, once the analysis is known) */
+  MPGM_CALL(jr_num(&mesh, "min_node_mass", -1.0, 0.0, 0.5, 0, 1, &s->min_node_mass));
+  cJSON *mesh_out = mesh.out;
   {
     double xi[18], w[9];
     if (mpgm_fe_gauss(s->cell, s->ppc, xi, w))
@@ -385,6 +503,11 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&tm, "newmark_beta", 0.25, 0, 0.5, 1, 0, &s->beta));
   MPGM_CALL(jr_num(&tm, "newmark_gamma", 0.5, 0.5, 1, 0, 0, &s->gamma));
   MPGM_CALL(jr_end(&tm));
+  if (s->min_node_mass < 0.0) { /* static: no mass term regularises cut cells */
+    s->min_node_mass = dyn ? 0.0 : 1e-2;
+    if (mesh_out)
+      cJSON_ReplaceItemInObject(mesh_out, "min_node_mass", cJSON_CreateNumber(s->min_node_mass));
+  }
   if (dyn && s->dt > s->t_end)
     return jr_fail(&tm, "dt", "expected dt <= end (%g s), found %g s", s->t_end, s->dt);
   if (dyn && s->t_end / s->dt > 1e8)
@@ -423,9 +546,10 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   const double g0[2] = {0, 0};
   MPGM_CALL(jr_vec2(root, "gravity", g0, s->gravity));
   MPGM_CALL(read_probes(root, s));
+  MPGM_CALL(mpgm_reference_read(root, s));
   MPGM_CALL(read_output(root, s));
   MPGM_CALL(jr_end(root));
-  if (s->shape->needs_cell && s->method != MPGM_METHOD_FEM)
+  if (s->shape->needs_cell && s->method != MPGM_METHOD_FEM && s->method != MPGM_METHOD_MPM)
     return jr_fail(root, "shape", "shape kind \"%s\" needs cells (method fem or mpm)", s->shape->name);
   return 0;
 }

@@ -37,6 +37,7 @@ static void commit(mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
   const mpgm_conn *C = &pb->conn;
   const int move = pb->fx.geometric, inertia = pb->fx.inertia;
+  const int newmark_pv = pb->fe->point_velocity == MPGM_PV_NEWMARK;
   const int m = P->n + P->nprobe;
   for (int p = 0; p < m; p++) {
     double d[2] = {0, 0}, v[2] = {0, 0}, a[2] = {0, 0};
@@ -56,7 +57,11 @@ static void commit(mpgm_problem *pb) {
       P->x[2 * p] += d[0];
       P->x[2 * p + 1] += d[1];
     }
-    if (inertia) {
+    if (inertia && newmark_pv) { /* eq (48): trapezoidal in the particle */
+      P->v[2 * p] += 0.5 * pb->dt * (P->a[2 * p] + a[0]);
+      P->v[2 * p + 1] += 0.5 * pb->dt * (P->a[2 * p + 1] + a[1]);
+      P->a[2 * p] = a[0]; P->a[2 * p + 1] = a[1];
+    } else if (inertia) {
       P->v[2 * p] = v[0]; P->v[2 * p + 1] = v[1];
       P->a[2 * p] = a[0]; P->a[2 * p + 1] = a[1];
     }
@@ -76,25 +81,17 @@ static void commit(mpgm_problem *pb) {
   mpgm_timer_stop(ctx, MPGM_T_UPDATE);
 }
 
-int mpgm_step(mpgm_problem *pb) {
+/* Newton on the step from the predictor (42) to convergence. */
+static int newton(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *sc = pb->scene;
   mpgm_nodes *nd = &pb->nodes;
   mpgm_newton_info *info = &pb->last;
+  int err;
   memset(info, 0, sizeof *info);
-
-  mpgm_timer_start(ctx, MPGM_T_SHAPE);
-  int err = pb->fe->begin_step(pb);
-  mpgm_timer_stop(ctx, MPGM_T_SHAPE);
-  MPGM_CALL(err);
-  if (pb->conn.version != pb->pattern_version) MPGM_CALL(mpgm_pattern_build(pb));
-
-  if (sc->analysis == MPGM_ANALYSIS_STATIC) pb->lambda = (double)(pb->step + 1) / sc->load_steps;
-  else pb->lambda = fmin(1.0, (pb->t + pb->dt) / sc->t_end);
   MPGM_CALL(mpgm_body_force(pb));
   const int lifted = predictor(pb);
   pb->lift = lifted ? pb->dubar : NULL;
-
   const int n = nd->ndof;
   const double fnorm = norm2(pb->fext, n);
   double ref = 0.0;
@@ -162,6 +159,63 @@ int mpgm_step(mpgm_problem *pb) {
     pb->lift = NULL;
     info->iterations = it + 1;
   }
+  return 0;
+}
+
+/* Unilateral contact (the contact codes of the nodes): a contact node is
+ * held (no slip) while the plane pushes on the body and released where it
+ * would pull. Release is monotone within a step (a released node stays free
+ * until the front end resets it, at the next step), so the active set
+ * settles in at most as many solves as there are contact nodes, in practice
+ * one or two; re-holding nodes within the step makes the set chatter.
+ * Returns 1 when the active set changed. */
+static int contact_update(mpgm_problem *pb) {
+  mpgm_nodes *nd = &pb->nodes;
+  double *r = pb->react;
+  mpgm_reactions(pb, r);
+  int changed = 0;
+  for (int i = 0; i < nd->n; i++) {
+    const int code = nd->contact[i];
+    if (!code) continue;
+    const int axis = abs(code) - 1, side = code > 0 ? 1 : -1;
+    if (nd->fix[2 * i + axis] && side * r[2 * i + axis] < 0.0) { /* pulls: release */
+      nd->fix[2 * i] = nd->fix[2 * i + 1] = 0;
+      changed = 1;
+    }
+  }
+  return changed;
+}
+
+int mpgm_step(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *sc = pb->scene;
+  mpgm_nodes *nd = &pb->nodes;
+
+  mpgm_timer_start(ctx, MPGM_T_SHAPE);
+  int err = pb->fe->begin_step(pb);
+  mpgm_timer_stop(ctx, MPGM_T_SHAPE);
+  MPGM_CALL(err);
+  if (sc->analysis == MPGM_ANALYSIS_STATIC) pb->lambda = (double)(pb->step + 1) / sc->load_steps;
+  else pb->lambda = fmin(1.0, (pb->t + pb->dt) / sc->t_end);
+  int rebuild = pb->conn.version != pb->pattern_version, its = 0;
+  for (int round = 0;; round++) {
+    if (rebuild) {
+      mpgm_nodes_number(nd);
+      MPGM_CHECK(ctx, nd->ndof > 0, MPGM_ERR_INPUT,
+                 "%s: boundaries: every degree of freedom of the step is fixed; nothing to solve",
+                 sc->file);
+      MPGM_CALL(mpgm_pattern_build(pb));
+    }
+    MPGM_CALL(newton(pb));
+    its += pb->last.iterations;
+    if (!pb->fx.contact || !contact_update(pb)) break;
+    MPGM_CHECK(ctx, round < 50, MPGM_ERR_NOT_CONVERGED,
+               "the contact active set did not settle in %d solves of the step", round + 1);
+    pb->contact_rounds++;
+    rebuild = 1;
+  }
+  pb->last.iterations = its;
+  const mpgm_newton_info *info = &pb->last;
   commit(pb);
   pb->t += pb->dt;
   pb->step++;

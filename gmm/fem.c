@@ -74,13 +74,10 @@ static int fem_setup(mpgm_problem *pb) {
 
 const mpgm_frontend_ops mpgm_frontend_fem = {
     .name = "fem",
+    .point_velocity = MPGM_PV_INTERPOLATE,
     .setup = fem_setup,
     .begin_step = mpgm_fem_begin_step,
     .end_step = mpgm_fem_end_step,
     .cells = mpgm_fem_cells,
     .destroy = mpgm_fem_destroy,
 };
-
-const mpgm_frontend_ops *mpgm_frontend_for(int method) {
-  return method == MPGM_METHOD_FEM ? &mpgm_frontend_fem : NULL;
-}

@@ -128,12 +128,7 @@ int mpgm_fem_setup_mesh(mpgm_problem *pb, const mpgm_fem_mesh *m) {
     const mpgm_scene_boundary *bc = &s->bcs[i];
     int hits = 0;
     for (int k = 0; k < nd->n; k++) {
-      const double x = nd->X[2 * k], y = nd->X[2 * k + 1];
-      int in;
-      if (bc->select == MPGM_SELECT_X) in = fabs(x - bc->value) <= bc->tol;
-      else if (bc->select == MPGM_SELECT_Y) in = fabs(y - bc->value) <= bc->tol;
-      else in = x >= bc->min[0] - bc->tol && x <= bc->max[0] + bc->tol &&
-                y >= bc->min[1] - bc->tol && y <= bc->max[1] + bc->tol;
+      const int in = mpgm_boundary_selects(bc, nd->X + 2 * k);
       if (!in) continue;
       hits++;
       for (int dd = 0; dd < 2; dd++)

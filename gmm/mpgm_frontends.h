@@ -45,8 +45,6 @@ int mpgm_fem_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **c
                    const int **type);
 void mpgm_fem_destroy(mpgm_problem *pb);
 
-/** Front end for a scene's method (NULL if the method has none). */
-const mpgm_frontend_ops *mpgm_frontend_for(int method);
 
 #ifdef __cplusplus
 }

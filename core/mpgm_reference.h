@@ -1,0 +1,77 @@
+/* mpgm_reference.h -- the reference-solution plug-in family.
+ *
+ * A scene may name one reference solution ("reference": {"kind": ...}); it
+ * is resolved when the scene loads, and at the end of a run it turns the
+ * probe history into accuracy metrics of summary.json ("metrics").
+ *
+ * Every kind reads "probe" (the name of a scene probe) and, when it says so,
+ * "component" ("x" | "y"), plus its own numeric parameter table. Each kind
+ * is one .c exporting a `const mpgm_reference_type`; the list of all of
+ * them is MPGM_REFERENCE_LIST in reference_list.c.
+ *
+ * Probe history layout (as core/output.c records it): row-major, nrow rows
+ * of ncol doubles; column 0 the step, column 1 the time [s] (dynamic) or
+ * the load factor (static), then ux, uy [m] of each probe in scene order
+ * (probe k at columns 2 + 2k, 3 + 2k). Row 0 is the initial state.
+ */
+#ifndef MPGM_REFERENCE_H
+#define MPGM_REFERENCE_H
+
+#include "mpgm_material.h" /* mpgm_param_spec */
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct mpgm_scene mpgm_scene;
+
+#define MPGM_REF_MAXPARAM 4   /**< numeric parameters of a kind      */
+#define MPGM_REF_MAXMETRIC 8  /**< metrics a kind may produce        */
+
+typedef struct mpgm_reference_type mpgm_reference_type;
+
+/** A resolved reference block. */
+typedef struct mpgm_reference {
+  const mpgm_reference_type *type; /**< kind; NULL: the scene has none   */
+  int probe;      /**< index of the probe in the scene's probes          */
+  int component;  /**< 0: x, 1: y (kinds with needs_component; else 0)   */
+  double param[MPGM_REF_MAXPARAM]; /**< in type->params order            */
+} mpgm_reference;
+
+/** One metric: name (static string) and value. */
+typedef struct mpgm_metric {
+  const char *name;
+  double value;
+} mpgm_metric;
+
+struct mpgm_reference_type {
+  const char *name;     /**< scene name, e.g. "rolling_disk"              */
+  const char *doc;      /**< one line for docs                            */
+  int needs_component;  /**< 1: reads "component": "x" | "y" (required)   */
+  int needs_dynamic;    /**< 1: only with time.analysis "dynamic"         */
+  int nparam;           /**< entries of params                            */
+  const mpgm_param_spec *params; /**< numeric parameters (not probe, component) */
+  /** Metrics from a probe history (layout above; nrow >= 1 and the probe's
+   *  columns exist, the caller checks). Writes at most MPGM_REF_MAXMETRIC
+   *  entries of out and returns how many. No allocation. */
+  int (*metrics)(const mpgm_reference *r, int nrow, int ncol, const double *hist,
+                 mpgm_metric *out);
+};
+
+/** All kinds, NULL-terminated (for docs and error messages). */
+const mpgm_reference_type *const *mpgm_reference_types(void);
+/** The kind with scene name `name`; NULL if none (or name NULL). */
+const mpgm_reference_type *mpgm_reference_type_find(const char *name);
+
+/** Metrics of the scene's reference (none when s has no reference block).
+ *  nrow, ncol, hist: the probe history (layout above; ncol = 2 + 2 nprobe).
+ *  metrics_cjson: the cJSON object the metrics are added to.
+ *  Returns 0; MPGM_ERR_INPUT (nothing added) when the history is empty or
+ *  narrower than the reference's probe columns. */
+int mpgm_reference_metrics(const mpgm_scene *s, int nrow, int ncol, const double *hist,
+                           void *metrics_cjson);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,90 @@
+/* reference_list.c -- the compile-time list of reference kinds, reading the
+ * scene's "reference" block, and the metrics of summary.json.
+ * Adding a kind: write its .c, add one line to MPGM_REFERENCE_LIST. */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "mpgm_reference.h"
+#include "mpgm_scene.h"
+#include "scene_impl.h"
+
+#define MPGM_REFERENCE_LIST(X)                                                 \
+  X(mpgm_reference_probe_value)                                                \
+  X(mpgm_reference_rolling_disk)
+
+#define MPGM_DECLARE(t) extern const mpgm_reference_type t;
+MPGM_REFERENCE_LIST(MPGM_DECLARE)
+#undef MPGM_DECLARE
+
+#define MPGM_ADDR(t) &t,
+static const mpgm_reference_type *const all_types[] = {MPGM_REFERENCE_LIST(MPGM_ADDR) NULL};
+#undef MPGM_ADDR
+
+const mpgm_reference_type *const *mpgm_reference_types(void) { return all_types; }
+
+const mpgm_reference_type *mpgm_reference_type_find(const char *name) {
+  if (!name) return NULL;
+  for (int i = 0; all_types[i]; i++)
+    if (strcmp(all_types[i]->name, name) == 0) return all_types[i];
+  return NULL;
+}
+
+int mpgm_reference_read(jr_node *root, mpgm_scene *s) {
+  mpgm_reference *ref = &s->reference;
+  memset(ref, 0, sizeof *ref);
+  /* absent: no reference (and no empty block in the resolved scene) */
+  const cJSON *v = jr_override_json(root, "reference");
+  if (!v) v = jr_raw(root, "reference");
+  if (!v) return 0;
+  jr_node r;
+  MPGM_CALL(jr_child(root, "reference", 1, &r));
+  const char *names[16];
+  int nk = 0;
+  for (; all_types[nk] && nk < 15; nk++) names[nk] = all_types[nk]->name;
+  names[nk] = NULL;
+  int k;
+  MPGM_CALL(jr_enum(&r, "kind", names, -1, &k));
+  ref->type = all_types[k];
+  char pname[MPGM_NAME_LEN];
+  MPGM_CALL(jr_str(&r, "probe", NULL, pname, sizeof pname));
+  ref->probe = -1;
+  for (int i = 0; i < s->nprobe; i++)
+    if (strcmp(s->probes[i].name, pname) == 0) ref->probe = i;
+  if (ref->probe < 0) {
+    char list[512] = "";
+    for (int i = 0; i < s->nprobe; i++) {
+      size_t l = strlen(list);
+      snprintf(list + l, sizeof list - l, "%s\"%s\"", i ? ", " : "", s->probes[i].name);
+    }
+    return jr_fail(&r, "probe", "expected the name of a probe defined in probes (%s), found \"%s\"",
+                   s->nprobe ? list : "none defined", pname);
+  }
+  if (ref->type->needs_component) {
+    static const char *const comps[] = {"x", "y", NULL};
+    MPGM_CALL(jr_enum(&r, "component", comps, -1, &ref->component));
+  }
+  for (int p = 0; p < ref->type->nparam && p < MPGM_REF_MAXPARAM; p++) {
+    const mpgm_param_spec *ps = &ref->type->params[p];
+    MPGM_CALL(jr_num(&r, ps->name, ps->def, ps->lo, ps->hi, ps->lo_open, ps->hi_open, &ref->param[p]));
+  }
+  MPGM_CALL(jr_end(&r));
+  if (ref->type->needs_dynamic && s->analysis != MPGM_ANALYSIS_DYNAMIC)
+    return jr_fail(&r, "kind", "reference \"%s\" compares a time history: expected time.analysis "
+                   "\"dynamic\", found \"static\"", ref->type->name);
+  return 0;
+}
+
+int mpgm_reference_metrics(const mpgm_scene *s, int nrow, int ncol, const double *hist,
+                           void *metrics_cjson) {
+  const mpgm_reference *ref = &s->reference;
+  if (!ref->type) return 0;
+  if (nrow < 1 || !hist || !metrics_cjson || ref->probe < 0 || ncol < 4 + 2 * ref->probe)
+    return MPGM_ERR_INPUT;
+  mpgm_metric m[MPGM_REF_MAXMETRIC];
+  const int n = ref->type->metrics(ref, nrow, ncol, hist, m);
+  for (int i = 0; i < n && i < MPGM_REF_MAXMETRIC; i++)
+    cJSON_AddNumberToObject((cJSON *)metrics_cjson, m[i].name, m[i].value);
+  return 0;
+}

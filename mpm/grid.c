@@ -1,0 +1,87 @@
+/* grid.c -- structured background grid (mpgm_grid.h). */
+#include "mpgm_grid.h"
+
+#include <math.h>
+
+int mpgm_grid_init(mpgm_ctx *ctx, mpgm_grid *g, const mpgm_scene *s) {
+  g->cell = s->cell;
+  g->nn = mpgm_fe_nnode(s->cell);
+  g->h = s->h;
+  const double fx = ceil((s->dom_max[0] - s->dom_min[0]) / s->h - 1e-9);
+  const double fy = ceil((s->dom_max[1] - s->dom_min[1]) / s->h - 1e-9);
+  const double per = s->cell == MPGM_CELL_Q4 ? 1.0 : 2.0;
+  MPGM_CHECK(ctx, (fx + 1) * (fy + 1) < 5e7 && fx * fy * per < 1e8, MPGM_ERR_INPUT,
+             "%s: mesh.h: expected a background grid of at most 5e7 nodes over mesh.domain, "
+             "found %.4g nodes (h = %g)", s->file, (fx + 1) * (fy + 1), s->h);
+  g->nx = fx < 1 ? 1 : (int)fx;
+  g->ny = fy < 1 ? 1 : (int)fy;
+  for (int d = 0; d < 2; d++) g->min[d] = s->dom_min[d];
+  g->max[0] = g->min[0] + g->nx * g->h;
+  g->max[1] = g->min[1] + g->ny * g->h;
+  g->nnode = (g->nx + 1) * (g->ny + 1);
+  g->ncell = g->nx * g->ny * (int)per;
+  return 0;
+}
+
+void mpgm_grid_node(const mpgm_grid *g, int id, double X[2]) {
+  const int i = id % (g->nx + 1), j = id / (g->nx + 1);
+  X[0] = g->min[0] + i * g->h;
+  X[1] = g->min[1] + j * g->h;
+}
+
+void mpgm_grid_cell(const mpgm_grid *g, int c, int *nodes, double *xn) {
+  const int sq = g->cell == MPGM_CELL_Q4 ? c : c / 2;
+  const int i = sq % g->nx, j = sq / g->nx, w = g->nx + 1;
+  const int q[4] = {j * w + i, j * w + i + 1, (j + 1) * w + i + 1, (j + 1) * w + i};
+  if (g->cell == MPGM_CELL_Q4) {
+    for (int a = 0; a < 4; a++) nodes[a] = q[a];
+  } else if (c % 2 == 0) {
+    nodes[0] = q[0]; nodes[1] = q[1]; nodes[2] = q[2];
+  } else {
+    nodes[0] = q[0]; nodes[1] = q[2]; nodes[2] = q[3];
+  }
+  if (xn)
+    for (int a = 0; a < g->nn; a++) mpgm_grid_node(g, nodes[a], xn + 2 * a);
+}
+
+int mpgm_grid_locate(const mpgm_grid *g, const double x[2], int *cell, double xi[2]) {
+  const double s = (x[0] - g->min[0]) / g->h, t = (x[1] - g->min[1]) / g->h;
+  const double tol = 1e-9;
+  if (!(s >= -tol && s <= g->nx + tol && t >= -tol && t <= g->ny + tol)) return MPGM_ERR_DOMAIN;
+  int i = (int)floor(s), j = (int)floor(t);
+  if (i < 0) i = 0;
+  if (j < 0) j = 0;
+  if (i >= g->nx) i = g->nx - 1;
+  if (j >= g->ny) j = g->ny - 1;
+  const double fs = s - i, ft = t - j; /* in [0, 1] */
+  const int sq = j * g->nx + i;
+  if (g->cell == MPGM_CELL_Q4) {
+    *cell = sq;
+    xi[0] = 2.0 * fs - 1.0;
+    xi[1] = 2.0 * ft - 1.0;
+  } else if (fs >= ft) { /* lower-right triangle (q0, q1, q2) */
+    *cell = 2 * sq;
+    xi[0] = fs - ft;
+    xi[1] = ft;
+  } else { /* upper-left triangle (q0, q2, q3) */
+    *cell = 2 * sq + 1;
+    xi[0] = fs;
+    xi[1] = ft - fs;
+  }
+  return 0;
+}
+
+int mpgm_grid_neighbours(const mpgm_grid *g, int c, int *out) {
+  const int per = g->cell == MPGM_CELL_Q4 ? 1 : 2;
+  const int sq = c / per, i0 = sq % g->nx, j0 = sq / g->nx;
+  int n = 0;
+  for (int j = j0 - 1; j <= j0 + 1; j++)
+    for (int i = i0 - 1; i <= i0 + 1; i++) {
+      if (i < 0 || j < 0 || i >= g->nx || j >= g->ny) continue;
+      for (int t = 0; t < per; t++) {
+        const int cc = (j * g->nx + i) * per + t;
+        if (cc != c) out[n++] = cc;
+      }
+    }
+  return n;
+}

@@ -1,0 +1,319 @@
+/* mpm.c -- the grid-reset front end (mpgm_mpm.h). */
+#include "mpgm_mpm.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_grid.h"
+
+typedef struct mpm_data {
+  mpgm_grid g;
+  int *pcell;          /**< cell of every point (material, then probes)    */
+  double *pxi;         /**< local coordinates in that cell, 2 per point     */
+  int *gmap;           /**< grid node -> node of the step, or -1           */
+  unsigned char *cact; /**< 1 when the cell holds a material point         */
+  unsigned char *gfix; /**< 2 per grid node: fixed by a scene boundary     */
+  signed char *gcontact; /**< per grid node: contact code (mpgm_nodes.contact) */
+  double *gm, *gq, *gf;/**< per grid node: mass, momentum, inertia force    */
+  long step;           /**< steps begun (for messages)                     */
+} mpm_data;
+
+static void mpm_destroy(mpgm_problem *pb) {
+  mpm_data *d = pb->fe_data;
+  if (!d) return;
+  free(d->pcell);
+  free(d->pxi);
+  free(d->gmap);
+  free(d->cact);
+  free(d->gfix);
+  free(d->gcontact);
+  free(d->gm);
+  free(d->gq);
+  free(d->gf);
+  free(d);
+  pb->fe_data = NULL;
+}
+
+/* Particles of every body at the Gauss points of the cells that lie in it
+ * (count only when P is NULL). The first body containing a point owns it. */
+static int fill_bodies(mpgm_problem *pb, mpm_data *d, mpgm_points *P, int *count) {
+  const mpgm_scene *s = pb->scene;
+  const mpgm_grid *g = &d->g;
+  double gxi[18], gw[9];
+  MPGM_CALL(mpgm_fe_gauss(g->cell, s->ppc, gxi, gw));
+  const double ref_area = g->cell == MPGM_CELL_Q4 ? 4.0 : 0.5;
+  const double cell_area = g->h * g->h / (g->cell == MPGM_CELL_Q4 ? 1.0 : 2.0);
+  int p = 0;
+  for (int c = 0; c < g->ncell; c++) {
+    int nodes[MPGM_FE_MAXNODE];
+    double xn[2 * MPGM_FE_MAXNODE];
+    mpgm_grid_cell(g, c, nodes, xn);
+    for (int q = 0; q < s->ppc; q++) {
+      double N[MPGM_FE_MAXNODE], x[2] = {0, 0};
+      mpgm_fe_ref(g->cell, gxi + 2 * q, N, NULL);
+      for (int a = 0; a < g->nn; a++) {
+        x[0] += N[a] * xn[2 * a];
+        x[1] += N[a] * xn[2 * a + 1];
+      }
+      int b = 0;
+      while (b < s->nbody && !mpgm_body_contains(&s->bodies[b], x)) b++;
+      if (b == s->nbody) continue;
+      if (P) {
+        const mpgm_scene_body *bd = &s->bodies[b];
+        const mpgm_material *mat = &s->mats[bd->material];
+        P->x[2 * p] = P->x0[2 * p] = x[0];
+        P->x[2 * p + 1] = P->x0[2 * p + 1] = x[1];
+        P->vol[p] = P->vol0[p] = cell_area * gw[q] / ref_area;
+        P->mass[p] = mat->density * P->vol0[p];
+        P->v[2 * p] = bd->velocity[0];
+        P->v[2 * p + 1] = bd->velocity[1];
+        P->mat[p] = bd->material;
+        P->body[p] = b;
+        if (mat->type->init_state && P->nstate)
+          mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
+      }
+      p++;
+    }
+  }
+  *count = p;
+  return 0;
+}
+
+static int mpm_setup(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  mpm_data *d;
+  MPGM_ALLOC(ctx, d, 1);
+  pb->fe_data = d;
+  MPGM_CALL(mpgm_grid_init(ctx, &d->g, s));
+  const mpgm_grid *g = &d->g;
+  int np = 0;
+  MPGM_CALL(fill_bodies(pb, d, NULL, &np));
+  MPGM_CHECK(ctx, np > 0, MPGM_ERR_INPUT,
+             "%s: bodies: no grid Gauss point lies inside any body (h = %g, ppc = %d): expected "
+             "bodies larger than a grid cell", s->file, g->h, s->ppc);
+  int nstate = 0;
+  for (int i = 0; i < s->nmat; i++)
+    if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
+  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe, nstate));
+  MPGM_CALL(fill_bodies(pb, d, &pb->pts, &np));
+  for (int k = 0; k < s->nprobe; k++) {
+    const int p = np + k;
+    pb->pts.x[2 * p] = pb->pts.x0[2 * p] = s->probes[k].x[0];
+    pb->pts.x[2 * p + 1] = pb->pts.x0[2 * p + 1] = s->probes[k].x[1];
+  }
+  /* nodes: room for the whole grid; the step uses those of active cells */
+  MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, g->nnode));
+  pb->nodes.n = 0;
+  const int m = np + s->nprobe;
+  MPGM_ALLOC(ctx, d->pcell, m);
+  MPGM_ALLOC(ctx, d->pxi, 2 * (size_t)m);
+  MPGM_ALLOC(ctx, d->gmap, g->nnode);
+  MPGM_ALLOC(ctx, d->cact, g->ncell);
+  MPGM_ALLOC(ctx, d->gfix, 2 * (size_t)g->nnode);
+  MPGM_ALLOC(ctx, d->gcontact, g->nnode);
+  MPGM_ALLOC(ctx, d->gm, g->nnode);
+  MPGM_ALLOC(ctx, d->gq, 2 * (size_t)g->nnode);
+  MPGM_ALLOC(ctx, d->gf, 2 * (size_t)g->nnode);
+  MPGM_CALL(mpgm_conn_reserve(ctx, &pb->conn, m, m * g->nn));
+  /* grid boundaries: the grid never moves, so the fixity of every grid
+   * node is decided once */
+  for (int i = 0; i < s->nbc; i++) {
+    int hits = 0;
+    for (int k = 0; k < g->nnode; k++) {
+      double X[2];
+      mpgm_grid_node(g, k, X);
+      if (!mpgm_boundary_selects(&s->bcs[i], X)) continue;
+      hits++;
+      for (int c = 0; c < 2; c++) d->gfix[2 * k + c] |= (unsigned char)s->bcs[i].fix[c];
+      if (s->bcs[i].condition == MPGM_COND_CONTACT) /* normal axis, body side */
+        d->gcontact[k] = (signed char)((s->bcs[i].select == MPGM_SELECT_X ? 1 : 2) * s->bcs[i].side);
+    }
+    MPGM_CHECK(ctx, hits > 0, MPGM_ERR_INPUT,
+               "%s: boundaries.%d (\"%s\"): expected a selector that picks grid nodes, found none "
+               "within tol = %g", s->file, i, s->bcs[i].name, s->bcs[i].tol);
+  }
+  return 0;
+}
+
+/* Cell of a probe: its own cell if active, else an active neighbour that
+ * holds it on its boundary (a probe on the edge of the material). */
+static int probe_cell(const mpm_data *d, const double x[2], int *cell, double xi[2]) {
+  if (d->cact[*cell]) return 0;
+  int cand[18];
+  const int nc = mpgm_grid_neighbours(&d->g, *cell, cand);
+  for (int i = 0; i < nc; i++) {
+    if (!d->cact[cand[i]]) continue;
+    int nodes[MPGM_FE_MAXNODE];
+    double xn[2 * MPGM_FE_MAXNODE], t[2];
+    mpgm_grid_cell(&d->g, cand[i], nodes, xn);
+    if (mpgm_fe_local(d->g.cell, xn, x, t) == 0 && mpgm_fe_inside(d->g.cell, t, 1e-9)) {
+      *cell = cand[i];
+      xi[0] = t[0];
+      xi[1] = t[1];
+      return 0;
+    }
+  }
+  return MPGM_ERR_DOMAIN;
+}
+
+/* Reset the grid; locate the points; activate cells and nodes; project
+ * mass, momentum and inertia; fill the connectivity (eqs 38-41). */
+static int mpm_begin_step(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  mpm_data *d = pb->fe_data;
+  const mpgm_grid *g = &d->g;
+  mpgm_points *P = &pb->pts;
+  mpgm_nodes *nd = &pb->nodes;
+  mpgm_conn *C = &pb->conn;
+  const int np = P->n, m = P->n + P->nprobe, nn = g->nn;
+  const int inertia = pb->fx.inertia;
+  d->step++;
+  memset(d->cact, 0, (size_t)g->ncell);
+  for (int p = 0; p < m; p++) {
+    if (mpgm_grid_locate(g, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p)) {
+      if (p < np)
+        MPGM_ERROR(ctx, MPGM_ERR_DOMAIN,
+                   "step %ld: particle %d (body \"%s\", started at (%g, %g)) is at (%g, %g), "
+                   "outside the background grid [%g, %g] x [%g, %g] (mesh.domain)",
+                   d->step, p, s->bodies[P->body[p]].name, P->x0[2 * p], P->x0[2 * p + 1],
+                   P->x[2 * p], P->x[2 * p + 1], g->min[0], g->max[0], g->min[1], g->max[1]);
+      MPGM_ERROR(ctx, MPGM_ERR_DOMAIN, "step %ld: probe \"%s\" is at (%g, %g), outside the background grid",
+                 d->step, s->probes[p - np].name, P->x[2 * p], P->x[2 * p + 1]);
+    }
+    if (p < np) d->cact[d->pcell[p]] = 1;
+  }
+  for (int k = 0; k < P->nprobe; k++) {
+    const int p = np + k;
+    MPGM_CHECK(ctx, probe_cell(d, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p) == 0, MPGM_ERR_DOMAIN,
+               "step %ld: probe \"%s\" at (%g, %g) is in no cell holding material", d->step,
+               s->probes[k].name, P->x[2 * p], P->x[2 * p + 1]);
+  }
+  /* shape functions at the undeformed grid; the raw nodal masses decide
+   * which nodes get equations */
+  memset(d->gm, 0, sizeof(double) * (size_t)g->nnode);
+  int k = 0;
+  for (int p = 0; p < m; p++) {
+    int nodes[MPGM_FE_MAXNODE];
+    double xn[2 * MPGM_FE_MAXNODE];
+    mpgm_grid_cell(g, d->pcell[p], nodes, xn);
+    mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[2 * p], P->x[2 * p + 1]},
+                          .cell = g->cell, .xi = {d->pxi[2 * p], d->pxi[2 * p + 1]}};
+    C->ptr[p] = k;
+    MPGM_CALL(s->shape->eval(&q, C->N + k, C->dN + 2 * k));
+    for (int a = 0; a < nn; a++) C->node[k + a] = nodes[a]; /* grid ids for now */
+    if (p < np)
+      for (int a = 0; a < nn; a++) d->gm[nodes[a]] += C->N[k + a] * P->mass[p];
+    k += nn;
+  }
+  C->ptr[m] = k;
+  /* nodes of the step: nodes of active cells with non-zero mass, in grid
+   * order (node-major equation numbers stay banded) */
+  for (int i = 0; i < g->nnode; i++) d->gmap[i] = -1;
+  double mmax = 0.0;
+  for (int i = 0; i < g->nnode; i++) mmax = fmax(mmax, d->gm[i]);
+  /* tiny-mass nodes (docs/theory.md): a node carrying less than
+   * mesh.min_node_mass of the heaviest node's mass is supported by a sliver
+   * of material; its stiffness is nearly singular (cut cell) and Newton
+   * stalls. It gets no equation; the particles' shape functions are
+   * renormalised over their remaining nodes. */
+  const double mcut = s->min_node_mass * mmax;
+  for (int c = 0; c < g->ncell; c++) {
+    if (!d->cact[c]) continue;
+    int nodes[MPGM_FE_MAXNODE];
+    mpgm_grid_cell(g, c, nodes, NULL);
+    for (int a = 0; a < nn; a++)
+      if (d->gm[nodes[a]] > mcut) d->gmap[nodes[a]] = 0;
+  }
+  int n = 0;
+  for (int i = 0; i < g->nnode; i++) {
+    if (d->gmap[i] < 0) continue;
+    d->gmap[i] = n;
+    mpgm_grid_node(g, i, nd->X + 2 * n);
+    nd->x[2 * n] = nd->X[2 * n];
+    nd->x[2 * n + 1] = nd->X[2 * n + 1];
+    nd->contact[n] = d->gcontact[i]; /* every contact node starts held */
+    for (int c = 0; c < 2; c++) {
+      nd->u[2 * n + c] = nd->du[2 * n + c] = nd->ubar[2 * n + c] = 0.0;
+      nd->fix[2 * n + c] = d->gfix[2 * i + c];
+    }
+    n++;
+  }
+  nd->n = n;
+  /* connectivity in step node ids, without zero-mass nodes */
+  int w = 0;
+  for (int p = 0; p < m; p++) {
+    const int k0 = C->ptr[p], k1 = C->ptr[p + 1];
+    C->ptr[p] = w;
+    double S = 0, Sx = 0, Sy = 0;
+    for (int kk = k0; kk < k1; kk++) {
+      const int id = d->gmap[C->node[kk]];
+      if (id < 0) continue;
+      S += C->N[kk]; Sx += C->dN[2 * kk]; Sy += C->dN[2 * kk + 1];
+    }
+    /* Shepard renormalisation over the kept nodes: sum N = 1 and
+     * sum grad N = 0 still hold, so rigid motions cause no strain */
+    MPGM_CHECK(ctx, S > 1e-12, MPGM_ERR_SHAPE,
+               "step %ld: %s %d at (%g, %g) lost every grid node to mesh.min_node_mass = %g",
+               d->step, p < np ? "particle" : "probe", p, P->x[2 * p], P->x[2 * p + 1],
+               s->min_node_mass);
+    for (int kk = k0; kk < k1; kk++) {
+      const int id = d->gmap[C->node[kk]];
+      if (id < 0) continue;
+      const double Nk = C->N[kk], gx = C->dN[2 * kk], gy = C->dN[2 * kk + 1];
+      C->node[w] = id;
+      C->N[w] = Nk / S;
+      C->dN[2 * w] = gx / S - Nk * Sx / (S * S);
+      C->dN[2 * w + 1] = gy / S - Nk * Sy / (S * S);
+      w++;
+    }
+  }
+  C->ptr[m] = w;
+  /* projection (38)-(41) with the final shape functions: mass and momentum
+   * of the particles are those of the nodes to round-off */
+  memset(nd->mass, 0, sizeof(double) * (size_t)n);
+  if (inertia) {
+    memset(d->gq, 0, sizeof(double) * 2 * (size_t)n);
+    memset(d->gf, 0, sizeof(double) * 2 * (size_t)n);
+  }
+  for (int p = 0; p < np; p++)
+    for (int kk = C->ptr[p]; kk < C->ptr[p + 1]; kk++) {
+      const int I = C->node[kk];
+      const double wm = C->N[kk] * P->mass[p];
+      nd->mass[I] += wm;
+      if (inertia) {
+        d->gq[2 * I] += wm * P->v[2 * p];
+        d->gq[2 * I + 1] += wm * P->v[2 * p + 1];
+        d->gf[2 * I] += wm * P->a[2 * p];
+        d->gf[2 * I + 1] += wm * P->a[2 * p + 1];
+      }
+    }
+  for (int i = 0; i < 2 * n && inertia; i++) {
+    nd->v[i] = d->gq[i] / nd->mass[i / 2];
+    nd->a[i] = d->gf[i] / nd->mass[i / 2];
+  }
+  if (!inertia) {
+    memset(nd->v, 0, sizeof(double) * 2 * (size_t)n);
+    memset(nd->a, 0, sizeof(double) * 2 * (size_t)n);
+  }
+  C->version++;
+  return 0;
+}
+
+static int mpm_end_step(mpgm_problem *pb) {
+  (void)pb; /* the grid is reset when the next step begins */
+  return 0;
+}
+
+
+const mpgm_frontend_ops mpgm_frontend_mpm = {
+    .name = "mpm",
+    .point_velocity = MPGM_PV_NEWMARK,
+    .setup = mpm_setup,
+    .begin_step = mpm_begin_step,
+    .end_step = mpm_end_step,
+    .cells = NULL,
+    .destroy = mpm_destroy,
+};
