@@ -166,6 +166,7 @@ struct mpgm_problem {
   double *react;     /**< 2 per node: support force on the body at fixed
                           components (mpgm_reactions)                   */
   long contact_rounds; /**< extra solves of steps whose contact set changed */
+  unsigned char *cflip; /**< per node: contact state changed in this step */
 };
 
 /** Create a problem for a loaded scene with a front end. */

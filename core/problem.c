@@ -146,7 +146,8 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
     pb->delta = calloc(nd, sizeof(double));
     pb->dubar = calloc(nd, sizeof(double));
     pb->react = calloc(nd, sizeof(double));
-    if (!pb->R || !pb->fext || !pb->delta || !pb->dubar || !pb->react)
+    pb->cflip = calloc(nd, 1);
+    if (!pb->R || !pb->fext || !pb->delta || !pb->dubar || !pb->react || !pb->cflip)
       err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
   }
   if (!err && pb->nodes.n > 0 && pb->nodes.ndof == 0)
@@ -179,6 +180,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->delta);
   free(pb->dubar);
   free(pb->react);
+  free(pb->cflip);
   mpgm_solver_destroy(&pb->solver);
   free(pb);
   *pp = NULL;

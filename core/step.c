@@ -18,11 +18,12 @@ static double norm2(const double *x, int n) {
  * K_ff delta = R(0) - K_fc dubar, so the whole body follows the boundary
  * linearly instead of the boundary nodes jumping alone (which can invert
  * the cells next to them). Returns 1 when some increment is non-zero. */
-static int predictor(mpgm_problem *pb) {
+static int predictor(mpgm_problem *pb, int warm) {
   mpgm_nodes *nd = &pb->nodes;
   int any = 0;
   for (int i = 0; i < 2 * nd->n; i++) {
-    nd->du[i] = 0.0;
+    if (!warm || nd->fix[i]) nd->du[i] = 0.0;
+    if (warm) continue; /* a re-solve keeps the free increments it had */
     pb->dubar[i] = nd->fix[i] ? pb->lambda * nd->ubar[i] - nd->u[i] : 0.0;
     any |= pb->dubar[i] != 0.0;
   }
@@ -81,16 +82,17 @@ static void commit(mpgm_problem *pb) {
   mpgm_timer_stop(ctx, MPGM_T_UPDATE);
 }
 
-/* Newton on the step from the predictor (42) to convergence. */
-static int newton(mpgm_problem *pb) {
+/* Newton on the step from the predictor (42) to convergence; warm: start
+ * from the current increments (a re-solve after the contact set changed). */
+static int newton(mpgm_problem *pb, int warm) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *sc = pb->scene;
   mpgm_nodes *nd = &pb->nodes;
   mpgm_newton_info *info = &pb->last;
   int err;
   memset(info, 0, sizeof *info);
-  MPGM_CALL(mpgm_body_force(pb));
-  const int lifted = predictor(pb);
+  if (!warm) MPGM_CALL(mpgm_body_force(pb));
+  const int lifted = predictor(pb, warm);
   pb->lift = lifted ? pb->dubar : NULL;
   const int n = nd->ndof;
   const double fnorm = norm2(pb->fext, n);
@@ -163,12 +165,11 @@ static int newton(mpgm_problem *pb) {
 }
 
 /* Unilateral contact (the contact codes of the nodes): a contact node is
- * held (no slip) while the plane pushes on the body and released where it
- * would pull. Release is monotone within a step (a released node stays free
- * until the front end resets it, at the next step), so the active set
- * settles in at most as many solves as there are contact nodes, in practice
- * one or two; re-holding nodes within the step makes the set chatter.
- * Returns 1 when the active set changed. */
+ * held (no slip) while the plane pushes on the body, released where it
+ * would pull, and held again where a released node moves into the plane.
+ * A node changes state at most once per step (pb->cflip), so the active set
+ * cannot chatter and settles in a few solves; the front end starts each
+ * step from the set the last one ended with. Returns 1 when it changed. */
 static int contact_update(mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
   double *r = pb->react;
@@ -176,10 +177,13 @@ static int contact_update(mpgm_problem *pb) {
   int changed = 0;
   for (int i = 0; i < nd->n; i++) {
     const int code = nd->contact[i];
-    if (!code) continue;
+    if (!code || pb->cflip[i]) continue;
     const int axis = abs(code) - 1, side = code > 0 ? 1 : -1;
-    if (nd->fix[2 * i + axis] && side * r[2 * i + axis] < 0.0) { /* pulls: release */
-      nd->fix[2 * i] = nd->fix[2 * i + 1] = 0;
+    const int held = nd->fix[2 * i + axis];
+    if ((held && side * r[2 * i + axis] < 0.0) || (!held && side * nd->du[2 * i + axis] < 0.0)) {
+      nd->fix[2 * i] = nd->fix[2 * i + 1] = (unsigned char)!held;
+      nd->ubar[2 * i] = nd->ubar[2 * i + 1] = 0.0;
+      pb->cflip[i] = 1;
       changed = 1;
     }
   }
@@ -198,6 +202,7 @@ int mpgm_step(mpgm_problem *pb) {
   if (sc->analysis == MPGM_ANALYSIS_STATIC) pb->lambda = (double)(pb->step + 1) / sc->load_steps;
   else pb->lambda = fmin(1.0, (pb->t + pb->dt) / sc->t_end);
   int rebuild = pb->conn.version != pb->pattern_version, its = 0;
+  if (pb->fx.contact) memset(pb->cflip, 0, (size_t)nd->n);
   for (int round = 0;; round++) {
     if (rebuild) {
       mpgm_nodes_number(nd);
@@ -206,7 +211,7 @@ int mpgm_step(mpgm_problem *pb) {
                  sc->file);
       MPGM_CALL(mpgm_pattern_build(pb));
     }
-    MPGM_CALL(newton(pb));
+    MPGM_CALL(newton(pb, round > 0));
     its += pb->last.iterations;
     if (!pb->fx.contact || !contact_update(pb)) break;
     MPGM_CHECK(ctx, round < 50, MPGM_ERR_NOT_CONVERGED,

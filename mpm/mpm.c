@@ -15,6 +15,9 @@ typedef struct mpm_data {
   unsigned char *cact; /**< 1 when the cell holds a material point         */
   unsigned char *gfix; /**< 2 per grid node: fixed by a scene boundary     */
   signed char *gcontact; /**< per grid node: contact code (mpgm_nodes.contact) */
+  unsigned char *gfree;  /**< per grid node: a contact node the last step
+                              ended with released                        */
+  int *lglob;            /**< node of the step -> grid node               */
   double *gm, *gq, *gf;/**< per grid node: mass, momentum, inertia force    */
   long step;           /**< steps begun (for messages)                     */
 } mpm_data;
@@ -28,6 +31,8 @@ static void mpm_destroy(mpgm_problem *pb) {
   free(d->cact);
   free(d->gfix);
   free(d->gcontact);
+  free(d->gfree);
+  free(d->lglob);
   free(d->gm);
   free(d->gq);
   free(d->gf);
@@ -113,6 +118,8 @@ static int mpm_setup(mpgm_problem *pb) {
   MPGM_ALLOC(ctx, d->cact, g->ncell);
   MPGM_ALLOC(ctx, d->gfix, 2 * (size_t)g->nnode);
   MPGM_ALLOC(ctx, d->gcontact, g->nnode);
+  MPGM_ALLOC(ctx, d->gfree, g->nnode);
+  MPGM_ALLOC(ctx, d->lglob, g->nnode);
   MPGM_ALLOC(ctx, d->gm, g->nnode);
   MPGM_ALLOC(ctx, d->gq, 2 * (size_t)g->nnode);
   MPGM_ALLOC(ctx, d->gf, 2 * (size_t)g->nnode);
@@ -234,10 +241,12 @@ static int mpm_begin_step(mpgm_problem *pb) {
     mpgm_grid_node(g, i, nd->X + 2 * n);
     nd->x[2 * n] = nd->X[2 * n];
     nd->x[2 * n + 1] = nd->X[2 * n + 1];
-    nd->contact[n] = d->gcontact[i]; /* every contact node starts held */
+    nd->contact[n] = d->gcontact[i];
+    d->lglob[n] = i;
     for (int c = 0; c < 2; c++) {
       nd->u[2 * n + c] = nd->du[2 * n + c] = nd->ubar[2 * n + c] = 0.0;
-      nd->fix[2 * n + c] = d->gfix[2 * i + c];
+      /* a contact node starts as the last step left it */
+      nd->fix[2 * n + c] = d->gcontact[i] && d->gfree[i] ? 0 : d->gfix[2 * i + c];
     }
     n++;
   }
@@ -302,8 +311,14 @@ static int mpm_begin_step(mpgm_problem *pb) {
   return 0;
 }
 
+/* The grid is reset when the next step begins; only the contact state of
+ * the grid nodes is kept, as the next step's first guess. */
 static int mpm_end_step(mpgm_problem *pb) {
-  (void)pb; /* the grid is reset when the next step begins */
+  mpm_data *d = pb->fe_data;
+  const mpgm_nodes *nd = &pb->nodes;
+  memset(d->gfree, 0, (size_t)d->g.nnode);
+  for (int i = 0; i < nd->n; i++)
+    if (nd->contact[i]) d->gfree[d->lglob[i]] = !nd->fix[2 * i] && !nd->fix[2 * i + 1];
   return 0;
 }
 
