@@ -97,8 +97,7 @@ typedef struct mpgm_scene {
   int ppc;                  /**< points per cell                       */
   double min_node_mass;     /**< MPM: grid nodes lighter than this fraction
                                  of the step's heaviest node get no
-                                 equations (default 1e-2 in static
-                                 analysis, 0 in dynamic)                */
+                                 equations (default 1e-2)               */
   double dom_min[2], dom_max[2]; /**< domain box [m]                   */
   /* kinematics and time */
   int kinematics;           /**< mpgm_kinematics                       */

@@ -474,9 +474,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&mesh, "h", NAN, 0, INFINITY, 1, 0, &s->h));
   MPGM_CALL(jr_enum(&mesh, "cell", cell_names, MPGM_CELL_Q4, &s->cell));
   MPGM_CALL(jr_int(&mesh, "ppc", s->cell == MPGM_CELL_Q4 ? 4 : 3, 1, 9, &s->ppc));
-  /* default by analysis (set below, once the analysis is known) */
-  MPGM_CALL(jr_num(&mesh, "min_node_mass", -1.0, 0.0, 0.5, 0, 1, &s->min_node_mass));
-  cJSON *mesh_out = mesh.out;
+  MPGM_CALL(jr_num(&mesh, "min_node_mass", 1e-2, 0.0, 0.5, 0, 1, &s->min_node_mass));
   {
     double xi[18], w[9];
     if (mpgm_fe_gauss(s->cell, s->ppc, xi, w))
@@ -503,11 +501,6 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&tm, "newmark_beta", 0.25, 0, 0.5, 1, 0, &s->beta));
   MPGM_CALL(jr_num(&tm, "newmark_gamma", 0.5, 0.5, 1, 0, 0, &s->gamma));
   MPGM_CALL(jr_end(&tm));
-  if (s->min_node_mass < 0.0) { /* static: no mass term regularises cut cells */
-    s->min_node_mass = dyn ? 0.0 : 1e-2;
-    if (mesh_out)
-      cJSON_ReplaceItemInObject(mesh_out, "min_node_mass", cJSON_CreateNumber(s->min_node_mass));
-  }
   if (dyn && s->dt > s->t_end)
     return jr_fail(&tm, "dt", "expected dt <= end (%g s), found %g s", s->t_end, s->dt);
   if (dyn && s->t_end / s->dt > 1e8)
