@@ -169,6 +169,23 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   K->symmetric = pb->symmetric;
   free(pair);
   free(nptr);
+  pb->pattern_version = C->version;
+  pb->solver->analysed = 0;
+  pb->factor_valid = 0;
+  mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+  return mpgm_scatter_build(pb);
+oom:
+  free(tptr); free(nptr); free(mark); free(tpt); free(pair);
+  MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
+}
+
+int mpgm_scatter_build(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_conn *C = &pb->conn;
+  const mpgm_nodes *nd = &pb->nodes;
+  const mpgm_csc *K = &pb->K;
+  const int np = pb->pts.n;
+  mpgm_timer_start(ctx, MPGM_T_ANALYSE);
   /* scatter map: position of every (a, b, i, j) entry, once per run of
    * consecutive points connected to the same nodes */
   free(pb->scatter); free(pb->scatter_ptr); free(pb->kloc);
@@ -212,13 +229,9 @@ int mpgm_pattern_build(mpgm_problem *pb) {
           }
   }
   pb->scatter_ptr[np] = (int)s;
-  pb->pattern_version = C->version;
-  pb->solver->analysed = 0;
+  pb->map_version = C->map_version;
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   return 0;
-oom:
-  free(tptr); free(nptr); free(mark); free(tpt); free(pair);
-  MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
 }
 
 /* ---- external force --------------------------------------------------- */

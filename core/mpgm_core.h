@@ -77,7 +77,10 @@ typedef struct mpgm_conn {
   double *N;      /**< shape function values                            */
   double *dN;     /**< grad N at the start-of-step configuration, 2 each */
   double *g;      /**< grad N at the current iterate, 2 each (work)     */
-  int version;    /**< incremented by a front end when the pattern changes */
+  int version;    /**< incremented by a front end when the node set,
+                       fixity or matrix pattern changes                  */
+  int map_version;/**< incremented when only the point -> node lists
+                       changed (same nodes, fixity and pattern)          */
 } mpgm_conn;
 
 /** The effects a scene calls for, decided when it loads. */
@@ -146,6 +149,9 @@ struct mpgm_problem {
   /* linear system */
   mpgm_csc K;
   int pattern_version; /**< conn.version the pattern was built for      */
+  int map_version;   /**< conn.map_version the scatter maps were built for */
+  int factor_valid;  /**< the solver holds a factorisation of this pattern
+                          (modified Newton may reuse it across steps)    */
   int *scatter;      /**< per run of points with the same nodes: 4 n_p^2
                           positions in K.val (-1: fixed component)      */
   int *scatter_ptr;  /**< per point: offset of its run's map in scatter;
@@ -203,6 +209,10 @@ int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[2]);
  *  r = f_int + f_inertia - f_ext there (0 at free components); r has 2
  *  doubles per node. Uses the trial state of the last mpgm_eval_points. */
 int mpgm_reactions(mpgm_problem *pb, double *r);
+
+/** Rebuild only the scatter maps (points -> matrix entries) for the current
+ *  pattern; called when conn.map_version changed. */
+int mpgm_scatter_build(mpgm_problem *pb);
 
 /** External force (gravity times load factor) into pb->fext. */
 int mpgm_body_force(mpgm_problem *pb);

@@ -110,6 +110,10 @@ typedef struct mpgm_scene {
   double rtol, atol, dtol;  /**< Newton: relative and absolute residual,
                                  relative displacement increment       */
   int max_iter;             /**< Newton iteration limit                */
+  int newton_modified;      /**< 1: keep the factorisation while Newton
+                                 converges fast enough (reuse_ratio)    */
+  double reuse_ratio;       /**< modified Newton: refactorise when
+                                 |R_k| > reuse_ratio |R_k-1|             */
   /* physics */
   int nmat;
   mpgm_material *mats;

@@ -520,6 +520,9 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&so, "atol", 1e-10, 0, INFINITY, 0, 0, &s->atol));
   MPGM_CALL(jr_num(&so, "dtol", 1e-10, 0, 1, 1, 1, &s->dtol));
   MPGM_CALL(jr_int(&so, "max_iterations", 25, 1, 1000, &s->max_iter));
+  static const char *const newton_names[] = {"full", "modified", NULL};
+  MPGM_CALL(jr_enum(&so, "newton", newton_names, 0, &s->newton_modified));
+  MPGM_CALL(jr_num(&so, "reuse_ratio", 0.1, 0.0, 1.0, 1, 1, &s->reuse_ratio));
   MPGM_CALL(jr_end(&so));
 
   MPGM_CALL(read_materials(root, s));

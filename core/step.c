@@ -96,10 +96,15 @@ static int newton(mpgm_problem *pb, int warm) {
   pb->lift = lifted ? pb->dubar : NULL;
   const int n = nd->ndof;
   const double fnorm = norm2(pb->fext, n);
-  double ref = 0.0;
+  double ref = 0.0, res_prev = INFINITY;
+  /* a factorisation of this pattern exists (modified Newton may start from
+   * the one of an earlier step) */
+  int factored = sc->newton_modified && pb->factor_valid;
   for (int it = 0;; it++) {
     MPGM_CALL(mpgm_eval_points(pb));
-    MPGM_CALL(mpgm_assemble(pb, 1));
+    /* modified Newton assembles K only when it refactorises */
+    const int want_K = !sc->newton_modified || !factored || pb->lift;
+    MPGM_CALL(mpgm_assemble(pb, want_K));
     const double res = norm2(pb->R, n);
     if (!isfinite(res))
       MPGM_ERROR(ctx, MPGM_ERR_NAN, "Newton iteration %d: residual is not finite", it);
@@ -122,11 +127,18 @@ static int newton(mpgm_problem *pb, int warm) {
     if (it > 2 && res > 1e8 * ref)
       MPGM_ERROR(ctx, MPGM_ERR_DIVERGED, "Newton diverged at iteration %d (|R|/ref = %.3e)", it,
                  info->res_rel);
+    /* modified Newton: keep the last factorisation while the residual
+     * drops by reuse_ratio per iteration; else refactorise */
+    const int reuse = sc->newton_modified && factored && !pb->lift &&
+                      (it == 0 || res <= sc->reuse_ratio * res_prev);
+    res_prev = res;
+    if (!reuse && !want_K) MPGM_CALL(mpgm_assemble(pb, 1));
     if (!pb->solver->analysed) {
       MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
       pb->solver->analysed = 1;
     }
-    err = mpgm_solver_factor(pb->solver, ctx, &pb->K);
+    err = reuse ? 0 : mpgm_solver_factor(pb->solver, ctx, &pb->K);
+    factored = 1;
     if (err == MPGM_ERR_SINGULAR && pb->solver_auto && pb->solver->type->needs_spd) {
       /* "auto" chose Cholesky for a symmetric tangent, but it is not positive
        * definite (e.g. geometric stiffness under compression): use LU from
@@ -141,6 +153,7 @@ static int newton(mpgm_problem *pb, int warm) {
       pb->solver->analysed = 1;
       err = mpgm_solver_factor(pb->solver, ctx, &pb->K);
     }
+    pb->factor_valid = !err;
     MPGM_CALL(err);
     MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
     double dd = 0.0, uu = 0.0;
@@ -202,6 +215,7 @@ int mpgm_step(mpgm_problem *pb) {
   if (sc->analysis == MPGM_ANALYSIS_STATIC) pb->lambda = (double)(pb->step + 1) / sc->load_steps;
   else pb->lambda = fmin(1.0, (pb->t + pb->dt) / sc->t_end);
   int rebuild = pb->conn.version != pb->pattern_version, its = 0;
+  if (!rebuild && pb->conn.map_version != pb->map_version) MPGM_CALL(mpgm_scatter_build(pb));
   if (pb->fx.contact) memset(pb->cflip, 0, (size_t)nd->n);
   for (int round = 0;; round++) {
     if (rebuild) {

@@ -18,6 +18,11 @@ typedef struct mpm_data {
   unsigned char *gfree;  /**< per grid node: a contact node the last step
                               ended with released                        */
   int *lglob;            /**< node of the step -> grid node               */
+  /* the last step's final node set, fixity and active cells: when a step
+   * has the same, the matrix pattern is the same (only the maps change) */
+  int pn;
+  int *plglob;
+  unsigned char *pfix, *pact;
   double *gm, *gq, *gf;/**< per grid node: mass, momentum, inertia force    */
   long step;           /**< steps begun (for messages)                     */
 } mpm_data;
@@ -33,6 +38,9 @@ static void mpm_destroy(mpgm_problem *pb) {
   free(d->gcontact);
   free(d->gfree);
   free(d->lglob);
+  free(d->plglob);
+  free(d->pfix);
+  free(d->pact);
   free(d->gm);
   free(d->gq);
   free(d->gf);
@@ -120,6 +128,10 @@ static int mpm_setup(mpgm_problem *pb) {
   MPGM_ALLOC(ctx, d->gcontact, g->nnode);
   MPGM_ALLOC(ctx, d->gfree, g->nnode);
   MPGM_ALLOC(ctx, d->lglob, g->nnode);
+  MPGM_ALLOC(ctx, d->plglob, g->nnode);
+  MPGM_ALLOC(ctx, d->pfix, 2 * (size_t)g->nnode);
+  MPGM_ALLOC(ctx, d->pact, g->ncell);
+  d->pn = -1;
   MPGM_ALLOC(ctx, d->gm, g->nnode);
   MPGM_ALLOC(ctx, d->gq, 2 * (size_t)g->nnode);
   MPGM_ALLOC(ctx, d->gf, 2 * (size_t)g->nnode);
@@ -307,7 +319,11 @@ static int mpm_begin_step(mpgm_problem *pb) {
     memset(nd->v, 0, sizeof(double) * 2 * (size_t)n);
     memset(nd->a, 0, sizeof(double) * 2 * (size_t)n);
   }
-  C->version++;
+  const int same = n == d->pn && memcmp(d->cact, d->pact, (size_t)g->ncell) == 0 &&
+                   memcmp(d->lglob, d->plglob, sizeof(int) * (size_t)n) == 0 &&
+                   memcmp(nd->fix, d->pfix, 2 * (size_t)n) == 0;
+  if (same) C->map_version++; /* same nodes and pattern: new maps only */
+  else C->version++;
   return 0;
 }
 
@@ -319,6 +335,10 @@ static int mpm_end_step(mpgm_problem *pb) {
   memset(d->gfree, 0, (size_t)d->g.nnode);
   for (int i = 0; i < nd->n; i++)
     if (nd->contact[i]) d->gfree[d->lglob[i]] = !nd->fix[2 * i] && !nd->fix[2 * i + 1];
+  d->pn = nd->n;
+  memcpy(d->plglob, d->lglob, sizeof(int) * (size_t)nd->n);
+  memcpy(d->pfix, nd->fix, 2 * (size_t)nd->n);
+  memcpy(d->pact, d->cact, (size_t)d->g.ncell);
   return 0;
 }
 

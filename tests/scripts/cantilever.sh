@@ -19,6 +19,7 @@ run small_0.0625 --set mesh.h=0.0625 --set kinematics=small
 run tri_0.0625 --set mesh.h=0.0625 --set mesh.cell=tri
 run cholmod --set mesh.h=0.125 --set solver.linear=cholmod
 run umfpack --set mesh.h=0.125 --set solver.linear=umfpack
+run modified --set mesh.h=0.125 --set solver.linear=cholmod --set solver.newton=modified
 [ $fail -eq 0 ] || { echo "0 passed, 1 failed"; exit 1; }
 /usr/bin/python3 - "$work" <<'PY'
 import json, math, sys
@@ -54,6 +55,11 @@ s = json.load(open(f"{w}/cholmod/summary.json"))
 c = s["counts"]
 check(c["analyses"] == 1 and c["factorizations"] == c["newton_iterations"],
       f"symbolic analysis reused: {c['analyses']} analysis, {c['factorizations']} factorizations for {c['newton_iterations']} Newton iterations")
+sm = json.load(open(f"{w}/modified/summary.json"))
+d = sm["metrics"]["tip_uy"]
+check(abs(d - a) <= 1e-8 * abs(a), f"modified Newton reaches the same tip_uy ({d:.12f} vs {a:.12f})")
+check(sm["counts"]["factorizations"] < sm["counts"]["newton_iterations"],
+      f"modified Newton: {sm['counts']['factorizations']} factorisations for {sm['counts']['newton_iterations']} iterations")
 check(s["solver"] == "cholmod" and json.load(open(f"{w}/umfpack/summary.json"))["solver"] == "umfpack", "solver choice recorded")
 print(f"{npass} passed, {nfail} failed")
 sys.exit(1 if nfail else 0)
