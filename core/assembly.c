@@ -69,6 +69,21 @@ int mpgm_eval_points(mpgm_problem *pb) {
       }
       err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + 4 * p, P->D_t + 9 * p);
     }
+    if (!err && pb->fx.prestress) { /* sigma += J^-1 F S0 F^T (small: S0) */
+      const double *S = P->S0 + 4 * p;
+      double *sg = P->sigma_t + 4 * p;
+      if (small) {
+        for (int c = 0; c < 4; c++) sg[c] += S[c];
+      } else {
+        const double J = F[0] * F[3] - F[1] * F[2];
+        const double A0 = F[0] * S[0] + F[1] * S[2], A1 = F[0] * S[2] + F[1] * S[1];
+        const double A2 = F[2] * S[0] + F[3] * S[2], A3 = F[2] * S[2] + F[3] * S[1];
+        sg[0] += (A0 * F[0] + A1 * F[1]) / J;
+        sg[1] += (A2 * F[2] + A3 * F[3]) / J;
+        sg[2] += (A0 * F[2] + A1 * F[3]) / J;
+        sg[3] += S[3] / J;
+      }
+    }
     if (err)
       mpgm_err_set(ctx, err, __FILE__, __LINE__, "point %d at (%g, %g), material \"%s\": %s", p,
                    P->x[2 * p], P->x[2 * p + 1], m->name, mpgm_code_str(err));

@@ -39,6 +39,8 @@ typedef struct mpgm_points {
   double *vol;    /**< current volume [m^3]                            */
   double *F;      /**< committed deformation gradient, 4 per point     */
   double *sigma;  /**< committed Cauchy stress {xx, yy, xy, zz} [Pa]   */
+  double *S0;     /**< initial (pre-)stress {xx, yy, xy, zz} [Pa] at the
+                       initial configuration, pushed forward with F    */
   double *state;  /**< committed material state, nstate per point      */
   int *mat;       /**< material index                                  */
   int *body;      /**< body index                                      */
@@ -91,6 +93,7 @@ typedef struct mpgm_effects {
   int plasticity;     /**< a plastic material is used                   */
   int prescribed;     /**< non-zero prescribed displacements            */
   int contact;        /**< unilateral contact planes (active set)        */
+  int prestress;      /**< a body has a geostatic initial stress         */
 } mpgm_effects;
 
 typedef struct mpgm_problem mpgm_problem;

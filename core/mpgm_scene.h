@@ -65,6 +65,9 @@ typedef struct mpgm_scene_body {
                             in the order given (either orientation);
                             simple, no repeated vertex [m]          */
   double velocity[2];  /**< initial velocity [m/s]                   */
+  int geostatic;       /**< 1: geostatic initial stress is given       */
+  double surface;      /**< geostatic: y of the free surface [m]       */
+  double k0;           /**< geostatic: sigma_xx = sigma_zz = k0 sigma_yy */
 } mpgm_scene_body;
 
 typedef struct mpgm_scene_boundary {

@@ -20,6 +20,7 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsta
   MPGM_ALLOC(ctx, p->vol, m);
   MPGM_ALLOC(ctx, p->F, 4 * m);
   MPGM_ALLOC(ctx, p->sigma, 4 * m);
+  MPGM_ALLOC(ctx, p->S0, 4 * m);
   MPGM_ALLOC(ctx, p->state, (size_t)nstate * m);
   MPGM_ALLOC(ctx, p->mat, m);
   MPGM_ALLOC(ctx, p->body, m);
@@ -37,7 +38,7 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsta
 
 static void points_free(mpgm_points *p) {
   void *arr[] = {p->x, p->x0, p->u, p->v, p->a, p->mass, p->vol0, p->vol, p->F,
-                 p->sigma, p->state, p->mat, p->body, p->F_t, p->dF_t, p->sigma_t,
+                 p->sigma, p->S0, p->state, p->mat, p->body, p->F_t, p->dF_t, p->sigma_t,
                  p->D_t, p->state_t, p->vol_t};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   memset(p, 0, sizeof *p);
@@ -128,6 +129,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
     for (int d = 0; d < 2; d++)
       pb->fx.prescribed |= scene->bcs[i].fix[d] && scene->bcs[i].displacement[d] != 0.0;
   for (int i = 0; i < scene->nbc; i++) pb->fx.contact |= scene->bcs[i].condition == MPGM_COND_CONTACT;
+  for (int i = 0; i < scene->nbody; i++) pb->fx.prestress |= scene->bodies[i].geostatic;
   const mpgm_solver_type *st = scene->solver;
   pb->solver_auto = !st;
   if (!st) st = mpgm_solver_type_find(pb->symmetric ? "cholmod" : "umfpack");
@@ -136,6 +138,18 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
   mpgm_timer_start(ctx, MPGM_T_SHAPE);
   if (!err) err = fe->setup(pb);
   mpgm_timer_stop(ctx, MPGM_T_SHAPE);
+  if (!err && pb->fx.prestress) { /* geostatic initial stress of the points */
+    mpgm_points *P = &pb->pts;
+    for (int p = 0; p < P->n; p++) {
+      const mpgm_scene_body *b = &scene->bodies[P->body[p]];
+      if (!b->geostatic) continue;
+      const double syy = scene->mats[b->material].density * scene->gravity[1] *
+                         (b->surface - P->x0[2 * p + 1]);
+      const double s0[4] = {b->k0 * syy, syy, 0.0, b->k0 * syy};
+      memcpy(P->S0 + 4 * p, s0, sizeof s0);
+      memcpy(P->sigma + 4 * p, s0, sizeof s0);
+    }
+  }
   if (!err) {
     mpgm_nodes_number(&pb->nodes);
     /* sized by the node capacity: a front end whose node set changes every

@@ -20,6 +20,7 @@ void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
     for (int d = 0; d < 2; d++)
       fx->prescribed |= s->bcs[i].fix[d] && s->bcs[i].displacement[d] != 0.0;
   for (int i = 0; i < s->nbc; i++) fx->contact |= s->bcs[i].condition == MPGM_COND_CONTACT;
+  for (int i = 0; i < s->nbody; i++) fx->prestress |= s->bodies[i].geostatic;
 }
 
 void *mpgm_effects_json(const mpgm_effects *fx) {
@@ -31,6 +32,7 @@ void *mpgm_effects_json(const mpgm_effects *fx) {
   cJSON_AddBoolToObject(e, "plasticity", fx->plasticity);
   cJSON_AddBoolToObject(e, "prescribed_displacement", fx->prescribed);
   cJSON_AddBoolToObject(e, "contact", fx->contact);
+  cJSON_AddBoolToObject(e, "initial_stress", fx->prestress);
   return e;
 }
 

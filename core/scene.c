@@ -243,6 +243,14 @@ static int read_bodies(jr_node *root, mpgm_scene *s) {
                      "polygon bodies");
     const double zero[2] = {0, 0};
     MPGM_CALL(jr_vec2(&b, "velocity", zero, body->velocity));
+    jr_node geo;
+    MPGM_CALL(jr_child(&b, "geostatic", 0, &geo));
+    if (geo.j) { /* sigma_yy = rho g_y (surface - y), sigma_xx = sigma_zz = k0 sigma_yy */
+      body->geostatic = 1;
+      MPGM_CALL(jr_num(&geo, "surface", NAN, -INFINITY, INFINITY, 0, 0, &body->surface));
+      MPGM_CALL(jr_num(&geo, "k0", NAN, 0.0, 10.0, 0, 0, &body->k0));
+      MPGM_CALL(jr_end(&geo));
+    }
     MPGM_CALL(jr_end(&b));
     const double tol[2] = {1e-12 * (s->dom_max[0] - s->dom_min[0]), 1e-12 * (s->dom_max[1] - s->dom_min[1])};
     for (int d = 0; d < 2; d++)

@@ -18,6 +18,15 @@ for mode in binary ascii; do
     /usr/bin/python3 "$src/tests/tools/check_vtk.py" "$d" || fail=1
   done
 done
+# MPM: particle files only (the background grid is not a body mesh)
+d="$work/mpm"
+if "$exe" run "$src/cases/rolling_disk.json" --quiet --out "$d" --set mesh.h=0.05 --set time.dt=0.01 \
+     --set time.end=0.1 --set output.every=5 > "$d.log" 2>&1; then
+  echo "== mpm"
+  /usr/bin/python3 "$src/tests/tools/check_vtk.py" "$d" || fail=1
+else
+  echo "FAIL: run mpm"; cat "$d.log"; fail=1
+fi
 # output.every: steps 0, 2, 4 and the last (5) are written
 d="$work/every"
 "$exe" run "$src/cases/cantilever.json" --quiet --out "$d" --set mesh.h=0.5 \
