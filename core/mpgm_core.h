@@ -96,6 +96,10 @@ typedef struct mpgm_effects {
   int prestress;      /**< a body has a geostatic initial stress         */
 } mpgm_effects;
 
+/** The effects a scene calls for: the one place they are decided (used by
+ *  mpgm_problem_create and by `mpgm check`). */
+void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx);
+
 typedef struct mpgm_problem mpgm_problem;
 
 /** How a front end updates the velocity of its points after a step. */

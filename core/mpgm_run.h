@@ -25,8 +25,6 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *scene, const mpgm_frontend_ops *fe
 /** Effects of a scene as a cJSON object {"inertia": bool, ...}; used by
  *  `mpgm check` and summary.json. Returns a cJSON * (as void *). */
 void *mpgm_effects_json(const mpgm_effects *fx);
-/** Effects a scene calls for (without building a problem). */
-void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx);
 
 #ifdef __cplusplus
 }

@@ -107,6 +107,20 @@ static void conn_free(mpgm_conn *c) {
   memset(c, 0, sizeof *c);
 }
 
+void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
+  memset(fx, 0, sizeof *fx);
+  fx->inertia = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  fx->gravity = s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
+  fx->geometric = s->kinematics == MPGM_KIN_FINITE;
+  for (int i = 0; i < s->nmat; i++) fx->plasticity |= s->mats[i].plastic;
+  for (int i = 0; i < s->nbc; i++) {
+    for (int d = 0; d < 2; d++)
+      fx->prescribed |= s->bcs[i].fix[d] && s->bcs[i].displacement[d] != 0.0;
+    fx->contact |= s->bcs[i].condition == MPGM_COND_CONTACT;
+  }
+  for (int i = 0; i < s->nbody; i++) fx->prestress |= s->bodies[i].geostatic;
+}
+
 int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
                         const mpgm_frontend_ops *fe, mpgm_problem **out) {
   *out = NULL;
@@ -116,20 +130,10 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
   pb->scene = scene;
   pb->fe = fe;
   pb->pattern_version = -1;
-  /* effects: decided once, here */
-  pb->fx.inertia = scene->analysis == MPGM_ANALYSIS_DYNAMIC;
-  pb->fx.gravity = scene->gravity[0] != 0.0 || scene->gravity[1] != 0.0;
-  pb->fx.geometric = scene->kinematics == MPGM_KIN_FINITE;
+  /* effects: decided once, when the scene loads */
+  mpgm_effects_of_scene(scene, &pb->fx);
   pb->symmetric = 1;
-  for (int i = 0; i < scene->nmat; i++) {
-    pb->fx.plasticity |= scene->mats[i].plastic;
-    pb->symmetric &= scene->mats[i].symmetric;
-  }
-  for (int i = 0; i < scene->nbc; i++)
-    for (int d = 0; d < 2; d++)
-      pb->fx.prescribed |= scene->bcs[i].fix[d] && scene->bcs[i].displacement[d] != 0.0;
-  for (int i = 0; i < scene->nbc; i++) pb->fx.contact |= scene->bcs[i].condition == MPGM_COND_CONTACT;
-  for (int i = 0; i < scene->nbody; i++) pb->fx.prestress |= scene->bodies[i].geostatic;
+  for (int i = 0; i < scene->nmat; i++) pb->symmetric &= scene->mats[i].symmetric;
   const mpgm_solver_type *st = scene->solver;
   pb->solver_auto = !st;
   if (!st) st = mpgm_solver_type_find(pb->symmetric ? "cholmod" : "umfpack");

@@ -10,19 +10,6 @@
 
 #include "mpgm_output.h"
 
-void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
-  memset(fx, 0, sizeof *fx);
-  fx->inertia = s->analysis == MPGM_ANALYSIS_DYNAMIC;
-  fx->gravity = s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
-  fx->geometric = s->kinematics == MPGM_KIN_FINITE;
-  for (int i = 0; i < s->nmat; i++) fx->plasticity |= s->mats[i].plastic;
-  for (int i = 0; i < s->nbc; i++)
-    for (int d = 0; d < 2; d++)
-      fx->prescribed |= s->bcs[i].fix[d] && s->bcs[i].displacement[d] != 0.0;
-  for (int i = 0; i < s->nbc; i++) fx->contact |= s->bcs[i].condition == MPGM_COND_CONTACT;
-  for (int i = 0; i < s->nbody; i++) fx->prestress |= s->bodies[i].geostatic;
-}
-
 void *mpgm_effects_json(const mpgm_effects *fx) {
   cJSON *e = cJSON_CreateObject();
   cJSON_AddBoolToObject(e, "inertia", fx->inertia);
