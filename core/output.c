@@ -104,21 +104,32 @@ int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *p
   return 0;
 }
 
-int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
+/* Write a history table to DIR/name atomically: the header line, then one
+ * line per row of width numbers (the step first, as an integer). */
+static int write_table(mpgm_ctx *ctx, const mpgm_output *o, const char *name,
+                       const char *header, const double *rows, int nrow, int width) {
   char path[MPGM_PATH_LEN + 64];
-  snprintf(path, sizeof path, "%s/steps.csv", o->dir);
+  snprintf(path, sizeof path, "%s/%s", o->dir, name);
   void *fv;
   MPGM_CALL(mpgm_atomic_open(ctx, path, &fv));
   FILE *f = fv;
-  fprintf(f, "step,%s,newton_iterations,residual_initial,residual,residual_relative,"
-          "increment_relative,wall_s\n",
-          pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
-  for (int r = 0; r < o->nstep; r++) {
-    const double *row = o->steps + (size_t)STEP_COLS * r;
-    fprintf(f, "%ld,%.17g,%d,%.6e,%.6e,%.6e,%.6e,%.6e\n", (long)row[0], row[1], (int)row[2],
-            row[3], row[4], row[5], row[6], row[7]);
+  fputs(header, f);
+  for (int r = 0; r < nrow; r++) {
+    const double *row = rows + (size_t)width * r;
+    fprintf(f, "%ld", (long)row[0]);
+    for (int c = 1; c < width; c++) fprintf(f, ",%.17g", row[c]);
+    fputc('\n', f);
   }
   return mpgm_atomic_close(ctx, path, f);
+}
+
+int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
+  char header[256];
+  snprintf(header, sizeof header,
+           "step,%s,newton_iterations,residual_initial,residual,residual_relative,"
+           "increment_relative,wall_s\n",
+           pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
+  return write_table(ctx, o, "steps.csv", header, o->steps, o->nstep, STEP_COLS);
 }
 
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
@@ -135,23 +146,15 @@ int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem 
 }
 
 int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
-  char path[MPGM_PATH_LEN + 64];
-  snprintf(path, sizeof path, "%s/probes.csv", o->dir);
-  void *fv;
-  MPGM_CALL(mpgm_atomic_open(ctx, path, &fv));
-  FILE *f = fv;
-  fprintf(f, "step,%s", pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
-  for (int k = 0; k < pb->scene->nprobe; k++)
-    fprintf(f, ",%s_ux,%s_uy", pb->scene->probes[k].name, pb->scene->probes[k].name);
-  fputc('\n', f);
-  const int w = 2 + o->ncol;
-  for (int r = 0; r < o->nrow; r++) {
-    const double *row = o->hist + (size_t)w * r;
-    fprintf(f, "%ld,%.17g", (long)row[0], row[1]);
-    for (int c = 0; c < o->ncol; c++) fprintf(f, ",%.17g", row[2 + c]);
-    fputc('\n', f);
-  }
-  return mpgm_atomic_close(ctx, path, f);
+  const mpgm_scene *sc = pb->scene;
+  char header[64 + 2 * (MPGM_NAME_LEN + 8) * 32];
+  size_t n = (size_t)snprintf(header, sizeof header, "step,%s",
+                              sc->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
+  for (int k = 0; k < sc->nprobe && n < sizeof header; k++)
+    n += (size_t)snprintf(header + n, sizeof header - n, ",%s_ux,%s_uy", sc->probes[k].name,
+                          sc->probes[k].name);
+  if (n < sizeof header - 1) strcat(header, "\n");
+  return write_table(ctx, o, "probes.csv", header, o->hist, o->nrow, 2 + o->ncol);
 }
 
 int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
