@@ -186,6 +186,7 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   free(nptr);
   pb->pattern_version = C->version;
   pb->solver->analysed = 0;
+  if (pb->solver_alt) pb->solver_alt->analysed = 0;
   pb->factor_valid = 0;
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   return mpgm_scatter_build(pb);

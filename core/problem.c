@@ -200,6 +200,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->react);
   free(pb->cflip);
   mpgm_solver_destroy(&pb->solver);
+  mpgm_solver_destroy(&pb->solver_alt);
   free(pb);
   *pp = NULL;
 }

@@ -41,7 +41,9 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddItemToObject(j, "scene", cJSON_Duplicate((const cJSON *)s->resolved, 1));
   cJSON_AddStringToObject(j, "method", mpgm_method_name(s->method));
   cJSON_AddStringToObject(j, "shape", s->shape->name);
-  cJSON_AddStringToObject(j, "solver", pb->solver->type->name);
+  /* "auto" on its LU fallback still reports the backend it chose */
+  const mpgm_solver *used = pb->solver_alt && pb->solver_alt->type->needs_spd ? pb->solver_alt : pb->solver;
+  cJSON_AddStringToObject(j, "solver", used->type->name);
   cJSON_AddItemToObject(j, "effects", (cJSON *)mpgm_effects_json(&pb->fx));
   cJSON *c = cJSON_AddObjectToObject(j, "counts");
   int ncells = 0;
@@ -63,6 +65,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "inertia_loops", (double)ctx->n_mass);
   cJSON_AddNumberToObject(c, "step_cuts", 0);
   cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
+  cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)pb->lu_steps);
   cJSON_AddNumberToObject(c, "contact_resolves", (double)pb->contact_rounds);
   cJSON_AddNumberToObject(c, "vtk_files", o->files);
   mpgm_solver_stats st = {0, 0};

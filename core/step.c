@@ -82,6 +82,27 @@ static void commit(mpgm_problem *pb) {
   mpgm_timer_stop(ctx, MPGM_T_UPDATE);
 }
 
+/* "auto" fallback: longest run of steps on LU before Cholesky is tried
+ * again (a failed Cholesky costs one factorisation) */
+#define LU_HOLD_MAX 64
+
+static void swap_solvers(mpgm_problem *pb) {
+  mpgm_solver *t = pb->solver;
+  pb->solver = pb->solver_alt;
+  pb->solver_alt = t;
+  pb->factor_valid = 0;
+}
+
+/* At the start of a step on the LU fallback: count the step, and go back
+ * to Cholesky when the hold has run out. A tangent that is indefinite for a
+ * few steps (a light node under compression) then costs LU only on those
+ * steps; one that stays indefinite costs a failed Cholesky every 64 steps. */
+static void lu_resume(mpgm_problem *pb) {
+  if (!pb->solver_auto || !pb->solver_alt || pb->solver->type->needs_spd) return;
+  if (--pb->lu_hold <= 0) swap_solvers(pb);
+  else pb->lu_steps++;
+}
+
 /* Newton on the step from the predictor (42) to convergence; warm: start
  * from the current increments (a re-solve after the contact set changed). */
 static int newton(mpgm_problem *pb, int warm) {
@@ -141,18 +162,28 @@ static int newton(mpgm_problem *pb, int warm) {
     factored = 1;
     if (err == MPGM_ERR_SINGULAR && pb->solver_auto && pb->solver->type->needs_spd) {
       /* "auto" chose Cholesky for a symmetric tangent, but it is not positive
-       * definite (e.g. geometric stiffness under compression): use LU from
-       * now on, and say so in summary.json */
-      const mpgm_solver_type *lu = mpgm_solver_type_find("umfpack");
-      MPGM_CHECK(ctx, lu, MPGM_ERR_SOLVER, "%s (and no LU backend to fall back to)", ctx->msg);
+       * definite (e.g. geometric stiffness under compression, a light node
+       * in a compressed region): LU for this step and lu_hold_len - 1 more,
+       * then Cholesky again (see lu_resume); counted in summary.json */
+      if (!pb->solver_alt) {
+        const mpgm_solver_type *lu = mpgm_solver_type_find("umfpack");
+        MPGM_CHECK(ctx, lu, MPGM_ERR_SOLVER, "%s (and no LU backend to fall back to)", ctx->msg);
+        MPGM_CALL(mpgm_solver_create(ctx, lu, &pb->solver_alt));
+      }
       mpgm_err_clear(ctx);
-      mpgm_solver_destroy(&pb->solver);
-      MPGM_CALL(mpgm_solver_create(ctx, lu, &pb->solver));
+      swap_solvers(pb);
       pb->solver_switches++;
-      MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
-      pb->solver->analysed = 1;
+      pb->lu_steps++;
+      pb->lu_hold_len = pb->lu_hold_len ? 2 * pb->lu_hold_len : 1;
+      if (pb->lu_hold_len > LU_HOLD_MAX) pb->lu_hold_len = LU_HOLD_MAX;
+      pb->lu_hold = pb->lu_hold_len;
+      if (!pb->solver->analysed) {
+        MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
+        pb->solver->analysed = 1;
+      }
       err = mpgm_solver_factor(pb->solver, ctx, &pb->K);
-    }
+    } else if (!err && !reuse && pb->solver_auto && pb->solver->type->needs_spd)
+      pb->lu_hold_len = 0; /* Cholesky works again */
     pb->factor_valid = !err;
     MPGM_CALL(err);
     MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
@@ -217,6 +248,7 @@ int mpgm_step(mpgm_problem *pb) {
   int rebuild = pb->conn.version != pb->pattern_version, its = 0;
   if (!rebuild && pb->conn.map_version != pb->map_version) MPGM_CALL(mpgm_scatter_build(pb));
   if (pb->fx.contact) memset(pb->cflip, 0, (size_t)nd->n);
+  lu_resume(pb);
   for (int round = 0;; round++) {
     if (rebuild) {
       mpgm_nodes_number(nd);
