@@ -95,13 +95,69 @@ int mpgm_eval_points(mpgm_problem *pb) {
 
 /* ---- sparsity pattern ------------------------------------------------- */
 
-/* 1 when point p is connected to the same nodes, in the same order, as p-1. */
-static int same_nodes(const mpgm_conn *C, int p) {
-  if (p == 0) return 0;
+/* 1 when points p and q are connected to the same nodes in the same order. */
+static int same_nodes(const mpgm_conn *C, int p, int q) {
   const int n = C->ptr[p + 1] - C->ptr[p];
-  if (n != C->ptr[p] - C->ptr[p - 1]) return 0;
-  return memcmp(C->node + C->ptr[p], C->node + C->ptr[p - 1], sizeof(int) * (size_t)n) == 0;
+  if (n != C->ptr[q + 1] - C->ptr[q]) return 0;
+  return memcmp(C->node + C->ptr[p], C->node + C->ptr[q], sizeof(int) * (size_t)n) == 0;
 }
+
+/* Group the material points by node list: order them by (first node, hash
+ * of the list) with two stable counting sorts, O(points + nodes), then cut
+ * the order where the list changes. Equal lists always end up adjacent
+ * unless another list with the same first node and hash slot interleaves
+ * (then a list forms two groups: correct, only less shared). */
+static int group_points(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_conn *C = &pb->conn;
+  const int np = pb->pts.n, nn = pb->nodes.n;
+  int nslot = 1;
+  while (nslot < np) nslot <<= 1;
+  const int nb = nslot > nn + 1 ? nslot : nn + 1;
+  free(pb->order);
+  free(pb->grp_ptr);
+  pb->order = malloc(((size_t)np + 1) * sizeof(int));
+  pb->grp_ptr = malloc(((size_t)np + 2) * sizeof(int));
+  int *key = malloc(((size_t)np + 1) * sizeof(int)), *tmp = malloc(((size_t)np + 1) * sizeof(int));
+  int *cnt = malloc(((size_t)nb + 1) * sizeof(int));
+  if (!pb->order || !pb->grp_ptr || !key || !tmp || !cnt) {
+    free(key);
+    free(tmp);
+    free(cnt);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (grouping %d points)", np);
+  }
+  for (int pass = 0; pass < 2; pass++) {
+    /* pass 0: by hash slot (all points); pass 1: stable, by first node */
+    const int nk = pass ? nn + 1 : nslot;
+    for (int p = 0; p < np; p++) {
+      if (pass)
+        key[p] = C->ptr[p + 1] > C->ptr[p] ? C->node[C->ptr[p]] + 1 : 0;
+      else {
+        unsigned h = 2166136261u;
+        for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) h = (h ^ (unsigned)C->node[k]) * 16777619u;
+        key[p] = (int)(h & (unsigned)(nslot - 1));
+      }
+    }
+    memset(cnt, 0, ((size_t)nk + 1) * sizeof(int));
+    for (int p = 0; p < np; p++) cnt[key[p] + 1]++;
+    for (int k = 0; k < nk; k++) cnt[k + 1] += cnt[k];
+    if (pass)
+      for (int q = 0; q < np; q++) pb->order[cnt[key[tmp[q]]]++] = tmp[q];
+    else
+      for (int p = 0; p < np; p++) tmp[cnt[key[p]]++] = p;
+  }
+  int ng = 0;
+  for (int q = 0; q < np; q++)
+    if (q == 0 || !same_nodes(C, pb->order[q], pb->order[q - 1])) pb->grp_ptr[ng++] = q;
+  pb->grp_ptr[ng] = np;
+  pb->ngroups = ng;
+  free(key);
+  free(tmp);
+  free(cnt);
+  return 0;
+}
+
+static int scatter_maps(mpgm_problem *pb);
 
 int mpgm_pattern_build(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
@@ -109,18 +165,30 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   const mpgm_nodes *nd = &pb->nodes;
   const int np = pb->pts.n, nn = nd->n;
   mpgm_timer_start(ctx, MPGM_T_ANALYSE); /* symbolic work, once per pattern */
-  /* node graph: the neighbours of node J are the nodes of every point
-   * connected to J; built through the node -> points transpose with a
-   * marker per node (O(entries)), each list sorted (they are short) */
+  int gerr = group_points(pb);
+  if (gerr) {
+    mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+    return gerr;
+  }
+  /* node graph: the neighbours of node J are the nodes of every group
+   * connected to J (one point stands for its group); built through the
+   * node -> groups transpose with a marker per node (O(entries)), each
+   * list sorted (they are short) */
+  const int ng = pb->ngroups;
   int *tptr = calloc((size_t)nn + 2, sizeof(int)), *nptr = calloc((size_t)nn + 1, sizeof(int));
   int *mark = malloc(((size_t)nn + 1) * sizeof(int));
-  int *tpt = malloc(((size_t)C->ptr[np] + 1) * sizeof(int));
-  int *pair = NULL; /* neighbour lists, CSR over nptr */
+  int *tpt = malloc(((size_t)C->ptr[np] + 1) * sizeof(int)); /* representative points */
+  int *pair = NULL;                                          /* neighbour lists, CSR over nptr */
   if (!tptr || !nptr || !mark || !tpt) goto oom;
-  for (int k = 0; k < C->ptr[np]; k++) tptr[C->node[k] + 2]++;
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) tptr[C->node[k] + 2]++;
+  }
   for (int i = 0; i < nn; i++) tptr[i + 2] += tptr[i + 1];
-  for (int p = 0; p < np; p++)
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]];
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) tpt[tptr[C->node[k] + 1]++] = p;
+  }
   for (int pass = 0; pass < 2; pass++) {
     for (int i = 0; i < nn; i++) mark[i] = -1;
     for (int J = 0; J < nn; J++) {
@@ -132,7 +200,10 @@ int mpgm_pattern_build(mpgm_problem *pb) {
           mark[I] = J;
           if (pass) { /* insertion into the sorted list */
             int w = cnt;
-            while (w > 0 && list[w - 1] > I) { list[w] = list[w - 1]; w--; }
+            while (w > 0 && list[w - 1] > I) {
+              list[w] = list[w - 1];
+              w--;
+            }
             list[w] = I;
           }
           cnt++;
@@ -145,12 +216,16 @@ int mpgm_pattern_build(mpgm_problem *pb) {
       if (!pair) goto oom;
     }
   }
-  free(tptr); free(mark); free(tpt);
+  free(tptr);
+  free(mark);
+  free(tpt);
   tptr = mark = tpt = NULL;
   /* count entries */
   const int n = nd->ndof;
   mpgm_csc *K = &pb->K;
-  free(K->colptr); free(K->rowind); free(K->val);
+  free(K->colptr);
+  free(K->rowind);
+  free(K->val);
   K->colptr = calloc((size_t)n + 1, sizeof(int));
   size_t nnz = 0;
   for (int J = 0; J < nn; J++)
@@ -164,7 +239,8 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   K->rowind = malloc((nnz ? nnz : 1) * sizeof(int));
   K->val = calloc(nnz ? nnz : 1, sizeof(double));
   if (!K->colptr || !K->rowind || !K->val || nnz > INT32_MAX) {
-    free(pair); free(nptr);
+    free(pair);
+    free(nptr);
     MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (matrix with %zu entries)", nnz);
   }
   size_t e = 0;
@@ -189,42 +265,47 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   if (pb->solver_alt) pb->solver_alt->analysed = 0;
   pb->factor_valid = 0;
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
-  return mpgm_scatter_build(pb);
+  return scatter_maps(pb);
 oom:
-  free(tptr); free(nptr); free(mark); free(tpt); free(pair);
+  free(tptr);
+  free(nptr);
+  free(mark);
+  free(tpt);
+  free(pair);
   MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
 }
 
-int mpgm_scatter_build(mpgm_problem *pb) {
+/* One scatter map per group: the position in K.val of every (a, b, i, j)
+ * entry of the group's node list (-1 where a component is fixed). */
+static int scatter_maps(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
   const mpgm_csc *K = &pb->K;
-  const int np = pb->pts.n;
+  const int ng = pb->ngroups;
   mpgm_timer_start(ctx, MPGM_T_ANALYSE);
-  /* scatter map: position of every (a, b, i, j) entry, once per run of
-   * consecutive points connected to the same nodes */
-  free(pb->scatter); free(pb->scatter_ptr); free(pb->kloc);
-  pb->scatter = NULL; pb->kloc = NULL;
-  pb->scatter_ptr = malloc(((size_t)np + 1) * sizeof(int));
+  free(pb->scatter);
+  free(pb->scatter_ptr);
+  free(pb->kloc);
+  pb->scatter = NULL;
+  pb->kloc = NULL;
+  pb->scatter_ptr = malloc(((size_t)ng + 1) * sizeof(int));
   MPGM_CHECK(ctx, pb->scatter_ptr, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   size_t ns = 0;
   int maxk = 1;
-  for (int p = 0; p < np; p++) {
-    const int k = C->ptr[p + 1] - C->ptr[p];
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]], k = C->ptr[p + 1] - C->ptr[p];
     if (k > maxk) maxk = k;
-    if (!same_nodes(C, p)) ns += 4 * (size_t)k * k;
+    ns += 4 * (size_t)k * k;
   }
+  MPGM_CHECK(ctx, ns <= INT32_MAX, MPGM_ERR_NOMEM, "scatter map of %zu entries", ns);
   pb->scatter = malloc((ns ? ns : 1) * sizeof(int));
   pb->kloc = malloc(4 * (size_t)maxk * maxk * sizeof(double));
   MPGM_CHECK(ctx, pb->scatter && pb->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   size_t s = 0;
-  for (int p = 0; p < np; p++) {
-    if (same_nodes(C, p)) {
-      pb->scatter_ptr[p] = pb->scatter_ptr[p - 1];
-      continue;
-    }
-    pb->scatter_ptr[p] = (int)s;
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]];
+    pb->scatter_ptr[g] = (int)s;
     for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++)
       for (int b = C->ptr[p]; b < C->ptr[p + 1]; b++)
         for (int i = 0; i < 2; i++)
@@ -235,19 +316,31 @@ int mpgm_scatter_build(mpgm_problem *pb) {
               int lo = K->colptr[col], hi = K->colptr[col + 1] - 1;
               while (lo <= hi) {
                 const int mid = (lo + hi) / 2;
-                if (K->rowind[mid] < row) lo = mid + 1;
-                else if (K->rowind[mid] > row) hi = mid - 1;
-                else { pos = mid; break; }
+                if (K->rowind[mid] < row)
+                  lo = mid + 1;
+                else if (K->rowind[mid] > row)
+                  hi = mid - 1;
+                else {
+                  pos = mid;
+                  break;
+                }
               }
               if (pos < 0) MPGM_ERROR(ctx, MPGM_ERR_INTERNAL, "pattern misses an entry");
             }
             pb->scatter[s++] = pos;
           }
   }
-  pb->scatter_ptr[np] = (int)s;
+  pb->scatter_ptr[ng] = (int)s;
   pb->map_version = C->map_version;
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   return 0;
+}
+
+int mpgm_scatter_build(mpgm_problem *pb) {
+  mpgm_timer_start(pb->ctx, MPGM_T_ANALYSE);
+  int err = group_points(pb);
+  mpgm_timer_stop(pb->ctx, MPGM_T_ANALYSE);
+  return err ? err : scatter_maps(pb);
 }
 
 /* ---- external force --------------------------------------------------- */
@@ -293,9 +386,9 @@ static void newmark_correct(mpgm_problem *pb) {
 }
 
 /* Add the local matrix of a run of points into K through its scatter map. */
-static void flush_run(mpgm_problem *pb, int run, int n) {
-  if (run < 0) return;
-  const int *sc = pb->scatter + run;
+/* Add a group's local matrix into K through its scatter map. */
+static void flush_group(mpgm_problem *pb, int g, int n) {
+  const int *sc = pb->scatter + pb->scatter_ptr[g];
   double *val = pb->K.val;
   for (int q = 0; q < n; q++)
     if (sc[q] >= 0) val[sc[q]] += pb->kloc[q];
@@ -323,66 +416,67 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
   const double *an = pb->nodes.a_new;
   const double *lift = want_K ? pb->lift : NULL;
   double *kl = pb->kloc;
-  int run = -1, run_n = 0; /* scatter offset and size of the open run */
-  for (int p = 0; p < P->n; p++) {
-    const double *s = P->sigma_t + 4 * p, *D = P->D_t + 9 * p;
-    const double v = P->vol_t[p], m = P->mass[p];
-    const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
-    double ap[2] = {0, 0};
-    if (inertia)
-      for (int k = k0; k < k0 + nk; k++) {
-        ap[0] += C->N[k] * an[2 * C->node[k]];
-        ap[1] += C->N[k] * an[2 * C->node[k] + 1];
-      }
-    for (int a = 0; a < nk; a++) {
-      const int I = C->node[k0 + a];
-      const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
-      double f0 = v * (s[0] * gx + s[2] * gy), f1 = v * (s[2] * gx + s[1] * gy);
-      if (inertia) {
-        f0 += m * C->N[k0 + a] * ap[0];
-        f1 += m * C->N[k0 + a] * ap[1];
-      }
-      if (dof[2 * I] >= 0) R[dof[2 * I]] -= f0;
-      if (dof[2 * I + 1] >= 0) R[dof[2 * I + 1]] -= f1;
-    }
-    if (!want_K) continue;
-    if (pb->scatter_ptr[p] != run) { /* a new run of points: flush the last */
-      flush_run(pb, run, run_n);
-      run = pb->scatter_ptr[p];
-      run_n = 4 * nk * nk;
-      memset(kl, 0, sizeof(double) * (size_t)run_n);
-    }
-    for (int b = 0; b < nk; b++) {
-      const double hx = C->g[2 * (k0 + b)], hy = C->g[2 * (k0 + b) + 1];
-      /* DB = D B_b (3 x 2) */
-      double DB[3][2];
-      for (int i = 0; i < 3; i++) {
-        DB[i][0] = D[3 * i] * hx + D[3 * i + 2] * hy;
-        DB[i][1] = D[3 * i + 1] * hy + D[3 * i + 2] * hx;
-      }
-      const double sh0 = s[0] * hx + s[2] * hy, sh1 = s[2] * hx + s[1] * hy;
-      const int Ib = C->node[k0 + b];
+  /* with K: group by group (one local matrix and one scatter per group);
+   * residual only: in memory order */
+  const int ng = want_K ? pb->ngroups : 1;
+  for (int g = 0; g < ng; g++) {
+    const int t0 = want_K ? pb->grp_ptr[g] : 0, t1 = want_K ? pb->grp_ptr[g + 1] : P->n;
+    const int p0 = want_K ? pb->order[t0] : 0, nkg = C->ptr[p0 + 1] - C->ptr[p0];
+    if (want_K) memset(kl, 0, sizeof(double) * 4 * (size_t)nkg * nkg);
+    for (int t = t0; t < t1; t++) {
+      const int p = want_K ? pb->order[t] : t;
+      const double *s = P->sigma_t + 4 * p, *D = P->D_t + 9 * p;
+      const double v = P->vol_t[p], m = P->mass[p];
+      const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
+      double ap[2] = {0, 0};
+      if (inertia)
+        for (int k = k0; k < k0 + nk; k++) {
+          ap[0] += C->N[k] * an[2 * C->node[k]];
+          ap[1] += C->N[k] * an[2 * C->node[k] + 1];
+        }
       for (int a = 0; a < nk; a++) {
+        const int I = C->node[k0 + a];
         const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
-        double diag = geo ? v * (gx * sh0 + gy * sh1) : 0.0;
-        if (inertia) diag += kdyn * m * C->N[k0 + a] * C->N[k0 + b];
-        const double kab[4] = {v * (gx * DB[0][0] + gy * DB[2][0]) + diag,
-                               v * (gx * DB[0][1] + gy * DB[2][1]),
-                               v * (gy * DB[1][0] + gx * DB[2][0]),
-                               v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
-        double *e = kl + 4 * (a * nk + b);
-        for (int q = 0; q < 4; q++) e[q] += kab[q];
-        if (lift) { /* free row of node a, fixed column of node b */
-          const int Ia = C->node[k0 + a];
-          for (int i = 0; i < 2; i++)
-            for (int j = 0; j < 2; j++)
-              if (dof[2 * Ia + i] >= 0 && dof[2 * Ib + j] < 0)
-                R[dof[2 * Ia + i]] -= kab[2 * i + j] * lift[2 * Ib + j];
+        double f0 = v * (s[0] * gx + s[2] * gy), f1 = v * (s[2] * gx + s[1] * gy);
+        if (inertia) {
+          f0 += m * C->N[k0 + a] * ap[0];
+          f1 += m * C->N[k0 + a] * ap[1];
+        }
+        if (dof[2 * I] >= 0) R[dof[2 * I]] -= f0;
+        if (dof[2 * I + 1] >= 0) R[dof[2 * I + 1]] -= f1;
+      }
+      if (!want_K) continue;
+      for (int b = 0; b < nk; b++) {
+        const double hx = C->g[2 * (k0 + b)], hy = C->g[2 * (k0 + b) + 1];
+        /* DB = D B_b (3 x 2) */
+        double DB[3][2];
+        for (int i = 0; i < 3; i++) {
+          DB[i][0] = D[3 * i] * hx + D[3 * i + 2] * hy;
+          DB[i][1] = D[3 * i + 1] * hy + D[3 * i + 2] * hx;
+        }
+        const double sh0 = s[0] * hx + s[2] * hy, sh1 = s[2] * hx + s[1] * hy;
+        const int Ib = C->node[k0 + b];
+        for (int a = 0; a < nk; a++) {
+          const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
+          double diag = geo ? v * (gx * sh0 + gy * sh1) : 0.0;
+          if (inertia) diag += kdyn * m * C->N[k0 + a] * C->N[k0 + b];
+          const double kab[4] = {
+              v * (gx * DB[0][0] + gy * DB[2][0]) + diag, v * (gx * DB[0][1] + gy * DB[2][1]),
+              v * (gy * DB[1][0] + gx * DB[2][0]), v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
+          double *e = kl + 4 * (a * nk + b);
+          for (int q = 0; q < 4; q++) e[q] += kab[q];
+          if (lift) { /* free row of node a, fixed column of node b */
+            const int Ia = C->node[k0 + a];
+            for (int i = 0; i < 2; i++)
+              for (int j = 0; j < 2; j++)
+                if (dof[2 * Ia + i] >= 0 && dof[2 * Ib + j] < 0)
+                  R[dof[2 * Ia + i]] -= kab[2 * i + j] * lift[2 * Ib + j];
+          }
         }
       }
     }
+    if (want_K) flush_group(pb, g, 4 * nkg * nkg);
   }
-  if (want_K) flush_run(pb, run, run_n);
   mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
   return 0;
 }

@@ -159,12 +159,16 @@ struct mpgm_problem {
   int map_version;   /**< conn.map_version the scatter maps were built for */
   int factor_valid;  /**< the solver holds a factorisation of this pattern
                           (modified Newton may reuse it across steps)    */
-  int *scatter;      /**< per run of points with the same nodes: 4 n_p^2
-                          positions in K.val (-1: fixed component)      */
-  int *scatter_ptr;  /**< per point: offset of its run's map in scatter;
-                          consecutive points with identical node lists
-                          (the Gauss points of one cell) share it       */
-  double *kloc;      /**< local matrix of a run (4 max n_p^2)           */
+  /* points grouped by node list: the points of a group have identical
+   * lists (the particles in one grid cell, the Gauss points of one
+   * element), so they share a scatter map and one local matrix */
+  int ngroups;
+  int *order;        /**< material points, group after group            */
+  int *grp_ptr;      /**< ngroups + 1 offsets into order                 */
+  int *scatter;      /**< per group: 4 n_p^2 positions in K.val (-1: fixed
+                          component)                                    */
+  int *scatter_ptr;  /**< ngroups + 1 offsets of the groups' maps        */
+  double *kloc;      /**< local matrix of a group (4 max n_p^2)         */
   double *R, *fext, *delta;
   double *dubar;     /**< 2 per node: prescribed increment of the step   */
   const double *lift; /**< when set (first iteration), assembly adds
@@ -224,8 +228,9 @@ int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[2]);
  *  doubles per node. Uses the trial state of the last mpgm_eval_points. */
 int mpgm_reactions(mpgm_problem *pb, double *r);
 
-/** Rebuild only the scatter maps (points -> matrix entries) for the current
- *  pattern; called when conn.map_version changed. */
+/** Regroup the points by node list and rebuild the scatter maps (points ->
+ *  matrix entries) for the current pattern; called when conn.map_version
+ *  changed. */
 int mpgm_scatter_build(mpgm_problem *pb);
 
 /** External force (gravity times load factor) into pb->fext. */

@@ -192,6 +192,8 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->K.val);
   free(pb->scatter);
   free(pb->scatter_ptr);
+  free(pb->order);
+  free(pb->grp_ptr);
   free(pb->kloc);
   free(pb->R);
   free(pb->fext);
