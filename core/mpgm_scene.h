@@ -117,6 +117,8 @@ typedef struct mpgm_scene {
                                  converges fast enough (reuse_ratio)    */
   double reuse_ratio;       /**< modified Newton: refactorise when
                                  |R_k| > reuse_ratio |R_k-1|             */
+  int threads;              /**< threads of BLAS under the solvers (0:
+                                 the libraries' defaults)              */
   /* physics */
   int nmat;
   mpgm_material *mats;

@@ -134,6 +134,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
   mpgm_effects_of_scene(scene, &pb->fx);
   pb->symmetric = 1;
   for (int i = 0; i < scene->nmat; i++) pb->symmetric &= scene->mats[i].symmetric;
+  mpgm_solver_threads(scene->threads);
   const mpgm_solver_type *st = scene->solver;
   pb->solver_auto = !st;
   if (!st) st = mpgm_solver_type_find(pb->symmetric ? "cholmod" : "umfpack");

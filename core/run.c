@@ -44,6 +44,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   /* "auto" on its LU fallback still reports the backend it chose */
   const mpgm_solver *used = pb->solver_alt && pb->solver_alt->type->needs_spd ? pb->solver_alt : pb->solver;
   cJSON_AddStringToObject(j, "solver", used->type->name);
+  cJSON_AddNumberToObject(j, "solver_threads", s->threads);
   cJSON_AddItemToObject(j, "effects", (cJSON *)mpgm_effects_json(&pb->fx));
   cJSON *c = cJSON_AddObjectToObject(j, "counts");
   int ncells = 0;

@@ -72,6 +72,14 @@ int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A);
 int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A);
 int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
                       double *x);
+/** Threads of the libraries under the backends (process-wide): n >= 1
+ *  sets the BLAS threads to n and serialises the OpenMP regions of
+ *  SuiteSparse (CHOLMOD 3 asks for 4 OpenMP threads whatever the machine
+ *  has: on 2 cores that made its factorisation 2.2x slower, see
+ *  docs/benchmarks.md); n = 0 leaves the libraries' defaults. Found at run
+ *  time (dlsym), so any BLAS and OpenMP runtime works; returns a bit set of
+ *  what was applied: 1 BLAS threads, 2 OpenMP. */
+int mpgm_solver_threads(int n);
 /** Statistics of the last factorisation. (Named _get_ because
  *  mpgm_solver_stats is the struct's typedef.) */
 int mpgm_solver_get_stats(mpgm_solver *s, mpgm_solver_stats *st);

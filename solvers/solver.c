@@ -1,8 +1,10 @@
 /* solver.c -- the backend list and the generic wrappers of the linear
  * solver family (timers and counters live here, not in the backends).
  * Adding a backend: write its .c, add one line to MPGM_SOLVER_LIST. */
+#define _GNU_SOURCE /* RTLD_DEFAULT */
 #include "mpgm_solver.h"
 
+#include <dlfcn.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -142,4 +144,23 @@ int mpgm_solver_get_stats(mpgm_solver *s, mpgm_solver_stats *st) {
   memset(st, 0, sizeof(*st));
   if (!s->type->stats) return MPGM_ERR_UNSUPPORTED;
   return s->type->stats(s->data, st);
+}
+
+int mpgm_solver_threads(int n) {
+  if (n <= 0) return 0;
+  int applied = 0;
+  /* OpenBLAS; other BLAS libraries have no such call (nothing to do) */
+  void (*blas)(int) = (void (*)(int))dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+  if (blas) {
+    blas(n);
+    applied |= 1;
+  }
+  /* max active levels 0: every parallel region runs on one thread (the
+   * num_threads clauses of the library cannot raise it) */
+  void (*levels)(int) = (void (*)(int))dlsym(RTLD_DEFAULT, "omp_set_max_active_levels");
+  if (levels) {
+    levels(0);
+    applied |= 2;
+  }
+  return applied;
 }
