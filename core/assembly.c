@@ -416,6 +416,10 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
   const double *an = pb->nodes.a_new;
   const double *lift = want_K ? pb->lift : NULL;
   double *kl = pb->kloc;
+  /* symmetric tangent (every material's, K_geo and the mass term are):
+   * only the blocks a <= b are computed; not with a lift, which needs the
+   * free-fixed blocks of both sides */
+  const int half = pb->symmetric && !lift;
   /* with K: group by group (one local matrix and one scatter per group);
    * residual only: in memory order */
   const int ng = want_K ? pb->ngroups : 1;
@@ -456,7 +460,7 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
         }
         const double sh0 = s[0] * hx + s[2] * hy, sh1 = s[2] * hx + s[1] * hy;
         const int Ib = C->node[k0 + b];
-        for (int a = 0; a < nk; a++) {
+        for (int a = 0; a < (half ? b + 1 : nk); a++) {
           const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
           double diag = geo ? v * (gx * sh0 + gy * sh1) : 0.0;
           if (inertia) diag += kdyn * m * C->N[k0 + a] * C->N[k0 + b];
@@ -475,6 +479,13 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
         }
       }
     }
+    if (want_K && half) /* lower blocks: transposes of the upper ones */
+      for (int b = 0; b < nkg; b++)
+        for (int a = b + 1; a < nkg; a++) {
+          double *lo = kl + 4 * (a * nkg + b);
+          const double *up = kl + 4 * (b * nkg + a);
+          lo[0] = up[0]; lo[1] = up[2]; lo[2] = up[1]; lo[3] = up[3];
+        }
     if (want_K) flush_group(pb, g, 4 * nkg * nkg);
   }
   mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
