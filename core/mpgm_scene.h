@@ -117,6 +117,9 @@ typedef struct mpgm_scene {
                                  converges fast enough (reuse_ratio)    */
   double reuse_ratio;       /**< modified Newton: refactorise when
                                  |R_k| > reuse_ratio |R_k-1|             */
+  double contact_check;     /**< contact: check the active set once
+                                 |R| <= contact_check ref (0: only at
+                                 convergence)                          */
   int threads;              /**< threads of BLAS under the solvers (0:
                                  the libraries' defaults)              */
   /* physics */

@@ -531,6 +531,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   static const char *const newton_names[] = {"full", "modified", NULL};
   MPGM_CALL(jr_enum(&so, "newton", newton_names, 0, &s->newton_modified));
   MPGM_CALL(jr_num(&so, "reuse_ratio", 0.1, 0.0, 1.0, 1, 1, &s->reuse_ratio));
+  MPGM_CALL(jr_num(&so, "contact_check", 1e-3, 0.0, 1.0, 0, 1, &s->contact_check));
   MPGM_CALL(jr_int(&so, "threads", 1, 0, 256, &s->threads));
   MPGM_CALL(jr_end(&so));
 

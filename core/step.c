@@ -103,8 +103,12 @@ static void lu_resume(mpgm_problem *pb) {
   else pb->lu_steps++;
 }
 
+static int contact_update(mpgm_problem *pb);
+
 /* Newton on the step from the predictor (42) to convergence; warm: start
- * from the current increments (a re-solve after the contact set changed). */
+ * from the current increments (a re-solve after the contact set changed).
+ * Returns 0 when converged, 1 when the contact set changed on the way
+ * (solve the step again), or an error code. */
 static int newton(mpgm_problem *pb, int warm) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *sc = pb->scene;
@@ -121,6 +125,7 @@ static int newton(mpgm_problem *pb, int warm) {
   /* a factorisation of this pattern exists (modified Newton may start from
    * the one of an earlier step) */
   int factored = sc->newton_modified && pb->factor_valid;
+  int checked = 0;
   for (int it = 0;; it++) {
     MPGM_CALL(mpgm_eval_points(pb));
     /* modified Newton assembles K only when it refactorises */
@@ -135,6 +140,17 @@ static int newton(mpgm_problem *pb, int warm) {
     }
     info->res = res;
     info->res_rel = ref > 0.0 ? res / ref : 0.0;
+    /* contact: check the active set once, as soon as the residual is below
+     * contact_check of the reference, rather than only at convergence: a
+     * wrong set is then not iterated to full accuracy first. The converged
+     * state is checked again by mpgm_step. */
+    if (pb->fx.contact && !checked && it > 0 && !pb->lift && res <= sc->contact_check * ref) {
+      checked = 1;
+      if (contact_update(pb)) {
+        info->iterations = it;
+        return 1;
+      }
+    }
     /* converged: residual small (absolute or relative to the step's load),
      * or the last correction negligible against the step's increment (the
      * residual then sits at its round-off floor, which grows with the
@@ -257,9 +273,10 @@ int mpgm_step(mpgm_problem *pb) {
                  sc->file);
       MPGM_CALL(mpgm_pattern_build(pb));
     }
-    MPGM_CALL(newton(pb, round > 0));
+    const int early = newton(pb, round > 0);
+    MPGM_CALL(early < 0 ? early : 0);
     its += pb->last.iterations;
-    if (!pb->fx.contact || !contact_update(pb)) break;
+    if (!early && (!pb->fx.contact || !contact_update(pb))) break;
     MPGM_CHECK(ctx, round < 50, MPGM_ERR_NOT_CONVERGED,
                "the contact active set did not settle in %d solves of the step", round + 1);
     pb->contact_rounds++;
