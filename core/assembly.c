@@ -258,8 +258,25 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   K->n = n;
   K->nnz = (int)nnz;
   K->symmetric = pb->symmetric;
-  free(pair);
-  free(nptr);
+  /* kept for the scatter maps: node I's rows in a column of node J start
+   * nbr_off[t] entries into the column, t the place of I in J's list */
+  int *off = malloc(((size_t)nptr[nn] + 1) * sizeof(int));
+  if (!off) {
+    free(pair);
+    free(nptr);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
+  }
+  for (int J = 0; J < nn; J++)
+    for (int t = nptr[J], c = 0; t < nptr[J + 1]; t++) {
+      off[t] = c;
+      c += (nd->dof[2 * pair[t]] >= 0) + (nd->dof[2 * pair[t] + 1] >= 0);
+    }
+  free(pb->nbr);
+  free(pb->nbr_ptr);
+  free(pb->nbr_off);
+  pb->nbr = pair;
+  pb->nbr_ptr = nptr;
+  pb->nbr_off = off;
   pb->pattern_version = C->version;
   pb->solver->analysed = 0;
   if (pb->solver_alt) pb->solver_alt->analysed = 0;
@@ -303,32 +320,35 @@ static int scatter_maps(mpgm_problem *pb) {
   pb->kloc = malloc(4 * (size_t)maxk * maxk * sizeof(double));
   MPGM_CHECK(ctx, pb->scatter && pb->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   size_t s = 0;
+  const int *dof = nd->dof;
   for (int g = 0; g < ng; g++) {
-    const int p = pb->order[pb->grp_ptr[g]];
+    const int p = pb->order[pb->grp_ptr[g]], k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
     pb->scatter_ptr[g] = (int)s;
-    for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++)
-      for (int b = C->ptr[p]; b < C->ptr[p + 1]; b++)
+    for (int a = 0; a < nk; a++) {
+      const int I = C->node[k0 + a];
+      for (int b = 0; b < nk; b++) {
+        const int J = C->node[k0 + b];
+        /* I in J's sorted neighbour list */
+        int lo = pb->nbr_ptr[J], hi = pb->nbr_ptr[J + 1] - 1, t = -1;
+        while (lo <= hi) {
+          const int mid = (lo + hi) / 2;
+          if (pb->nbr[mid] < I) lo = mid + 1;
+          else if (pb->nbr[mid] > I) hi = mid - 1;
+          else { t = mid; break; }
+        }
+        MPGM_CHECK(ctx, t >= 0, MPGM_ERR_INTERNAL, "pattern misses node %d in the list of node %d", I, J);
         for (int i = 0; i < 2; i++)
           for (int j = 0; j < 2; j++) {
-            const int row = nd->dof[2 * C->node[a] + i], col = nd->dof[2 * C->node[b] + j];
+            const int row = dof[2 * I + i], col = dof[2 * J + j];
             int pos = -1;
             if (row >= 0 && col >= 0) {
-              int lo = K->colptr[col], hi = K->colptr[col + 1] - 1;
-              while (lo <= hi) {
-                const int mid = (lo + hi) / 2;
-                if (K->rowind[mid] < row)
-                  lo = mid + 1;
-                else if (K->rowind[mid] > row)
-                  hi = mid - 1;
-                else {
-                  pos = mid;
-                  break;
-                }
-              }
-              if (pos < 0) MPGM_ERROR(ctx, MPGM_ERR_INTERNAL, "pattern misses an entry");
+              pos = K->colptr[col] + pb->nbr_off[t] + (i == 1 && dof[2 * I] >= 0);
+              MPGM_CHECK(ctx, K->rowind[pos] == row, MPGM_ERR_INTERNAL, "scatter map: entry (%d, %d) misplaced", row, col);
             }
             pb->scatter[s++] = pos;
           }
+      }
+    }
   }
   pb->scatter_ptr[ng] = (int)s;
   pb->map_version = C->map_version;

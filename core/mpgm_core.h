@@ -168,6 +168,9 @@ struct mpgm_problem {
   int *scatter;      /**< per group: 4 n_p^2 positions in K.val (-1: fixed
                           component)                                    */
   int *scatter_ptr;  /**< ngroups + 1 offsets of the groups' maps        */
+  int *nbr_ptr, *nbr; /**< node graph of the pattern: sorted neighbours  */
+  int *nbr_off;      /**< per neighbour entry: offset of its rows in the
+                          owner's columns                               */
   double *kloc;      /**< local matrix of a group (4 max n_p^2)         */
   double *R, *fext, *delta;
   double *dubar;     /**< 2 per node: prescribed increment of the step   */

@@ -195,6 +195,9 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->scatter_ptr);
   free(pb->order);
   free(pb->grp_ptr);
+  free(pb->nbr);
+  free(pb->nbr_ptr);
+  free(pb->nbr_off);
   free(pb->kloc);
   free(pb->R);
   free(pb->fext);
