@@ -103,6 +103,32 @@ static void lu_resume(mpgm_problem *pb) {
   else pb->lu_steps++;
 }
 
+/* "auto" chose Cholesky for a symmetric tangent, but it is not positive
+ * definite (geometric stiffness under compression, a light node in a
+ * compressed region): LU factorises K for this step and lu_hold_len - 1
+ * more, then Cholesky is tried again (lu_resume); counted in summary.json.
+ * Returns the LU factorisation's code. */
+static int lu_fallback(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  if (!pb->solver_alt) {
+    const mpgm_solver_type *lu = mpgm_solver_type_find("umfpack");
+    MPGM_CHECK(ctx, lu, MPGM_ERR_SOLVER, "%s (and no LU backend to fall back to)", ctx->msg);
+    MPGM_CALL(mpgm_solver_create(ctx, lu, &pb->solver_alt));
+  }
+  mpgm_err_clear(ctx);
+  swap_solvers(pb);
+  pb->solver_switches++;
+  pb->lu_steps++;
+  pb->lu_hold_len = pb->lu_hold_len ? 2 * pb->lu_hold_len : 1;
+  if (pb->lu_hold_len > LU_HOLD_MAX) pb->lu_hold_len = LU_HOLD_MAX;
+  pb->lu_hold = pb->lu_hold_len;
+  if (!pb->solver->analysed) {
+    MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
+    pb->solver->analysed = 1;
+  }
+  return mpgm_solver_factor(pb->solver, ctx, &pb->K);
+}
+
 static int contact_update(mpgm_problem *pb);
 
 /* Newton on the step from the predictor (42) to convergence; warm: start
@@ -176,30 +202,10 @@ static int newton(mpgm_problem *pb, int warm) {
     }
     err = reuse ? 0 : mpgm_solver_factor(pb->solver, ctx, &pb->K);
     factored = 1;
-    if (err == MPGM_ERR_SINGULAR && pb->solver_auto && pb->solver->type->needs_spd) {
-      /* "auto" chose Cholesky for a symmetric tangent, but it is not positive
-       * definite (e.g. geometric stiffness under compression, a light node
-       * in a compressed region): LU for this step and lu_hold_len - 1 more,
-       * then Cholesky again (see lu_resume); counted in summary.json */
-      if (!pb->solver_alt) {
-        const mpgm_solver_type *lu = mpgm_solver_type_find("umfpack");
-        MPGM_CHECK(ctx, lu, MPGM_ERR_SOLVER, "%s (and no LU backend to fall back to)", ctx->msg);
-        MPGM_CALL(mpgm_solver_create(ctx, lu, &pb->solver_alt));
-      }
-      mpgm_err_clear(ctx);
-      swap_solvers(pb);
-      pb->solver_switches++;
-      pb->lu_steps++;
-      pb->lu_hold_len = pb->lu_hold_len ? 2 * pb->lu_hold_len : 1;
-      if (pb->lu_hold_len > LU_HOLD_MAX) pb->lu_hold_len = LU_HOLD_MAX;
-      pb->lu_hold = pb->lu_hold_len;
-      if (!pb->solver->analysed) {
-        MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
-        pb->solver->analysed = 1;
-      }
-      err = mpgm_solver_factor(pb->solver, ctx, &pb->K);
-    } else if (!err && !reuse && pb->solver_auto && pb->solver->type->needs_spd)
-      pb->lu_hold_len = 0; /* Cholesky works again */
+    if (pb->solver_auto && pb->solver->type->needs_spd) {
+      if (err == MPGM_ERR_SINGULAR) err = lu_fallback(pb);
+      else if (!err && !reuse) pb->lu_hold_len = 0; /* Cholesky works again */
+    }
     pb->factor_valid = !err;
     MPGM_CALL(err);
     MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
