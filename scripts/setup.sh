@@ -9,6 +9,7 @@ MPGM_PACKAGES=(
   libsuitesparse-dev libgsl-dev libcjson-dev
   libopenblas0-pthread   # fast BLAS for SuiteSparse (Debian's default is the reference BLAS)
   python3 python3-vtk9   # tests read our VTK files with VTK's own reader, as ParaView does
+  libnanoflann-dev       # header-only, used only by bench/kdtree
 )
 
 mpgm_install_missing() {
