@@ -79,6 +79,7 @@ typedef struct mpgm_ctx {
   long n_material_calls; /**< constitutive updates (per point)       */
   long n_body_force;     /**< body-force loops                       */
   long n_mass;           /**< inertia loops                          */
+  long n_point_sorts;    /**< reorderings of the points in memory    */
 } mpgm_ctx;
 
 /** Reset a context to "no error", zero timers and counters. */

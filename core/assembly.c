@@ -17,17 +17,18 @@ static inline void mul2(const double *a, const double *b, double *c) {
   c[3] = a[2] * b[1] + a[3] * b[3];
 }
 
-int mpgm_eval_points(mpgm_problem *pb) {
-  mpgm_ctx *ctx = pb->ctx;
+/* Kinematics and constitutive update of points [p0, p1). Returns 0 or the
+ * first failure's code with its point in *fail and, for det(dF) <= 0, the
+ * determinant in *fail_J; no message here (tasks run on worker threads). */
+static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_J) {
   mpgm_points *P = &pb->pts;
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
   const mpgm_material *mats = pb->scene->mats;
   const int small = !pb->fx.geometric;
   const int ns = P->nstate;
-  mpgm_timer_start(ctx, MPGM_T_MATERIAL);
-  int err = 0;
-  for (int p = 0; p < P->n && !err; p++) {
+  for (int p = p0; p < p1; p++) {
+    int err;
     /* H = sum_I du_I (x) grad N_I (small: total u) */
     double H[4] = {0, 0, 0, 0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
@@ -54,9 +55,9 @@ int mpgm_eval_points(mpgm_problem *pb) {
     } else {
       const double J = det2(dF);
       if (!(J > 0.0)) {
-        err = mpgm_err_set(ctx, MPGM_ERR_JACOBIAN, __FILE__, __LINE__,
-                           "point %d at (%g, %g): det(dF) = %g <= 0", p, P->x[2 * p], P->x[2 * p + 1], J);
-        break;
+        *fail = p;
+        *fail_J = J;
+        return MPGM_ERR_JACOBIAN;
       }
       mul2(dF, P->F + 4 * p, F);
       P->vol_t[p] = J * P->vol[p];
@@ -69,7 +70,12 @@ int mpgm_eval_points(mpgm_problem *pb) {
       }
       err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + 4 * p, P->D_t + 9 * p);
     }
-    if (!err && pb->fx.prestress) { /* sigma += J^-1 F S0 F^T (small: S0) */
+    if (err) {
+      *fail = p;
+      *fail_J = 1.0; /* not a det(dF) failure */
+      return err;
+    }
+    if (pb->fx.prestress) { /* sigma += J^-1 F S0 F^T (small: S0) */
       const double *S = P->S0 + 4 * p;
       double *sg = P->sigma_t + 4 * p;
       if (small) {
@@ -84,13 +90,53 @@ int mpgm_eval_points(mpgm_problem *pb) {
         sg[3] += S[3] / J;
       }
     }
-    if (err)
-      mpgm_err_set(ctx, err, __FILE__, __LINE__, "point %d at (%g, %g), material \"%s\": %s", p,
-                   P->x[2 * p], P->x[2 * p + 1], m->name, mpgm_code_str(err));
   }
+  return 0;
+}
+
+/* Point loops run as up to EVAL_TASKS contiguous ranges of at least
+ * EVAL_CHUNK points; each range keeps its own first failure. */
+#define EVAL_TASKS 64
+#define EVAL_CHUNK 512
+
+typedef struct {
+  mpgm_problem *pb;
+  int ntask;
+  int err[EVAL_TASKS], fail[EVAL_TASKS];
+  double fail_J[EVAL_TASKS];
+} eval_job;
+
+static void eval_task(void *arg, int t, int tid) {
+  (void)tid;
+  eval_job *j = arg;
+  const int np = j->pb->pts.n;
+  const int p0 = (int)((long)np * t / j->ntask), p1 = (int)((long)np * (t + 1) / j->ntask);
+  j->err[t] = eval_range(j->pb, p0, p1, &j->fail[t], &j->fail_J[t]);
+}
+
+int mpgm_eval_points(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_points *P = &pb->pts;
+  mpgm_timer_start(ctx, MPGM_T_MATERIAL);
+  eval_job j;
+  j.pb = pb;
+  j.ntask = P->n / EVAL_CHUNK;
+  if (j.ntask > EVAL_TASKS) j.ntask = EVAL_TASKS;
+  if (j.ntask < 1) j.ntask = 1;
+  mpgm_pool_run(pb->pool, j.ntask, eval_task, &j);
   ctx->n_material_calls += P->n;
   mpgm_timer_stop(ctx, MPGM_T_MATERIAL);
-  return err;
+  /* the failure of the lowest point: the one a serial loop stops at */
+  for (int t = 0; t < j.ntask; t++) {
+    if (!j.err[t]) continue;
+    const int p = j.fail[t];
+    if (j.err[t] == MPGM_ERR_JACOBIAN && !(j.fail_J[t] > 0.0))
+      MPGM_ERROR(ctx, MPGM_ERR_JACOBIAN, "point %d at (%g, %g): det(dF) = %g <= 0", P->id[p],
+                 P->x[2 * p], P->x[2 * p + 1], j.fail_J[t]);
+    MPGM_ERROR(ctx, j.err[t], "point %d at (%g, %g), material \"%s\": %s", P->id[p], P->x[2 * p],
+               P->x[2 * p + 1], pb->scene->mats[P->mat[p]].name, mpgm_code_str(j.err[t]));
+  }
+  return 0;
 }
 
 /* ---- sparsity pattern ------------------------------------------------- */
@@ -100,6 +146,85 @@ static int same_nodes(const mpgm_conn *C, int p, int q) {
   const int n = C->ptr[p + 1] - C->ptr[p];
   if (n != C->ptr[q + 1] - C->ptr[q]) return 0;
   return memcmp(C->node + C->ptr[p], C->node + C->ptr[q], sizeof(int) * (size_t)n) == 0;
+}
+
+/* ---- assembly tasks ---------------------------------------------------- */
+
+/* Task ids: chunk interiors 0..C-1 (phase 0), interfaces between chunks c
+ * and c+1 with c even C..C+C/2-1 (phase 1) and c odd (phase 2), the rest
+ * 2C-1 (phase 3, one task). */
+#define NCH MPGM_ASM_CHUNKS
+static const int phase_task[5] = {0, NCH, NCH + NCH / 2, 2 * NCH - 1, 2 * NCH};
+
+/* Cut the group order into NCH chunks of about equal point counts. A node
+ * touched by the groups of chunks lo..hi gets the range [lo, hi]; a group
+ * whose nodes all have the range [c, c] is interior to chunk c; one whose
+ * nodes' ranges span [c, c+1] sits on interface c; anything wider goes to
+ * the last, serial task. Interiors of different chunks share no node, nor
+ * do interfaces c and c' with |c - c'| >= 2: the tasks of one phase write
+ * disjoint entries of R and K. */
+static int assembly_tasks(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_conn *C = &pb->conn;
+  const int ng = pb->ngroups, np = pb->pts.n, nn = pb->nodes.n;
+  free(pb->task_grp);
+  free(pb->task_pts);
+  pb->task_grp = malloc(((size_t)ng + 1) * sizeof(int));
+  pb->task_pts = malloc(((size_t)np + 1) * sizeof(int));
+  int *lo = malloc(((size_t)nn + 1) * sizeof(int)), *hi = malloc(((size_t)nn + 1) * sizeof(int));
+  int *tid = malloc(((size_t)ng + 1) * sizeof(int));
+  if (!pb->task_grp || !pb->task_pts || !lo || !hi || !tid) {
+    free(lo);
+    free(hi);
+    free(tid);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (assembly tasks of %d groups)", ng);
+  }
+  for (int i = 0; i < nn; i++) {
+    lo[i] = NCH;
+    hi[i] = -1;
+  }
+  for (int g = 0; g < ng; g++) {
+    const int c = np ? (int)((long)pb->grp_ptr[g] * NCH / np) : 0, p = pb->order[pb->grp_ptr[g]];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      if (c < lo[I]) lo[I] = c;
+      if (c > hi[I]) hi[I] = c;
+    }
+  }
+  memset(pb->task_ptr, 0, sizeof pb->task_ptr);
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]];
+    int glo = NCH, ghi = -1;
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      if (lo[I] < glo) glo = lo[I];
+      if (hi[I] > ghi) ghi = hi[I];
+    }
+    int t;
+    if (ghi < 0) t = 0; /* no nodes: nothing to write */
+    else if (glo == ghi) t = glo;
+    else if (ghi == glo + 1) t = glo % 2 == 0 ? NCH + glo / 2 : NCH + NCH / 2 + glo / 2;
+    else t = 2 * NCH - 1;
+    tid[g] = t;
+    pb->task_ptr[t + 1]++;
+  }
+  for (int t = 0; t < 2 * NCH; t++) pb->task_ptr[t + 1] += pb->task_ptr[t];
+  int fill[2 * NCH];
+  memcpy(fill, pb->task_ptr, sizeof fill);
+  for (int g = 0; g < ng; g++) pb->task_grp[fill[tid[g]]++] = g;
+  /* the same as flat point lists (residual-only assembly) */
+  int q = 0;
+  pb->tpt_ptr[0] = 0;
+  for (int t = 0; t < 2 * NCH; t++) {
+    for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++)
+      for (int u = pb->grp_ptr[pb->task_grp[i]]; u < pb->grp_ptr[pb->task_grp[i] + 1]; u++)
+        pb->task_pts[q++] = pb->order[u];
+    pb->tpt_ptr[t + 1] = q;
+  }
+  free(lo);
+  free(hi);
+  free(tid);
+  return 0;
 }
 
 /* Group the material points by node list: order them by (first node, hash
@@ -154,7 +279,7 @@ static int group_points(mpgm_problem *pb) {
   free(key);
   free(tmp);
   free(cnt);
-  return 0;
+  return assembly_tasks(pb);
 }
 
 static int scatter_maps(mpgm_problem *pb);
@@ -317,7 +442,8 @@ static int scatter_maps(mpgm_problem *pb) {
   }
   MPGM_CHECK(ctx, ns <= INT32_MAX, MPGM_ERR_NOMEM, "scatter map of %zu entries", ns);
   pb->scatter = malloc((ns ? ns : 1) * sizeof(int));
-  pb->kloc = malloc(4 * (size_t)maxk * maxk * sizeof(double));
+  pb->kloc_size = 4 * maxk * maxk;
+  pb->kloc = malloc((size_t)mpgm_pool_size(pb->pool) * (size_t)pb->kloc_size * sizeof(double));
   MPGM_CHECK(ctx, pb->scatter && pb->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   size_t s = 0;
   const int *dof = nd->dof;
@@ -405,108 +531,141 @@ static void newmark_correct(mpgm_problem *pb) {
   }
 }
 
-/* Add the local matrix of a run of points into K through its scatter map. */
-/* Add a group's local matrix into K through its scatter map. */
-static void flush_group(mpgm_problem *pb, int g, int n) {
+/* What every assembly task needs. */
+typedef struct {
+  mpgm_problem *pb;
+  int want_K, half, inertia, geo;
+  double kdyn;
+  const double *lift, *an;
+  int t0; /* first task of the running phase */
+} asm_job;
+
+/* Internal (and inertial) force of point p subtracted from R. */
+static inline void point_residual(const asm_job *j, int p) {
+  const mpgm_problem *pb = j->pb;
+  const mpgm_points *P = &pb->pts;
+  const mpgm_conn *C = &pb->conn;
+  const int *dof = pb->nodes.dof;
+  double *R = pb->R;
+  const double *s = P->sigma_t + 4 * p, *an = j->an;
+  const double v = P->vol_t[p], m = P->mass[p];
+  const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
+  double ap[2] = {0, 0};
+  if (j->inertia)
+    for (int k = k0; k < k0 + nk; k++) {
+      ap[0] += C->N[k] * an[2 * C->node[k]];
+      ap[1] += C->N[k] * an[2 * C->node[k] + 1];
+    }
+  for (int a = 0; a < nk; a++) {
+    const int I = C->node[k0 + a];
+    const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
+    double f0 = v * (s[0] * gx + s[2] * gy), f1 = v * (s[2] * gx + s[1] * gy);
+    if (j->inertia) {
+      f0 += m * C->N[k0 + a] * ap[0];
+      f1 += m * C->N[k0 + a] * ap[1];
+    }
+    if (dof[2 * I] >= 0) R[dof[2 * I]] -= f0;
+    if (dof[2 * I + 1] >= 0) R[dof[2 * I + 1]] -= f1;
+  }
+}
+
+/* Residual and tangent terms of one group, added into R and K through the
+ * group's scatter map; kl is the thread's local matrix. */
+static void assemble_group(const asm_job *j, int g, double *kl) {
+  mpgm_problem *pb = j->pb;
+  const mpgm_points *P = &pb->pts;
+  const mpgm_conn *C = &pb->conn;
+  const int *dof = pb->nodes.dof;
+  const int inertia = j->inertia, geo = j->geo, half = j->half;
+  const double kdyn = j->kdyn, *lift = j->lift;
+  double *R = pb->R;
+  const int t0 = pb->grp_ptr[g], t1 = pb->grp_ptr[g + 1];
+  const int nkg = C->ptr[pb->order[t0] + 1] - C->ptr[pb->order[t0]];
+  memset(kl, 0, sizeof(double) * 4 * (size_t)nkg * nkg);
+  for (int t = t0; t < t1; t++) {
+    const int p = pb->order[t];
+    point_residual(j, p);
+    const double *s = P->sigma_t + 4 * p, *D = P->D_t + 9 * p;
+    const double v = P->vol_t[p], m = P->mass[p];
+    const int k0 = C->ptr[p], nk = nkg;
+    for (int b = 0; b < nk; b++) {
+      const double hx = C->g[2 * (k0 + b)], hy = C->g[2 * (k0 + b) + 1];
+      /* DB = D B_b (3 x 2) */
+      double DB[3][2];
+      for (int i = 0; i < 3; i++) {
+        DB[i][0] = D[3 * i] * hx + D[3 * i + 2] * hy;
+        DB[i][1] = D[3 * i + 1] * hy + D[3 * i + 2] * hx;
+      }
+      const double sh0 = s[0] * hx + s[2] * hy, sh1 = s[2] * hx + s[1] * hy;
+      const int Ib = C->node[k0 + b];
+      for (int a = 0; a < (half ? b + 1 : nk); a++) {
+        const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
+        double diag = geo ? v * (gx * sh0 + gy * sh1) : 0.0;
+        if (inertia) diag += kdyn * m * C->N[k0 + a] * C->N[k0 + b];
+        const double kab[4] = {
+            v * (gx * DB[0][0] + gy * DB[2][0]) + diag, v * (gx * DB[0][1] + gy * DB[2][1]),
+            v * (gy * DB[1][0] + gx * DB[2][0]), v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
+        double *e = kl + 4 * (a * nk + b);
+        for (int q = 0; q < 4; q++) e[q] += kab[q];
+        if (lift) { /* free row of node a, fixed column of node b */
+          const int Ia = C->node[k0 + a];
+          for (int i = 0; i < 2; i++)
+            for (int jj = 0; jj < 2; jj++)
+              if (dof[2 * Ia + i] >= 0 && dof[2 * Ib + jj] < 0)
+                R[dof[2 * Ia + i]] -= kab[2 * i + jj] * lift[2 * Ib + jj];
+        }
+      }
+    }
+  }
+  if (half) /* lower blocks: transposes of the upper ones */
+    for (int b = 0; b < nkg; b++)
+      for (int a = b + 1; a < nkg; a++) {
+        double *lo = kl + 4 * (a * nkg + b);
+        const double *up = kl + 4 * (b * nkg + a);
+        lo[0] = up[0]; lo[1] = up[2]; lo[2] = up[1]; lo[3] = up[3];
+      }
   const int *sc = pb->scatter + pb->scatter_ptr[g];
   double *val = pb->K.val;
-  for (int q = 0; q < n; q++)
-    if (sc[q] >= 0) val[sc[q]] += pb->kloc[q];
+  for (int q = 0; q < 4 * nkg * nkg; q++)
+    if (sc[q] >= 0) val[sc[q]] += kl[q];
+}
+
+static void assemble_task(void *arg, int task, int tid) {
+  const asm_job *j = arg;
+  const mpgm_problem *pb = j->pb;
+  const int t = j->t0 + task;
+  if (j->want_K) {
+    double *kl = pb->kloc + (size_t)tid * (size_t)pb->kloc_size;
+    for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++) assemble_group(j, pb->task_grp[i], kl);
+  } else { /* residual only: the task's points as one flat list, in the
+            * same order as above (so R is the same to the last bit) */
+    for (int i = pb->tpt_ptr[t]; i < pb->tpt_ptr[t + 1]; i++) point_residual(j, pb->task_pts[i]);
+  }
 }
 
 int mpgm_assemble(mpgm_problem *pb, int want_K) {
   mpgm_ctx *ctx = pb->ctx;
-  const mpgm_points *P = &pb->pts;
-  const mpgm_conn *C = &pb->conn;
-  const int *dof = pb->nodes.dof;
-  const int inertia = pb->fx.inertia, geo = pb->fx.geometric;
-  double *R = pb->R;
-  const int n = pb->nodes.ndof;
-  double kdyn = 0.0;
-  if (inertia) {
+  asm_job j = {.pb = pb, .want_K = want_K, .inertia = pb->fx.inertia, .geo = pb->fx.geometric};
+  if (j.inertia) {
     mpgm_timer_start(ctx, MPGM_T_MASS);
     newmark_correct(pb);
-    kdyn = 1.0 / (pb->scene->beta * pb->dt * pb->dt);
+    j.kdyn = 1.0 / (pb->scene->beta * pb->dt * pb->dt);
     ctx->n_mass++;
     mpgm_timer_stop(ctx, MPGM_T_MASS);
   }
   mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
-  memcpy(R, pb->fext, sizeof(double) * (size_t)n);
+  memcpy(pb->R, pb->fext, sizeof(double) * (size_t)pb->nodes.ndof);
   if (want_K) memset(pb->K.val, 0, sizeof(double) * (size_t)pb->K.nnz);
-  const double *an = pb->nodes.a_new;
-  const double *lift = want_K ? pb->lift : NULL;
-  double *kl = pb->kloc;
+  j.an = pb->nodes.a_new;
+  j.lift = want_K ? pb->lift : NULL;
   /* symmetric tangent (every material's, K_geo and the mass term are):
    * only the blocks a <= b are computed; not with a lift, which needs the
    * free-fixed blocks of both sides */
-  const int half = pb->symmetric && !lift;
-  /* with K: group by group (one local matrix and one scatter per group);
-   * residual only: in memory order */
-  const int ng = want_K ? pb->ngroups : 1;
-  for (int g = 0; g < ng; g++) {
-    const int t0 = want_K ? pb->grp_ptr[g] : 0, t1 = want_K ? pb->grp_ptr[g + 1] : P->n;
-    const int p0 = want_K ? pb->order[t0] : 0, nkg = C->ptr[p0 + 1] - C->ptr[p0];
-    if (want_K) memset(kl, 0, sizeof(double) * 4 * (size_t)nkg * nkg);
-    for (int t = t0; t < t1; t++) {
-      const int p = want_K ? pb->order[t] : t;
-      const double *s = P->sigma_t + 4 * p, *D = P->D_t + 9 * p;
-      const double v = P->vol_t[p], m = P->mass[p];
-      const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
-      double ap[2] = {0, 0};
-      if (inertia)
-        for (int k = k0; k < k0 + nk; k++) {
-          ap[0] += C->N[k] * an[2 * C->node[k]];
-          ap[1] += C->N[k] * an[2 * C->node[k] + 1];
-        }
-      for (int a = 0; a < nk; a++) {
-        const int I = C->node[k0 + a];
-        const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
-        double f0 = v * (s[0] * gx + s[2] * gy), f1 = v * (s[2] * gx + s[1] * gy);
-        if (inertia) {
-          f0 += m * C->N[k0 + a] * ap[0];
-          f1 += m * C->N[k0 + a] * ap[1];
-        }
-        if (dof[2 * I] >= 0) R[dof[2 * I]] -= f0;
-        if (dof[2 * I + 1] >= 0) R[dof[2 * I + 1]] -= f1;
-      }
-      if (!want_K) continue;
-      for (int b = 0; b < nk; b++) {
-        const double hx = C->g[2 * (k0 + b)], hy = C->g[2 * (k0 + b) + 1];
-        /* DB = D B_b (3 x 2) */
-        double DB[3][2];
-        for (int i = 0; i < 3; i++) {
-          DB[i][0] = D[3 * i] * hx + D[3 * i + 2] * hy;
-          DB[i][1] = D[3 * i + 1] * hy + D[3 * i + 2] * hx;
-        }
-        const double sh0 = s[0] * hx + s[2] * hy, sh1 = s[2] * hx + s[1] * hy;
-        const int Ib = C->node[k0 + b];
-        for (int a = 0; a < (half ? b + 1 : nk); a++) {
-          const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
-          double diag = geo ? v * (gx * sh0 + gy * sh1) : 0.0;
-          if (inertia) diag += kdyn * m * C->N[k0 + a] * C->N[k0 + b];
-          const double kab[4] = {
-              v * (gx * DB[0][0] + gy * DB[2][0]) + diag, v * (gx * DB[0][1] + gy * DB[2][1]),
-              v * (gy * DB[1][0] + gx * DB[2][0]), v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
-          double *e = kl + 4 * (a * nk + b);
-          for (int q = 0; q < 4; q++) e[q] += kab[q];
-          if (lift) { /* free row of node a, fixed column of node b */
-            const int Ia = C->node[k0 + a];
-            for (int i = 0; i < 2; i++)
-              for (int j = 0; j < 2; j++)
-                if (dof[2 * Ia + i] >= 0 && dof[2 * Ib + j] < 0)
-                  R[dof[2 * Ia + i]] -= kab[2 * i + j] * lift[2 * Ib + j];
-          }
-        }
-      }
-    }
-    if (want_K && half) /* lower blocks: transposes of the upper ones */
-      for (int b = 0; b < nkg; b++)
-        for (int a = b + 1; a < nkg; a++) {
-          double *lo = kl + 4 * (a * nkg + b);
-          const double *up = kl + 4 * (b * nkg + a);
-          lo[0] = up[0]; lo[1] = up[2]; lo[2] = up[1]; lo[3] = up[3];
-        }
-    if (want_K) flush_group(pb, g, 4 * nkg * nkg);
+  j.half = pb->symmetric && !j.lift;
+  /* phase by phase; the tasks of a phase touch disjoint entries */
+  for (int ph = 0; ph < 4; ph++) {
+    j.t0 = phase_task[ph];
+    mpgm_pool_run(pb->pool, phase_task[ph + 1] - phase_task[ph], assemble_task, &j);
   }
   mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
   return 0;

@@ -13,6 +13,7 @@
 #define MPGM_CORE_H
 
 #include "mpgm_base.h"
+#include "mpgm_pool.h"
 #include "mpgm_material.h"
 #include "mpgm_scene.h"
 #include "mpgm_shapefn.h"
@@ -44,6 +45,8 @@ typedef struct mpgm_points {
   double *state;  /**< committed material state, nstate per point      */
   int *mat;       /**< material index                                  */
   int *body;      /**< body index                                      */
+  int *id;        /**< the point's number at creation: points may be
+                       reordered (mpgm_points_sort), ids stay          */
   /* trial values of the current Newton iterate (n material points) */
   double *F_t, *sigma_t, *D_t, *state_t, *vol_t, *dF_t;
 } mpgm_points;
@@ -137,6 +140,10 @@ typedef struct mpgm_newton_info {
   double du_rel;    /**< final |delta u| / |Delta u|                   */
 } mpgm_newton_info;
 
+/** Chunks of the threaded assembly; a constant, so that the order of the
+ *  sums does not depend on the number of threads. */
+#define MPGM_ASM_CHUNKS 16
+
 struct mpgm_problem {
   mpgm_ctx *ctx;
   const mpgm_scene *scene;
@@ -171,7 +178,20 @@ struct mpgm_problem {
   int *nbr_ptr, *nbr; /**< node graph of the pattern: sorted neighbours  */
   int *nbr_off;      /**< per neighbour entry: offset of its rows in the
                           owner's columns                               */
-  double *kloc;      /**< local matrix of a group (4 max n_p^2)         */
+  double *kloc;      /**< local matrices of the groups, one per thread
+                          (kloc_size doubles each)                      */
+  int kloc_size;     /**< 4 max n_p^2                                    */
+  /* threads (docs/architecture.md, "Threads"): the groups are cut into
+   * MPGM_ASM_CHUNKS chunks along the group order; the assembly runs as
+   * tasks over groups that share no node with another task of the same
+   * phase, so tasks of a phase may run at once and every entry of R and K
+   * receives its terms in one fixed order, whatever the number of
+   * threads */
+  mpgm_pool *pool;   /**< worker threads (scene "threads")               */
+  int task_ptr[2 * MPGM_ASM_CHUNKS + 1]; /**< offsets into task_grp       */
+  int *task_grp;     /**< groups, task after task, ascending in a task   */
+  int tpt_ptr[2 * MPGM_ASM_CHUNKS + 1]; /**< offsets into task_pts        */
+  int *task_pts;     /**< the tasks' points (their groups' points)       */
   double *R, *fext, *delta;
   double *dubar;     /**< 2 per node: prescribed increment of the step   */
   const double *lift; /**< when set (first iteration), assembly adds
@@ -203,6 +223,13 @@ void mpgm_problem_destroy(mpgm_problem **pb);
 
 /** Allocate points (n material + nprobe tracers) with nstate doubles. */
 int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nstate);
+/** Reorder the material points (not the probes) by key[p] in [0, nkey),
+ *  stably (counting sort), so that points that share nodes lie together in
+ *  memory: every committed per-point array moves, ids included; the trial
+ *  arrays are not moved (they are recomputed before use). perm (n ints,
+ *  may be NULL) receives the old index of each new position, for the
+ *  caller's own per-point arrays. */
+int mpgm_points_sort(mpgm_ctx *ctx, mpgm_points *p, const int *key, int nkey, int *perm);
 /** Allocate nodes. */
 int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n);
 /** Make room for nnz connectivity entries over np points. */

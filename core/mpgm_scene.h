@@ -47,7 +47,8 @@ typedef enum {
   MPGM_FIELD_J = 1 << 5,
   MPGM_FIELD_MATERIAL = 1 << 6,
   MPGM_FIELD_ACCELERATION = 1 << 7,
-  MPGM_FIELD_ALL = (1 << 8) - 1
+  MPGM_FIELD_ID = 1 << 8,
+  MPGM_FIELD_ALL = (1 << 9) - 1
 } mpgm_field;
 
 /** A body: one material, one reference geometry, an initial velocity.
@@ -122,6 +123,8 @@ typedef struct mpgm_scene {
                                  convergence)                          */
   int threads;              /**< threads of BLAS under the solvers (0:
                                  the libraries' defaults)              */
+  int loop_threads;         /**< threads of mpgm's point and assembly
+                                 loops (0: one per online core)       */
   /* physics */
   int nmat;
   mpgm_material *mats;

@@ -167,13 +167,20 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
   /* J = det F per point (scratch in the trial volume's neighbour: own buffer) */
   double *J = malloc(sizeof(double) * (size_t)(n ? n : 1));
   double *matid = malloc(sizeof(double) * (size_t)(n ? n : 1));
-  MPGM_CHECK(ctx, J && matid, MPGM_ERR_NOMEM, "out of memory (output)");
+  double *id = malloc(sizeof(double) * (size_t)(n ? n : 1));
+  if (!J || !matid || !id) {
+    free(J);
+    free(matid);
+    free(id);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (output)");
+  }
   for (int p = 0; p < n; p++) {
     const double *F = P->F + 4 * p;
     J[p] = F[0] * F[3] - F[1] * F[2];
     matid[p] = P->mat[p];
+    id[p] = P->id[p];
   }
-  mpgm_vtk_field f[8];
+  mpgm_vtk_field f[9];
   int nf = 0;
   const unsigned m = s->fields;
   if (m & MPGM_FIELD_DISPLACEMENT) f[nf++] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR2, P->u};
@@ -184,6 +191,7 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
   if (m & MPGM_FIELD_VOLUME) f[nf++] = (mpgm_vtk_field){"volume", MPGM_VTK_SCALAR, P->vol};
   if (m & MPGM_FIELD_J) f[nf++] = (mpgm_vtk_field){"J", MPGM_VTK_SCALAR, J};
   if (m & MPGM_FIELD_MATERIAL) f[nf++] = (mpgm_vtk_field){"material", MPGM_VTK_SCALAR, matid};
+  if (m & MPGM_FIELD_ID) f[nf++] = (mpgm_vtk_field){"id", MPGM_VTK_SCALAR, id};
   char rel[64], path[MPGM_PATH_LEN + 128], title[256];
   snprintf(rel, sizeof rel, "vtk/points_%06d.vtk", o->nvtk);
   snprintf(path, sizeof path, "%s/%s", o->dir, rel);
@@ -191,6 +199,7 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
   int err = mpgm_vtk_write(ctx, path, binary, title, n, P->x, 0, NULL, NULL, NULL, nf, f);
   free(J);
   free(matid);
+  free(id);
   MPGM_CALL(err);
   MPGM_CALL(mpgm_pvd_add(o->pvd_points, ctx, time, rel));
   o->files++;

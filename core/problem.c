@@ -24,6 +24,8 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsta
   MPGM_ALLOC(ctx, p->state, (size_t)nstate * m);
   MPGM_ALLOC(ctx, p->mat, m);
   MPGM_ALLOC(ctx, p->body, m);
+  MPGM_ALLOC(ctx, p->id, m);
+  for (int i = 0; i < m; i++) p->id[i] = i;
   MPGM_ALLOC(ctx, p->F_t, 4 * n);
   MPGM_ALLOC(ctx, p->dF_t, 4 * n);
   MPGM_ALLOC(ctx, p->sigma_t, 4 * n);
@@ -36,9 +38,60 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsta
   return 0;
 }
 
+/* a[i] = a[perm[i]] (old values) for n records of w doubles / ints */
+static void gather_d(double *a, double *tmp, const int *perm, int n, int w) {
+  for (int i = 0; i < n; i++) memcpy(tmp + (size_t)w * i, a + (size_t)w * perm[i], sizeof(double) * (size_t)w);
+  memcpy(a, tmp, sizeof(double) * (size_t)w * (size_t)n);
+}
+static void gather_i(int *a, int *tmp, const int *perm, int n) {
+  for (int i = 0; i < n; i++) tmp[i] = a[perm[i]];
+  memcpy(a, tmp, sizeof(int) * (size_t)n);
+}
+
+int mpgm_points_sort(mpgm_ctx *ctx, mpgm_points *p, const int *key, int nkey, int *perm_out) {
+  const int n = p->n;
+  if (n <= 1) {
+    if (perm_out && n == 1) perm_out[0] = 0;
+    return 0;
+  }
+  const int w = p->nstate > 4 ? p->nstate : 4;
+  int *perm = perm_out ? perm_out : malloc(sizeof(int) * (size_t)n);
+  int *cnt = calloc((size_t)nkey + 1, sizeof(int));
+  double *tmp = malloc(sizeof(double) * (size_t)w * (size_t)n);
+  if (!perm || !cnt || !tmp) {
+    if (!perm_out) free(perm);
+    free(cnt);
+    free(tmp);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sorting %d points)", n);
+  }
+  for (int i = 0; i < n; i++) cnt[key[i] + 1]++;
+  for (int k = 0; k < nkey; k++) cnt[k + 1] += cnt[k];
+  for (int i = 0; i < n; i++) perm[cnt[key[i]]++] = i;
+  gather_d(p->x, tmp, perm, n, 2);
+  gather_d(p->x0, tmp, perm, n, 2);
+  gather_d(p->u, tmp, perm, n, 2);
+  gather_d(p->v, tmp, perm, n, 2);
+  gather_d(p->a, tmp, perm, n, 2);
+  gather_d(p->mass, tmp, perm, n, 1);
+  gather_d(p->vol0, tmp, perm, n, 1);
+  gather_d(p->vol, tmp, perm, n, 1);
+  gather_d(p->F, tmp, perm, n, 4);
+  gather_d(p->sigma, tmp, perm, n, 4);
+  gather_d(p->S0, tmp, perm, n, 4);
+  if (p->nstate) gather_d(p->state, tmp, perm, n, p->nstate);
+  gather_i(p->mat, (int *)tmp, perm, n);
+  gather_i(p->body, (int *)tmp, perm, n);
+  gather_i(p->id, (int *)tmp, perm, n);
+  if (!perm_out) free(perm);
+  free(cnt);
+  free(tmp);
+  ctx->n_point_sorts++;
+  return 0;
+}
+
 static void points_free(mpgm_points *p) {
   void *arr[] = {p->x, p->x0, p->u, p->v, p->a, p->mass, p->vol0, p->vol, p->F,
-                 p->sigma, p->S0, p->state, p->mat, p->body, p->F_t, p->dF_t, p->sigma_t,
+                 p->sigma, p->S0, p->state, p->mat, p->body, p->id, p->F_t, p->dF_t, p->sigma_t,
                  p->D_t, p->state_t, p->vol_t};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   memset(p, 0, sizeof *p);
@@ -135,6 +188,11 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
   pb->symmetric = 1;
   for (int i = 0; i < scene->nmat; i++) pb->symmetric &= scene->mats[i].symmetric;
   mpgm_solver_threads(scene->threads);
+  /* mpgm's own loops: worker threads live as long as the problem */
+  if (mpgm_pool_create(ctx, scene->loop_threads, &pb->pool)) {
+    free(pb);
+    return ctx->code;
+  }
   const mpgm_solver_type *st = scene->solver;
   pb->solver_auto = !st;
   if (!st) st = mpgm_solver_type_find(pb->symmetric ? "cholmod" : "umfpack");
@@ -199,6 +257,9 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->nbr_ptr);
   free(pb->nbr_off);
   free(pb->kloc);
+  free(pb->task_grp);
+  free(pb->task_pts);
+  mpgm_pool_destroy(&pb->pool);
   free(pb->R);
   free(pb->fext);
   free(pb->delta);

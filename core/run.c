@@ -45,6 +45,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   const mpgm_solver *used = pb->solver_alt && pb->solver_alt->type->needs_spd ? pb->solver_alt : pb->solver;
   cJSON_AddStringToObject(j, "solver", used->type->name);
   cJSON_AddNumberToObject(j, "solver_threads", s->threads);
+  cJSON_AddNumberToObject(j, "threads", mpgm_pool_size(pb->pool));
   cJSON_AddItemToObject(j, "effects", (cJSON *)mpgm_effects_json(&pb->fx));
   cJSON *c = cJSON_AddObjectToObject(j, "counts");
   int ncells = 0;
@@ -64,6 +65,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "material_updates", (double)ctx->n_material_calls);
   cJSON_AddNumberToObject(c, "body_force_loops", (double)ctx->n_body_force);
   cJSON_AddNumberToObject(c, "inertia_loops", (double)ctx->n_mass);
+  cJSON_AddNumberToObject(c, "point_sorts", (double)ctx->n_point_sorts);
   cJSON_AddNumberToObject(c, "step_cuts", 0);
   cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
   cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)pb->lu_steps);

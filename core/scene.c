@@ -17,7 +17,7 @@ static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", NULL};
 static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
 static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
-                                          "volume", "J", "material", "acceleration", NULL};
+                                          "volume", "J", "material", "acceleration", "id", NULL};
 static const char *const future_methods[] = {"gmm", NULL};
 static const char *const condition_names[] = {"stick", "slip", "contact", NULL}; /* = mpgm_condition - 1 */
 
@@ -498,6 +498,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_end(&mesh));
 
   MPGM_CALL(jr_enum(root, "kinematics", kin_names, MPGM_KIN_FINITE, &s->kinematics));
+  MPGM_CALL(jr_int(root, "threads", 0, 0, 256, &s->loop_threads));
 
   jr_node tm;
   MPGM_CALL(jr_child(root, "time", 0, &tm));

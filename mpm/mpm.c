@@ -197,12 +197,24 @@ static int mpm_begin_step(mpgm_problem *pb) {
         MPGM_ERROR(ctx, MPGM_ERR_DOMAIN,
                    "step %ld: particle %d (body \"%s\", started at (%g, %g)) is at (%g, %g), "
                    "outside the background grid [%g, %g] x [%g, %g] (mesh.domain)",
-                   d->step, p, s->bodies[P->body[p]].name, P->x0[2 * p], P->x0[2 * p + 1],
+                   d->step, P->id[p], s->bodies[P->body[p]].name, P->x0[2 * p], P->x0[2 * p + 1],
                    P->x[2 * p], P->x[2 * p + 1], g->min[0], g->max[0], g->min[1], g->max[1]);
       MPGM_ERROR(ctx, MPGM_ERR_DOMAIN, "step %ld: probe \"%s\" is at (%g, %g), outside the background grid",
                  d->step, s->probes[p - np].name, P->x[2 * p], P->x[2 * p + 1]);
     }
     if (p < np) d->cact[d->pcell[p]] = 1;
+  }
+  /* The particles of a cell are used together (one group in the
+   * assembly): keep them together in memory. As they cross cells their
+   * order decays (the rolling disk: 60 % of the cells scattered after 20
+   * steps, and an assembly 1.5x slower); once more than 1/32 of the
+   * particles follow one of a higher cell, reorder them by cell (stable
+   * counting sort, O(particles)). */
+  long descents = 0;
+  for (int p = 1; p < np; p++) descents += d->pcell[p] < d->pcell[p - 1];
+  if (descents > np / 32) {
+    MPGM_CALL(mpgm_points_sort(ctx, P, d->pcell, g->ncell, NULL));
+    for (int p = 0; p < np; p++) mpgm_grid_locate(g, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p);
   }
   for (int k = 0; k < P->nprobe; k++) {
     const int p = np + k;

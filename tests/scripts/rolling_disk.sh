@@ -4,7 +4,7 @@
 #   within a coarse-grid band (see the tolerances below);
 # - slip floor: frictionless sliding, s = g sin(a) t^2 / 2 (minus the Newmark
 #   start-up lag of a_0 = 0);
-# the particles fill the disk.
+# the particles fill the disk; 1 and 3 threads give the same bits.
 # usage: rolling_disk.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
@@ -17,6 +17,11 @@ fail=0
 # the same with the contact set checked only at convergence (solver.contact_check = 0)
 "$exe" run "$src/cases/rolling_disk.json" "${coarse[@]}" --set solver.contact_check=0 \
   --out "$work/roll0" > "$work/roll0.log" 2>&1 || { cat "$work/roll0.log"; fail=1; }
+# the same on 1 and on 3 threads (mpgm's loops): the same bits
+for t in 1 3; do
+  "$exe" run "$src/cases/rolling_disk.json" "${coarse[@]}" --set threads=$t \
+    --out "$work/roll_t$t" > "$work/roll_t$t.log" 2>&1 || { cat "$work/roll_t$t.log"; fail=1; }
+done
 [ $fail -eq 0 ] || { echo "0 passed, 1 failed"; exit 1; }
 /usr/bin/python3 - "$work" <<'PY'
 import json, math, sys
@@ -32,6 +37,13 @@ d = abs(r0["metrics"]["s_final"] - m["s_final"]) / abs(r0["metrics"]["s_final"])
 check(d < 1e-9 and r["counts"]["newton_iterations"] < r0["counts"]["newton_iterations"],
       f"contact set checked early (1e-3) and only at convergence: same s_final (rel. diff {d:.1e}), "
       f"{r['counts']['newton_iterations']} vs {r0['counts']['newton_iterations']} Newton iterations")
+r1 = json.load(open(f"{w}/roll_t1/summary.json")); r3 = json.load(open(f"{w}/roll_t3/summary.json"))
+def steps(d):  # steps.csv without its wall-clock column
+    return [l.rsplit(",", 1)[0] for l in open(f"{w}/{d}/steps.csv")]
+same = open(f"{w}/roll_t1/probes.csv").read() == open(f"{w}/roll_t3/probes.csv").read() and \
+    steps("roll_t1") == steps("roll_t3")
+check(r1["threads"] == 1 and r3["threads"] == 3 and same and r1["metrics"] == r3["metrics"],
+      f"1 and 3 threads: identical probes.csv, steps.csv (but wall_s) and metrics (s_final {r1['metrics']['s_final']!r} vs {r3['metrics']['s_final']!r})")
 check(r["effects"]["contact"] and r["counts"]["contact_resolves"] > 0,
       f"contact floor: nodes released where the disk lifts ({r['counts']['contact_resolves']} re-solves)")
 # Coarse grid: the particles of the bottom cell row (|x - x_c| < sqrt(2 R h)

@@ -9,7 +9,7 @@ Run layout (the contract with the mpgm program):
   RUN_DIR/probes.csv     step,time,<name>_ux,<name>_uy,...
   RUN_DIR/points.pvd, RUN_DIR/mesh.pvd
   RUN_DIR/vtk/points_NNNNNN.vtk  VECTORS displacement, velocity;
-                                 TENSORS stress; SCALARS mass, volume, J
+                                 TENSORS stress; SCALARS mass, volume, J, id
   RUN_DIR/vtk/mesh_NNNNNN.vtk    VECTORS displacement
 
 Prints one line per check (PASS / FAIL / SKIP / NOTE) and finishes with
@@ -27,7 +27,7 @@ import xml.etree.ElementTree as ET
 
 VTK_VERTEX = 1
 POINT_ARRAYS = {"displacement": 3, "velocity": 3, "stress": 9,
-                "mass": 1, "volume": 1, "J": 1}
+                "mass": 1, "volume": 1, "J": 1, "id": 1}
 MESH_ARRAYS = {"displacement": 3}
 PROBE_DIST_TOL = 1e-9   # node must lie this close to the probe (x max(1,|x|))
 PROBE_REL_TOL = 1e-9    # relative to the norm of the probe's displacement
@@ -141,6 +141,10 @@ def check_files(ck, vtk_mods, run, summary, kind_files):
                 grid.GetCellType(c) == VTK_VERTEX for c in range(ncells)),
                 "%s: %d cells, all VTK_VERTEX" % (name, ncells))
             check_arrays(ck, grid, name, POINT_ARRAYS)
+            ids = grid.GetPointData().GetArray("id")
+            if ids is not None:  # points may be reordered; ids stay 0..n-1
+                got = sorted(int(ids.GetValue(t)) for t in range(ids.GetNumberOfTuples()))
+                ck.check(got == list(range(npts)), "%s: id is a permutation of 0..%d" % (name, npts - 1))
         elif kind == "mesh":
             wn, wc = counts.get("nodes"), counts.get("cells")
             ck.check(npts == wn, "%s: %d points (summary nodes: %s)" % (name, npts, wn))
