@@ -558,6 +558,11 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_end(root));
   if (s->shape->needs_cell && s->method != MPGM_METHOD_FEM && s->method != MPGM_METHOD_MPM)
     return jr_fail(root, "shape", "shape kind \"%s\" needs cells (method fem or mpm)", s->shape->name);
+  /* meshfree kinds need node clouds: the gmm front end and cloud-based MPM
+   * are not in this build yet */
+  if (!s->shape->needs_cell)
+    return jr_fail(root, "shape", "shape kind \"%s\" is meshfree: it needs node clouds (method gmm, or mpm with "
+                   "clouds), which this build does not have yet; use \"fe\"", s->shape->name);
   return 0;
 }
 

@@ -3,6 +3,7 @@
 #include "mpgm_shapefn.h"
 
 #include <math.h>
+#include <string.h>
 
 int mpgm_fe_nnode(int cell) { return cell == MPGM_CELL_T3 ? 3 : 4; }
 
@@ -132,8 +133,18 @@ int mpgm_fe_inside(int cell, const double xi[2], double tol) {
 }
 
 static int fe_eval(const mpgm_shape_query *q, double *N, double *dN) {
-  if (q->cell < 0 || q->n != mpgm_fe_nnode(q->cell)) return MPGM_ERR_SHAPE;
-  return mpgm_fe_eval(q->cell, q->xn, q->xi, N, dN, NULL);
+  int err = MPGM_ERR_SHAPE, reason = MPGM_SHAPE_BAD_INPUT;
+  if (q->cell >= 0 && q->cell <= MPGM_CELL_Q4 && q->n == mpgm_fe_nnode(q->cell)) {
+    err = mpgm_fe_eval(q->cell, q->xn, q->xi, N, dN, NULL);
+    reason = err ? MPGM_SHAPE_INVERTED : MPGM_SHAPE_OK;
+  }
+  if (q->info) {
+    memset(q->info, 0, sizeof *q->info);
+    q->info->reason = reason;
+    q->info->msg = mpgm_shape_reason_str(reason);
+    q->info->nsupport = err ? 0 : q->n;
+  }
+  return err;
 }
 
 const mpgm_shapefn_type mpgm_shapefn_fe = {

@@ -2,10 +2,17 @@
  *
  * Contract shared by every kind: given a material point and its candidate
  * nodes, return N_I and grad N_I (with respect to the configuration the node
- * coordinates are given in), or a recoverable error (MPGM_ERR_SHAPE,
- * MPGM_ERR_JACOBIAN). Cell-based kinds (FE) also take the cell kind and the
- * point's local coordinates in that cell; meshfree kinds (MLS, LME: next
- * issues) take only the cloud.
+ * coordinates are given in), or an error code. Cell-based kinds (FE) also
+ * take the cell kind and the point's local coordinates in that cell;
+ * meshfree kinds (MLS, LME) take the cloud, a parameter struct and, for LME,
+ * the point's Lagrange multiplier as warm start.
+ *
+ * Errors of eval: 0; recoverable MPGM_ERR_JACOBIAN (inverted FE cell) or
+ * MPGM_ERR_SHAPE (singular / ill-conditioned moment matrix or Hessian,
+ * point outside the convex hull of its cloud, Newton not converged: the
+ * caller may enlarge the cloud and retry, see mpgm_shape_info); fatal
+ * MPGM_ERR_INPUT (more than MPGM_SHAPE_MAXNODE nodes, missing length scale).
+ * Meshfree kinds never return NaN: on failure N and dN are zero.
  */
 #ifndef MPGM_SHAPEFN_H
 #define MPGM_SHAPEFN_H
@@ -24,25 +31,120 @@ typedef enum {
 
 /** Largest number of nodes a point may be connected to (FE: 4). */
 #define MPGM_FE_MAXNODE 4
+/** Largest cloud a meshfree kind accepts (stack workspaces are sized by it;
+ *  a larger query is MPGM_ERR_INPUT). */
+#define MPGM_SHAPE_MAXNODE 128
 
-/** One evaluation request. */
+/** Parameters of the meshfree kinds. A zero field means its default, so a
+ *  zero-initialised struct is usable once the length scale is set (h, or
+ *  radius for MLS): no length can be defaulted. FE ignores the struct. */
+typedef struct mpgm_shape_params {
+  double h;           /**< nodal spacing [m]. LME: beta = gamma / h^2 and the
+                           scale of lambda and of tol_newton (required, > 0).
+                           MLS: support radius = dilation * h when radius = 0 */
+  /* LME (Arroyo & Ortiz 2006) */
+  double gamma;       /**< dimensionless locality gamma = beta h^2; default 1.8
+                           (0.8 spread-out ... 4 near-FE; FE limit as gamma
+                           grows; lower tol_support when gamma > -ln(tol)) */
+  double tol_support; /**< nodes where exp(-beta r^2) < tol_support are cut
+                           off: r_max = h sqrt(-ln(tol_support) / gamma);
+                           default 1e-6                                       */
+  double tol_newton;  /**< Newton stops when |r| / h < tol_newton (r = grad of
+                           log Z = sum N_a (x - x_a) = x - sum N_a x_a);
+                           default 1e-10                                      */
+  int max_newton;     /**< Newton iteration limit; default 100 (a point on the
+                           hull boundary needs ~ln(1/tol_newton) iterations
+                           from a cold start)                                 */
+  double max_cond;    /**< largest accepted condition number of the LME
+                           Hessian J (2-norm) or of the MLS moment matrix M
+                           (1-norm, scaled basis); default 1e12 (LME; points
+                           on the hull boundary reach ~1/tol_newton) and 1e10
+                           (MLS)                                              */
+  /* MLS */
+  double radius;      /**< support radius R of the weight [m]; default
+                           dilation * h                                       */
+  double dilation;    /**< R / h when radius = 0; default 2.0                */
+  int order;          /**< MLS basis: 1 linear (default, also for 0),
+                           2 quadratic                                        */
+} mpgm_shape_params;
+
+/** Why an evaluation failed (mpgm_shape_info.reason). */
+typedef enum {
+  MPGM_SHAPE_OK = 0,
+  MPGM_SHAPE_BAD_INPUT,     /**< n out of range, no length scale, bad cell   */
+  MPGM_SHAPE_INVERTED,      /**< FE cell with det J <= 0                     */
+  MPGM_SHAPE_TOO_FEW,       /**< fewer nodes in the support than the basis
+                                 needs (MLS: 3 or 6; LME: 3)                   */
+  MPGM_SHAPE_ILL_COND,      /**< moment matrix / Hessian singular or its
+                                 condition number > max_cond                  */
+  MPGM_SHAPE_OUTSIDE_HULL,  /**< LME: point outside the convex hull of the
+                                 nodes in its support                         */
+  MPGM_SHAPE_NOT_CONVERGED  /**< LME: Newton on lambda hit max_newton or the
+                                 line search stalled                           */
+} mpgm_shape_reason;
+
+/** Short fixed description of a reason ("point outside the convex hull of
+ *  its cloud", ...). */
+const char *mpgm_shape_reason_str(int reason);
+
+/** Optional detail of one evaluation (filled on success and on failure).
+ *  Callers count cloud enlargements and Newton iterations from it. */
+typedef struct mpgm_shape_info {
+  int reason;     /**< mpgm_shape_reason; MPGM_SHAPE_OK on success         */
+  const char *msg;/**< static text of the reason (never NULL once filled)  */
+  int iterations; /**< LME Newton iterations (0: the start was converged)  */
+  int nsupport;   /**< nodes inside the support (N may be non-zero)        */
+  double cond;    /**< condition number of J (LME) or M (MLS); 0 for FE    */
+  double residual;/**< LME: final |r| / h                                  */
+} mpgm_shape_info;
+
+/* Failure handling by the caller (the GMM front end; Iaconeta et al. 2017,
+ * section 5.3): on MPGM_ERR_SHAPE from a meshfree kind, add the nearest node
+ * not yet in the cloud and evaluate again (keeping lambda as the start),
+ * until it succeeds or the cloud reaches MPGM_SHAPE_MAXNODE; count the
+ * enlargements (and Newton iterations) from mpgm_shape_info. The kinds
+ * never change the cloud themselves. See docs/theory.md, section 12. */
+
+/** One evaluation request. Use designated initialisers: fields left out are
+ *  zero, which keeps FE callers unchanged. */
 typedef struct mpgm_shape_query {
-  int n;            /**< number of candidate nodes                       */
+  int n;            /**< number of candidate nodes (<= MPGM_SHAPE_MAXNODE) */
   const double *xn; /**< their coordinates, 2 per node [m]               */
   double xp[2];     /**< point position [m]                              */
   int cell;         /**< mpgm_cell_kind for cell-based kinds, else -1    */
   double xi[2];     /**< local coordinates of the point in the cell      */
+  const mpgm_shape_params *par; /**< meshfree parameters (borrowed); NULL
+                                     is MPGM_ERR_INPUT for meshfree kinds */
+  double *lambda;   /**< LME per-point state in/out, 2 values [1/m]: start
+                         of Newton on entry (NULL or non-finite: zero),
+                         converged multiplier on success (untouched on
+                         failure). Ignored by other kinds.                */
+  mpgm_shape_info *info; /**< optional out: reason and counters          */
 } mpgm_shape_query;
 
 /** A shape-function kind. */
 typedef struct mpgm_shapefn_type {
-  const char *name; /**< scene name: "fe"                                 */
+  const char *name; /**< scene name: "fe", "mls", "lme"                   */
   const char *doc;  /**< one line for docs                                */
-  int needs_cell;   /**< 1: connectivity comes from cells (FEM, MPM only) */
+  int needs_cell;   /**< 1: connectivity comes from cells (FEM, MPM only);
+                         0: meshfree, the caller gives a cloud of nodes
+                         within mpgm_shape_support_radius of the point     */
   /** N (q->n values) and dN (2 per node: d/dx, d/dy) at the point.
-   *  Returns 0, MPGM_ERR_JACOBIAN (inverted cell) or MPGM_ERR_SHAPE. */
+   *  Returns 0, MPGM_ERR_JACOBIAN (inverted cell), MPGM_ERR_SHAPE
+   *  (recoverable; reason in q->info) or MPGM_ERR_INPUT. Nodes outside the
+   *  support get N = 0, dN = 0. */
   int (*eval)(const mpgm_shape_query *q, double *N, double *dN);
+  /** Optional (NULL for cell-based kinds): radius [m] of the node search
+   *  around a point. Returns 0 or MPGM_ERR_INPUT (no length scale). */
+  int (*support_radius)(const mpgm_shape_params *par, double *radius);
 } mpgm_shapefn_type;
+
+/** Radius [m] within which a meshfree kind needs the nodes of a point (the
+ *  caller's radius search): LME h sqrt(-ln(tol_support) / gamma), MLS the
+ *  weight's support radius. MPGM_ERR_UNSUPPORTED for kinds without it (FE),
+ *  MPGM_ERR_INPUT without a length scale. */
+int mpgm_shape_support_radius(const mpgm_shapefn_type *t, const mpgm_shape_params *par,
+                              double *radius);
 
 /** Find a kind by scene name; NULL if none. */
 const mpgm_shapefn_type *mpgm_shapefn_type_find(const char *name);
