@@ -6,6 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include "mpgm_frontends.h"
 #include "mpgm_mpm.h"
@@ -158,6 +161,13 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
 }
 
 int main(int argc, char **argv) {
+#if defined(__GLIBC__)
+  /* MPM rebuilds its pattern, maps and factor every step: keep freed memory
+   * in the process instead of returning it to the system and faulting in
+   * fresh zeroed pages the next step (2-3 % of the rolling disk's time) */
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 512 << 20);
+#endif
   if (argc < 2 || strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0 ||
       strcmp(argv[1], "-h") == 0) {
     usage(argc < 2 ? stderr : stdout);

@@ -109,6 +109,8 @@ typedef struct mpgm_scene {
   double dt, t_end;         /**< dynamic: step and end time [s]        */
   int load_steps;           /**< static: number of load steps          */
   double beta, gamma;       /**< Newmark parameters                    */
+  int predictor_velocity;   /**< dynamic: Newton starts from du = dt v
+                                 (free components) instead of du = 0  */
   /* solver */
   const mpgm_solver_type *solver; /**< NULL: auto (by tangent symmetry) */
   double rtol, atol, dtol;  /**< Newton: relative and absolute residual,

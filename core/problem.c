@@ -38,53 +38,63 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsta
   return 0;
 }
 
-/* a[i] = a[perm[i]] (old values) for n records of w doubles / ints */
-static void gather_d(double *a, double *tmp, const int *perm, int n, int w) {
-  for (int i = 0; i < n; i++) memcpy(tmp + (size_t)w * i, a + (size_t)w * perm[i], sizeof(double) * (size_t)w);
-  memcpy(a, tmp, sizeof(double) * (size_t)w * (size_t)n);
-}
-static void gather_i(int *a, int *tmp, const int *perm, int n) {
-  for (int i = 0; i < n; i++) tmp[i] = a[perm[i]];
-  memcpy(a, tmp, sizeof(int) * (size_t)n);
-}
-
 int mpgm_points_sort(mpgm_ctx *ctx, mpgm_points *p, const int *key, int nkey, int *perm_out) {
-  const int n = p->n;
+  const int n = p->n, m = p->n + p->nprobe;
   if (n <= 1) {
     if (perm_out && n == 1) perm_out[0] = 0;
     return 0;
   }
-  const int w = p->nstate > 4 ? p->nstate : 4;
+  /* every committed array: its address and record width (ints: width < 0) */
+  struct {
+    void **a;
+    int w;
+  } arr[] = {{(void **)&p->x, 2},     {(void **)&p->x0, 2},     {(void **)&p->u, 2},
+             {(void **)&p->v, 2},     {(void **)&p->a, 2},      {(void **)&p->mass, 1},
+             {(void **)&p->vol0, 1},  {(void **)&p->vol, 1},    {(void **)&p->F, 4},
+             {(void **)&p->sigma, 4}, {(void **)&p->S0, 4},     {(void **)&p->state, p->nstate},
+             {(void **)&p->mat, -1},  {(void **)&p->body, -1},  {(void **)&p->id, -1}};
+  enum { NARR = sizeof arr / sizeof arr[0] };
+  void *fresh[NARR] = {NULL};
   int *perm = perm_out ? perm_out : malloc(sizeof(int) * (size_t)n);
   int *cnt = calloc((size_t)nkey + 1, sizeof(int));
-  double *tmp = malloc(sizeof(double) * (size_t)w * (size_t)n);
-  if (!perm || !cnt || !tmp) {
+  int ok = perm && cnt;
+  for (int j = 0; j < NARR && ok; j++) {
+    const size_t bytes = arr[j].w < 0 ? sizeof(int) : sizeof(double) * (size_t)arr[j].w;
+    ok = (fresh[j] = malloc(bytes * (size_t)m + 1)) != NULL;
+  }
+  if (!ok) { /* nothing moved yet */
+    for (int j = 0; j < NARR; j++) free(fresh[j]);
     if (!perm_out) free(perm);
     free(cnt);
-    free(tmp);
     MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sorting %d points)", n);
   }
   for (int i = 0; i < n; i++) cnt[key[i] + 1]++;
   for (int k = 0; k < nkey; k++) cnt[k + 1] += cnt[k];
   for (int i = 0; i < n; i++) perm[cnt[key[i]]++] = i;
-  gather_d(p->x, tmp, perm, n, 2);
-  gather_d(p->x0, tmp, perm, n, 2);
-  gather_d(p->u, tmp, perm, n, 2);
-  gather_d(p->v, tmp, perm, n, 2);
-  gather_d(p->a, tmp, perm, n, 2);
-  gather_d(p->mass, tmp, perm, n, 1);
-  gather_d(p->vol0, tmp, perm, n, 1);
-  gather_d(p->vol, tmp, perm, n, 1);
-  gather_d(p->F, tmp, perm, n, 4);
-  gather_d(p->sigma, tmp, perm, n, 4);
-  gather_d(p->S0, tmp, perm, n, 4);
-  if (p->nstate) gather_d(p->state, tmp, perm, n, p->nstate);
-  gather_i(p->mat, (int *)tmp, perm, n);
-  gather_i(p->body, (int *)tmp, perm, n);
-  gather_i(p->id, (int *)tmp, perm, n);
+  /* gather into a fresh array (one pass), probes copied as they are */
+  for (int j = 0; j < NARR; j++) {
+    const int w = arr[j].w;
+    if (w < 0) {
+      const int *src = *arr[j].a;
+      int *dst = fresh[j];
+      for (int i = 0; i < n; i++) dst[i] = src[perm[i]];
+      memcpy(dst + n, src + n, sizeof(int) * (size_t)(m - n));
+    } else if (w > 0) {
+      const double *src = *arr[j].a;
+      double *dst = fresh[j];
+      for (int i = 0; i < n; i++)
+        memcpy(dst + (size_t)w * i, src + (size_t)w * perm[i], sizeof(double) * (size_t)w);
+      memcpy(dst + (size_t)w * n, src + (size_t)w * n, sizeof(double) * (size_t)w * (size_t)(m - n));
+    }
+    if (w != 0) {
+      free(*arr[j].a);
+      *arr[j].a = fresh[j];
+    } else {
+      free(fresh[j]);
+    }
+  }
   if (!perm_out) free(perm);
   free(cnt);
-  free(tmp);
   ctx->n_point_sorts++;
   return 0;
 }

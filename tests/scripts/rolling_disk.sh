@@ -17,6 +17,9 @@ fail=0
 # the same with the contact set checked only at convergence (solver.contact_check = 0)
 "$exe" run "$src/cases/rolling_disk.json" "${coarse[@]}" --set solver.contact_check=0 \
   --out "$work/roll0" > "$work/roll0.log" 2>&1 || { cat "$work/roll0.log"; fail=1; }
+# the same with Newton started from du = 0 (time.predictor = zero; the case uses velocity)
+"$exe" run "$src/cases/rolling_disk.json" "${coarse[@]}" --set time.predictor=zero \
+  --out "$work/roll_zero" > "$work/roll_zero.log" 2>&1 || { cat "$work/roll_zero.log"; fail=1; }
 # the same on 1 and on 3 threads (mpgm's loops): the same bits
 for t in 1 3; do
   "$exe" run "$src/cases/rolling_disk.json" "${coarse[@]}" --set threads=$t \
@@ -37,6 +40,12 @@ d = abs(r0["metrics"]["s_final"] - m["s_final"]) / abs(r0["metrics"]["s_final"])
 check(d < 1e-9 and r["counts"]["newton_iterations"] < r0["counts"]["newton_iterations"],
       f"contact set checked early (1e-3) and only at convergence: same s_final (rel. diff {d:.1e}), "
       f"{r['counts']['newton_iterations']} vs {r0['counts']['newton_iterations']} Newton iterations")
+rz = json.load(open(f"{w}/roll_zero/summary.json"))
+dz = abs(rz["metrics"]["s_final"] - m["s_final"]) / abs(rz["metrics"]["s_final"])
+check(r["scene"]["time"]["predictor"] == "velocity" and dz < 1e-8 and
+      r["counts"]["newton_iterations"] < rz["counts"]["newton_iterations"],
+      f"predictor du = dt v and du = 0: same s_final (rel. diff {dz:.1e}), "
+      f"{r['counts']['newton_iterations']} vs {rz['counts']['newton_iterations']} Newton iterations")
 r1 = json.load(open(f"{w}/roll_t1/summary.json")); r3 = json.load(open(f"{w}/roll_t3/summary.json"))
 def steps(d):  # steps.csv without its wall-clock column
     return [l.rsplit(",", 1)[0] for l in open(f"{w}/{d}/steps.csv")]
