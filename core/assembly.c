@@ -290,6 +290,14 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   const mpgm_nodes *nd = &pb->nodes;
   const int np = pb->pts.n, nn = nd->n;
   mpgm_timer_start(ctx, MPGM_T_ANALYSE); /* symbolic work, once per pattern */
+  int *nptr = NULL, *pair = NULL;
+  if (pb->graph_version == C->version && pb->nbr_ptr) {
+    /* same connectivity, new equation numbers (a contact node held or
+     * released): the groups and the node graph stand */
+    nptr = pb->nbr_ptr;
+    pair = pb->nbr;
+    goto numbering;
+  }
   int gerr = group_points(pb);
   if (gerr) {
     mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
@@ -300,10 +308,11 @@ int mpgm_pattern_build(mpgm_problem *pb) {
    * node -> groups transpose with a marker per node (O(entries)), each
    * list sorted (they are short) */
   const int ng = pb->ngroups;
-  int *tptr = calloc((size_t)nn + 2, sizeof(int)), *nptr = calloc((size_t)nn + 1, sizeof(int));
+  int *tptr = calloc((size_t)nn + 2, sizeof(int));
+  nptr = calloc((size_t)nn + 1, sizeof(int));
   int *mark = malloc(((size_t)nn + 1) * sizeof(int));
   int *tpt = malloc(((size_t)C->ptr[np] + 1) * sizeof(int)); /* representative points */
-  int *pair = NULL;                                          /* neighbour lists, CSR over nptr */
+  /* pair: neighbour lists, CSR over nptr */
   if (!tptr || !nptr || !mark || !tpt) goto oom;
   for (int g = 0; g < ng; g++) {
     const int p = pb->order[pb->grp_ptr[g]];
@@ -345,6 +354,12 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   free(mark);
   free(tpt);
   tptr = mark = tpt = NULL;
+  free(pb->nbr);
+  free(pb->nbr_ptr);
+  pb->nbr = pair;
+  pb->nbr_ptr = nptr;
+  pb->graph_version = C->version;
+numbering:
   /* count entries */
   const int n = nd->ndof;
   mpgm_csc *K = &pb->K;
@@ -364,8 +379,6 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   K->rowind = malloc((nnz ? nnz : 1) * sizeof(int));
   K->val = calloc(nnz ? nnz : 1, sizeof(double));
   if (!K->colptr || !K->rowind || !K->val || nnz > INT32_MAX) {
-    free(pair);
-    free(nptr);
     MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (matrix with %zu entries)", nnz);
   }
   size_t e = 0;
@@ -386,21 +399,13 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   /* kept for the scatter maps: node I's rows in a column of node J start
    * nbr_off[t] entries into the column, t the place of I in J's list */
   int *off = malloc(((size_t)nptr[nn] + 1) * sizeof(int));
-  if (!off) {
-    free(pair);
-    free(nptr);
-    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
-  }
+  if (!off) MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
   for (int J = 0; J < nn; J++)
     for (int t = nptr[J], c = 0; t < nptr[J + 1]; t++) {
       off[t] = c;
       c += (nd->dof[2 * pair[t]] >= 0) + (nd->dof[2 * pair[t] + 1] >= 0);
     }
-  free(pb->nbr);
-  free(pb->nbr_ptr);
   free(pb->nbr_off);
-  pb->nbr = pair;
-  pb->nbr_ptr = nptr;
   pb->nbr_off = off;
   pb->pattern_version = C->version;
   pb->solver->analysed = 0;

@@ -163,6 +163,7 @@ struct mpgm_problem {
   /* linear system */
   mpgm_csc K;
   int pattern_version; /**< conn.version the pattern was built for      */
+  int graph_version; /**< conn.version the groups and node graph are of */
   int map_version;   /**< conn.map_version the scatter maps were built for */
   int factor_valid;  /**< the solver holds a factorisation of this pattern
                           (modified Newton may reuse it across steps)    */

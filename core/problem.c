@@ -193,6 +193,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
   pb->scene = scene;
   pb->fe = fe;
   pb->pattern_version = -1;
+  pb->graph_version = -1;
   /* effects: decided once, when the scene loads */
   mpgm_effects_of_scene(scene, &pb->fx);
   pb->symmetric = 1;
