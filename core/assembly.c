@@ -452,34 +452,67 @@ static int scatter_maps(mpgm_problem *pb) {
   MPGM_CHECK(ctx, pb->scatter && pb->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   size_t s = 0;
   const int *dof = nd->dof;
-  for (int g = 0; g < ng; g++) {
+  /* place of node a of a group in the neighbour list of its node b, found
+   * by one merge of the sorted list with the group's nodes in increasing
+   * order: O(nk + degree) per b (clouds of meshfree kinds are long) */
+  int *srt = malloc(sizeof(int) * (size_t)maxk), *tpos = malloc(sizeof(int) * (size_t)maxk * maxk);
+  if (!srt || !tpos) {
+    free(srt);
+    free(tpos);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (scatter map)");
+  }
+  int bad = 0;
+  for (int g = 0; g < ng && !bad; g++) {
     const int p = pb->order[pb->grp_ptr[g]], k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
+    const int *nodes = C->node + k0;
     pb->scatter_ptr[g] = (int)s;
-    for (int a = 0; a < nk; a++) {
-      const int I = C->node[k0 + a];
-      for (int b = 0; b < nk; b++) {
-        const int J = C->node[k0 + b];
-        /* I in J's sorted neighbour list */
-        int lo = pb->nbr_ptr[J], hi = pb->nbr_ptr[J + 1] - 1, t = -1;
-        while (lo <= hi) {
-          const int mid = (lo + hi) / 2;
-          if (pb->nbr[mid] < I) lo = mid + 1;
-          else if (pb->nbr[mid] > I) hi = mid - 1;
-          else { t = mid; break; }
+    for (int a = 0; a < nk; a++) { /* local indices by node number */
+      int w = a;
+      while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
+        srt[w] = srt[w - 1];
+        w--;
+      }
+      srt[w] = a;
+    }
+    for (int b = 0; b < nk && !bad; b++) {
+      const int J = nodes[b], tend = pb->nbr_ptr[J + 1];
+      int t = pb->nbr_ptr[J];
+      for (int q = 0; q < nk; q++) {
+        const int a = srt[q], I = nodes[a];
+        while (t < tend && pb->nbr[t] < I) t++;
+        if (t == tend || pb->nbr[t] != I) {
+          bad = 1;
+          mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "pattern misses node %d in the list of node %d", I, J);
+          break;
         }
-        MPGM_CHECK(ctx, t >= 0, MPGM_ERR_INTERNAL, "pattern misses node %d in the list of node %d", I, J);
+        tpos[a * nk + b] = t;
+      }
+    }
+    for (int a = 0; a < nk && !bad; a++) {
+      const int I = nodes[a];
+      for (int b = 0; b < nk && !bad; b++) {
+        const int J = nodes[b], t = tpos[a * nk + b];
         for (int i = 0; i < 2; i++)
           for (int j = 0; j < 2; j++) {
             const int row = dof[2 * I + i], col = dof[2 * J + j];
             int pos = -1;
             if (row >= 0 && col >= 0) {
               pos = K->colptr[col] + pb->nbr_off[t] + (i == 1 && dof[2 * I] >= 0);
-              MPGM_CHECK(ctx, K->rowind[pos] == row, MPGM_ERR_INTERNAL, "scatter map: entry (%d, %d) misplaced", row, col);
+              if (K->rowind[pos] != row) {
+                bad = 1;
+                mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "scatter map: entry (%d, %d) misplaced", row, col);
+              }
             }
             pb->scatter[s++] = pos;
           }
       }
     }
+  }
+  free(srt);
+  free(tpos);
+  if (bad) {
+    mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+    return MPGM_ERR_INTERNAL;
   }
   pb->scatter_ptr[ng] = (int)s;
   pb->map_version = C->map_version;
