@@ -36,6 +36,7 @@ static const mpgm_frontend_ops *frontend_for(int method) {
   switch (method) {
   case MPGM_METHOD_FEM: return &mpgm_frontend_fem;
   case MPGM_METHOD_MPM: return &mpgm_frontend_mpm;
+  case MPGM_METHOD_GMM: return &mpgm_frontend_gmm;
   default: return NULL;
   }
 }

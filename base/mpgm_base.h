@@ -80,6 +80,12 @@ typedef struct mpgm_ctx {
   long n_body_force;     /**< body-force loops                       */
   long n_mass;           /**< inertia loops                          */
   long n_point_sorts;    /**< reorderings of the points in memory    */
+  long n_radius_growths; /**< meshfree clouds: x1.25 growths of a search
+                              radius that held fewer than min_nodes   */
+  long n_cloud_enlargements; /**< meshfree clouds: next-nearest nodes
+                              added after a failed evaluation          */
+  long n_cold_restarts;  /**< meshfree: failed warm-started evaluations
+                              (LME multiplier) retried from zero       */
 } mpgm_ctx;
 
 /** Reset a context to "no error", zero timers and counters. */

@@ -235,6 +235,10 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_points *p, const int *key, int nkey, in
 int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n);
 /** Make room for nnz connectivity entries over np points. */
 int mpgm_conn_reserve(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnz);
+/** Make room for at least nnz entries keeping the first `keep` entries of
+ *  node, N and dN (a front end filling lists of unknown length); grows
+ *  geometrically. */
+int mpgm_conn_grow(mpgm_ctx *ctx, mpgm_conn *c, int keep, int nnz);
 /** Number equations of free components (node-major); sets nodes->ndof. */
 void mpgm_nodes_number(mpgm_nodes *nd);
 

@@ -22,7 +22,7 @@ extern "C" {
 #define MPGM_PATH_LEN 1024
 #define MPGM_POLYGON_MAX 256 /**< most vertices of a polygon body */
 
-typedef enum { MPGM_METHOD_FEM = 0, MPGM_METHOD_MPM = 1 } mpgm_method;
+typedef enum { MPGM_METHOD_FEM = 0, MPGM_METHOD_MPM = 1, MPGM_METHOD_GMM = 2 } mpgm_method;
 typedef enum { MPGM_ANALYSIS_STATIC = 0, MPGM_ANALYSIS_DYNAMIC = 1 } mpgm_analysis;
 typedef enum { MPGM_VTK_NONE = 0, MPGM_VTK_OUT_ASCII = 1, MPGM_VTK_OUT_BINARY = 2 } mpgm_vtk_mode;
 typedef enum { MPGM_GEOM_RECTANGLE = 0, MPGM_GEOM_DISK = 1, MPGM_GEOM_POLYGON = 2 } mpgm_geometry;
@@ -95,6 +95,15 @@ typedef struct mpgm_scene {
   char stem[MPGM_NAME_LEN]; /**< file name without folder and .json    */
   int method;               /**< mpgm_method                           */
   const mpgm_shapefn_type *shape;
+  mpgm_shape_params shape_par; /**< meshfree kinds: shape.gamma, radius,
+                                 dilation, tol_support, max_cond, order;
+                                 h = mesh.h (all zero for "fe")        */
+  int min_nodes;            /**< meshfree: smallest cloud; the search
+                                 radius grows x1.25 until it holds this
+                                 many nodes (0: 6, or 12 for quadratic
+                                 MLS)                                  */
+  int max_enlarge;          /**< meshfree: cloud enlargements per point
+                                 and step before the step fails (16)   */
   /* mesh */
   double h;                 /**< cell size [m]                         */
   int cell;                 /**< mpgm_cell_kind                        */
@@ -155,7 +164,7 @@ int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
 void mpgm_scene_destroy(mpgm_scene **s);
 /** The resolved scene as indented JSON (caller frees with free()). */
 char *mpgm_scene_resolved_json(const mpgm_scene *s);
-/** Name of the method ("fem", "mpm"; "?" if out of range). */
+/** Name of the method ("fem", "mpm", "gmm"; "?" if out of range). */
 const char *mpgm_method_name(int method);
 
 /** 1 when the reference position x [m] lies inside body b or on its

@@ -133,6 +133,37 @@ static void nodes_free(mpgm_nodes *nd) {
   memset(nd, 0, sizeof *nd);
 }
 
+int mpgm_conn_grow(mpgm_ctx *ctx, mpgm_conn *c, int keep, int nnz) {
+  if (nnz <= c->cap) return 0;
+  const size_t cap = (size_t)nnz + (size_t)nnz / 2 + 16;
+  MPGM_CHECK(ctx, cap <= INT32_MAX, MPGM_ERR_NOMEM, "connectivity of %zu entries", cap);
+  int *node = malloc(cap * sizeof(int));
+  double *N = malloc(cap * sizeof(double)), *dN = malloc(2 * cap * sizeof(double));
+  double *g = malloc(2 * cap * sizeof(double));
+  if (!node || !N || !dN || !g) {
+    free(node);
+    free(N);
+    free(dN);
+    free(g);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (connectivity of %zu entries)", cap);
+  }
+  if (keep > 0) {
+    memcpy(node, c->node, sizeof(int) * (size_t)keep);
+    memcpy(N, c->N, sizeof(double) * (size_t)keep);
+    memcpy(dN, c->dN, 2 * sizeof(double) * (size_t)keep);
+  }
+  free(c->node);
+  free(c->N);
+  free(c->dN);
+  free(c->g);
+  c->node = node;
+  c->N = N;
+  c->dN = dN;
+  c->g = g;
+  c->cap = (int)cap;
+  return 0;
+}
+
 void mpgm_nodes_number(mpgm_nodes *nd) {
   int k = 0;
   for (int i = 0; i < 2 * nd->n; i++) nd->dof[i] = nd->fix[i] ? -1 : k++;

@@ -66,6 +66,9 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "body_force_loops", (double)ctx->n_body_force);
   cJSON_AddNumberToObject(c, "inertia_loops", (double)ctx->n_mass);
   cJSON_AddNumberToObject(c, "point_sorts", (double)ctx->n_point_sorts);
+  cJSON_AddNumberToObject(c, "radius_growths", (double)ctx->n_radius_growths);
+  cJSON_AddNumberToObject(c, "cloud_enlargements", (double)ctx->n_cloud_enlargements);
+  cJSON_AddNumberToObject(c, "shape_cold_restarts", (double)ctx->n_cold_restarts);
   cJSON_AddNumberToObject(c, "step_cuts", 0);
   cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
   cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)pb->lu_steps);

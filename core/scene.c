@@ -11,18 +11,18 @@
 #include "json_reader.h"
 #include "scene_impl.h"
 
-static const char *const method_names[] = {"fem", "mpm", NULL}; /* = mpgm_method */
+static const char *const method_names[] = {"fem", "mpm", "gmm", NULL}; /* = mpgm_method */
 static const char *const cell_names[] = {"tri", "quad", NULL}; /* = mpgm_cell_kind */
 static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", NULL};
 static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
 static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
                                           "volume", "J", "material", "acceleration", "id", NULL};
-static const char *const future_methods[] = {"gmm", NULL};
+static const char *const future_methods[] = {NULL}; /* named methods of later issues */
 static const char *const condition_names[] = {"stick", "slip", "contact", NULL}; /* = mpgm_condition - 1 */
 
 const char *mpgm_method_name(int method) {
-  return (method >= 0 && method < 2) ? method_names[method] : "?";
+  return (method >= 0 && method <= MPGM_METHOD_GMM) ? method_names[method] : "?";
 }
 
 /* Read a whole file; MPGM_ERR_IO on failure. */
@@ -238,9 +238,9 @@ static int read_bodies(jr_node *root, mpgm_scene *s) {
     }
     jr_node g;
     MPGM_CALL(read_geometry(&b, body, &g));
-    if (s->method == MPGM_METHOD_FEM && body->geometry != MPGM_GEOM_RECTANGLE)
-      return jr_fail(&b, NULL, "method fem meshes rectangle bodies only; use method mpm for disk and "
-                     "polygon bodies");
+    if (s->method != MPGM_METHOD_MPM && body->geometry != MPGM_GEOM_RECTANGLE)
+      return jr_fail(&b, NULL, "method %s meshes rectangle bodies only; use method mpm for disk and "
+                     "polygon bodies", mpgm_method_name(s->method));
     const double zero[2] = {0, 0};
     MPGM_CALL(jr_vec2(&b, "velocity", zero, body->velocity));
     jr_node geo;
@@ -334,7 +334,7 @@ static int read_boundaries(jr_node *root, mpgm_scene *s) {
      * node (the front end checks the exact node selection when it meshes).
      * mpm grid nodes cover mesh.domain: the selector must meet the domain. */
     const char *selkey = bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box";
-    if (s->method == MPGM_METHOD_FEM) {
+    if (s->method != MPGM_METHOD_MPM) { /* fem, gmm: persistent nodes of the bodies */
       int meets = 0;
       for (int k = 0; k < s->nbody && !meets; k++)
         meets = selector_meets_body(bc, &s->bodies[k]);
@@ -452,6 +452,35 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   return jr_end(&o);
 }
 
+/* Parameters of the meshfree kinds (shape.*; docs/scene-format.md, "shape").
+ * The cell-based kind "fe" takes none, so its only key is "kind". The length
+ * scale h = mesh.h is set once the mesh is read. */
+static int read_shape_params(jr_node *sh, mpgm_scene *s) {
+  mpgm_shape_params *p = &s->shape_par;
+  memset(p, 0, sizeof *p);
+  s->min_nodes = 0;
+  s->max_enlarge = 0;
+  /* which kinds a method takes: cells for fem, node clouds for gmm, either
+   * for mpm (clouds of grid nodes) */
+  if (s->shape->needs_cell && s->method == MPGM_METHOD_GMM)
+    return jr_fail(sh, "kind", "method gmm needs a meshfree shape kind (\"mls\" or \"lme\"), found "
+                   "\"%s\" (\"fe\" is the default; it needs the cells of method fem or mpm)",
+                   s->shape->name);
+  if (!s->shape->needs_cell && s->method == MPGM_METHOD_FEM)
+    return jr_fail(sh, "kind", "method fem takes shape kind \"fe\" only (its connectivity is the "
+                   "cells), found the meshfree kind \"%s\" (use method gmm)", s->shape->name);
+  if (s->shape->needs_cell) return 0;
+  MPGM_CALL(jr_num(sh, "gamma", 1.8, 0.0, INFINITY, 1, 0, &p->gamma));
+  MPGM_CALL(jr_num(sh, "tol_support", 1e-6, 0.0, 1.0, 1, 1, &p->tol_support));
+  MPGM_CALL(jr_num(sh, "radius", 0.0, 0.0, INFINITY, 0, 0, &p->radius));
+  MPGM_CALL(jr_num(sh, "dilation", 2.0, 0.0, INFINITY, 1, 0, &p->dilation));
+  MPGM_CALL(jr_int(sh, "order", 1, 1, 2, &p->order));
+  MPGM_CALL(jr_num(sh, "max_cond", 0.0, 0.0, INFINITY, 0, 0, &p->max_cond));
+  MPGM_CALL(jr_int(sh, "min_nodes", 0, 0, MPGM_SHAPE_MAXNODE, &s->min_nodes));
+  MPGM_CALL(jr_int(sh, "max_enlarge", 16, 0, MPGM_SHAPE_MAXNODE, &s->max_enlarge));
+  return 0;
+}
+
 static int read_scene(jr_node *root, mpgm_scene *s) {
   char desc[2048];
   MPGM_CALL(jr_str(root, "description", "", desc, sizeof desc));
@@ -460,7 +489,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   if (!mv) mv = jr_raw(root, "method");
   for (int i = 0; mv && cJSON_IsString(mv) && future_methods[i]; i++)
     if (strcmp(mv->valuestring, future_methods[i]) == 0)
-      return jr_fail(root, "method", "method \"%s\" is not available in this build yet (expected \"fem\" or \"mpm\")",
+      return jr_fail(root, "method", "method \"%s\" is not available in this build yet (expected \"fem\", \"mpm\" or \"gmm\")",
                      mv->valuestring);
   /* re-read through the typed path (consumes the override again: harmless) */
   MPGM_CALL(jr_enum(root, "method", method_names, MPGM_METHOD_FEM, &s->method));
@@ -475,6 +504,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   int sk;
   MPGM_CALL(jr_enum(&sh, "kind", snames, 0, &sk));
   s->shape = st[sk];
+  MPGM_CALL(read_shape_params(&sh, s));
   MPGM_CALL(jr_end(&sh));
 
   jr_node mesh, dom;
@@ -558,13 +588,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(mpgm_reference_read(root, s));
   MPGM_CALL(read_output(root, s));
   MPGM_CALL(jr_end(root));
-  if (s->shape->needs_cell && s->method != MPGM_METHOD_FEM && s->method != MPGM_METHOD_MPM)
-    return jr_fail(root, "shape", "shape kind \"%s\" needs cells (method fem or mpm)", s->shape->name);
-  /* meshfree kinds need node clouds: the gmm front end and cloud-based MPM
-   * are not in this build yet */
-  if (!s->shape->needs_cell)
-    return jr_fail(root, "shape", "shape kind \"%s\" is meshfree: it needs node clouds (method gmm, or mpm with "
-                   "clouds), which this build does not have yet; use \"fe\"", s->shape->name);
+  s->shape_par.h = s->h; /* the meshfree kinds' length scale: mesh.h */
   return 0;
 }
 

@@ -4,6 +4,7 @@
  * meshed with a structured grid of T3 or Q4 cells of size <= h; material
  * points sit at the Gauss points of the cells (mesh.ppc per cell), nodes
  * persist and move with the body, the connectivity of a point is its cell.
+ * mpgm_frontend_gmm: the same nodes and points, connected by node clouds.
  */
 #ifndef MPGM_FRONTENDS_H
 #define MPGM_FRONTENDS_H
@@ -15,6 +16,16 @@ extern "C" {
 #endif
 
 extern const mpgm_frontend_ops mpgm_frontend_fem;
+
+/** mpgm_frontend_gmm: the Galerkin Meshfree Method (gmm/gmm.c; Iaconeta et
+ *  al. 2017, section 4.2): nodes, points, probes and boundaries as
+ *  mpgm_frontend_fem (rectangle bodies); every step each point is connected
+ *  to the cloud of nodes within the support radius of the scene's meshfree
+ *  kind (kd-tree search; radius growth to shape.min_nodes, enlargement on a
+ *  failed evaluation up to shape.max_enlarge; counted in mpgm_ctx). The
+ *  mesh cells are written for visualisation only. docs/theory.md,
+ *  section 13. */
+extern const mpgm_frontend_ops mpgm_frontend_gmm;
 
 /** A conforming mesh of FE cells, as a mesher (or a test) makes it. */
 typedef struct mpgm_fem_mesh {

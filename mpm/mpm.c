@@ -24,6 +24,14 @@ typedef struct mpm_data {
   int *plglob;
   unsigned char *pfix, *pact;
   double *gm, *gq, *gf;/**< per grid node: mass, momentum, inertia force    */
+  /* meshfree shape functions (shape.kind mls / lme): clouds of grid nodes */
+  int meshfree;
+  double *lambda;      /**< LME multiplier per point (warm start), 2 each   */
+  int *perm;           /**< reorder of the particles (mpgm_points_sort)      */
+  double *pscr;        /**< scratch, 2 per point                            */
+  int *cl_ptr, *cl_node, cl_cap; /**< per point: candidate nodes by distance */
+  int *cl_n;           /**< per point: cloud size (first cl_n candidates)   */
+  double *cl_r;        /**< per point: search radius (grown to min_nodes)   */
   long step;           /**< steps begun (for messages)                     */
 } mpm_data;
 
@@ -44,6 +52,13 @@ static void mpm_destroy(mpgm_problem *pb) {
   free(d->gm);
   free(d->gq);
   free(d->gf);
+  free(d->lambda);
+  free(d->perm);
+  free(d->pscr);
+  free(d->cl_ptr);
+  free(d->cl_node);
+  free(d->cl_n);
+  free(d->cl_r);
   free(d);
   pb->fe_data = NULL;
 }
@@ -136,6 +151,18 @@ static int mpm_setup(mpgm_problem *pb) {
   MPGM_ALLOC(ctx, d->gq, 2 * (size_t)g->nnode);
   MPGM_ALLOC(ctx, d->gf, 2 * (size_t)g->nnode);
   MPGM_CALL(mpgm_conn_reserve(ctx, &pb->conn, m, m * g->nn));
+  MPGM_ALLOC(ctx, d->perm, m);
+  MPGM_ALLOC(ctx, d->pscr, 2 * (size_t)m);
+  d->meshfree = !s->shape->needs_cell;
+  if (d->meshfree) {
+    MPGM_ALLOC(ctx, d->lambda, 2 * (size_t)m);
+    MPGM_ALLOC(ctx, d->cl_ptr, (size_t)m + 1);
+    MPGM_ALLOC(ctx, d->cl_n, m);
+    MPGM_ALLOC(ctx, d->cl_r, m);
+    double R;
+    MPGM_CALL(mpgm_shape_support_radius(s->shape, &s->shape_par, &R) ? mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__,
+              __LINE__, "%s: shape: no support radius for kind \"%s\"", s->file, s->shape->name) : 0);
+  }
   /* grid boundaries: the grid never moves, so the fixity of every grid
    * node is decided once */
   for (int i = 0; i < s->nbc; i++) {
@@ -177,6 +204,146 @@ static int probe_cell(const mpm_data *d, const double x[2], int *cell, double xi
   return MPGM_ERR_DOMAIN;
 }
 
+/* a[i] = a[perm[i]] for n records of w doubles, through scratch */
+static void permute(double *a, double *scr, const int *perm, int n, int w) {
+  for (int i = 0; i < n; i++)
+    for (int c = 0; c < w; c++) scr[w * i + c] = a[w * perm[i] + c];
+  memcpy(a, scr, sizeof(double) * (size_t)w * (size_t)n);
+}
+
+/* Meshfree shape functions on the grid (LME-MPM, MLS-MPM): the cloud of a
+ * point is the grid nodes within the kind's support radius R; the grid is
+ * structured, so the candidates come from the box of nodes around the
+ * point (no tree). Two passes, timed apart: the search lists, for every
+ * point, the grid nodes within R + h by distance (ties by node number) and
+ * takes those within R, growing R by 1.25 while fewer than shape.min_nodes
+ * are in it; the evaluation (LME warm-started from the point's last
+ * multiplier) adds the next-nearest candidate after a recoverable failure,
+ * up to shape.max_enlarge times. Fills C with grid node ids, N, grad N (at
+ * the undeformed grid) and d->gm with the particles' mass. */
+static int cloud_shape(mpgm_problem *pb, mpm_data *d) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  const mpgm_grid *g = &d->g;
+  mpgm_points *P = &pb->pts;
+  mpgm_conn *C = &pb->conn;
+  const int np = P->n, m = P->n + P->nprobe;
+  double R0;
+  MPGM_CALL(mpgm_shape_support_radius(s->shape, &s->shape_par, &R0) ? MPGM_ERR_INPUT : 0);
+  const int need = s->min_nodes > 0 ? s->min_nodes : (s->shape_par.order == 2 ? 12 : 6);
+  /* search */
+  mpgm_timer_stop(ctx, MPGM_T_SHAPE);
+  mpgm_timer_start(ctx, MPGM_T_SEARCH);
+  int nc = 0, err = 0;
+  for (int p = 0; p < m && !err; p++) {
+    const double x = P->x[2 * p], y = P->x[2 * p + 1];
+    double R = R0;
+    d->cl_ptr[p] = nc;
+    for (int tries = 0;; tries++) {
+      const double Rc = R + g->h;
+      const int i0 = (int)floor((x - Rc - g->min[0]) / g->h), i1 = (int)ceil((x + Rc - g->min[0]) / g->h);
+      const int j0 = (int)floor((y - Rc - g->min[1]) / g->h), j1 = (int)ceil((y + Rc - g->min[1]) / g->h);
+      const int box = (i1 - i0 + 1) * (j1 - j0 + 1);
+      if (nc + box > d->cl_cap) {
+        const int cap = 2 * (nc + box) + 1024;
+        int *t = realloc(d->cl_node, sizeof(int) * (size_t)cap);
+        if (!t) { err = MPGM_ERR_NOMEM; break; }
+        d->cl_node = t;
+        d->cl_cap = cap;
+      }
+      int *list = d->cl_node + nc, cnt = 0, in = 0;
+      double d2s[MPGM_SHAPE_MAXNODE * 4];
+      for (int j = j0 > 0 ? j0 : 0; j <= j1 && j <= g->ny; j++)
+        for (int i = i0 > 0 ? i0 : 0; i <= i1 && i <= g->nx; i++) {
+          const double dx = g->min[0] + i * g->h - x, dy = g->min[1] + j * g->h - y;
+          const double d2 = dx * dx + dy * dy;
+          if (d2 > Rc * Rc) continue;
+          /* insertion by (distance, node); a full list drops its farthest */
+          const int id = j * (g->nx + 1) + i;
+          int w;
+          if (cnt < MPGM_SHAPE_MAXNODE * 4) {
+            w = cnt++;
+          } else {
+            w = cnt - 1;
+            if (d2s[w] < d2 || (d2s[w] == d2 && list[w] < id)) continue;
+          }
+          while (w > 0 && (d2s[w - 1] > d2 || (d2s[w - 1] == d2 && list[w - 1] > id))) {
+            d2s[w] = d2s[w - 1];
+            list[w] = list[w - 1];
+            w--;
+          }
+          d2s[w] = d2;
+          list[w] = id;
+        }
+      while (in < cnt && d2s[in] <= R * R) in++;
+      if (in >= need || in == cnt || tries == 32) {
+        if (in > MPGM_SHAPE_MAXNODE) in = MPGM_SHAPE_MAXNODE;
+        if (cnt > MPGM_SHAPE_MAXNODE) cnt = MPGM_SHAPE_MAXNODE;
+        d->cl_n[p] = in;
+        d->cl_r[p] = R;
+        nc += cnt;
+        break;
+      }
+      R *= MPGM_SHAPE_GROWTH; /* too few nodes: a wider search */
+      ctx->n_radius_growths++;
+    }
+  }
+  d->cl_ptr[m] = nc;
+  mpgm_timer_stop(ctx, MPGM_T_SEARCH);
+  mpgm_timer_start(ctx, MPGM_T_SHAPE);
+  MPGM_CHECK(ctx, !err, MPGM_ERR_NOMEM, "out of memory (node clouds of %d points)", m);
+  /* evaluation */
+  int k = 0;
+  for (int p = 0; p < m; p++) {
+    const int *list = d->cl_node + d->cl_ptr[p], ncand = d->cl_ptr[p + 1] - d->cl_ptr[p];
+    double xn[2 * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE], dN[2 * MPGM_SHAPE_MAXNODE];
+    for (int a = 0; a < ncand; a++) mpgm_grid_node(g, list[a], xn + 2 * a);
+    mpgm_shape_info info = {0};
+    int n = d->cl_n[p], enl = 0, e;
+    double r = d->cl_r[p];
+    for (;;) {
+      /* the kind's support follows the point's radius; a probe uses N only,
+       * so the condition limit (which guards grad N) does not apply */
+      mpgm_shape_params par;
+      mpgm_shape_params_for_radius(&s->shape_par, R0, r, &par);
+      if (p >= np) par.max_cond = 1e300;
+      mpgm_shape_query q = {.n = n, .xn = xn, .xp = {P->x[2 * p], P->x[2 * p + 1]}, .cell = -1,
+                            .par = &par, .lambda = d->lambda + 2 * p, .info = &info};
+      e = mpgm_shape_eval_retry(s->shape, &q, N, dN, &ctx->n_cold_restarts);
+      if (e != MPGM_ERR_SHAPE || n == ncand || enl == s->max_enlarge) break;
+      /* enlarge: the next-nearest candidate and every one within the new
+       * radius join the cloud */
+      const double dx = xn[2 * n] - P->x[2 * p], dy = xn[2 * n + 1] - P->x[2 * p + 1];
+      r = fmax(r * (1.0 + 1e-9), MPGM_SHAPE_ENLARGE * sqrt(dx * dx + dy * dy));
+      while (n < ncand) {
+        const double ex = xn[2 * n] - P->x[2 * p], ey = xn[2 * n + 1] - P->x[2 * p + 1];
+        if (ex * ex + ey * ey > r * r) break;
+        n++;
+      }
+      enl++;
+      ctx->n_cloud_enlargements++;
+    }
+    if (e)
+      MPGM_ERROR(ctx, e, "step %ld: %s %d at (%g, %g): %s shape functions over %d grid nodes: %s "
+                 "(after %d cloud enlargements)", d->step, p < np ? "particle" : "probe",
+                 p < np ? P->id[p] : p - np, P->x[2 * p], P->x[2 * p + 1], s->shape->name, n,
+                 info.msg ? info.msg : mpgm_code_str(e), enl);
+    MPGM_CALL(mpgm_conn_grow(ctx, C, k, k + n));
+    C->ptr[p] = k;
+    for (int a = 0; a < n; a++) {
+      if (N[a] == 0.0 && dN[2 * a] == 0.0 && dN[2 * a + 1] == 0.0) continue; /* cut off */
+      C->node[k] = list[a];
+      C->N[k] = N[a];
+      C->dN[2 * k] = dN[2 * a];
+      C->dN[2 * k + 1] = dN[2 * a + 1];
+      if (p < np) d->gm[list[a]] += N[a] * P->mass[p];
+      k++;
+    }
+  }
+  C->ptr[m] = k;
+  return 0;
+}
+
 /* Reset the grid; locate the points; activate cells and nodes; project
  * mass, momentum and inertia; fill the connectivity (eqs 38-41). */
 static int mpm_begin_step(mpgm_problem *pb) {
@@ -213,8 +380,12 @@ static int mpm_begin_step(mpgm_problem *pb) {
   long descents = 0;
   for (int p = 1; p < np; p++) descents += d->pcell[p] < d->pcell[p - 1];
   if (descents > np / 32) {
-    MPGM_CALL(mpgm_points_sort(ctx, P, d->pcell, g->ncell, NULL));
-    for (int p = 0; p < np; p++) mpgm_grid_locate(g, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p);
+    MPGM_CALL(mpgm_points_sort(ctx, P, d->pcell, g->ncell, d->perm));
+    /* the front end's own per-particle data moves along */
+    permute(d->pxi, d->pscr, d->perm, np, 2);
+    if (d->meshfree) permute(d->lambda, d->pscr, d->perm, np, 2); /* LME warm starts */
+    for (int p = 0; p < np; p++) d->pscr[p] = d->pcell[d->perm[p]];
+    for (int p = 0; p < np; p++) d->pcell[p] = (int)d->pscr[p];
   }
   for (int k = 0; k < P->nprobe; k++) {
     const int p = np + k;
@@ -226,7 +397,8 @@ static int mpm_begin_step(mpgm_problem *pb) {
    * which nodes get equations */
   memset(d->gm, 0, sizeof(double) * (size_t)g->nnode);
   int k = 0;
-  for (int p = 0; p < m; p++) {
+  if (d->meshfree) MPGM_CALL(cloud_shape(pb, d));
+  for (int p = 0; p < m && !d->meshfree; p++) {
     int nodes[MPGM_FE_MAXNODE];
     double xn[2 * MPGM_FE_MAXNODE];
     mpgm_grid_cell(g, d->pcell[p], nodes, xn);
@@ -239,8 +411,9 @@ static int mpm_begin_step(mpgm_problem *pb) {
       for (int a = 0; a < nn; a++) d->gm[nodes[a]] += C->N[k + a] * P->mass[p];
     k += nn;
   }
-  C->ptr[m] = k;
-  /* nodes of the step: nodes of active cells with non-zero mass, in grid
+  if (!d->meshfree) C->ptr[m] = k;
+  /* nodes of the step: nodes with mass (nodes of active cells for FE
+   * shape functions, of the particles' clouds for meshfree ones), in grid
    * order (node-major equation numbers stay banded) */
   for (int i = 0; i < g->nnode; i++) d->gmap[i] = -1;
   double mmax = 0.0;
@@ -251,13 +424,8 @@ static int mpm_begin_step(mpgm_problem *pb) {
    * stalls. It gets no equation; the particles' shape functions are
    * renormalised over their remaining nodes. */
   const double mcut = s->min_node_mass * mmax;
-  for (int c = 0; c < g->ncell; c++) {
-    if (!d->cact[c]) continue;
-    int nodes[MPGM_FE_MAXNODE];
-    mpgm_grid_cell(g, c, nodes, NULL);
-    for (int a = 0; a < nn; a++)
-      if (d->gm[nodes[a]] > mcut) d->gmap[nodes[a]] = 0;
-  }
+  for (int i = 0; i < g->nnode; i++)
+    if (d->gm[i] > mcut) d->gmap[i] = 0;
   int n = 0;
   for (int i = 0; i < g->nnode; i++) {
     if (d->gmap[i] < 0) continue;
@@ -331,7 +499,9 @@ static int mpm_begin_step(mpgm_problem *pb) {
     memset(nd->v, 0, sizeof(double) * 2 * (size_t)n);
     memset(nd->a, 0, sizeof(double) * 2 * (size_t)n);
   }
-  const int same = n == d->pn && memcmp(d->cact, d->pact, (size_t)g->ncell) == 0 &&
+  /* FE: the same active cells, nodes and fixity give the same pattern;
+   * clouds change with every particle move */
+  const int same = !d->meshfree && n == d->pn && memcmp(d->cact, d->pact, (size_t)g->ncell) == 0 &&
                    memcmp(d->lglob, d->plglob, sizeof(int) * (size_t)n) == 0 &&
                    memcmp(nd->fix, d->pfix, 2 * (size_t)n) == 0;
   if (same) C->map_version++; /* same nodes and pattern: new maps only */

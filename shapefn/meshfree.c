@@ -72,3 +72,25 @@ int mpgm_spd_inverse(int m, const double *A, double *Ainv) {
     }
   return 0;
 }
+
+void mpgm_shape_params_for_radius(const mpgm_shape_params *base, double r0, double r,
+                                  mpgm_shape_params *out) {
+  *out = *base;
+  if (!(r > r0) || !(base->h > 0.0)) return;
+  const double gamma = mpgm_shape_dflt(base->gamma, MPGM_LME_GAMMA);
+  const double rr = r * (1.0 + 1e-12) / base->h; /* round-off must not cut the farthest node */
+  out->radius = r * (1.0 + 1e-12);
+  out->tol_support = fmax(exp(-gamma * rr * rr), 1e-300);
+}
+
+int mpgm_shape_eval_retry(const mpgm_shapefn_type *t, const mpgm_shape_query *q, double *N,
+                          double *dN, long *cold) {
+  int err = t->eval(q, N, dN);
+  double *lam = q->lambda;
+  if (err == MPGM_ERR_SHAPE && lam && (lam[0] != 0.0 || lam[1] != 0.0)) {
+    lam[0] = lam[1] = 0.0;
+    if (cold) (*cold)++;
+    err = t->eval(q, N, dN);
+  }
+  return err;
+}

@@ -146,6 +146,31 @@ typedef struct mpgm_shapefn_type {
 int mpgm_shape_support_radius(const mpgm_shapefn_type *t, const mpgm_shape_params *par,
                               double *radius);
 
+/** Cloud control shared by the front ends: a search radius holding fewer
+ *  than shape.min_nodes nodes grows by MPGM_SHAPE_GROWTH; an enlargement
+ *  after a failed evaluation sets the radius to MPGM_SHAPE_ENLARGE times the
+ *  distance of the next-nearest node, so that node sits at 0.75 of the
+ *  support: an MLS weight of w(0.75) = 1/32 (a node at the edge of the
+ *  support would carry no weight) and well inside the LME cut-off. */
+#define MPGM_SHAPE_GROWTH 1.25
+#define MPGM_SHAPE_ENLARGE (4.0 / 3.0)
+
+/** Parameters whose support radius is r (r >= r0, the radius of base; at
+ *  r0 or below, base itself): MLS takes radius = r, LME the cut-off
+ *  tol_support = exp(-gamma (r / h)^2). A front end that grows a point's
+ *  search radius or enlarges its cloud widens the kind's support with it:
+ *  a kind ignores nodes beyond its own support, so a larger cloud alone
+ *  would change nothing. */
+void mpgm_shape_params_for_radius(const mpgm_shape_params *base, double r0, double r,
+                                  mpgm_shape_params *out);
+
+/** t->eval(q, N, dN), and once more from lambda = 0 when a warm-started LME
+ *  evaluation fails recoverably (a multiplier kept from a boundary position
+ *  whose face has turned since can stall Newton; a cold start converges).
+ *  *cold (may be NULL) is incremented on that retry. */
+int mpgm_shape_eval_retry(const mpgm_shapefn_type *t, const mpgm_shape_query *q, double *N,
+                          double *dN, long *cold);
+
 /** Find a kind by scene name; NULL if none. */
 const mpgm_shapefn_type *mpgm_shapefn_type_find(const char *name);
 /** All kinds, NULL-terminated. */

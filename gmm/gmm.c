@@ -1,0 +1,332 @@
+/* gmm.c -- the Galerkin Meshfree Method front end (Iaconeta et al. 2017,
+ * section 4.2, Algorithm 2): persistent nodes as in UL-FEM, but every
+ * material point is connected to the cloud of nodes within the support
+ * radius of a meshfree kind (MLS, LME), searched again at every step.
+ *
+ * Setup is that of the FEM front end (gmm/fem.c): the rectangle bodies are
+ * meshed, the nodes are the mesh nodes, the material points sit at the
+ * Gauss points of the cells (mesh.ppc), boundaries fix nodes by predicate.
+ * The FEM front end's data (the cells) is kept inside this front end's
+ * data, for the mesh output only: the cells do not define the
+ * interpolation.
+ *
+ * begin_step (docs/theory.md, section 13):
+ *   1. search (timed as "search"): rebuild the kd-tree over the nodes'
+ *      start-of-step positions; for every point and probe, the nodes within
+ *      r0 = mpgm_shape_support_radius; while fewer than min_nodes, r *= 1.25
+ *      (counted: radius_growths);
+ *   2. shape functions (timed as "shape") at the point's current position,
+ *      with the support radius of the kind set to the point's r; LME keeps
+ *      its multiplier per point as warm start (a failed warm start is
+ *      retried once from lambda = 0: shape_cold_restarts; probes, which use
+ *      N only, are exempt from max_cond). On MPGM_ERR_SHAPE the cloud
+ *      is enlarged: the next-nearest node (kNN, k = size + 1) at distance d
+ *      sets r = max(r, 4/3 d), the cloud is searched again and the
+ *      evaluation repeated (counted: cloud_enlargements), at most
+ *      shape.max_enlarge times, and never past MPGM_SHAPE_MAXNODE nodes;
+ *      then the step fails with the recoverable MPGM_ERR_SHAPE;
+ *   3. the connectivity: each cloud sorted by node id, nodes with N = 0 and
+ *      grad N = 0 dropped; conn.version is bumped when any list differs
+ *      from the last step's (the core then rebuilds the pattern).
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_frontends.h"
+#include "mpgm_kdtree.h"
+
+/* Radius growth factor while a cloud holds fewer than min_nodes nodes, and
+ * the most growths per point (1.25^60 ~ 6e5: a search this wide that still
+ * finds too few nodes means there are not that many) */
+#define GMM_GROWTH     MPGM_SHAPE_GROWTH
+#define GMM_MAX_GROWTH 60
+
+typedef struct gmm_data {
+  void *fem;             /**< the FEM front end's data (cells for output)     */
+  mpgm_kdtree *tree;     /**< over nodes.x (borrowed), rebuilt every step     */
+  mpgm_shape_params par; /**< the scene's parameters, h = mesh.h            */
+  double r0;             /**< support radius of the kind [m]                  */
+  int min_nodes;         /**< smallest cloud                                  */
+  double *lambda;        /**< LME multiplier per point (warm start), 2 each   */
+  double *rad;           /**< search radius of every point this step [m]      */
+  int *cptr;             /**< clouds of the search: CSR over the points       */
+  int *cidx;
+  int ccap;
+  int *optr, *onode; /**< the step's connectivity before it is copied     */
+  double *oN, *odN;
+  int ocap;
+} gmm_data;
+
+static void gmm_destroy(mpgm_problem *pb) {
+  gmm_data *d = pb->fe_data;
+  if (!d) return;
+  pb->fe_data = d->fem;
+  mpgm_fem_destroy(pb);
+  mpgm_kdtree_destroy(&d->tree);
+  free(d->lambda);
+  free(d->rad);
+  free(d->cptr);
+  free(d->cidx);
+  free(d->optr);
+  free(d->onode);
+  free(d->oN);
+  free(d->odN);
+  free(d);
+  pb->fe_data = NULL;
+}
+
+static int gmm_setup(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  gmm_data *d;
+  MPGM_ALLOC(ctx, d, 1);
+  /* nodes, points, probes, boundaries: exactly those of UL-FEM */
+  pb->fe_data = NULL;
+  const int err = mpgm_frontend_fem.setup(pb);
+  d->fem = pb->fe_data;
+  pb->fe_data = d; /* from here gmm_destroy frees both */
+  MPGM_CALL(err);
+  MPGM_CHECK(ctx, !s->shape->needs_cell && s->shape->support_radius, MPGM_ERR_INPUT,
+             "%s: shape.kind: method gmm needs a meshfree kind, found \"%s\"", s->file,
+             s->shape->name);
+  d->par = s->shape_par;
+  d->par.h = s->h;
+  MPGM_CHECK(ctx, mpgm_shape_support_radius(s->shape, &d->par, &d->r0) == 0 && d->r0 > 0.0,
+             MPGM_ERR_INPUT, "%s: shape: no support radius for kind \"%s\" (h = %g)", s->file,
+             s->shape->name, s->h);
+  d->min_nodes = s->min_nodes > 0 ? s->min_nodes : d->par.order == 2 ? 12 : 6;
+  const int m = pb->pts.n + pb->pts.nprobe;
+  MPGM_ALLOC(ctx, d->lambda, 2 * (size_t)m);
+  MPGM_ALLOC(ctx, d->rad, m);
+  MPGM_ALLOC(ctx, d->cptr, m + 1);
+  MPGM_ALLOC(ctx, d->optr, m + 1);
+  MPGM_CALL(mpgm_kdtree_create(ctx, pb->nodes.x, pb->nodes.n, 0, &d->tree));
+  return 0;
+}
+
+/* Grow an int / double buffer to hold at least need entries (amortised:
+ * doubling; only when a step needs more than any before). */
+static int grow_int(mpgm_ctx *ctx, int **a, size_t need, size_t *cap) {
+  if (need <= *cap) return 0;
+  size_t nc = *cap ? *cap : 1024;
+  while (nc < need) nc *= 2;
+  int *p = realloc(*a, nc * sizeof **a);
+  MPGM_CHECK(ctx, p, MPGM_ERR_NOMEM, "out of memory (node clouds of %zu entries)", nc);
+  *a = p;
+  *cap = nc;
+  return 0;
+}
+
+static int grow_out(mpgm_ctx *ctx, gmm_data *d, int need) {
+  if (need <= d->ocap) return 0;
+  int nc = d->ocap ? d->ocap : 1024;
+  while (nc < need) nc *= 2;
+  int *nn = realloc(d->onode, (size_t)nc * sizeof *nn);
+  if (nn) d->onode = nn;
+  double *N = realloc(d->oN, (size_t)nc * sizeof *N);
+  if (N) d->oN = N;
+  double *dN = realloc(d->odN, 2 * (size_t)nc * sizeof *dN);
+  if (dN) d->odN = dN;
+  MPGM_CHECK(ctx, nn && N && dN, MPGM_ERR_NOMEM, "out of memory (connectivity of %d entries)", nc);
+  d->ocap = nc;
+  return 0;
+}
+
+/* Nodes within r of x into idx (at most cap); returns the count (which may
+ * exceed cap: then idx holds the cap nearest). */
+static int cloud(const gmm_data *d, const double x[2], double r, int cap, int *idx, double *d2) {
+  return mpgm_kdtree_radius(d->tree, x, r, cap, idx, d2);
+}
+
+static void sort_by_node(int n, int *idx) {
+  for (int i = 1; i < n; i++) {
+    const int v = idx[i];
+    int j = i - 1;
+    while (j >= 0 && idx[j] > v) {
+      idx[j + 1] = idx[j];
+      j--;
+    }
+    idx[j + 1] = v;
+  }
+}
+
+/* Phase 1: clouds of every point (and probe) from the radius search, with
+ * radius growth up to min_nodes nodes. */
+static int search_clouds(mpgm_problem *pb, gmm_data *d) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_points *P = &pb->pts;
+  const int m = P->n + P->nprobe, nnode = pb->nodes.n;
+  const int want = d->min_nodes < nnode ? d->min_nodes : nnode;
+  MPGM_CALL(mpgm_kdtree_rebuild(ctx, d->tree, pb->nodes.x, nnode));
+  size_t cap = (size_t)d->ccap;
+  int idx[MPGM_SHAPE_MAXNODE];
+  double d2[MPGM_SHAPE_MAXNODE];
+  d->cptr[0] = 0;
+  for (int p = 0; p < m; p++) {
+    const double *x = P->x + 2 * p;
+    double r = d->r0;
+    int n = cloud(d, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
+    for (int g = 0; n < want && g < GMM_MAX_GROWTH; g++) {
+      r *= GMM_GROWTH;
+      ctx->n_radius_growths++;
+      n = cloud(d, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
+    }
+    MPGM_CHECK(ctx, n <= MPGM_SHAPE_MAXNODE, MPGM_ERR_INPUT,
+               "%s: shape: step %ld: %s %d at (%g, %g) has %d nodes within its support radius "
+               "%g m, more than MPGM_SHAPE_MAXNODE = %d: lower shape.radius / shape.dilation "
+               "(mls) or raise shape.gamma (lme)",
+               pb->scene->file, pb->step + 1, p < P->n ? "point" : "probe",
+               p < P->n ? P->id[p] : p - P->n, x[0], x[1], n, r, MPGM_SHAPE_MAXNODE);
+    d->rad[p] = r;
+    MPGM_CALL(grow_int(ctx, &d->cidx, (size_t)d->cptr[p] + (size_t)n, &cap));
+    memcpy(d->cidx + d->cptr[p], idx, sizeof(int) * (size_t)n);
+    d->cptr[p + 1] = d->cptr[p] + n;
+  }
+  d->ccap = (int)cap;
+  return 0;
+}
+
+/* Phase 2 for one point: N and grad N over its cloud at its position, with
+ * enlargements on MPGM_ERR_SHAPE; appends the non-zero entries to the
+ * output at *k. *t_search accumulates the time of the extra searches. */
+static int shape_point(mpgm_problem *pb, gmm_data *d, int p, int *k, double *t_search) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  const mpgm_points *P = &pb->pts;
+  const double *xn_all = pb->nodes.x, *x = P->x + 2 * p;
+  int idx[MPGM_SHAPE_MAXNODE + 1];
+  double d2[MPGM_SHAPE_MAXNODE + 1], xn[2 * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE],
+      dN[2 * MPGM_SHAPE_MAXNODE];
+  int n = d->cptr[p + 1] - d->cptr[p];
+  memcpy(idx, d->cidx + d->cptr[p], sizeof(int) * (size_t)n);
+  double r = d->rad[p];
+  mpgm_shape_info info = {0};
+  int err = 0, enl = 0;
+  for (;; enl++) {
+    sort_by_node(n, idx);
+    for (int a = 0; a < n; a++) {
+      xn[2 * a] = xn_all[2 * idx[a]];
+      xn[2 * a + 1] = xn_all[2 * idx[a] + 1];
+    }
+    mpgm_shape_params par;
+    mpgm_shape_params_for_radius(&d->par, d->r0, r, &par);
+    /* a probe uses N only (its grad N is never assembled): the condition
+     * limit, which guards grad N, does not apply. A probe on the boundary
+     * of the body (the cantilever's tip) is on the hull of its cloud, where
+     * cond(J) of LME grows like 1 / (Newton residual) past 1e12 */
+    if (p >= P->n) par.max_cond = 1e300;
+    const mpgm_shape_query q = {.n = n,
+                                .xn = xn,
+                                .xp = {x[0], x[1]},
+                                .cell = -1,
+                                .par = &par,
+                                .lambda = d->lambda + 2 * p,
+                                .info = &info};
+    /* an LME warm start that stalls is retried once from lambda = 0
+     * before the cloud is enlarged */
+    err = n > 0 ? mpgm_shape_eval_retry(s->shape, &q, N, dN, &ctx->n_cold_restarts) : MPGM_ERR_SHAPE;
+    if (n == 0) info.msg = "no node within the support radius";
+    if (err != MPGM_ERR_SHAPE || enl >= s->max_enlarge) break;
+    /* enlarge: the next-nearest node outside the cloud */
+    const double t0 = mpgm_wtime();
+    int kk = mpgm_kdtree_knn(d->tree, x, n + 1, idx, d2);
+    int nn = n;
+    if (kk == n + 1) {
+      r = fmax(r * (1.0 + 1e-9), MPGM_SHAPE_ENLARGE * sqrt(d2[n]));
+      nn = cloud(d, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
+    }
+    *t_search += mpgm_wtime() - t0;
+    if (kk < n + 1 || nn > MPGM_SHAPE_MAXNODE) { /* no node left, or the cloud is full */
+      info.msg = kk < n + 1 ? "every node is in the cloud already"
+                            : "the enlarged cloud would exceed MPGM_SHAPE_MAXNODE nodes";
+      break;
+    }
+    ctx->n_cloud_enlargements++;
+    n = nn;
+  }
+  if (err) { /* MPGM_ERR_SHAPE (recoverable), or a fatal MPGM_ERR_INPUT */
+    if (p < P->n)
+      MPGM_ERROR(ctx, err,
+                 "step %ld: %s shape functions failed at point %d (body \"%s\", started at (%g, "
+                 "%g)) at (%g, %g) after %d cloud enlargement(s) (cloud of %d nodes within %g "
+                 "m; shape.max_enlarge = %d): %s",
+                 pb->step + 1, s->shape->name, P->id[p], s->bodies[P->body[p]].name, P->x0[2 * p],
+                 P->x0[2 * p + 1], x[0], x[1], enl, n, r, s->max_enlarge,
+                 info.msg ? info.msg : "?");
+    MPGM_ERROR(ctx, err,
+               "step %ld: %s shape functions failed at probe \"%s\" at (%g, %g) after %d cloud "
+               "enlargement(s) (cloud of %d nodes within %g m): %s",
+               pb->step + 1, s->shape->name, s->probes[p - P->n].name, x[0], x[1], enl, n, r,
+               info.msg ? info.msg : "?");
+  }
+  MPGM_CALL(grow_out(ctx, d, *k + n));
+  for (int a = 0; a < n; a++) {
+    if (N[a] == 0.0 && dN[2 * a] == 0.0 && dN[2 * a + 1] == 0.0) continue; /* outside the support */
+    d->onode[*k] = idx[a];
+    d->oN[*k] = N[a];
+    d->odN[2 * *k] = dN[2 * a];
+    d->odN[2 * *k + 1] = dN[2 * a + 1];
+    (*k)++;
+  }
+  return 0;
+}
+
+static int gmm_begin_step(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  gmm_data *d = pb->fe_data;
+  mpgm_conn *C = &pb->conn;
+  const int m = pb->pts.n + pb->pts.nprobe;
+  /* the core times begin_step as "shape": the search time is moved from
+   * "shape" to "search", so that the two add up to the call */
+  double t0 = mpgm_wtime();
+  MPGM_CALL(search_clouds(pb, d));
+  double ts = mpgm_wtime() - t0;
+  /* room for every cloud of the search (enlargements may add more) */
+  MPGM_CALL(grow_out(ctx, d, d->cptr[m]));
+  int k = 0;
+  for (int p = 0; p < m; p++) {
+    d->optr[p] = k;
+    const int err = shape_point(pb, d, p, &k, &ts);
+    if (err) {
+      ctx->t[MPGM_T_SEARCH] += ts;
+      ctx->t[MPGM_T_SHAPE] -= ts;
+      return err;
+    }
+  }
+  d->optr[m] = k;
+  ctx->t[MPGM_T_SEARCH] += ts;
+  ctx->t[MPGM_T_SHAPE] -= ts;
+  /* a new pattern only when some point's node list changed */
+  int same = C->np == m && C->ptr[m] == k;
+  for (int p = 0; same && p <= m; p++) same = C->ptr[p] == d->optr[p];
+  if (same) same = memcmp(C->node, d->onode, sizeof(int) * (size_t)k) == 0;
+  MPGM_CALL(mpgm_conn_reserve(ctx, C, m, k));
+  memcpy(C->ptr, d->optr, sizeof(int) * (size_t)(m + 1));
+  memcpy(C->node, d->onode, sizeof(int) * (size_t)k);
+  memcpy(C->N, d->oN, sizeof(double) * (size_t)k);
+  memcpy(C->dN, d->odN, 2 * sizeof(double) * (size_t)k);
+  if (!same) C->version++;
+  return 0;
+}
+
+/* The mesh of the setup, for output only (nodes persist, so the cells show
+ * the deformed body; they are not the interpolation). */
+static int gmm_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
+                     const int **type) {
+  gmm_data *d = pb->fe_data;
+  pb->fe_data = d->fem;
+  const int err = mpgm_fem_cells(pb, ncells, ptr, conn, type);
+  pb->fe_data = d;
+  return err;
+}
+
+const mpgm_frontend_ops mpgm_frontend_gmm = {
+    .name = "gmm",
+    .point_velocity = MPGM_PV_INTERPOLATE,
+    .setup = gmm_setup,
+    .begin_step = gmm_begin_step,
+    .end_step = mpgm_fem_end_step,
+    .cells = gmm_cells,
+    .destroy = gmm_destroy,
+};

@@ -1,0 +1,280 @@
+/* test_gmm.c -- the GMM front end's node clouds (gmm/gmm.c): every cloud
+ * holds exactly the nodes a brute-force search finds within the support
+ * radius (MLS, LME), the connectivity reproduces constants and linear
+ * fields with their gradients, radius growth reaches shape.min_nodes,
+ * cloud enlargement rescues a quadratic MLS basis on a too-small support,
+ * and a point that cannot be rescued fails with a recoverable error.
+ *
+ * Tolerances: linear reproduction of LME holds to its Newton tolerance,
+ * |sum N_a x_a - x| < tol_newton h = 1e-10 h; gradients (centred form) and
+ * MLS to round-off of sums of ~30 O(1) terms. TOL_REPRO = 1e-9 (relative to
+ * h or 1) leaves a margin of 10 over the Newton tolerance. The brute-force
+ * comparison is exact except for nodes within 1e-9 r of the radius, whose
+ * N is zero to round-off and may be dropped or kept. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
+#include "mpgm_core.h"
+#include "mpgm_frontends.h"
+#include "mpgm_test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define TOL_REPRO 1e-9
+
+static int write_scene(const char *path) {
+  FILE *f = fopen(path, "w");
+  if (!f) return -1;
+  fprintf(
+      f,
+      "{\"method\": \"gmm\", \"shape\": {\"kind\": \"mls\"},\n"
+      " \"mesh\": {\"h\": 0.1371, \"domain\": {\"min\": [-0.213, -0.117], \"max\": [3.1, 1.27]}},\n"
+      " \"materials\": {\"m\": {\"type\": \"neo_hookean\", \"density\": 2385.7, \"E\": 3.1e7, "
+      "\"nu\": 0.287}},\n"
+      " \"bodies\": [{\"material\": \"m\", \"rectangle\": {\"min\": [0.31, 0.17], \"max\": [2.71, "
+      "0.93]}}],\n"
+      " \"boundaries\": [{\"x\": 0.31, \"fix\": [\"x\", \"y\"]}],\n"
+      " \"gravity\": [0.0, -9.81], \"probes\": {\"tip\": [2.71, 0.55], \"in\": [1.234, 0.567]},\n"
+      " \"output\": {\"vtk\": \"none\"}}\n");
+  return fclose(f);
+}
+
+/* Load the scene with overrides and set up the problem. */
+static int make(const char *path, int nset, const char *const *sets, mpgm_ctx *ctx, mpgm_scene **s,
+                mpgm_problem **pb) {
+  mpgm_ctx_init(ctx);
+  *s = NULL;
+  *pb = NULL;
+  int err = mpgm_scene_load(ctx, path, nset, sets, s);
+  if (!err) err = mpgm_problem_create(ctx, *s, &mpgm_frontend_gmm, pb);
+  return err;
+}
+
+static void destroy(mpgm_scene **s, mpgm_problem **pb) {
+  mpgm_problem_destroy(pb);
+  mpgm_scene_destroy(s);
+}
+
+/* Node lists sorted and unique; sum N = 1, sum N x = x, sum dN = 0,
+ * sum x (x) dN = I. Returns the number of bad points. */
+static int check_reproduction(const mpgm_problem *pb, int order2, double *worst) {
+  const mpgm_conn *C = &pb->conn;
+  const double *X = pb->nodes.x, h = pb->scene->h;
+  const int m = pb->pts.n + pb->pts.nprobe;
+  int bad = 0;
+  *worst = 0.0;
+  for (int p = 0; p < m; p++) {
+    const double *x = pb->pts.x + 2 * p;
+    double s = 0, sx = 0, sy = 0, g[2] = {0, 0}, G[4] = {0, 0, 0, 0}, q = 0;
+    int sorted = 1;
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      if (k > C->ptr[p] && C->node[k - 1] >= I) sorted = 0;
+      const double N = C->N[k], dx = X[2 * I] - x[0], dy = X[2 * I + 1] - x[1];
+      s += N;
+      sx += N * dx;
+      sy += N * dy;
+      q += N * dx * dy; /* quadratic reproduction: sum N (x_a - x)(y_a - y) = 0 */
+      g[0] += C->dN[2 * k];
+      g[1] += C->dN[2 * k + 1];
+      G[0] += X[2 * I] * C->dN[2 * k];
+      G[1] += X[2 * I] * C->dN[2 * k + 1];
+      G[2] += X[2 * I + 1] * C->dN[2 * k];
+      G[3] += X[2 * I + 1] * C->dN[2 * k + 1];
+    }
+    double e = fabs(s - 1.0);
+    e = fmax(e, fmax(fabs(sx), fabs(sy)) / h);
+    /* gradients: material points only. A probe uses N alone and is
+     * evaluated without the condition limit (gmm.c): on the boundary its
+     * LME Hessian may be ill-conditioned and its grad N inaccurate */
+    if (p < pb->pts.n) {
+      e = fmax(e, fmax(fabs(g[0]), fabs(g[1])) * h);
+      e = fmax(e, fmax(fmax(fabs(G[0] - 1.0), fabs(G[1])), fmax(fabs(G[2]), fabs(G[3] - 1.0))));
+    }
+    if (order2) e = fmax(e, fabs(q) / (h * h));
+    *worst = fmax(*worst, e);
+    if (!(e <= TOL_REPRO) || !sorted) bad++;
+  }
+  return bad;
+}
+
+/* Every cloud against a brute-force search over all nodes: nodes in the
+ * list lie within r; nodes strictly inside (d < (1 - 1e-9) r) are listed. */
+static void check_clouds(const char *label, const mpgm_problem *pb) {
+  const mpgm_scene *s = pb->scene;
+  double r = 0.0;
+  mpgm_shape_params par = s->shape_par;
+  mpgm_shape_support_radius(s->shape, &par, &r);
+  const mpgm_conn *C = &pb->conn;
+  const double *X = pb->nodes.x;
+  const int m = pb->pts.n + pb->pts.nprobe;
+  int outside = 0, missing = 0;
+  long entries = 0;
+  unsigned char *in = calloc((size_t)pb->nodes.n, 1);
+  for (int p = 0; p < m && in; p++) {
+    const double *x = pb->pts.x + 2 * p;
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      const double dx = X[2 * I] - x[0], dy = X[2 * I + 1] - x[1];
+      if (dx * dx + dy * dy > r * r) outside++;
+      in[I] = 1;
+      entries++;
+    }
+    for (int I = 0; I < pb->nodes.n; I++) {
+      const double dx = X[2 * I] - x[0], dy = X[2 * I + 1] - x[1];
+      if (sqrt(dx * dx + dy * dy) < (1.0 - 1e-9) * r && !in[I]) missing++;
+    }
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) in[C->node[k]] = 0;
+  }
+  free(in);
+  mpgm_test(in != NULL || m == 0, "%s: workspace", label);
+  mpgm_test(outside == 0 && missing == 0,
+            "%s: %d clouds (%ld entries, r = %.4f m = %.3f h) equal the brute-force search: %d "
+            "listed outside r, %d inside r missing",
+            label, m, entries, r, r / s->h, outside, missing);
+}
+
+static void run_kind(const char *path, const char *kind) {
+  char label[64], set[64];
+  snprintf(label, sizeof label, "%s", kind);
+  snprintf(set, sizeof set, "shape.kind=%s", kind);
+  const char *sets[] = {set};
+  mpgm_ctx ctx;
+  mpgm_scene *s;
+  mpgm_problem *pb;
+  int err = make(path, 1, sets, &ctx, &s, &pb);
+  mpgm_test(err == 0, "%s: scene and problem (%s)", label, ctx.msg);
+  if (err) {
+    destroy(&s, &pb);
+    return;
+  }
+  const int v0 = pb->conn.version;
+  err = pb->fe->begin_step(pb);
+  mpgm_test(err == 0, "%s: begin_step (%s)", label, ctx.msg);
+  if (err) {
+    destroy(&s, &pb);
+    return;
+  }
+  mpgm_test(pb->conn.version != v0,
+            "%s: first step replaces the cells' connectivity (version %d -> %d)", label, v0,
+            pb->conn.version);
+  check_clouds(label, pb);
+  double worst;
+  const int bad = check_reproduction(pb, 0, &worst);
+  mpgm_test(
+      bad == 0,
+      "%s: sorted lists; sum N = 1 and linear reproduction at every point and "
+      "probe, sum grad N = 0 and sum x (x) grad N = I at every point (worst %.2e <= %.0e; %d bad)",
+      label, worst, TOL_REPRO, bad);
+  mpgm_test(ctx.n_radius_growths == 0 && ctx.n_cloud_enlargements == 0,
+            "%s: default parameters: no radius growth (%ld), no enlargement (%ld)", label,
+            ctx.n_radius_growths, ctx.n_cloud_enlargements);
+  /* the same node positions again: same lists, no new pattern */
+  const int v1 = pb->conn.version;
+  err = pb->fe->begin_step(pb);
+  mpgm_test(err == 0 && pb->conn.version == v1, "%s: unchanged clouds keep conn.version (%d, %d)",
+            label, v1, pb->conn.version);
+  /* nodes moved by a smooth displacement that keeps the lines x = const
+   * straight (the tip probe stays on the hull of the nodes; in a run a
+   * probe moves by sum N du and stays inside): clouds follow */
+  for (int I = 0; I < pb->nodes.n; I++) {
+    const double X = pb->nodes.X[2 * I], Y = pb->nodes.X[2 * I + 1];
+    pb->nodes.x[2 * I] = X + 0.0731 * X * Y + 0.021 * X;
+    pb->nodes.x[2 * I + 1] = Y - 0.0853 * X * X / 7.3;
+  }
+  const int np = pb->pts.n + pb->pts.nprobe;
+  for (int p = 0; p < np; p++) { /* points follow the same map */
+    const double X = pb->pts.x0[2 * p], Y = pb->pts.x0[2 * p + 1];
+    pb->pts.x[2 * p] = X + 0.0731 * X * Y + 0.021 * X;
+    pb->pts.x[2 * p + 1] = Y - 0.0853 * X * X / 7.3;
+  }
+  err = pb->fe->begin_step(pb);
+  mpgm_test(err == 0, "%s: begin_step on moved nodes (%s)", label, ctx.msg);
+  if (!err) {
+    snprintf(label, sizeof label, "%s, moved nodes", kind);
+    check_clouds(label, pb);
+    const int b2 = check_reproduction(pb, 0, &worst);
+    mpgm_test(b2 == 0, "%s: reproduction at every point (worst %.2e; %d bad)", label, worst, b2);
+  }
+  destroy(&s, &pb);
+}
+
+static void run_growth(const char *path) {
+  const char *sets[] = {"shape.min_nodes=40"};
+  mpgm_ctx ctx;
+  mpgm_scene *s;
+  mpgm_problem *pb;
+  int err = make(path, 1, sets, &ctx, &s, &pb);
+  if (!err) err = pb->fe->begin_step(pb);
+  mpgm_test(err == 0, "mls, min_nodes = 40: begin_step (%s)", ctx.msg);
+  if (!err) {
+    int small = 0;
+    const int m = pb->pts.n + pb->pts.nprobe;
+    for (int p = 0; p < m; p++) small += pb->conn.ptr[p + 1] - pb->conn.ptr[p] < 40;
+    mpgm_test(ctx.n_radius_growths > 0 && small == 0,
+              "mls, min_nodes = 40: %ld radius growths; every cloud has >= 40 nodes (%d smaller)",
+              ctx.n_radius_growths, small);
+    double worst;
+    const int bad = check_reproduction(pb, 0, &worst);
+    mpgm_test(bad == 0, "mls, min_nodes = 40: reproduction (worst %.2e; %d bad)", worst, bad);
+  }
+  destroy(&s, &pb);
+}
+
+static void run_enlarge(const char *path) {
+  /* quadratic MLS (6 terms) on a support of 0.9 h with min_nodes = 1:
+   * the first clouds hold 1-4 nodes and every evaluation fails (too few);
+   * enlargement must rescue every point */
+  const char *sets[] = {"shape.order=2", "shape.radius=0.12339", "shape.min_nodes=1"};
+  mpgm_ctx ctx;
+  mpgm_scene *s;
+  mpgm_problem *pb;
+  int err = make(path, 3, sets, &ctx, &s, &pb);
+  if (!err) err = pb->fe->begin_step(pb);
+  mpgm_test(err == 0, "mls quadratic, R = 0.9 h, min_nodes = 1: begin_step (%s)", ctx.msg);
+  if (!err) {
+    double worst;
+    const int bad = check_reproduction(pb, 1, &worst);
+    mpgm_test(ctx.n_cloud_enlargements > 0 && bad == 0,
+              "enlargement: %ld enlargements rescue every point; quadratic reproduction (worst "
+              "%.2e; %d bad)",
+              ctx.n_cloud_enlargements, worst, bad);
+  }
+  destroy(&s, &pb);
+  /* the same with no enlargement allowed: a recoverable failure naming the
+   * point and the reason */
+  const char *sets0[] = {"shape.order=2", "shape.radius=0.12339", "shape.min_nodes=1",
+                         "shape.max_enlarge=0"};
+  err = make(path, 4, sets0, &ctx, &s, &pb);
+  mpgm_test(err == 0, "max_enlarge = 0: problem (%s)", ctx.msg);
+  if (!err) {
+    err = pb->fe->begin_step(pb);
+    mpgm_test(
+        err == MPGM_ERR_SHAPE && strstr(ctx.msg, "point 0") && strstr(ctx.msg, "too few nodes"),
+        "max_enlarge = 0: MPGM_ERR_SHAPE (%d) naming the point and the reason: %s", err, ctx.msg);
+  }
+  destroy(&s, &pb);
+}
+
+int main(void) {
+  char dir[] = "/tmp/mpgm_test_gmm_XXXXXX";
+  if (!mkdtemp(dir)) {
+    mpgm_test(0, "mkdtemp");
+    return mpgm_test_summary();
+  }
+  char path[512];
+  snprintf(path, sizeof path, "%s/gmm.json", dir);
+  if (write_scene(path))
+    mpgm_test(0, "write %s", path);
+  else {
+    run_kind(path, "mls");
+    run_kind(path, "lme");
+    run_growth(path);
+    run_enlarge(path);
+  }
+  remove(path);
+  rmdir(dir);
+  return mpgm_test_summary();
+}
