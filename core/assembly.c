@@ -496,7 +496,8 @@ static int scatter_maps(mpgm_problem *pb) {
           for (int j = 0; j < 2; j++) {
             const int row = dof[2 * I + i], col = dof[2 * J + j];
             int pos = -1;
-            if (row >= 0 && col >= 0) {
+            /* held contact components are numbered but get no terms */
+            if (row >= 0 && col >= 0 && !nd->fix[2 * I + i] && !nd->fix[2 * J + j]) {
               pos = K->colptr[col] + pb->nbr_off[t] + (i == 1 && dof[2 * I] >= 0);
               if (K->rowind[pos] != row) {
                 bad = 1;
@@ -519,6 +520,8 @@ static int scatter_maps(mpgm_problem *pb) {
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   return 0;
 }
+
+int mpgm_scatter_maps(mpgm_problem *pb) { return scatter_maps(pb); }
 
 int mpgm_scatter_build(mpgm_problem *pb) {
   mpgm_timer_start(pb->ctx, MPGM_T_ANALYSE);
@@ -704,6 +707,24 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
   for (int ph = 0; ph < 4; ph++) {
     j.t0 = phase_task[ph];
     mpgm_pool_run(pb->pool, phase_task[ph + 1] - phase_task[ph], assemble_task, &j);
+  }
+  /* held contact components: equation delta = 0 (identity row, R = 0) */
+  if (pb->fx.contact) {
+    const mpgm_nodes *nd = &pb->nodes;
+    for (int i = 0; i < 2 * nd->n; i++) {
+      const int e = nd->dof[i];
+      if (e < 0 || !nd->fix[i]) continue;
+      pb->R[e] = 0.0;
+      if (!want_K) continue;
+      const mpgm_csc *K = &pb->K;
+      int lo = K->colptr[e], hi = K->colptr[e + 1] - 1;
+      while (lo < hi) { /* rows of a column are sorted */
+        const int mid = (lo + hi) / 2;
+        if (K->rowind[mid] < e) lo = mid + 1;
+        else hi = mid;
+      }
+      if (lo <= hi && K->rowind[lo] == e) K->val[lo] = 1.0;
+    }
   }
   mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
   return 0;

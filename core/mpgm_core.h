@@ -167,6 +167,9 @@ struct mpgm_problem {
   int map_version;   /**< conn.map_version the scatter maps were built for */
   int factor_valid;  /**< the solver holds a factorisation of this pattern
                           (modified Newton may reuse it across steps)    */
+  unsigned char *fix_factored; /**< nodes.fix when it was factorised: held
+                          contact components have identity rows, so
+                          a different held set is a different matrix    */
   /* points grouped by node list: the points of a group have identical
    * lists (the particles in one grid cell, the Gauss points of one
    * element), so they share a scatter map and one local matrix */
@@ -267,6 +270,9 @@ int mpgm_reactions(mpgm_problem *pb, double *r);
  *  matrix entries) for the current pattern; called when conn.map_version
  *  changed. */
 int mpgm_scatter_build(mpgm_problem *pb);
+/** Rebuild the scatter maps only (same groups and pattern): after the fixity
+ *  of numbered components changed (contact nodes held or released). */
+int mpgm_scatter_maps(mpgm_problem *pb);
 
 /** External force (gravity times load factor) into pb->fext. */
 int mpgm_body_force(mpgm_problem *pb);

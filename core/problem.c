@@ -166,7 +166,10 @@ int mpgm_conn_grow(mpgm_ctx *ctx, mpgm_conn *c, int keep, int nnz) {
 
 void mpgm_nodes_number(mpgm_nodes *nd) {
   int k = 0;
-  for (int i = 0; i < 2 * nd->n; i++) nd->dof[i] = nd->fix[i] ? -1 : k++;
+  /* contact nodes keep their equations while held (held components get
+   * identity rows), so that the matrix pattern does not depend on the
+   * active set */
+  for (int i = 0; i < 2 * nd->n; i++) nd->dof[i] = nd->fix[i] && !nd->contact[i / 2] ? -1 : k++;
   nd->ndof = k;
 }
 
@@ -266,7 +269,8 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
     pb->dubar = calloc(nd, sizeof(double));
     pb->react = calloc(nd, sizeof(double));
     pb->cflip = calloc(nd, 1);
-    if (!pb->R || !pb->fext || !pb->delta || !pb->dubar || !pb->react || !pb->cflip)
+    pb->fix_factored = calloc(nd, 1);
+    if (!pb->R || !pb->fext || !pb->delta || !pb->dubar || !pb->react || !pb->cflip || !pb->fix_factored)
       err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
   }
   if (!err && pb->nodes.n > 0 && pb->nodes.ndof == 0)
@@ -308,6 +312,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->dubar);
   free(pb->react);
   free(pb->cflip);
+  free(pb->fix_factored);
   mpgm_solver_destroy(&pb->solver);
   mpgm_solver_destroy(&pb->solver_alt);
   free(pb);

@@ -151,11 +151,17 @@ static int newton(mpgm_problem *pb, int warm) {
   const int lifted = predictor(pb, warm);
   pb->lift = lifted ? pb->dubar : NULL;
   const int n = nd->ndof;
-  const double fnorm = norm2(pb->fext, n);
+  /* |f_ext| over the free equations (held contact components have
+   * numbered, constrained equations) */
+  double fnorm = 0.0;
+  for (int i = 0; i < 2 * nd->n; i++)
+    if (nd->dof[i] >= 0 && !nd->fix[i]) fnorm += pb->fext[nd->dof[i]] * pb->fext[nd->dof[i]];
+  fnorm = sqrt(fnorm);
   double ref = 0.0, res_prev = INFINITY;
   /* a factorisation of this pattern exists (modified Newton may start from
    * the one of an earlier step) */
-  int factored = sc->newton_modified && pb->factor_valid;
+  int factored = sc->newton_modified && pb->factor_valid &&
+                 memcmp(pb->fix_factored, nd->fix, 2 * (size_t)nd->n) == 0;
   int checked = 0;
   for (int it = 0;; it++) {
     MPGM_CALL(mpgm_eval_points(pb));
@@ -213,6 +219,8 @@ static int newton(mpgm_problem *pb, int warm) {
     }
     pb->factor_valid = !err;
     MPGM_CALL(err);
+    /* the held contact components the factorisation was made with */
+    if (!reuse) memcpy(pb->fix_factored, nd->fix, 2 * (size_t)nd->n);
     MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
     double dd = 0.0, uu = 0.0;
     for (int i = 0; i < 2 * nd->n; i++) {
@@ -275,6 +283,7 @@ int mpgm_step(mpgm_problem *pb) {
   int rebuild = pb->conn.version != pb->pattern_version, its = 0;
   if (!rebuild && pb->conn.map_version != pb->map_version) MPGM_CALL(mpgm_scatter_build(pb));
   if (pb->fx.contact) memset(pb->cflip, 0, (size_t)nd->n);
+  int ndof_step = nd->ndof;
   lu_resume(pb);
   for (int round = 0;; round++) {
     if (rebuild) {
@@ -283,7 +292,13 @@ int mpgm_step(mpgm_problem *pb) {
                  "%s: boundaries: every degree of freedom of the step is fixed; nothing to solve",
                  sc->file);
       MPGM_CALL(mpgm_pattern_build(pb));
+      rebuild = 0;
     }
+    /* the step's numbering is fixed once it starts: f_ext (computed once
+     * per step) and the increments of a re-solve are indexed by it */
+    if (round == 0) ndof_step = nd->ndof;
+    MPGM_CHECK(ctx, nd->ndof == ndof_step, MPGM_ERR_INTERNAL,
+               "step %ld: equations renumbered within the step (%d -> %d)", pb->step + 1, ndof_step, nd->ndof);
     const int early = newton(pb, round > 0);
     MPGM_CALL(early < 0 ? early : 0);
     its += pb->last.iterations;
@@ -291,7 +306,11 @@ int mpgm_step(mpgm_problem *pb) {
     MPGM_CHECK(ctx, round < 50, MPGM_ERR_NOT_CONVERGED,
                "the contact active set did not settle in %d solves of the step", round + 1);
     pb->contact_rounds++;
-    rebuild = 1;
+    /* contact nodes keep their equations whatever their state: the
+     * pattern and its analysis stand, only the maps (which leave out held
+     * components) and the factorisation change */
+    MPGM_CALL(mpgm_scatter_maps(pb));
+    pb->factor_valid = 0;
   }
   pb->last.iterations = its;
   const mpgm_newton_info *info = &pb->last;

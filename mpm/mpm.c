@@ -501,9 +501,12 @@ static int mpm_begin_step(mpgm_problem *pb) {
   }
   /* FE: the same active cells, nodes and fixity give the same pattern;
    * clouds change with every particle move */
-  const int same = !d->meshfree && n == d->pn && memcmp(d->cact, d->pact, (size_t)g->ncell) == 0 &&
-                   memcmp(d->lglob, d->plglob, sizeof(int) * (size_t)n) == 0 &&
-                   memcmp(nd->fix, d->pfix, 2 * (size_t)n) == 0;
+  int same = !d->meshfree && n == d->pn && memcmp(d->cact, d->pact, (size_t)g->ncell) == 0 &&
+             memcmp(d->lglob, d->plglob, sizeof(int) * (size_t)n) == 0;
+  /* the fixity of contact nodes does not change the pattern (they keep
+   * their equations), only the maps */
+  for (int i = 0; i < 2 * n && same; i++)
+    same = nd->contact[i / 2] || nd->fix[i] == d->pfix[i];
   if (same) C->map_version++; /* same nodes and pattern: new maps only */
   else C->version++;
   return 0;
