@@ -166,7 +166,7 @@ int main(int argc, char **argv) {
   /* MPM rebuilds its pattern, maps and factor every step: keep freed memory
    * in the process instead of returning it to the system and faulting in
    * fresh zeroed pages the next step (2-3 % of the rolling disk's time) */
-  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_MMAP_THRESHOLD, 32 << 20); /* glibc's largest */
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
 #endif
   if (argc < 2 || strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0 ||

@@ -179,6 +179,7 @@ struct mpgm_problem {
   int *scatter;      /**< per group: 4 n_p^2 positions in K.val (-1: fixed
                           component)                                    */
   int *scatter_ptr;  /**< ngroups + 1 offsets of the groups' maps        */
+  size_t scatter_cap; /**< allocated entries of scatter                 */
   int *nbr_ptr, *nbr; /**< node graph of the pattern: sorted neighbours  */
   int *nbr_off;      /**< per neighbour entry: offset of its rows in the
                           owner's columns                               */
