@@ -231,10 +231,12 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsta
 /** Reorder the material points (not the probes) by key[p] in [0, nkey),
  *  stably (counting sort), so that points that share nodes lie together in
  *  memory: every committed per-point array moves, ids included; the trial
- *  arrays are not moved (they are recomputed before use). perm (n ints,
+ *  arrays are not moved (they are recomputed before use); the arrays move
+ *  on the pool's threads (NULL: the caller's). perm (n ints,
  *  may be NULL) receives the old index of each new position, for the
  *  caller's own per-point arrays. */
-int mpgm_points_sort(mpgm_ctx *ctx, mpgm_points *p, const int *key, int nkey, int *perm);
+int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *key, int nkey,
+                     int *perm);
 /** Allocate nodes. */
 int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n);
 /** Make room for nnz connectivity entries over np points. */

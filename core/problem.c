@@ -38,21 +38,59 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsta
   return 0;
 }
 
-int mpgm_points_sort(mpgm_ctx *ctx, mpgm_points *p, const int *key, int nkey, int *perm_out) {
+/* The committed per-point arrays and their record widths (ints: -1). */
+typedef struct {
+  void **a;
+  int w;
+} point_array;
+
+typedef struct {
+  const point_array *arr;
+  void *const *fresh;
+  const int *perm;
+  int n, m;
+} gather_job;
+
+/* Task j: gather array j into its fresh buffer (probes copied as they are)
+ * and swap it in. */
+static void gather_task(void *arg, int j, int tid) {
+  (void)tid;
+  const gather_job *g = arg;
+  const int w = g->arr[j].w, n = g->n, m = g->m;
+  const int *perm = g->perm;
+  if (w < 0) {
+    const int *src = *g->arr[j].a;
+    int *dst = g->fresh[j];
+    for (int i = 0; i < n; i++) dst[i] = src[perm[i]];
+    memcpy(dst + n, src + n, sizeof(int) * (size_t)(m - n));
+  } else if (w > 0) {
+    const double *src = *g->arr[j].a;
+    double *dst = g->fresh[j];
+    for (int i = 0; i < n; i++)
+      memcpy(dst + (size_t)w * i, src + (size_t)w * perm[i], sizeof(double) * (size_t)w);
+    memcpy(dst + (size_t)w * n, src + (size_t)w * n, sizeof(double) * (size_t)w * (size_t)(m - n));
+  }
+  if (w != 0) {
+    free(*g->arr[j].a);
+    *g->arr[j].a = g->fresh[j];
+  } else {
+    free(g->fresh[j]);
+  }
+}
+
+int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *key, int nkey,
+                     int *perm_out) {
   const int n = p->n, m = p->n + p->nprobe;
   if (n <= 1) {
     if (perm_out && n == 1) perm_out[0] = 0;
     return 0;
   }
-  /* every committed array: its address and record width (ints: width < 0) */
-  struct {
-    void **a;
-    int w;
-  } arr[] = {{(void **)&p->x, 2},     {(void **)&p->x0, 2},     {(void **)&p->u, 2},
-             {(void **)&p->v, 2},     {(void **)&p->a, 2},      {(void **)&p->mass, 1},
-             {(void **)&p->vol0, 1},  {(void **)&p->vol, 1},    {(void **)&p->F, 4},
-             {(void **)&p->sigma, 4}, {(void **)&p->S0, 4},     {(void **)&p->state, p->nstate},
-             {(void **)&p->mat, -1},  {(void **)&p->body, -1},  {(void **)&p->id, -1}};
+  const point_array arr[] = {
+      {(void **)&p->x, 2},     {(void **)&p->x0, 2},    {(void **)&p->u, 2},
+      {(void **)&p->v, 2},     {(void **)&p->a, 2},     {(void **)&p->mass, 1},
+      {(void **)&p->vol0, 1},  {(void **)&p->vol, 1},   {(void **)&p->F, 4},
+      {(void **)&p->sigma, 4}, {(void **)&p->S0, 4},    {(void **)&p->state, p->nstate},
+      {(void **)&p->mat, -1},  {(void **)&p->body, -1}, {(void **)&p->id, -1}};
   enum { NARR = sizeof arr / sizeof arr[0] };
   void *fresh[NARR] = {NULL};
   int *perm = perm_out ? perm_out : malloc(sizeof(int) * (size_t)n);
@@ -71,28 +109,9 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_points *p, const int *key, int nkey, in
   for (int i = 0; i < n; i++) cnt[key[i] + 1]++;
   for (int k = 0; k < nkey; k++) cnt[k + 1] += cnt[k];
   for (int i = 0; i < n; i++) perm[cnt[key[i]]++] = i;
-  /* gather into a fresh array (one pass), probes copied as they are */
-  for (int j = 0; j < NARR; j++) {
-    const int w = arr[j].w;
-    if (w < 0) {
-      const int *src = *arr[j].a;
-      int *dst = fresh[j];
-      for (int i = 0; i < n; i++) dst[i] = src[perm[i]];
-      memcpy(dst + n, src + n, sizeof(int) * (size_t)(m - n));
-    } else if (w > 0) {
-      const double *src = *arr[j].a;
-      double *dst = fresh[j];
-      for (int i = 0; i < n; i++)
-        memcpy(dst + (size_t)w * i, src + (size_t)w * perm[i], sizeof(double) * (size_t)w);
-      memcpy(dst + (size_t)w * n, src + (size_t)w * n, sizeof(double) * (size_t)w * (size_t)(m - n));
-    }
-    if (w != 0) {
-      free(*arr[j].a);
-      *arr[j].a = fresh[j];
-    } else {
-      free(fresh[j]);
-    }
-  }
+  /* one gather pass per array, the arrays on the pool's threads */
+  gather_job g = {arr, fresh, perm, n, m};
+  mpgm_pool_run(pool, NARR, gather_task, &g);
   if (!perm_out) free(perm);
   free(cnt);
   ctx->n_point_sorts++;

@@ -380,7 +380,7 @@ static int mpm_begin_step(mpgm_problem *pb) {
   long descents = 0;
   for (int p = 1; p < np; p++) descents += d->pcell[p] < d->pcell[p - 1];
   if (descents > np / 32) {
-    MPGM_CALL(mpgm_points_sort(ctx, P, d->pcell, g->ncell, d->perm));
+    MPGM_CALL(mpgm_points_sort(ctx, pb->pool, P, d->pcell, g->ncell, d->perm));
     /* the front end's own per-particle data moves along */
     permute(d->pxi, d->pscr, d->perm, np, 2);
     if (d->meshfree) permute(d->lambda, d->pscr, d->perm, np, 2); /* LME warm starts */

@@ -163,7 +163,7 @@ static void test_points_sort(rng *r) {
     P.mat[i] = i % 3; P.body[i] = i % 5;
     if (i < n) key[i] = (int)uniform(r, 0, nkey);
   }
-  int err = mpgm_points_sort(&ctx, &P, key, nkey, perm);
+  int err = mpgm_points_sort(&ctx, NULL, &P, key, nkey, perm);
   int ok = !err && ctx.n_point_sorts == 1, sorted = 1, stable = 1, moved = 1, probes = 1;
   for (int q = 0; q < n; q++) {
     const int i = P.id[q];
