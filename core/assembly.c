@@ -444,9 +444,11 @@ static int scatter_maps(mpgm_problem *pb) {
     ns += 4 * (size_t)k * k;
   }
   MPGM_CHECK(ctx, ns <= INT32_MAX, MPGM_ERR_NOMEM, "scatter map of %zu entries", ns);
-  /* the map is rebuilt every step by MPM and GMM (tens of MB with node
-   * clouds): keep its memory and grow it, rather than fault in fresh pages
-   * each time */
+  /* node clouds (meshfree kinds): no stored maps, see flush_merge */
+  pb->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE;
+  if (pb->nomap) ns = 0;
+  /* the map is rebuilt every step by MPM and GMM: keep its memory and grow
+   * it, rather than fault in fresh pages each time */
   if (ns > pb->scatter_cap || !pb->scatter) {
     free(pb->scatter);
     const size_t cap = ns + ns / 4 + 1;
@@ -472,6 +474,7 @@ static int scatter_maps(mpgm_problem *pb) {
     const int p = pb->order[pb->grp_ptr[g]], k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
     const int *nodes = C->node + k0;
     pb->scatter_ptr[g] = (int)s;
+    if (pb->nomap) continue;
     for (int a = 0; a < nk; a++) { /* local indices by node number */
       int w = a;
       while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
@@ -580,6 +583,48 @@ static void newmark_correct(mpgm_problem *pb) {
   }
 }
 
+/* Add a local matrix kl (4 nk^2, blocks (a, b) of 2 x 2) into K without a
+ * stored map: for every column node, one merge of its sorted neighbour list
+ * with the nodes sorted gives each row node's place (the work of building
+ * a map, done at each assembly). Node clouds (one point per group, 20-40
+ * nodes) would need maps of hundreds of MB (47 000 points x 4 x 24^2 ints
+ * for LME-MPM on the rolling disk), each used once or twice. */
+static void flush_merge(mpgm_problem *pb, const int *nodes, int nk, const double *kl) {
+  const mpgm_nodes *nd = &pb->nodes;
+  const int *dof = nd->dof;
+  const unsigned char *fix = nd->fix;
+  double *val = pb->K.val;
+  int srt[MPGM_SHAPE_MAXNODE], tl[MPGM_SHAPE_MAXNODE];
+  for (int a = 0; a < nk; a++) {
+    int w = a;
+    while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
+      srt[w] = srt[w - 1];
+      w--;
+    }
+    srt[w] = a;
+  }
+  for (int b = 0; b < nk; b++) {
+    const int J = nodes[b], tend = pb->nbr_ptr[J + 1];
+    int t = pb->nbr_ptr[J];
+    for (int q = 0; q < nk; q++) {
+      const int a = srt[q];
+      while (t < tend && pb->nbr[t] < nodes[a]) t++;
+      tl[a] = t; /* the pattern holds every pair of a group (pattern_build) */
+    }
+    for (int j = 0; j < 2; j++) {
+      const int col = dof[2 * J + j];
+      if (col < 0 || fix[2 * J + j]) continue;
+      const int base = pb->K.colptr[col];
+      for (int a = 0; a < nk; a++) {
+        const int I = nodes[a], pos0 = base + pb->nbr_off[tl[a]];
+        const double *e = kl + 4 * (a * nk + b);
+        if (dof[2 * I] >= 0 && !fix[2 * I]) val[pos0] += e[j];
+        if (dof[2 * I + 1] >= 0 && !fix[2 * I + 1]) val[pos0 + (dof[2 * I] >= 0)] += e[2 + j];
+      }
+    }
+  }
+}
+
 /* What every assembly task needs. */
 typedef struct {
   mpgm_problem *pb;
@@ -673,6 +718,10 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
         const double *up = kl + 4 * (b * nkg + a);
         lo[0] = up[0]; lo[1] = up[2]; lo[2] = up[1]; lo[3] = up[3];
       }
+  if (pb->nomap) {
+    flush_merge(pb, C->node + C->ptr[pb->order[t0]], nkg, kl);
+    return;
+  }
   const int *sc = pb->scatter + pb->scatter_ptr[g];
   double *val = pb->K.val;
   for (int q = 0; q < 4 * nkg * nkg; q++)

@@ -180,6 +180,8 @@ struct mpgm_problem {
                           component)                                    */
   int *scatter_ptr;  /**< ngroups + 1 offsets of the groups' maps        */
   size_t scatter_cap; /**< allocated entries of scatter                 */
+  int nomap;         /**< node clouds: K assembled by merging each column's
+                          node list, no stored maps (assembly.c)        */
   int *nbr_ptr, *nbr; /**< node graph of the pattern: sorted neighbours  */
   int *nbr_off;      /**< per neighbour entry: offset of its rows in the
                           owner's columns                               */
