@@ -85,6 +85,21 @@ typedef struct mpgm_scene_boundary {
                                the end of the run [m] (ramped)        */
 } mpgm_scene_boundary;
 
+/** A rigid obstacle of method gmm: layers of fixed nodes (no material
+ *  points) beyond a plane x = value or y = value, spacing mesh.h, aligned
+ *  with the grid over mesh.domain and spanning its extent along the plane
+ *  (docs/scene-format.md, "obstacles"). */
+typedef struct mpgm_scene_obstacle {
+  char name[MPGM_NAME_LEN];
+  int axis;            /**< 0: plane x = value; 1: plane y = value    */
+  double value;        /**< the plane [m]; on a grid line              */
+  int side;            /**< -1: the nodes lie on the - side (below, left)
+                            of the plane, +1 on the + side (above, right) */
+  int gap;             /**< the first layer lies gap h beyond the plane */
+  int layers;          /**< node layers: at value + side (gap + l) h,
+                            l = 0 .. layers - 1                          */
+} mpgm_scene_obstacle;
+
 typedef struct mpgm_scene_probe {
   char name[MPGM_NAME_LEN];
   double x[2];         /**< reference position [m]                   */
@@ -143,6 +158,8 @@ typedef struct mpgm_scene {
   mpgm_scene_body *bodies;
   int nbc;
   mpgm_scene_boundary *bcs;
+  int nobstacle;
+  mpgm_scene_obstacle *obstacles; /**< method gmm: rigid node layers  */
   int nprobe;
   mpgm_scene_probe *probes;
   double gravity[2];        /**< [m/s^2]                               */
@@ -178,6 +195,20 @@ int mpgm_body_contains(const mpgm_scene_body *b, const double x[2]);
 /** Bounding box [m] of body b, computed from its geometry data (rectangle
  *  corners, disk centre and radius, polygon vertices). */
 void mpgm_body_bbox(const mpgm_scene_body *b, double min[2], double max[2]);
+
+/** Material points of bodies filled on a grid: the rule of method mpm's
+ *  particles and of method gmm's grid-filled bodies (one function, so both
+ *  put their points at the same places). For each of ncell cells of kind
+ *  `cell` (mpgm_cell_kind), whose node coordinates (counter-clockwise) the
+ *  caller's xy(grid, c, xn) gives, the Gauss points of the rule of s->ppc
+ *  are taken in order; a point belongs to the first body of s that contains
+ *  it (mpgm_body_contains), or to none. Outputs, entry k = c * s->ppc + q:
+ *  owner (may be NULL) the body or -1; x (may be NULL) the position, 2 per
+ *  entry [m]; *count the entries that belong to a body. Returns 0, or
+ *  MPGM_ERR_INPUT when the cell kind has no rule of s->ppc points. */
+int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
+                     void (*xy)(const void *grid, int c, double *xn), const void *grid,
+                     int *owner, double *x, int *count);
 
 #ifdef __cplusplus
 }

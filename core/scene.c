@@ -238,9 +238,9 @@ static int read_bodies(jr_node *root, mpgm_scene *s) {
     }
     jr_node g;
     MPGM_CALL(read_geometry(&b, body, &g));
-    if (s->method != MPGM_METHOD_MPM && body->geometry != MPGM_GEOM_RECTANGLE)
-      return jr_fail(&b, NULL, "method %s meshes rectangle bodies only; use method mpm for disk and "
-                     "polygon bodies", mpgm_method_name(s->method));
+    if (s->method == MPGM_METHOD_FEM && body->geometry != MPGM_GEOM_RECTANGLE)
+      return jr_fail(&b, NULL, "method fem meshes rectangle bodies only; use method mpm or gmm for "
+                     "disk and polygon bodies");
     const double zero[2] = {0, 0};
     MPGM_CALL(jr_vec2(&b, "velocity", zero, body->velocity));
     jr_node geo;
@@ -366,7 +366,9 @@ static int read_boundaries(jr_node *root, mpgm_scene *s) {
                          "found a box");
         if (s->method != MPGM_METHOD_MPM)
           return jr_fail(&b, "condition", "\"contact\" is a grid condition of method mpm (grid "
-                         "nodes stay on the plane); found method %s", mpgm_method_name(s->method));
+                         "nodes stay on the plane); found method %s%s", mpgm_method_name(s->method),
+                         s->method == MPGM_METHOD_GMM ? " (method gmm: a rigid obstacle, top-level "
+                         "\"obstacles\", as in cases/rolling_disk_gmm.json)" : "");
         const int ax = bc->select == MPGM_SELECT_X ? 0 : 1;
         const double tol = 1e-9 * (s->dom_max[ax] - s->dom_min[ax]) + bc->tol;
         if (fabs(bc->value - s->dom_min[ax]) <= tol) bc->side = 1;
@@ -390,6 +392,59 @@ static int read_boundaries(jr_node *root, mpgm_scene *s) {
                      "every step; prescribed displacements need persistent nodes: method fem), found "
                      "[%g, %g]", bc->displacement[0], bc->displacement[1]);
     MPGM_CALL(jr_end(&b));
+  }
+  return 0;
+}
+
+/* "obstacles": rigid node layers of method gmm (docs/scene-format.md). */
+static int read_obstacles(jr_node *root, mpgm_scene *s) {
+  const cJSON *arr = NULL;
+  MPGM_CALL(get_array(root, "obstacles", &arr));
+  s->nobstacle = arr ? cJSON_GetArraySize(arr) : 0;
+  if (!arr) return 0;
+  if (s->method != MPGM_METHOD_GMM)
+    return jr_fail(root, "obstacles", "obstacles are layers of fixed nodes of method gmm; found method "
+                   "%s (method mpm: a \"contact\" boundary on the grid)", mpgm_method_name(s->method));
+  if (s->nobstacle > 16) return jr_fail(root, "obstacles", "expected at most 16 obstacles, found %d", s->nobstacle);
+  MPGM_ALLOC(root->r->ctx, s->obstacles, s->nobstacle);
+  cJSON *out = cJSON_AddArrayToObject(root->out, "obstacles");
+  static const char *const sides[2][3] = {{"left", "right", NULL}, {"below", "above", NULL}};
+  for (int i = 0; i < s->nobstacle; i++) {
+    jr_node o;
+    MPGM_CALL(array_elem(root, "obstacles", arr, i, out, &o));
+    mpgm_scene_obstacle *ob = &s->obstacles[i];
+    char def[32];
+    snprintf(def, sizeof def, "obstacle%d", i);
+    MPGM_CALL(jr_str(&o, "name", def, ob->name, sizeof ob->name));
+    const cJSON *hx = jr_raw(&o, "x"), *hy = jr_raw(&o, "y");
+    if (!!hx + !!hy != 1)
+      return jr_fail(&o, NULL, "expected exactly one plane: \"x\": value or \"y\": value, found %d",
+                     !!hx + !!hy);
+    const int ax = hy ? 1 : 0;
+    const char *key = ax ? "y" : "x";
+    ob->axis = ax;
+    MPGM_CALL(jr_num(&o, key, NAN, -INFINITY, INFINITY, 0, 0, &ob->value));
+    int sd;
+    MPGM_CALL(jr_enum(&o, "side", sides[ax], -1, &sd));
+    ob->side = sd ? 1 : -1;
+    MPGM_CALL(jr_int(&o, "gap", 1, 1, 16, &ob->gap));
+    MPGM_CALL(jr_int(&o, "layers", 2, 1, 16, &ob->layers));
+    MPGM_CALL(jr_end(&o));
+    /* on a grid line: the layers are aligned with the grid of mesh.domain */
+    const double k = (ob->value - s->dom_min[ax]) / s->h;
+    if (fabs(k - nearbyint(k)) > 1e-6)
+      return jr_fail(&o, key, "expected a plane on a grid line (%c = %g + k h, h = mesh.h = %g), "
+                     "found %g", "xy"[ax], s->dom_min[ax], s->h, ob->value);
+    /* every body on the free side of the plane (touching it is allowed) */
+    const double tol = 1e-9 * s->h;
+    for (int b = 0; b < s->nbody; b++) {
+      const mpgm_scene_body *bd = &s->bodies[b];
+      if (ob->side < 0 ? bd->min[ax] < ob->value - tol : bd->max[ax] > ob->value + tol)
+        return jr_fail(&o, key, "expected every body on the free side of the plane (%s %c = %g), "
+                       "found body \"%s\" reaching %c = %g", ob->side < 0 ? (ax ? "above" : "right of")
+                       : (ax ? "below" : "left of"), "xy"[ax], ob->value, bd->name, "xy"[ax],
+                       ob->side < 0 ? bd->min[ax] : bd->max[ax]);
+    }
   }
   return 0;
 }
@@ -582,6 +637,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   }
   MPGM_CALL(read_bodies(root, s));
   MPGM_CALL(read_boundaries(root, s));
+  MPGM_CALL(read_obstacles(root, s));
   const double g0[2] = {0, 0};
   MPGM_CALL(jr_vec2(root, "gravity", g0, s->gravity));
   MPGM_CALL(read_probes(root, s));
@@ -679,6 +735,7 @@ void mpgm_scene_destroy(mpgm_scene **sp) {
   free(s->bodies);
   free(s->bcs);
   free(s->probes);
+  free(s->obstacles);
   cJSON_Delete((cJSON *)s->resolved);
   free(s);
   *sp = NULL;

@@ -3,12 +3,16 @@
  * material point is connected to the cloud of nodes within the support
  * radius of a meshfree kind (MLS, LME), searched again at every step.
  *
- * Setup is that of the FEM front end (gmm/fem.c): the rectangle bodies are
- * meshed, the nodes are the mesh nodes, the material points sit at the
- * Gauss points of the cells (mesh.ppc), boundaries fix nodes by predicate.
- * The FEM front end's data (the cells) is kept inside this front end's
- * data, for the mesh output only: the cells do not define the
- * interpolation.
+ * Setup is that of the FEM front end (gmm/fem.c) when every body is a
+ * rectangle and there is no obstacle: the rectangle bodies are meshed, the
+ * nodes are the mesh nodes, the material points sit at the Gauss points of
+ * the cells (mesh.ppc), boundaries fix nodes by predicate. The FEM front
+ * end's data (the cells) is kept inside this front end's data, for the
+ * mesh output only: the cells do not define the interpolation. Otherwise
+ * (disk or polygon bodies, obstacles) the bodies are filled on the grid
+ * (gmm_grid.c): MPM's material points, nodes at the grid nodes of their
+ * cells, the obstacles' layers of fixed nodes; nodes with little mass are
+ * left out of a step and carried along (mpgm_gmm_grid_park / _unpark).
  *
  * begin_step (docs/theory.md, section 13):
  *   1. search (timed as "search"): rebuild the kd-tree over the nodes'
@@ -33,6 +37,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gmm_impl.h"
 #include "mpgm_frontends.h"
 #include "mpgm_kdtree.h"
 
@@ -44,6 +49,7 @@
 
 typedef struct gmm_data {
   void *fem;             /**< the FEM front end's data (cells for output)     */
+  gmm_grid *grid;        /**< or, for grid-filled bodies, the output cells    */
   mpgm_kdtree *tree;     /**< over nodes.x (borrowed), rebuilt every step     */
   mpgm_shape_params par; /**< the scene's parameters, h = mesh.h            */
   double r0;             /**< support radius of the kind [m]                  */
@@ -63,6 +69,7 @@ static void gmm_destroy(mpgm_problem *pb) {
   if (!d) return;
   pb->fe_data = d->fem;
   mpgm_fem_destroy(pb);
+  mpgm_gmm_grid_destroy(&d->grid);
   mpgm_kdtree_destroy(&d->tree);
   free(d->lambda);
   free(d->rad);
@@ -81,12 +88,7 @@ static int gmm_setup(mpgm_problem *pb) {
   const mpgm_scene *s = pb->scene;
   gmm_data *d;
   MPGM_ALLOC(ctx, d, 1);
-  /* nodes, points, probes, boundaries: exactly those of UL-FEM */
-  pb->fe_data = NULL;
-  const int err = mpgm_frontend_fem.setup(pb);
-  d->fem = pb->fe_data;
-  pb->fe_data = d; /* from here gmm_destroy frees both */
-  MPGM_CALL(err);
+  pb->fe_data = d; /* from here gmm_destroy frees everything */
   MPGM_CHECK(ctx, !s->shape->needs_cell && s->shape->support_radius, MPGM_ERR_INPUT,
              "%s: shape.kind: method gmm needs a meshfree kind, found \"%s\"", s->file,
              s->shape->name);
@@ -95,6 +97,17 @@ static int gmm_setup(mpgm_problem *pb) {
   MPGM_CHECK(ctx, mpgm_shape_support_radius(s->shape, &d->par, &d->r0) == 0 && d->r0 > 0.0,
              MPGM_ERR_INPUT, "%s: shape: no support radius for kind \"%s\" (h = %g)", s->file,
              s->shape->name, s->h);
+  if (mpgm_gmm_uses_grid(s)) {
+    /* disk and polygon bodies, obstacles: points and nodes on the grid */
+    MPGM_CALL(mpgm_gmm_grid_setup(pb, d->r0, &d->grid));
+  } else {
+    /* rectangles: nodes, points, probes, boundaries exactly those of UL-FEM */
+    pb->fe_data = NULL;
+    const int err = mpgm_frontend_fem.setup(pb);
+    d->fem = pb->fe_data;
+    pb->fe_data = d;
+    MPGM_CALL(err);
+  }
   d->min_nodes = s->min_nodes > 0 ? s->min_nodes : d->par.order == 2 ? 12 : 6;
   const int m = pb->pts.n + pb->pts.nprobe;
   MPGM_ALLOC(ctx, d->lambda, 2 * (size_t)m);
@@ -297,6 +310,11 @@ static int gmm_begin_step(mpgm_problem *pb) {
   d->optr[m] = k;
   ctx->t[MPGM_T_SEARCH] += ts;
   ctx->t[MPGM_T_SHAPE] -= ts;
+  /* grid-filled bodies: nodes with little mass are parked for the step */
+  if (d->grid) {
+    MPGM_CALL(mpgm_gmm_grid_park(pb, d->grid, d->tree, d->r0, m, d->optr, d->onode, d->oN, d->odN));
+    k = d->optr[m];
+  }
   /* a new pattern only when some point's node list changed */
   int same = C->np == m && C->ptr[m] == k;
   for (int p = 0; same && p <= m; p++) same = C->ptr[p] == d->optr[p];
@@ -310,11 +328,24 @@ static int gmm_begin_step(mpgm_problem *pb) {
   return 0;
 }
 
+static int gmm_end_step(mpgm_problem *pb) {
+  gmm_data *d = pb->fe_data;
+  if (d->grid) mpgm_gmm_grid_unpark(pb, d->grid);
+  return 0;
+}
+
 /* The mesh of the setup, for output only (nodes persist, so the cells show
  * the deformed body; they are not the interpolation). */
 static int gmm_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
                      const int **type) {
   gmm_data *d = pb->fe_data;
+  if (d->grid) {
+    *ncells = d->grid->ncell;
+    *ptr = d->grid->cptr;
+    *conn = d->grid->cnode;
+    *type = d->grid->ctype;
+    return 0;
+  }
   pb->fe_data = d->fem;
   const int err = mpgm_fem_cells(pb, ncells, ptr, conn, type);
   pb->fe_data = d;
@@ -326,7 +357,7 @@ const mpgm_frontend_ops mpgm_frontend_gmm = {
     .point_velocity = MPGM_PV_INTERPOLATE,
     .setup = gmm_setup,
     .begin_step = gmm_begin_step,
-    .end_step = mpgm_fem_end_step,
+    .end_step = gmm_end_step,
     .cells = gmm_cells,
     .destroy = gmm_destroy,
 };

@@ -63,48 +63,55 @@ static void mpm_destroy(mpgm_problem *pb) {
   pb->fe_data = NULL;
 }
 
+/* Grid cell coordinates for mpgm_bodies_fill. */
+static void grid_cell_xy(const void *grid, int c, double *xn) {
+  int nodes[MPGM_FE_MAXNODE];
+  mpgm_grid_cell(grid, c, nodes, xn);
+}
+
 /* Particles of every body at the Gauss points of the cells that lie in it
- * (count only when P is NULL). The first body containing a point owns it. */
+ * (count only when P is NULL). The first body containing a point owns it
+ * (mpgm_bodies_fill: the rule method gmm shares for its grid-filled
+ * bodies). */
 static int fill_bodies(mpgm_problem *pb, mpm_data *d, mpgm_points *P, int *count) {
+  mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
   const mpgm_grid *g = &d->g;
   double gxi[18], gw[9];
   MPGM_CALL(mpgm_fe_gauss(g->cell, s->ppc, gxi, gw));
   const double ref_area = g->cell == MPGM_CELL_Q4 ? 4.0 : 0.5;
   const double cell_area = g->h * g->h / (g->cell == MPGM_CELL_Q4 ? 1.0 : 2.0);
-  int p = 0;
-  for (int c = 0; c < g->ncell; c++) {
-    int nodes[MPGM_FE_MAXNODE];
-    double xn[2 * MPGM_FE_MAXNODE];
-    mpgm_grid_cell(g, c, nodes, xn);
-    for (int q = 0; q < s->ppc; q++) {
-      double N[MPGM_FE_MAXNODE], x[2] = {0, 0};
-      mpgm_fe_ref(g->cell, gxi + 2 * q, N, NULL);
-      for (int a = 0; a < g->nn; a++) {
-        x[0] += N[a] * xn[2 * a];
-        x[1] += N[a] * xn[2 * a + 1];
-      }
-      int b = 0;
-      while (b < s->nbody && !mpgm_body_contains(&s->bodies[b], x)) b++;
-      if (b == s->nbody) continue;
-      if (P) {
-        const mpgm_scene_body *bd = &s->bodies[b];
-        const mpgm_material *mat = &s->mats[bd->material];
-        P->x[2 * p] = P->x0[2 * p] = x[0];
-        P->x[2 * p + 1] = P->x0[2 * p + 1] = x[1];
-        P->vol[p] = P->vol0[p] = cell_area * gw[q] / ref_area;
-        P->mass[p] = mat->density * P->vol0[p];
-        P->v[2 * p] = bd->velocity[0];
-        P->v[2 * p + 1] = bd->velocity[1];
-        P->mat[p] = bd->material;
-        P->body[p] = b;
-        if (mat->type->init_state && P->nstate)
-          mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
-      }
-      p++;
-    }
+  const size_t ng = (size_t)g->ncell * (size_t)s->ppc;
+  int *owner = malloc(sizeof(int) * ng);
+  double *xg = P ? malloc(sizeof(double) * 2 * ng) : NULL;
+  if (!owner || (P && !xg)) {
+    free(owner);
+    free(xg);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (%zu grid Gauss points)", ng);
   }
-  *count = p;
+  const int err = mpgm_bodies_fill(s, g->cell, g->ncell, grid_cell_xy, g, owner, xg, count);
+  int p = 0;
+  for (size_t k = 0; k < ng && P && !err; k++) {
+    const int b = owner[k];
+    if (b < 0) continue;
+    const int q = (int)(k % (size_t)s->ppc);
+    const mpgm_scene_body *bd = &s->bodies[b];
+    const mpgm_material *mat = &s->mats[bd->material];
+    P->x[2 * p] = P->x0[2 * p] = xg[2 * k];
+    P->x[2 * p + 1] = P->x0[2 * p + 1] = xg[2 * k + 1];
+    P->vol[p] = P->vol0[p] = cell_area * gw[q] / ref_area;
+    P->mass[p] = mat->density * P->vol0[p];
+    P->v[2 * p] = bd->velocity[0];
+    P->v[2 * p + 1] = bd->velocity[1];
+    P->mat[p] = bd->material;
+    P->body[p] = b;
+    if (mat->type->init_state && P->nstate)
+      mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
+    p++;
+  }
+  free(owner);
+  free(xg);
+  MPGM_CHECK(ctx, !err, err, "%s: mesh.ppc: no Gauss rule of %d points", s->file, s->ppc);
   return 0;
 }
 
