@@ -230,6 +230,11 @@ void mpgm_problem_destroy(mpgm_problem **pb);
 
 /** Allocate points (n material + nprobe tracers) with nstate doubles. */
 int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nstate);
+/** Material point p of scene body `body` at (x, y) with volume vol [m^3]:
+ *  position, mass (density x volume), the body's initial velocity,
+ *  material, and the material's initial state. */
+void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double x, double y,
+                    double vol);
 /** Reorder the material points (not the probes) by key[p] in [0, nkey),
  *  stably (counting sort), so that points that share nodes lie together in
  *  memory: every committed per-point array moves, ids included; the trial

@@ -38,6 +38,21 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsta
   return 0;
 }
 
+void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double x, double y,
+                    double vol) {
+  const mpgm_scene_body *bd = &s->bodies[body];
+  const mpgm_material *mat = &s->mats[bd->material];
+  P->x[2 * p] = P->x0[2 * p] = x;
+  P->x[2 * p + 1] = P->x0[2 * p + 1] = y;
+  P->vol[p] = P->vol0[p] = vol;
+  P->mass[p] = mat->density * vol;
+  P->v[2 * p] = bd->velocity[0];
+  P->v[2 * p + 1] = bd->velocity[1];
+  P->mat[p] = bd->material;
+  P->body[p] = body;
+  if (mat->type->init_state && P->nstate) mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
+}
+
 /* The committed per-point arrays and their record widths (ints: -1). */
 typedef struct {
   void **a;

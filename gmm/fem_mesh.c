@@ -68,7 +68,6 @@ int mpgm_fem_setup_mesh(mpgm_problem *pb, const mpgm_fem_mesh *m) {
   for (int c = 0; c < m->ncell; c++) {
     const int b = m->cbody[c];
     const mpgm_scene_body *bd = &s->bodies[b];
-    const mpgm_material *mat = &s->mats[bd->material];
     const int *cn = d->cnode + (size_t)d->nn * c;
     d->cptr[c + 1] = d->cptr[c] + d->nn;
     d->ctype[c] = m->cell == MPGM_CELL_Q4 ? 9 : 5; /* VTK_QUAD, VTK_TRIANGLE */
@@ -88,16 +87,7 @@ int mpgm_fem_setup_mesh(mpgm_problem *pb, const mpgm_fem_mesh *m) {
         x += N[a] * xn[2 * a];
         y += N[a] * xn[2 * a + 1];
       }
-      P->x[2 * p] = P->x0[2 * p] = x;
-      P->x[2 * p + 1] = P->x0[2 * p + 1] = y;
-      P->vol[p] = P->vol0[p] = gw[g] * detJ;
-      P->mass[p] = mat->density * P->vol0[p];
-      P->v[2 * p] = bd->velocity[0];
-      P->v[2 * p + 1] = bd->velocity[1];
-      P->mat[p] = bd->material;
-      P->body[p] = b;
-      if (mat->type->init_state && nstate)
-        mat->type->init_state(mat, P->state + (size_t)nstate * p);
+      mpgm_point_set(P, p, s, b, x, y, gw[g] * detJ);
       d->pcell[p] = c;
       d->pxi[2 * p] = gxi[2 * g];
       d->pxi[2 * p + 1] = gxi[2 * g + 1];

@@ -216,17 +216,7 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
       if (b < 0) continue;
       const int q = (int)(k % (size_t)s->ppc), c = (int)(k / (size_t)s->ppc);
       const mpgm_scene_body *bd = &s->bodies[b];
-      const mpgm_material *mat = &s->mats[bd->material];
-      P->x[2 * p] = P->x0[2 * p] = xg[2 * k];
-      P->x[2 * p + 1] = P->x0[2 * p + 1] = xg[2 * k + 1];
-      P->vol[p] = P->vol0[p] = cell_area * gw[q] / ref_area;
-      P->mass[p] = mat->density * P->vol0[p];
-      P->v[2 * p] = bd->velocity[0];
-      P->v[2 * p + 1] = bd->velocity[1];
-      P->mat[p] = bd->material;
-      P->body[p] = b;
-      if (mat->type->init_state && nstate)
-        mat->type->init_state(mat, P->state + (size_t)nstate * p);
+      mpgm_point_set(P, p, s, b, xg[2 * k], xg[2 * k + 1], cell_area * gw[q] / ref_area);
       int nodes[MPGM_FE_MAXNODE];
       gg_nodes(&g, c, nodes);
       for (int a = 0; a < g.nn; a++) {

@@ -95,18 +95,7 @@ static int fill_bodies(mpgm_problem *pb, mpm_data *d, mpgm_points *P, int *count
     const int b = owner[k];
     if (b < 0) continue;
     const int q = (int)(k % (size_t)s->ppc);
-    const mpgm_scene_body *bd = &s->bodies[b];
-    const mpgm_material *mat = &s->mats[bd->material];
-    P->x[2 * p] = P->x0[2 * p] = xg[2 * k];
-    P->x[2 * p + 1] = P->x0[2 * p + 1] = xg[2 * k + 1];
-    P->vol[p] = P->vol0[p] = cell_area * gw[q] / ref_area;
-    P->mass[p] = mat->density * P->vol0[p];
-    P->v[2 * p] = bd->velocity[0];
-    P->v[2 * p + 1] = bd->velocity[1];
-    P->mat[p] = bd->material;
-    P->body[p] = b;
-    if (mat->type->init_state && P->nstate)
-      mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
+    mpgm_point_set(P, p, s, b, xg[2 * k], xg[2 * k + 1], cell_area * gw[q] / ref_area);
     p++;
   }
   free(owner);
