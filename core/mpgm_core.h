@@ -144,6 +144,14 @@ typedef struct mpgm_newton_info {
  *  sums does not depend on the number of threads. */
 #define MPGM_ASM_CHUNKS 16
 
+/** First assembly task of phase ph (0..3; 4 gives the end): chunk
+ *  interiors 0..C-1, interfaces between chunks c and c+1 with c even, with
+ *  c odd, and the rest (one serial task), C = MPGM_ASM_CHUNKS. */
+static inline int mpgm_asm_phase(int ph) {
+  const int C = MPGM_ASM_CHUNKS, first[5] = {0, C, C + C / 2, 2 * C - 1, 2 * C};
+  return first[ph];
+}
+
 struct mpgm_problem {
   mpgm_ctx *ctx;
   const mpgm_scene *scene;

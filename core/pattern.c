@@ -1,0 +1,409 @@
+/* pattern.c -- the symbolic side of assembly, redone when the connectivity
+ * changes: points grouped by node list, the assembly tasks of the groups
+ * (docs/architecture.md, "Threads"), the node graph and the compressed-
+ * column pattern of K, and the scatter maps from local matrices into K. */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_core.h"
+
+/* ---- sparsity pattern ------------------------------------------------- */
+
+/* 1 when points p and q are connected to the same nodes in the same order. */
+static int same_nodes(const mpgm_conn *C, int p, int q) {
+  const int n = C->ptr[p + 1] - C->ptr[p];
+  if (n != C->ptr[q + 1] - C->ptr[q]) return 0;
+  return memcmp(C->node + C->ptr[p], C->node + C->ptr[q], sizeof(int) * (size_t)n) == 0;
+}
+
+/* ---- assembly tasks ---------------------------------------------------- */
+
+/* Task ids: see mpgm_asm_phase (mpgm_core.h). */
+#define NCH MPGM_ASM_CHUNKS
+
+/* Cut the group order into NCH chunks of about equal point counts. A node
+ * touched by the groups of chunks lo..hi gets the range [lo, hi]; a group
+ * whose nodes all have the range [c, c] is interior to chunk c; one whose
+ * nodes' ranges span [c, c+1] sits on interface c; anything wider goes to
+ * the last, serial task. Interiors of different chunks share no node, nor
+ * do interfaces c and c' with |c - c'| >= 2: the tasks of one phase write
+ * disjoint entries of R and K. */
+static int assembly_tasks(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_conn *C = &pb->conn;
+  const int ng = pb->ngroups, np = pb->pts.n, nn = pb->nodes.n;
+  free(pb->task_grp);
+  free(pb->task_pts);
+  pb->task_grp = malloc(((size_t)ng + 1) * sizeof(int));
+  pb->task_pts = malloc(((size_t)np + 1) * sizeof(int));
+  int *lo = malloc(((size_t)nn + 1) * sizeof(int)), *hi = malloc(((size_t)nn + 1) * sizeof(int));
+  int *tid = malloc(((size_t)ng + 1) * sizeof(int));
+  if (!pb->task_grp || !pb->task_pts || !lo || !hi || !tid) {
+    free(lo);
+    free(hi);
+    free(tid);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (assembly tasks of %d groups)", ng);
+  }
+  for (int i = 0; i < nn; i++) {
+    lo[i] = NCH;
+    hi[i] = -1;
+  }
+  for (int g = 0; g < ng; g++) {
+    const int c = np ? (int)((long)pb->grp_ptr[g] * NCH / np) : 0, p = pb->order[pb->grp_ptr[g]];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      if (c < lo[I]) lo[I] = c;
+      if (c > hi[I]) hi[I] = c;
+    }
+  }
+  memset(pb->task_ptr, 0, sizeof pb->task_ptr);
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]];
+    int glo = NCH, ghi = -1;
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      if (lo[I] < glo) glo = lo[I];
+      if (hi[I] > ghi) ghi = hi[I];
+    }
+    int t;
+    if (ghi < 0) t = 0; /* no nodes: nothing to write */
+    else if (glo == ghi) t = glo;
+    else if (ghi == glo + 1) t = glo % 2 == 0 ? NCH + glo / 2 : NCH + NCH / 2 + glo / 2;
+    else t = 2 * NCH - 1;
+    tid[g] = t;
+    pb->task_ptr[t + 1]++;
+  }
+  for (int t = 0; t < 2 * NCH; t++) pb->task_ptr[t + 1] += pb->task_ptr[t];
+  int fill[2 * NCH];
+  memcpy(fill, pb->task_ptr, sizeof fill);
+  for (int g = 0; g < ng; g++) pb->task_grp[fill[tid[g]]++] = g;
+  /* the same as flat point lists (residual-only assembly) */
+  int q = 0;
+  pb->tpt_ptr[0] = 0;
+  for (int t = 0; t < 2 * NCH; t++) {
+    for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++)
+      for (int u = pb->grp_ptr[pb->task_grp[i]]; u < pb->grp_ptr[pb->task_grp[i] + 1]; u++)
+        pb->task_pts[q++] = pb->order[u];
+    pb->tpt_ptr[t + 1] = q;
+  }
+  free(lo);
+  free(hi);
+  free(tid);
+  return 0;
+}
+
+/* Group the material points by node list: order them by (first node, hash
+ * of the list) with two stable counting sorts, O(points + nodes), then cut
+ * the order where the list changes. Equal lists always end up adjacent
+ * unless another list with the same first node and hash slot interleaves
+ * (then a list forms two groups: correct, only less shared). */
+static int group_points(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_conn *C = &pb->conn;
+  const int np = pb->pts.n, nn = pb->nodes.n;
+  int nslot = 1;
+  while (nslot < np) nslot <<= 1;
+  const int nb = nslot > nn + 1 ? nslot : nn + 1;
+  free(pb->order);
+  free(pb->grp_ptr);
+  pb->order = malloc(((size_t)np + 1) * sizeof(int));
+  pb->grp_ptr = malloc(((size_t)np + 2) * sizeof(int));
+  int *key = malloc(((size_t)np + 1) * sizeof(int)), *tmp = malloc(((size_t)np + 1) * sizeof(int));
+  int *cnt = malloc(((size_t)nb + 1) * sizeof(int));
+  if (!pb->order || !pb->grp_ptr || !key || !tmp || !cnt) {
+    free(key);
+    free(tmp);
+    free(cnt);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (grouping %d points)", np);
+  }
+  for (int pass = 0; pass < 2; pass++) {
+    /* pass 0: by hash slot (all points); pass 1: stable, by first node */
+    const int nk = pass ? nn + 1 : nslot;
+    for (int p = 0; p < np; p++) {
+      if (pass)
+        key[p] = C->ptr[p + 1] > C->ptr[p] ? C->node[C->ptr[p]] + 1 : 0;
+      else {
+        unsigned h = 2166136261u;
+        for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) h = (h ^ (unsigned)C->node[k]) * 16777619u;
+        key[p] = (int)(h & (unsigned)(nslot - 1));
+      }
+    }
+    memset(cnt, 0, ((size_t)nk + 1) * sizeof(int));
+    for (int p = 0; p < np; p++) cnt[key[p] + 1]++;
+    for (int k = 0; k < nk; k++) cnt[k + 1] += cnt[k];
+    if (pass)
+      for (int q = 0; q < np; q++) pb->order[cnt[key[tmp[q]]]++] = tmp[q];
+    else
+      for (int p = 0; p < np; p++) tmp[cnt[key[p]]++] = p;
+  }
+  int ng = 0;
+  for (int q = 0; q < np; q++)
+    if (q == 0 || !same_nodes(C, pb->order[q], pb->order[q - 1])) pb->grp_ptr[ng++] = q;
+  pb->grp_ptr[ng] = np;
+  pb->ngroups = ng;
+  free(key);
+  free(tmp);
+  free(cnt);
+  return assembly_tasks(pb);
+}
+
+static int scatter_maps(mpgm_problem *pb);
+
+int mpgm_pattern_build(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_conn *C = &pb->conn;
+  const mpgm_nodes *nd = &pb->nodes;
+  const int np = pb->pts.n, nn = nd->n;
+  mpgm_timer_start(ctx, MPGM_T_ANALYSE); /* symbolic work, once per pattern */
+  int *nptr = NULL, *pair = NULL;
+  if (pb->graph_version == C->version && pb->nbr_ptr) {
+    /* same connectivity, new equation numbers (a contact node held or
+     * released): the groups and the node graph stand */
+    nptr = pb->nbr_ptr;
+    pair = pb->nbr;
+    goto numbering;
+  }
+  int gerr = group_points(pb);
+  if (gerr) {
+    mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+    return gerr;
+  }
+  /* node graph: the neighbours of node J are the nodes of every group
+   * connected to J (one point stands for its group); built through the
+   * node -> groups transpose with a marker per node (O(entries)), each
+   * list sorted (they are short) */
+  const int ng = pb->ngroups;
+  int *tptr = calloc((size_t)nn + 2, sizeof(int));
+  nptr = calloc((size_t)nn + 1, sizeof(int));
+  int *mark = malloc(((size_t)nn + 1) * sizeof(int));
+  int *tpt = malloc(((size_t)C->ptr[np] + 1) * sizeof(int)); /* representative points */
+  /* pair: neighbour lists, CSR over nptr */
+  if (!tptr || !nptr || !mark || !tpt) goto oom;
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) tptr[C->node[k] + 2]++;
+  }
+  for (int i = 0; i < nn; i++) tptr[i + 2] += tptr[i + 1];
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) tpt[tptr[C->node[k] + 1]++] = p;
+  }
+  for (int pass = 0; pass < 2; pass++) {
+    for (int i = 0; i < nn; i++) mark[i] = -1;
+    for (int J = 0; J < nn; J++) {
+      int cnt = 0, *list = pass ? pair + nptr[J] : NULL;
+      for (int t = tptr[J]; t < tptr[J + 1]; t++)
+        for (int k = C->ptr[tpt[t]]; k < C->ptr[tpt[t] + 1]; k++) {
+          const int I = C->node[k];
+          if (mark[I] == J) continue;
+          mark[I] = J;
+          if (pass) { /* insertion into the sorted list */
+            int w = cnt;
+            while (w > 0 && list[w - 1] > I) {
+              list[w] = list[w - 1];
+              w--;
+            }
+            list[w] = I;
+          }
+          cnt++;
+        }
+      if (!pass) nptr[J + 1] = cnt;
+    }
+    if (!pass) {
+      for (int i = 0; i < nn; i++) nptr[i + 1] += nptr[i];
+      pair = malloc(((size_t)nptr[nn] + 1) * sizeof(int));
+      if (!pair) goto oom;
+    }
+  }
+  free(tptr);
+  free(mark);
+  free(tpt);
+  tptr = mark = tpt = NULL;
+  free(pb->nbr);
+  free(pb->nbr_ptr);
+  pb->nbr = pair;
+  pb->nbr_ptr = nptr;
+  pb->graph_version = C->version;
+numbering:
+  /* count entries */
+  const int n = nd->ndof;
+  mpgm_csc *K = &pb->K;
+  free(K->colptr);
+  free(K->rowind);
+  free(K->val);
+  K->colptr = calloc((size_t)n + 1, sizeof(int));
+  size_t nnz = 0;
+  for (int J = 0; J < nn; J++)
+    for (int j = 0; j < 2; j++) {
+      if (nd->dof[2 * J + j] < 0) continue;
+      for (int t = nptr[J]; t < nptr[J + 1]; t++) {
+        const int I = pair[t];
+        nnz += (nd->dof[2 * I] >= 0) + (nd->dof[2 * I + 1] >= 0);
+      }
+    }
+  K->rowind = malloc((nnz ? nnz : 1) * sizeof(int));
+  K->val = calloc(nnz ? nnz : 1, sizeof(double));
+  if (!K->colptr || !K->rowind || !K->val || nnz > INT32_MAX) {
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (matrix with %zu entries)", nnz);
+  }
+  size_t e = 0;
+  for (int J = 0; J < nn; J++)
+    for (int j = 0; j < 2; j++) {
+      const int col = nd->dof[2 * J + j];
+      if (col < 0) continue;
+      for (int t = nptr[J]; t < nptr[J + 1]; t++) {
+        const int I = pair[t];
+        for (int i = 0; i < 2; i++)
+          if (nd->dof[2 * I + i] >= 0) K->rowind[e++] = nd->dof[2 * I + i];
+      }
+      K->colptr[col + 1] = (int)e;
+    }
+  K->n = n;
+  K->nnz = (int)nnz;
+  K->symmetric = pb->symmetric;
+  /* kept for the scatter maps: node I's rows in a column of node J start
+   * nbr_off[t] entries into the column, t the place of I in J's list */
+  int *off = malloc(((size_t)nptr[nn] + 1) * sizeof(int));
+  if (!off) MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
+  for (int J = 0; J < nn; J++)
+    for (int t = nptr[J], c = 0; t < nptr[J + 1]; t++) {
+      off[t] = c;
+      c += (nd->dof[2 * pair[t]] >= 0) + (nd->dof[2 * pair[t] + 1] >= 0);
+    }
+  free(pb->nbr_off);
+  pb->nbr_off = off;
+  pb->pattern_version = C->version;
+  pb->solver->analysed = 0;
+  if (pb->solver_alt) pb->solver_alt->analysed = 0;
+  pb->factor_valid = 0;
+  mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+  return scatter_maps(pb);
+oom:
+  free(tptr);
+  free(nptr);
+  free(mark);
+  free(tpt);
+  free(pair);
+  MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
+}
+
+/* One scatter map per group: the position in K.val of every (a, b, i, j)
+ * entry of the group's node list (-1 where a component is fixed). */
+static int scatter_maps(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_conn *C = &pb->conn;
+  const mpgm_nodes *nd = &pb->nodes;
+  const mpgm_csc *K = &pb->K;
+  const int ng = pb->ngroups;
+  mpgm_timer_start(ctx, MPGM_T_ANALYSE);
+  free(pb->scatter_ptr);
+  free(pb->kloc);
+  pb->kloc = NULL;
+  pb->scatter_ptr = malloc(((size_t)ng + 1) * sizeof(int));
+  MPGM_CHECK(ctx, pb->scatter_ptr, MPGM_ERR_NOMEM, "out of memory (scatter map)");
+  size_t ns = 0;
+  int maxk = 1;
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]], k = C->ptr[p + 1] - C->ptr[p];
+    if (k > maxk) maxk = k;
+    ns += 4 * (size_t)k * k;
+  }
+  MPGM_CHECK(ctx, ns <= INT32_MAX, MPGM_ERR_NOMEM, "scatter map of %zu entries", ns);
+  /* node clouds (meshfree kinds): no stored maps, see flush_merge */
+  pb->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE;
+  if (pb->nomap) ns = 0;
+  /* the map is rebuilt every step by MPM and GMM: keep its memory and grow
+   * it, rather than fault in fresh pages each time */
+  if (ns > pb->scatter_cap || !pb->scatter) {
+    free(pb->scatter);
+    const size_t cap = ns + ns / 4 + 1;
+    pb->scatter = malloc(cap * sizeof(int));
+    pb->scatter_cap = pb->scatter ? cap : 0;
+  }
+  pb->kloc_size = 4 * maxk * maxk;
+  pb->kloc = malloc((size_t)mpgm_pool_size(pb->pool) * (size_t)pb->kloc_size * sizeof(double));
+  MPGM_CHECK(ctx, pb->scatter && pb->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
+  size_t s = 0;
+  const int *dof = nd->dof;
+  /* place of node a of a group in the neighbour list of its node b, found
+   * by one merge of the sorted list with the group's nodes in increasing
+   * order: O(nk + degree) per b (clouds of meshfree kinds are long) */
+  int *srt = malloc(sizeof(int) * (size_t)maxk), *tpos = malloc(sizeof(int) * (size_t)maxk * maxk);
+  if (!srt || !tpos) {
+    free(srt);
+    free(tpos);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (scatter map)");
+  }
+  int bad = 0;
+  for (int g = 0; g < ng && !bad; g++) {
+    const int p = pb->order[pb->grp_ptr[g]], k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
+    const int *nodes = C->node + k0;
+    pb->scatter_ptr[g] = (int)s;
+    if (pb->nomap) continue;
+    for (int a = 0; a < nk; a++) { /* local indices by node number */
+      int w = a;
+      while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
+        srt[w] = srt[w - 1];
+        w--;
+      }
+      srt[w] = a;
+    }
+    for (int b = 0; b < nk && !bad; b++) {
+      const int J = nodes[b], tend = pb->nbr_ptr[J + 1];
+      int t = pb->nbr_ptr[J];
+      for (int q = 0; q < nk; q++) {
+        const int a = srt[q], I = nodes[a];
+        while (t < tend && pb->nbr[t] < I) t++;
+        if (t == tend || pb->nbr[t] != I) {
+          bad = 1;
+          mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "pattern misses node %d in the list of node %d", I, J);
+          break;
+        }
+        tpos[a * nk + b] = t;
+      }
+    }
+    for (int a = 0; a < nk && !bad; a++) {
+      const int I = nodes[a];
+      for (int b = 0; b < nk && !bad; b++) {
+        const int J = nodes[b], t = tpos[a * nk + b];
+        for (int i = 0; i < 2; i++)
+          for (int j = 0; j < 2; j++) {
+            const int row = dof[2 * I + i], col = dof[2 * J + j];
+            int pos = -1;
+            /* held contact components are numbered but get no terms */
+            if (row >= 0 && col >= 0 && !nd->fix[2 * I + i] && !nd->fix[2 * J + j]) {
+              pos = K->colptr[col] + pb->nbr_off[t] + (i == 1 && dof[2 * I] >= 0);
+              /* a broken invariant, checked on every 16th group: the read
+               * is a cache miss (a third of the maps' cost on clouds) */
+              if ((g & 15) == 0 && K->rowind[pos] != row) {
+                bad = 1;
+                mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "scatter map: entry (%d, %d) misplaced", row, col);
+              }
+            }
+            pb->scatter[s++] = pos;
+          }
+      }
+    }
+  }
+  free(srt);
+  free(tpos);
+  if (bad) {
+    mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+    return MPGM_ERR_INTERNAL;
+  }
+  pb->scatter_ptr[ng] = (int)s;
+  pb->map_version = C->map_version;
+  mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+  return 0;
+}
+
+int mpgm_scatter_maps(mpgm_problem *pb) { return scatter_maps(pb); }
+
+int mpgm_scatter_build(mpgm_problem *pb) {
+  mpgm_timer_start(pb->ctx, MPGM_T_ANALYSE);
+  int err = group_points(pb);
+  mpgm_timer_stop(pb->ctx, MPGM_T_ANALYSE);
+  return err ? err : scatter_maps(pb);
+}
+
