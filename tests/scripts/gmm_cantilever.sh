@@ -12,11 +12,8 @@ exe="$1"; src="$2"; work="$3"
 rm -rf "$work"; mkdir -p "$work"
 scene="$src/cases/cantilever.json"
 fail=0
-run() {
-  local name="$1"; shift
-  "$exe" run "$scene" --quiet --set output.vtk=none --set method=gmm --out "$work/$name" "$@" \
-    > "$work/$name.log" 2>&1 || { echo "FAIL: run $name ($*):"; cat "$work/$name.log"; fail=1; }
-}
+source "$src/tests/tools/run_case.bash"
+run() { local name="$1"; shift; run_case "$name" "$scene" --set method=gmm "$@"; }
 for h in 0.125 0.0625; do
   run "mls_$h" --set shape.kind=mls --set mesh.h=$h
   run "lme_$h" --set shape.kind=lme --set shape.gamma=1.8 --set mesh.h=$h
@@ -24,20 +21,13 @@ done
 run lme_steps --set shape.kind=lme --set mesh.h=0.125 --set time.load_steps=10
 run mls_steps --set shape.kind=mls --set mesh.h=0.125 --set time.load_steps=10
 [ $fail -eq 0 ] || { echo "0 passed, 1 failed"; exit 1; }
-/usr/bin/python3 - "$work" <<'PY'
+/usr/bin/python3 - "$work" "$src" <<'PY'
 import json, math, sys
+sys.path.insert(0, sys.argv[2] + "/tests/tools")
+from script_check import check, done, finite, summary
 w = sys.argv[1]
-S = lambda n: json.load(open(f"{w}/{n}/summary.json"))
+S = lambda n: summary(w, n)
 REF = -0.67437
-npass = nfail = 0
-def check(ok, msg):
-    global npass, nfail
-    print(("PASS: " if ok else "FAIL: ") + msg); npass += ok; nfail += (not ok)
-def finite(x):
-    if isinstance(x, dict): return all(finite(v) for v in x.values())
-    if isinstance(x, list): return all(finite(v) for v in x)
-    if isinstance(x, (int, float)): return math.isfinite(x)
-    return x is not None
 for kind in ("mls", "lme"):
     e = {}
     for h in ("0.125", "0.0625"):
@@ -75,6 +65,5 @@ for kind in ("mls", "lme"):
     check(s["status"] == "completed" and c["steps"] == 10 and abs(t - t1) <= 1e-4 * abs(t1),
           f"{kind}, 10 load steps: tip_uy {t:.7f} vs one step {t1:.7f} (rel {abs(t - t1) / abs(t1):.1e} "
           f"<= 1e-4); {c['analyses']} pattern analyses, {c['shape_cold_restarts']} LME cold restarts")
-print(f"{npass} passed, {nfail} failed")
-sys.exit(1 if nfail else 0)
+done()
 PY

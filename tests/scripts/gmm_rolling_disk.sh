@@ -14,10 +14,8 @@ rm -rf "$work"; mkdir -p "$work"
 scene="$src/cases/rolling_disk_gmm.json"
 coarse=(--quiet --set mesh.h=0.025 --set time.dt=0.005 --set time.end=0.3 --set output.vtk=none)
 fail=0
-run() {
-  local name="$1"; shift
-  "$exe" run "$@" --out "$work/$name" > "$work/$name.log" 2>&1 || { echo "FAIL: run $name ($*):"; cat "$work/$name.log"; fail=1; }
-}
+source "$src/tests/tools/run_case.bash"
+run() { run_case "$@"; }
 run mls "$scene" "${coarse[@]}" --set shape.kind=mls
 run lme "$scene" "${coarse[@]}" --set shape.kind=lme --set shape.gamma=1.8
 # method mpm on the same grid, one step: its particles
@@ -28,19 +26,12 @@ cl=("$src/cases/cantilever.json" --quiet --set output.vtk=none --set method=gmm 
 run cl_mesh "${cl[@]}"
 run cl_grid "${cl[@]}" --set 'obstacles=[{"y":-2.5,"side":"below","layers":1}]'
 [ $fail -eq 0 ] || { echo "0 passed, 1 failed"; exit 1; }
-/usr/bin/python3 - "$work" <<'PY'
+/usr/bin/python3 - "$work" "$src" <<'PY'
 import csv, json, math, sys
+sys.path.insert(0, sys.argv[2] + "/tests/tools")
+from script_check import check, done, finite, summary
 w = sys.argv[1]
-S = lambda n: json.load(open(f"{w}/{n}/summary.json"))
-npass = nfail = 0
-def check(ok, msg):
-    global npass, nfail
-    print(("PASS: " if ok else "FAIL: ") + msg); npass += ok; nfail += (not ok)
-def finite(x):
-    if isinstance(x, dict): return all(finite(v) for v in x.values())
-    if isinstance(x, list): return all(finite(v) for v in x)
-    if isinstance(x, (int, float)): return math.isfinite(x)
-    return x is not None
+S = lambda n: summary(w, n)
 h = 0.025
 mpm = S("mpm")
 mdisk = 7800.0 * math.pi * 0.25
@@ -91,6 +82,5 @@ ta, tb = a["metrics"]["tip_uy"], b["metrics"]["tip_uy"]
 check(a["counts"]["points"] == b["counts"]["points"] and
       b["counts"]["nodes"] == a["counts"]["nodes"] + 77 and abs(ta - tb) <= 1e-12 * abs(ta),
       f"cantilever, GMM-MLS meshed and on the grid (+ 77 obstacle nodes far below): tip_uy {ta!r} vs {tb!r}")
-print(f"{npass} passed, {nfail} failed")
-sys.exit(1 if nfail else 0)
+done()
 PY

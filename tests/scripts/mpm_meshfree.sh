@@ -14,11 +14,8 @@ set -uo pipefail
 exe="$1"; src="$2"; work="$3"
 rm -rf "$work"; mkdir -p "$work"
 fail=0
-run() {
-  local name="$1" scene="$2"; shift 2
-  "$exe" run "$src/cases/$scene.json" --quiet --set output.vtk=none --out "$work/$name" "$@" > "$work/$name.log" 2>&1 \
-    || { echo "FAIL: run $name ($*):"; cat "$work/$name.log"; fail=1; }
-}
+source "$src/tests/tools/run_case.bash"
+run() { local name="$1" scene="$2"; shift 2; run_case "$name" "$src/cases/$scene.json" "$@"; }
 wall='mesh.domain={"min": [0, -3], "max": [9, 1.5]}'
 for k in lme mls; do
   for h in 0.125 0.0625; do
@@ -27,14 +24,12 @@ for k in lme mls; do
 done
 run roll_lme rolling_disk --set shape.kind=lme --set mesh.h=0.025 --set time.dt=0.005 --set time.end=0.3
 [ $fail -eq 0 ] || { echo "0 passed, 1 failed"; exit 1; }
-/usr/bin/python3 - "$work" <<'PY'
+/usr/bin/python3 - "$work" "$src" <<'PY'
 import json, math, sys
+sys.path.insert(0, sys.argv[2] + "/tests/tools")
+from script_check import check, done, finite, summary
 w = sys.argv[1]
-S = lambda n: json.load(open(f"{w}/{n}/summary.json"))
-npass = nfail = 0
-def check(ok, msg):
-    global npass, nfail
-    print(("PASS: " if ok else "FAIL: ") + msg); npass += ok; nfail += (not ok)
+S = lambda n: summary(w, n)
 ref = -0.67437
 for k in ("lme", "mls"):
     c, f = S(f"cant_{k}_0.125"), S(f"cant_{k}_0.0625")
@@ -54,6 +49,5 @@ check(m["error_max"] < 0.025, f"centre follows the analytic curve: max |u_ref - 
 check(t["search"] > 0 and t["shape"] > 0 and "cloud_enlargements" in c and "radius_growths" in c,
       f"time split has search ({t['search']:.2f} s) and shape ({t['shape']:.2f} s); counts cloud_enlargements = "
       f"{c['cloud_enlargements']}, radius_growths = {c['radius_growths']}")
-print(f"{npass} passed, {nfail} failed")
-sys.exit(1 if nfail else 0)
+done()
 PY
