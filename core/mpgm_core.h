@@ -193,6 +193,10 @@ struct mpgm_problem {
   int *nbr_ptr, *nbr; /**< node graph of the pattern: sorted neighbours  */
   int *nbr_off;      /**< per neighbour entry: offset of its rows in the
                           owner's columns                               */
+  int *node_order;   /**< solver.ordering geometric: nodes in nested-
+                          dissection order (of the graph version)       */
+  int *perm;         /**< the equations in that order (K.n), handed to
+                          the solver's analysis; NULL: its own order    */
   double *kloc;      /**< local matrices of the groups, one per thread
                           (kloc_size doubles each)                      */
   int kloc_size;     /**< 4 max n_p^2                                    */
@@ -251,6 +255,11 @@ void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double
  *  may be NULL) receives the old index of each new position, for the
  *  caller's own per-point arrays. */
 int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *key, int nkey,
+                     int *perm);
+/** Nested-dissection order of the n nodes of a graph (CSR ptr/adj) with
+ *  coordinates x (2 per node): perm[k] = the node numbered k
+ *  (core/ordering.c). Errors: MPGM_ERR_NOMEM. */
+int mpgm_order_nodes(mpgm_ctx *ctx, int n, const int *ptr, const int *adj, const double *x,
                      int *perm);
 /** Allocate nodes. */
 int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n);

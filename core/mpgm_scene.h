@@ -147,6 +147,10 @@ typedef struct mpgm_scene {
   double contact_check;     /**< contact: check the active set once
                                  |R| <= contact_check ref (0: only at
                                  convergence)                          */
+  int ordering_nd;          /**< 1: fill-reducing order by geometric
+                                 nested dissection of the node graph
+                                 (core/ordering.c); 0: the backend's own
+                                 (AMD)                                 */
   int threads;              /**< threads of BLAS under the solvers (0:
                                  the libraries' defaults)              */
   int loop_threads;         /**< threads of mpgm's point and assembly

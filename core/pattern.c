@@ -225,6 +225,18 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   pb->nbr = pair;
   pb->nbr_ptr = nptr;
   pb->graph_version = C->version;
+  if (pb->scene->ordering_nd) {
+    /* the node order depends on the graph only: a contact node held or
+     * released keeps it (the equations are renumbered below) */
+    free(pb->node_order);
+    pb->node_order = malloc(((size_t)nn + 1) * sizeof(int));
+    if (!pb->node_order) goto oom;
+    int oerr = mpgm_order_nodes(ctx, nn, nptr, pair, nd->x, pb->node_order);
+    if (oerr) {
+      mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+      return oerr;
+    }
+  }
 numbering:
   /* count entries */
   const int n = nd->ndof;
@@ -261,6 +273,16 @@ numbering:
     }
   K->n = n;
   K->nnz = (int)nnz;
+  if (pb->node_order) { /* the equations in the nodes' order */
+    free(pb->perm);
+    pb->perm = malloc(((size_t)n + 1) * sizeof(int));
+    if (!pb->perm) MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (ordering)");
+    int k = 0;
+    for (int t = 0; t < nn; t++)
+      for (int j = 0; j < 2; j++)
+        if (nd->dof[2 * pb->node_order[t] + j] >= 0) pb->perm[k++] = nd->dof[2 * pb->node_order[t] + j];
+    MPGM_CHECK(ctx, k == n, MPGM_ERR_INTERNAL, "ordering: %d of %d equations placed", k, n);
+  }
   K->symmetric = pb->symmetric;
   /* kept for the scatter maps: node I's rows in a column of node J start
    * nbr_off[t] entries into the column, t the place of I in J's list */

@@ -336,6 +336,8 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->nbr);
   free(pb->nbr_ptr);
   free(pb->nbr_off);
+  free(pb->node_order);
+  free(pb->perm);
   free(pb->kloc);
   free(pb->task_grp);
   free(pb->task_pts);

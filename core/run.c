@@ -75,8 +75,10 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "contact_resolves", (double)pb->contact_rounds);
   cJSON_AddNumberToObject(c, "vtk_files", o->files);
   mpgm_solver_stats st = {0, 0};
-  if (pb->solver && ctx->n_factorizations && mpgm_solver_get_stats(pb->solver, &st) == 0)
+  if (pb->solver && ctx->n_factorizations && mpgm_solver_get_stats(pb->solver, &st) == 0) {
     cJSON_AddNumberToObject(c, "nnz_factor", st.nnz_factor);
+    if (st.flops > 0) cJSON_AddNumberToObject(c, "factor_flops", st.flops);
+  }
   cJSON *t = cJSON_AddObjectToObject(j, "time_s");
   for (int i = 0; i < MPGM_T_COUNT; i++)
     cJSON_AddNumberToObject(t, mpgm_timer_name(i), i == MPGM_T_TOTAL ? rs->wall : ctx->t[i]);

@@ -620,6 +620,8 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_enum(&so, "newton", newton_names, 0, &s->newton_modified));
   MPGM_CALL(jr_num(&so, "reuse_ratio", 0.1, 0.0, 1.0, 1, 1, &s->reuse_ratio));
   MPGM_CALL(jr_num(&so, "contact_check", 1e-3, 0.0, 1.0, 0, 1, &s->contact_check));
+  static const char *const ordering_names[] = {"backend", "geometric", NULL};
+  MPGM_CALL(jr_enum(&so, "ordering", ordering_names, 0, &s->ordering_nd));
   MPGM_CALL(jr_int(&so, "threads", 1, 0, 256, &s->threads));
   MPGM_CALL(jr_end(&so));
 

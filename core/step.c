@@ -128,7 +128,7 @@ static int lu_fallback(mpgm_problem *pb) {
   if (pb->lu_hold_len > LU_HOLD_MAX) pb->lu_hold_len = LU_HOLD_MAX;
   pb->lu_hold = pb->lu_hold_len;
   if (!pb->solver->analysed) {
-    MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
+    MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));
     pb->solver->analysed = 1;
   }
   return mpgm_solver_factor(pb->solver, ctx, &pb->K);
@@ -208,7 +208,7 @@ static int newton(mpgm_problem *pb, int warm) {
     res_prev = res;
     if (!reuse && !want_K) MPGM_CALL(mpgm_assemble(pb, 1));
     if (!pb->solver->analysed) {
-      MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K));
+      MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));
       pb->solver->analysed = 1;
     }
     err = reuse ? 0 : mpgm_solver_factor(pb->solver, ctx, &pb->K);

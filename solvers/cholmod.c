@@ -3,7 +3,8 @@
  *
  * The core's mpgm_csc arrays are wrapped in a cholmod_sparse header without
  * copying (stype = 1: CHOLMOD reads the upper triangle of the full pattern).
- * analyse orders the pattern and builds the symbolic factor once; factor
+ * analyse orders the pattern (AMD, or the caller's order) and builds the
+ * symbolic factor once; factor
  * refills it numerically at every call (cholmod_factorize reuses L's
  * pattern). Common->final_ll is set so that simplicial factorisations are
  * LL' as well: a non-positive pivot is then reported (a simplicial LDL'
@@ -104,14 +105,18 @@ static void chol_destroy(void *data) {
 /* Fill-reducing ordering and symbolic factorisation of A's pattern;
  * replaces the previous symbolic factor. Errors: MPGM_ERR_NOMEM,
  * MPGM_ERR_SOLVER. */
-static int chol_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
+static int chol_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *perm) {
   chol_data *d = data;
   cholmod_sparse As;
   wrap(A, &As);
   cholmod_free_factor(&d->L, &d->cm);
   d->factored = 0;
   d->n = d->nnz = 0;
-  d->L = cholmod_analyze(&As, &d->cm);
+  /* a given order is used as it is (one method, CHOLMOD_GIVEN; the
+   * default list would also run AMD and keep the better of the two) */
+  d->cm.nmethods = perm ? 1 : 0;
+  d->cm.method[0].ordering = CHOLMOD_GIVEN;
+  d->L = cholmod_analyze_p(&As, (int *)perm, NULL, 0, &d->cm);
   if (!d->L) return fail(ctx, d, "cholmod_analyze");
   d->n = A->n;
   d->nnz = A->nnz;

@@ -39,8 +39,10 @@ typedef struct mpgm_solver_type {
   int needs_spd;     /**< 1: only for symmetric positive definite matrices */
   int (*create)(mpgm_ctx *ctx, void **data);
   void (*destroy)(void *data); /**< accepts NULL and half-built data       */
-  /** Symbolic analysis (ordering) of A's pattern. */
-  int (*analyse)(void *data, mpgm_ctx *ctx, const mpgm_csc *A);
+  /** Symbolic analysis of A's pattern: fill-reducing ordering (perm,
+   *  when not NULL: the n equations in the order to eliminate them, used
+   *  as given; NULL: the backend's own ordering) and symbolic factor. */
+  int (*analyse)(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *perm);
   /** Numeric factorisation of A (same pattern as analysed).
    *  Not positive definite / singular: MPGM_ERR_SINGULAR (recoverable). */
   int (*factor)(void *data, mpgm_ctx *ctx, const mpgm_csc *A);
@@ -68,7 +70,7 @@ int mpgm_solver_create(mpgm_ctx *ctx, const mpgm_solver_type *type,
 void mpgm_solver_destroy(mpgm_solver **s);
 /** Generic wrappers: time into ctx (MPGM_T_ANALYSE/FACTOR/SOLVE) and count
  *  analyses, factorisations and solves in ctx. */
-int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A);
+int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A, const int *perm);
 int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A);
 int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
                       double *x);

@@ -84,7 +84,7 @@ static int check_csc(mpgm_ctx *ctx, const mpgm_solver *s, const mpgm_csc *A) {
 /** Symbolic analysis of A's pattern (call again when the pattern changes).
  *  Times MPGM_T_ANALYSE, counts ctx->n_analyses (every call that reaches
  *  the backend). Errors: MPGM_ERR_INPUT, MPGM_ERR_UNSUPPORTED, backend's. */
-int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A) {
+int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A, const int *perm) {
   MPGM_CHECK(ctx, s != NULL, MPGM_ERR_INPUT, "mpgm_solver_analyse: NULL solver");
   if (!s->type->analyse)
     MPGM_ERROR(ctx, MPGM_ERR_UNSUPPORTED, "solver %s: no analyse operation",
@@ -92,7 +92,7 @@ int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A) {
   MPGM_CALL(check_csc(ctx, s, A));
   s->analysed = 0;
   mpgm_timer_start(ctx, MPGM_T_ANALYSE);
-  int ierr = s->type->analyse(s->data, ctx, A);
+  int ierr = s->type->analyse(s->data, ctx, A, perm);
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   ctx->n_analyses++;
   if (ierr) return ierr;

@@ -78,9 +78,10 @@ static void umf_destroy(void *data) {
   free(d);
 }
 
-/* Column pre-ordering and symbolic analysis of A's pattern (the previous
- * Symbolic and Numeric are freed). Errors: MPGM_ERR_NOMEM, MPGM_ERR_SOLVER. */
-static int umf_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
+/* Column pre-ordering (perm as given, or UMFPACK's own when NULL) and
+ * symbolic analysis of A's pattern (the previous Symbolic and Numeric are
+ * freed). Errors: MPGM_ERR_NOMEM, MPGM_ERR_SOLVER. */
+static int umf_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *perm) {
   umf_data *d = data;
   const int n = A->n, nnz = A->nnz;
   release(d);
@@ -93,8 +94,8 @@ static int umf_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
   memcpy(d->Ap, A->colptr, ((size_t)n + 1) * sizeof(int));
   memcpy(d->Ai, A->rowind, (size_t)nnz * sizeof(int));
   /* the values only guide the choice of strategy here */
-  int st = umfpack_di_symbolic(n, n, d->Ap, d->Ai, A->val, &d->Symbolic,
-                               d->Control, d->Info);
+  int st = umfpack_di_qsymbolic(n, n, d->Ap, d->Ai, A->val, perm, &d->Symbolic, d->Control,
+                                d->Info);
   if (st < 0) {
     d->Symbolic = NULL;
     return fail(ctx, st, "umfpack_di_symbolic");

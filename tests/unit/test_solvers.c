@@ -163,7 +163,7 @@ static void check_spd(const mpgm_solver_type *t) {
   int ierr = mpgm_solver_create(&ctx, t, &s);
   mpgm_test(ierr == 0 && s != NULL, "%s: create (%d)", nm, ierr);
   if (ierr) goto done;
-  int e1 = mpgm_solver_analyse(s, &ctx, &A);
+  int e1 = mpgm_solver_analyse(s, &ctx, &A, NULL);
   int e2 = mpgm_solver_factor(s, &ctx, &A);
   int e3 = mpgm_solver_solve(s, &ctx, v.b, v.x);
   mpgm_test(e1 == 0 && e2 == 0 && e3 == 0,
@@ -213,7 +213,7 @@ static void check_spd(const mpgm_solver_type *t) {
     goto done;
   }
   known_rhs(&B, &w);
-  e1 = mpgm_solver_analyse(s, &ctx, &B);
+  e1 = mpgm_solver_analyse(s, &ctx, &B, NULL);
   e2 = mpgm_solver_factor(s, &ctx, &B);
   e3 = mpgm_solver_solve(s, &ctx, w.b, w.x);
   mpgm_test(e1 == 0 && e2 == 0 && e3 == 0 && ctx.n_analyses == 2,
@@ -245,7 +245,7 @@ static int solve_fresh(const mpgm_solver_type *t, const char *what,
   }
   known_rhs(A, &v);
   int ierr = mpgm_solver_create(ctx, t, &s);
-  if (ierr == 0) ierr = mpgm_solver_analyse(s, ctx, A);
+  if (ierr == 0) ierr = mpgm_solver_analyse(s, ctx, A, NULL);
   mpgm_test(ierr == 0, "%s: %s: create and analyse return %d", nm, what, ierr);
   if (ierr) goto done;
   ef = mpgm_solver_factor(s, ctx, A);
@@ -303,7 +303,7 @@ static void check_recovery(const mpgm_solver_type *t, int nx, int ny) {
   if (build(nx, ny, -1, -3.1, 0.0, SCALE, &A) == 0 &&
       build(nx, ny, -1, 0.3817, 0.0, SCALE, &S) == 0 &&
       vecs_alloc(S.n, &v) == 0 && mpgm_solver_create(&ctx, t, &s) == 0 &&
-      mpgm_solver_analyse(s, &ctx, &A) == 0) {
+      mpgm_solver_analyse(s, &ctx, &A, NULL) == 0) {
     mpgm_solver_factor(s, &ctx, &A); /* fails for SPD-only backends */
     mpgm_err_clear(&ctx);
     known_rhs(&S, &v);
@@ -392,7 +392,7 @@ static void check_misuse(const mpgm_solver_type *t) {
     mpgm_test(ef == MPGM_ERR_INTERNAL, "%s: factor before analyse refused (%d)",
               nm, ef);
     mpgm_err_clear(&ctx);
-    int ea = mpgm_solver_analyse(s, &ctx, &A);
+    int ea = mpgm_solver_analyse(s, &ctx, &A, NULL);
     int es = mpgm_solver_solve(s, &ctx, b, x);
     mpgm_test(ea == 0 && es != 0, "%s: solve before factor refused (%d)", nm,
               es);
@@ -424,7 +424,7 @@ static void check_wrappers(void) {
   int ierr = mpgm_solver_create(&ctx, &bare, &s);
   mpgm_test(ierr == 0 && s, "bare backend: create (%d)", ierr);
   if (!ierr && build(2, 2, -1, 1.0, 0.0, 1.0, &A) == 0) {
-    ierr = mpgm_solver_analyse(s, &ctx, &A);
+    ierr = mpgm_solver_analyse(s, &ctx, &A, NULL);
     mpgm_test(ierr == MPGM_ERR_UNSUPPORTED && ctx.code == MPGM_ERR_UNSUPPORTED,
               "missing analyse: MPGM_ERR_UNSUPPORTED recorded (%s)", ctx.msg);
     ierr = mpgm_solver_get_stats(s, &st);
