@@ -94,6 +94,12 @@ static int umf_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *
   memcpy(d->Ap, A->colptr, ((size_t)n + 1) * sizeof(int));
   memcpy(d->Ai, A->rowind, (size_t)nnz * sizeof(int));
   /* the values only guide the choice of strategy here */
+  /* a given order is symmetric (rows and columns alike): with it UMFPACK
+   * must use its symmetric strategy (diagonal pivots preferred), or it
+   * treats the order as a column pre-order only (unsymmetric strategy)
+   * and on the rolling disk's tangent fills 6x more (factorisation 344
+   * instead of 46 ms) */
+  d->Control[UMFPACK_STRATEGY] = perm ? UMFPACK_STRATEGY_SYMMETRIC : UMFPACK_STRATEGY_AUTO;
   int st = umfpack_di_qsymbolic(n, n, d->Ap, d->Ai, A->val, perm, &d->Symbolic, d->Control,
                                 d->Info);
   if (st < 0) {

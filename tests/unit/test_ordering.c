@@ -8,7 +8,8 @@
  * symbolic analysis with the order given) against AMD and against the
  * natural (row by row) order; and the factorisation with the given order
  * must solve the system (graph Laplacian + identity, 2 unknowns per node as
- * in the core) like the backend's own order, with CHOLMOD and UMFPACK. */
+ * in the core) like the backend's own order, with CHOLMOD and UMFPACK, and
+ * UMFPACK must keep the order's fill (L + U about twice CHOLMOD's L). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -197,7 +198,7 @@ static void check_graph(const char *name, graph *g, double max_ratio, double max
   const double f_nd = factor_fill(chol, &A, dperm, &e_nd);
   const double f_amd = factor_fill(chol, &A, NULL, &e_amd);
   const double f_nat = factor_fill(chol, &A, natural, &e_nat);
-  (void)factor_fill(mpgm_solver_type_find("umfpack"), &A, dperm, &e_lu);
+  const double f_lu = factor_fill(mpgm_solver_type_find("umfpack"), &A, dperm, &e_lu);
   printf("  %-14s n = %5d  fill: nested dissection %8.0f, AMD %8.0f (%.2f), natural %9.0f "
          "(%.2f)\n", name, A.n, f_nd, f_amd, f_nd / f_amd, f_nat, f_nd / f_nat);
   mpgm_test(e_nd <= 1e-10 && e_amd <= 1e-10 && e_lu <= 1e-10,
@@ -205,6 +206,10 @@ static void check_graph(const char *name, graph *g, double max_ratio, double max
             e_nd, e_lu, e_amd);
   mpgm_test(f_nd > 0 && f_nd <= max_ratio * f_amd, "%s: fill %.0f <= %.2f x AMD's %.0f", name,
             f_nd, max_ratio, f_amd);
+  /* UMFPACK with the order given uses it for rows and columns alike (its
+   * symmetric strategy): L + U then hold about twice the entries of L */
+  mpgm_test(f_lu > 0 && f_lu <= 2.05 * f_nd, "%s: umfpack L + U %.0f <= 2.05 x cholmod's L %.0f",
+            name, f_lu, f_nd);
   mpgm_test(f_nd <= max_natural * f_nat, "%s: fill %.0f <= %.2f x the natural order's %.0f", name,
             f_nd, max_natural, f_nat);
   free(dperm);
