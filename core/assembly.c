@@ -227,6 +227,7 @@ static void flush_merge(mpgm_problem *pb, const int *nodes, int nk, const double
 typedef struct {
   mpgm_problem *pb;
   int want_K, half, inertia, geo;
+  int mass_only; /* K = M (consistent mass), no material or geometric term */
   double kdyn;
   const double *lift, *an;
   int t0; /* first task of the running phase */
@@ -297,14 +298,16 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
         const double kab[4] = {
             v * (gx * DB[0][0] + gy * DB[2][0]) + diag, v * (gx * DB[0][1] + gy * DB[2][1]),
             v * (gy * DB[1][0] + gx * DB[2][0]), v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
+        const double mab[4] = {diag, 0.0, 0.0, diag};
+        const double *k = j->mass_only ? mab : kab;
         double *e = kl + 4 * (a * nk + b);
-        for (int q = 0; q < 4; q++) e[q] += kab[q];
+        for (int q = 0; q < 4; q++) e[q] += k[q];
         if (lift) { /* free row of node a, fixed column of node b */
           const int Ia = C->node[k0 + a];
           for (int i = 0; i < 2; i++)
             for (int jj = 0; jj < 2; jj++)
               if (dof[2 * Ia + i] >= 0 && dof[2 * Ib + jj] < 0)
-                R[dof[2 * Ia + i]] -= kab[2 * i + jj] * lift[2 * Ib + jj];
+                R[dof[2 * Ia + i]] -= k[2 * i + jj] * lift[2 * Ib + jj];
         }
       }
     }
@@ -339,10 +342,19 @@ static void assemble_task(void *arg, int task, int tid) {
   }
 }
 
-int mpgm_assemble(mpgm_problem *pb, int want_K) {
+/* R = f_ext - f_int - f_inertia and (want_K) K; mass_only: R = f_ext -
+ * f_int and K = M (mpgm_assemble_mass). */
+static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
   mpgm_ctx *ctx = pb->ctx;
   asm_job j = {.pb = pb, .want_K = want_K, .inertia = pb->fx.inertia, .geo = pb->fx.geometric};
-  if (j.inertia) {
+  if (mass_only) {
+    /* the inertia term of R vanishes with a = 0; the mass term of K is
+     * kept with unit weight */
+    j.mass_only = 1;
+    j.geo = 0;
+    j.kdyn = 1.0;
+    memset(pb->nodes.a_new, 0, sizeof(double) * 2 * (size_t)pb->nodes.n);
+  } else if (j.inertia) {
     mpgm_timer_start(ctx, MPGM_T_MASS);
     newmark_correct(pb);
     j.kdyn = 1.0 / (pb->scene->beta * pb->dt * pb->dt);
@@ -353,7 +365,7 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
   memcpy(pb->R, pb->fext, sizeof(double) * (size_t)pb->nodes.ndof);
   if (want_K) memset(pb->K.val, 0, sizeof(double) * (size_t)pb->K.nnz);
   j.an = pb->nodes.a_new;
-  j.lift = want_K ? pb->lift : NULL;
+  j.lift = want_K && !mass_only ? pb->lift : NULL;
   /* symmetric tangent (every material's, K_geo and the mass term are):
    * only the blocks a <= b are computed; not with a lift, which needs the
    * free-fixed blocks of both sides */
@@ -384,6 +396,10 @@ int mpgm_assemble(mpgm_problem *pb, int want_K) {
   mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
   return 0;
 }
+
+int mpgm_assemble(mpgm_problem *pb, int want_K) { return assemble(pb, want_K, 0); }
+
+int mpgm_assemble_mass(mpgm_problem *pb) { return assemble(pb, 1, 1); }
 
 int mpgm_reactions(mpgm_problem *pb, double *r) {
   const mpgm_points *P = &pb->pts;

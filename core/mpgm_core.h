@@ -283,6 +283,10 @@ int mpgm_eval_points(mpgm_problem *pb);
 /** Assemble R = f_ext - f_int (- f_inertia) and, if want_K, the tangent
  *  into pb->K (pattern must exist). Exposed for tests. */
 int mpgm_assemble(mpgm_problem *pb, int want_K);
+/** Assemble R = f_ext - f_int (no inertia term) and K = M, the consistent
+ *  mass matrix, with the same pattern (held contact components: identity
+ *  rows). For the initial acceleration (step.c). */
+int mpgm_assemble_mass(mpgm_problem *pb);
 /** (Re)build the sparsity pattern and scatter map from the connectivity. */
 int mpgm_pattern_build(mpgm_problem *pb);
 /** 1 when a scene boundary selects the node at X (plane within tol, or box). */

@@ -133,6 +133,9 @@ typedef struct mpgm_scene {
   double dt, t_end;         /**< dynamic: step and end time [s]        */
   int load_steps;           /**< static: number of load steps          */
   double beta, gamma;       /**< Newmark parameters                    */
+  int initial_accel;        /**< dynamic: 1: a_0 from M a_0 = f_ext -
+                                 f_int(sigma_0) before the first step;
+                                 0: a_0 = 0                          */
   int predictor_velocity;   /**< dynamic: Newton starts from du = dt v
                                  (free components) instead of du = 0  */
   /* solver */

@@ -596,6 +596,8 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&tm, "newmark_gamma", 0.5, 0.5, 1, 0, 0, &s->gamma));
   static const char *const predictor_names[] = {"zero", "velocity", NULL};
   MPGM_CALL(jr_enum(&tm, "predictor", predictor_names, 0, &s->predictor_velocity));
+  static const char *const accel_names[] = {"zero", "equilibrium", NULL};
+  MPGM_CALL(jr_enum(&tm, "initial_acceleration", accel_names, 1, &s->initial_accel));
   MPGM_CALL(jr_end(&tm));
   if (dyn && s->dt > s->t_end)
     return jr_fail(&tm, "dt", "expected dt <= end (%g s), found %g s", s->t_end, s->dt);

@@ -269,6 +269,62 @@ static int contact_update(mpgm_problem *pb) {
   return changed;
 }
 
+/* time.initial_acceleration = equilibrium: before the first step of a
+ * dynamic run, the nodal acceleration that satisfies the equation of
+ * motion at t = 0, M a_0 = f_ext - f_int(sigma_0), with the consistent mass
+ * M of the material points (Newmark's a_n of the first step; starting from
+ * a_0 = 0 instead makes the velocity lag a_0 dt / 2 for the whole run).
+ * Held contact and fixed components get a_0 = 0. Should M be singular
+ * (nodes on too few points), the row-sum (lumped) mass is used. MPM's
+ * particles take a_p = sum N_I a_0I, the a_p^n of their update (48). */
+static int initial_acceleration(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_nodes *nd = &pb->nodes;
+  const mpgm_conn *C = &pb->conn;
+  mpgm_points *P = &pb->pts;
+  const int n = nd->ndof;
+  memset(nd->du, 0, sizeof(double) * 2 * (size_t)nd->n);
+  MPGM_CALL(mpgm_body_force(pb));
+  MPGM_CALL(mpgm_eval_points(pb));
+  MPGM_CALL(mpgm_assemble_mass(pb));
+  if (!pb->solver->analysed) {
+    MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));
+    pb->solver->analysed = 1;
+  }
+  pb->factor_valid = 0; /* the factorisation is M's, not the tangent's */
+  int err = mpgm_solver_factor(pb->solver, ctx, &pb->K);
+  if (!err) {
+    MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
+  } else if (err == MPGM_ERR_SINGULAR) {
+    mpgm_err_clear(ctx);
+    double *mI = pb->react; /* scratch, 2 per node */
+    memset(mI, 0, sizeof(double) * 2 * (size_t)nd->n);
+    for (int p = 0; p < P->n; p++)
+      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) mI[2 * C->node[k]] += P->mass[p] * C->N[k];
+    for (int i = 0; i < 2 * nd->n; i++)
+      if (nd->dof[i] >= 0) pb->delta[nd->dof[i]] = mI[2 * (i / 2)] > 0.0 ? pb->R[nd->dof[i]] / mI[2 * (i / 2)] : 0.0;
+  } else {
+    return err;
+  }
+  for (int i = 0; i < 2 * nd->n; i++) {
+    const int e = nd->dof[i];
+    nd->a[i] = e >= 0 && e < n && !nd->fix[i] ? pb->delta[e] : 0.0;
+    if (!isfinite(nd->a[i]))
+      MPGM_ERROR(ctx, MPGM_ERR_NAN, "initial acceleration: not finite at node %d", i / 2);
+  }
+  if (pb->fe->point_velocity == MPGM_PV_NEWMARK)
+    for (int p = 0; p < P->n + P->nprobe; p++) {
+      double a[2] = {0, 0};
+      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+        a[0] += C->N[k] * nd->a[2 * C->node[k]];
+        a[1] += C->N[k] * nd->a[2 * C->node[k] + 1];
+      }
+      P->a[2 * p] = a[0];
+      P->a[2 * p + 1] = a[1];
+    }
+  return MPGM_OK;
+}
+
 int mpgm_step(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *sc = pb->scene;
@@ -297,6 +353,8 @@ int mpgm_step(mpgm_problem *pb) {
     /* the step's numbering is fixed once it starts: f_ext (computed once
      * per step) and the increments of a re-solve are indexed by it */
     if (round == 0) ndof_step = nd->ndof;
+    if (round == 0 && pb->step == 0 && pb->fx.inertia && sc->initial_accel)
+      MPGM_CALL(initial_acceleration(pb));
     MPGM_CHECK(ctx, nd->ndof == ndof_step, MPGM_ERR_INTERNAL,
                "step %ld: equations renumbered within the step (%d -> %d)", pb->step + 1, ndof_step, nd->ndof);
     const int early = newton(pb, round > 0);
