@@ -1,4 +1,4 @@
-/* main.c -- the mpgm command line: run, check. Only app/ decides exit codes:
+/* main.c -- the mpgm command line: run, check, material. Only app/ decides exit codes:
  * 0 success, 1 simulation failed, 2 bad input, 3 I/O error. */
 #define _XOPEN_SOURCE 700
 #include <cjson/cJSON.h>
@@ -10,6 +10,7 @@
 #include <malloc.h>
 #endif
 
+#include "material_driver.h"
 #include "mpgm_frontends.h"
 #include "mpgm_mpm.h"
 #include "mpgm_run.h"
@@ -21,10 +22,14 @@ static void usage(FILE *f) {
   fprintf(f,
           "usage: mpgm run SCENE [--set KEY=VALUE ...] [--out DIR] [--progress | --quiet]\n"
           "       mpgm check SCENE [--set KEY=VALUE ...]\n"
+          "       mpgm material FILE.json [--out FILE.csv]\n"
           "       mpgm help\n"
           "\n"
-          "  run     run a scene; results go to DIR (default: the scene's output.dir)\n"
-          "  check   validate a scene, print the resolved scene and its effects; run nothing\n"
+          "  run       run a scene; results go to DIR (default: the scene's output.dir)\n"
+          "  check     validate a scene, print the resolved scene and its effects; run nothing\n"
+          "  material  drive one material along a deformation path; CSV to FILE.csv\n"
+          "            (default: FILE's name with .csv, in the current folder;\n"
+          "            docs/material-driver.md)\n"
           "  --set   override any scene value by dotted path, e.g. --set mesh.h=0.125\n"
           "\n"
           "exit codes: 0 success, 1 simulation failed, 2 bad input, 3 I/O error\n"
@@ -132,6 +137,31 @@ static int cmd_check(const args *a, mpgm_ctx *ctx) {
   return EXIT_OK;
 }
 
+static int cmd_material(const args *a, mpgm_ctx *ctx) {
+  if (a->nset) {
+    fprintf(stderr, "mpgm material: --set is not supported; edit %s\n", a->scene);
+    return EXIT_INPUT;
+  }
+  char csv[4096];
+  if (a->out) {
+    snprintf(csv, sizeof csv, "%s", a->out);
+  } else {
+    const char *base = strrchr(a->scene, '/');
+    snprintf(csv, sizeof csv, "%s", base ? base + 1 : a->scene);
+    char *dot = strrchr(csv, '.');
+    if (dot && dot != csv) *dot = '\0';
+    strncat(csv, ".csv", sizeof csv - strlen(csv) - 1);
+  }
+  int err = mpgm_material_driver(ctx, a->scene, csv);
+  if (err) {
+    const int rc = report_error(ctx, err);
+    if (rc == EXIT_SIM) fprintf(stderr, "mpgm: the increments before the failure are in %s\n", csv);
+    return rc;
+  }
+  printf("results: %s\n", csv);
+  return EXIT_OK;
+}
+
 static int cmd_run(const args *a, mpgm_ctx *ctx) {
   mpgm_scene *s = NULL;
   int err = mpgm_scene_load(ctx, a->scene, a->nset, a->sets, &s);
@@ -174,7 +204,8 @@ int main(int argc, char **argv) {
     usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? EXIT_INPUT : EXIT_OK;
   }
-  if (strcmp(argv[1], "run") != 0 && strcmp(argv[1], "check") != 0) {
+  if (strcmp(argv[1], "run") != 0 && strcmp(argv[1], "check") != 0 &&
+      strcmp(argv[1], "material") != 0) {
     fprintf(stderr, "mpgm: unknown command '%s'\n", argv[1]);
     usage(stderr);
     return EXIT_INPUT;
@@ -184,7 +215,9 @@ int main(int argc, char **argv) {
   if (rc == EXIT_OK) {
     mpgm_ctx ctx;
     mpgm_ctx_init(&ctx);
-    rc = strcmp(a.cmd, "run") == 0 ? cmd_run(&a, &ctx) : cmd_check(&a, &ctx);
+    rc = strcmp(a.cmd, "run") == 0        ? cmd_run(&a, &ctx)
+         : strcmp(a.cmd, "material") == 0 ? cmd_material(&a, &ctx)
+                                          : cmd_check(&a, &ctx);
   }
   free(a.sets);
   return rc;

@@ -247,6 +247,10 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsta
  *  material, and the material's initial state. */
 void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double x, double y,
                     double vol);
+/** Equivalent plastic strain of the n material points into out (may be
+ *  NULL; 0 for points whose material has no plastic_strain operation).
+ *  Returns the largest value (0 when there is none). */
+double mpgm_points_plastic_strain(const mpgm_points *P, const mpgm_material *mats, double *out);
 /** Reorder the material points (not the probes) by key[p] in [0, nkey),
  *  stably (counting sort), so that points that share nodes lie together in
  *  memory: every committed per-point array moves, ids included; the trial

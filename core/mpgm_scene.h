@@ -48,7 +48,9 @@ typedef enum {
   MPGM_FIELD_MATERIAL = 1 << 6,
   MPGM_FIELD_ACCELERATION = 1 << 7,
   MPGM_FIELD_ID = 1 << 8,
-  MPGM_FIELD_ALL = (1 << 9) - 1
+  MPGM_FIELD_EPS_P = 1 << 9, /**< equivalent plastic strain; written only
+                                  when a material of the scene is plastic */
+  MPGM_FIELD_ALL = (1 << 10) - 1
 } mpgm_field;
 
 /** A body: one material, one reference geometry, an initial velocity.
@@ -184,6 +186,13 @@ typedef struct mpgm_scene {
  *  read) with the message in ctx; *out is NULL then. */
 int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
                     const char *const *sets, mpgm_scene **out);
+/** Read one material as a scene's "materials" entry describes it (type,
+ *  density, the type's parameters; then its setup) from the cJSON object
+ *  json (borrowed); file and path (e.g. "material") name it in messages.
+ *  mat->name is left as it is. Returns 0 or MPGM_ERR_INPUT with
+ *  "FILE: path.key: expected ..., found ..." in ctx. */
+int mpgm_material_load(mpgm_ctx *ctx, const char *file, const char *path, const void *json,
+                       mpgm_material *mat);
 /** Free a scene (accepts NULL, nulls the pointer). */
 void mpgm_scene_destroy(mpgm_scene **s);
 /** The resolved scene as indented JSON (caller frees with free()). */

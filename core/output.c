@@ -168,10 +168,14 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
   double *J = malloc(sizeof(double) * (size_t)(n ? n : 1));
   double *matid = malloc(sizeof(double) * (size_t)(n ? n : 1));
   double *id = malloc(sizeof(double) * (size_t)(n ? n : 1));
-  if (!J || !matid || !id) {
+  /* eps_p: only when a material is plastic (elastic runs keep their files) */
+  const int with_epsp = (s->fields & MPGM_FIELD_EPS_P) && pb->fx.plasticity;
+  double *epsp = with_epsp ? malloc(sizeof(double) * (size_t)(n ? n : 1)) : NULL;
+  if (!J || !matid || !id || (with_epsp && !epsp)) {
     free(J);
     free(matid);
     free(id);
+    free(epsp);
     MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (output)");
   }
   for (int p = 0; p < n; p++) {
@@ -180,7 +184,8 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
     matid[p] = P->mat[p];
     id[p] = P->id[p];
   }
-  mpgm_vtk_field f[9];
+  if (with_epsp) mpgm_points_plastic_strain(P, s->mats, epsp);
+  mpgm_vtk_field f[10];
   int nf = 0;
   const unsigned m = s->fields;
   if (m & MPGM_FIELD_DISPLACEMENT) f[nf++] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR2, P->u};
@@ -192,6 +197,7 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
   if (m & MPGM_FIELD_J) f[nf++] = (mpgm_vtk_field){"J", MPGM_VTK_SCALAR, J};
   if (m & MPGM_FIELD_MATERIAL) f[nf++] = (mpgm_vtk_field){"material", MPGM_VTK_SCALAR, matid};
   if (m & MPGM_FIELD_ID) f[nf++] = (mpgm_vtk_field){"id", MPGM_VTK_SCALAR, id};
+  if (with_epsp) f[nf++] = (mpgm_vtk_field){"eps_p", MPGM_VTK_SCALAR, epsp};
   char rel[64], path[MPGM_PATH_LEN + 128], title[256];
   snprintf(rel, sizeof rel, "vtk/points_%06d.vtk", o->nvtk);
   snprintf(path, sizeof path, "%s/%s", o->dir, rel);
@@ -200,6 +206,7 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
   free(J);
   free(matid);
   free(id);
+  free(epsp);
   MPGM_CALL(err);
   MPGM_CALL(mpgm_pvd_add(o->pvd_points, ctx, time, rel));
   o->files++;

@@ -53,6 +53,19 @@ void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double
   if (mat->type->init_state && P->nstate) mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
 }
 
+double mpgm_points_plastic_strain(const mpgm_points *P, const mpgm_material *mats, double *out) {
+  double mx = 0.0;
+  for (int p = 0; p < P->n; p++) {
+    const mpgm_material *m = &mats[P->mat[p]];
+    const double e = m->type->plastic_strain && P->nstate
+                         ? m->type->plastic_strain(m, P->state + (size_t)P->nstate * p)
+                         : 0.0;
+    if (out) out[p] = e;
+    if (e > mx) mx = e;
+  }
+  return mx;
+}
+
 /* The committed per-point arrays and their record widths (ints: -1). */
 typedef struct {
   void **a;
@@ -288,8 +301,22 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
       const double syy = scene->mats[b->material].density * scene->gravity[1] *
                          (b->surface - P->x0[2 * p + 1]);
       const double s0[4] = {b->k0 * syy, syy, 0.0, b->k0 * syy};
-      memcpy(P->S0 + 4 * p, s0, sizeof s0);
+      const mpgm_material *m = &scene->mats[b->material];
       memcpy(P->sigma + 4 * p, s0, sizeof s0);
+      if (m->type->init_stress && P->nstate) {
+        /* a material with state carries s0 in it (plasticity must see the
+         * whole stress), so S0 stays 0 and nothing is added in assembly */
+        char msg[256] = "";
+        if (m->type->init_stress(m, scene->kinematics, s0, P->state + (size_t)P->nstate * p, msg,
+                                 sizeof msg)) {
+          err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                             "%s: bodies.%s: geostatic initial stress at (%g, %g): %s", scene->file,
+                             b->name, P->x0[2 * p], P->x0[2 * p + 1], msg);
+          break;
+        }
+      } else {
+        memcpy(P->S0 + 4 * p, s0, sizeof s0);
+      }
     }
   }
   if (!err) {

@@ -109,6 +109,8 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   }
   cJSON_AddNumberToObject(m, "mass_total", mass);
   cJSON_AddNumberToObject(m, "volume_total", vol);
+  if (pb->fx.plasticity)
+    cJSON_AddNumberToObject(m, "eps_p_max", mpgm_points_plastic_strain(&pb->pts, s->mats, NULL));
   (void)mpgm_reference_metrics(s, o->nrow, 2 + o->ncol, o->hist, m);
   cJSON *out = cJSON_AddObjectToObject(j, "output");
   cJSON_AddStringToObject(out, "dir", o->dir);

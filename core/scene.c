@@ -17,7 +17,8 @@ static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", NULL};
 static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
 static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
-                                          "volume", "J", "material", "acceleration", "id", NULL};
+                                          "volume", "J", "material", "acceleration", "id", "eps_p",
+                                          NULL};
 static const char *const future_methods[] = {NULL}; /* named methods of later issues */
 static const char *const condition_names[] = {"stick", "slip", "contact", NULL}; /* = mpgm_condition - 1 */
 
@@ -96,6 +97,28 @@ static int array_elem(jr_node *o, const char *key, const cJSON *arr, int i,
   return 0;
 }
 
+/* One material entry: type, density, the type's parameters, setup. */
+static int read_material(jr_node *m, mpgm_material *mat) {
+  const mpgm_material_type *const *all = mpgm_material_types();
+  const char *choices[16];
+  int nt = 0;
+  for (; all[nt] && nt < 15; nt++) choices[nt] = all[nt]->name;
+  choices[nt] = NULL;
+  int t;
+  MPGM_CALL(jr_enum(m, "type", choices, -1, &t));
+  mat->type = all[t];
+  MPGM_CALL(jr_num(m, "density", NAN, 0, INFINITY, 1, 0, &mat->density));
+  for (int p = 0; p < mat->type->nparam; p++) {
+    const mpgm_param_spec *ps = &mat->type->params[p];
+    MPGM_CALL(jr_num(m, ps->name, ps->def, ps->lo, ps->hi, ps->lo_open, ps->hi_open,
+                     &mat->param[p]));
+  }
+  MPGM_CALL(jr_end(m));
+  char msg[256] = "";
+  if (mat->type->setup(mat, msg, sizeof msg)) return jr_fail(m, NULL, "%s", msg);
+  return 0;
+}
+
 static int read_materials(jr_node *root, mpgm_scene *s) {
   const cJSON *map = NULL;
   MPGM_CALL(get_map(root, "materials", &map));
@@ -114,25 +137,26 @@ static int read_materials(jr_node *root, mpgm_scene *s) {
     m.out = cJSON_AddObjectToObject(outmap, c->string);
     mpgm_material *mat = &s->mats[i];
     snprintf(mat->name, sizeof mat->name, "%s", c->string);
-    const mpgm_material_type *const *all = mpgm_material_types();
-    const char *choices[16];
-    int nt = 0;
-    for (; all[nt] && nt < 15; nt++) choices[nt] = all[nt]->name;
-    choices[nt] = NULL;
-    int t;
-    MPGM_CALL(jr_enum(&m, "type", choices, -1, &t));
-    mat->type = all[t];
-    MPGM_CALL(jr_num(&m, "density", NAN, 0, INFINITY, 1, 0, &mat->density));
-    for (int p = 0; p < mat->type->nparam; p++) {
-      const mpgm_param_spec *ps = &mat->type->params[p];
-      MPGM_CALL(jr_num(&m, ps->name, ps->def, ps->lo, ps->hi, ps->lo_open, ps->hi_open,
-                       &mat->param[p]));
-    }
-    MPGM_CALL(jr_end(&m));
-    char msg[256] = "";
-    if (mat->type->setup(mat, msg, sizeof msg)) return jr_fail(&m, NULL, "%s", msg);
+    MPGM_CALL(read_material(&m, mat));
   }
   return 0;
+}
+
+int mpgm_material_load(mpgm_ctx *ctx, const char *file, const char *path, const void *json,
+                       mpgm_material *mat) {
+  jr_reader r = {.ctx = ctx, .file = file};
+  jr_node m = {.r = &r, .j = json};
+  snprintf(m.path, sizeof m.path, "%s", path);
+  if (!cJSON_IsObject((const cJSON *)json)) {
+    int err = jr_fail(&m, NULL, "expected a material object, found %s", jr_type(json));
+    return err;
+  }
+  cJSON *out = cJSON_CreateObject();
+  m.out = out;
+  int err = read_material(&m, mat);
+  cJSON_Delete(out);
+  cJSON_Delete(r.tmp);
+  return err;
 }
 
 static int find_material(const mpgm_scene *s, const char *name) {
@@ -495,7 +519,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
         if (strcmp(field_names[i], c->valuestring) == 0) k = i;
       if (k < 0)
         return jr_fail(&o, "fields", "expected field names (displacement, velocity, stress, mass, "
-                       "volume, J, material, acceleration), found %s%s%s%s", jr_type(c),
+                       "volume, J, material, acceleration, id, eps_p), found %s%s%s%s", jr_type(c),
                        cJSON_IsString(c) ? " \"" : "", cJSON_IsString(c) ? c->valuestring : "",
                        cJSON_IsString(c) ? "\"" : "");
       s->fields |= 1u << k;

@@ -6,7 +6,8 @@
 
 #define MPGM_MATERIAL_LIST(X)                                                  \
   X(mpgm_material_linear_elastic)                                              \
-  X(mpgm_material_neo_hookean)
+  X(mpgm_material_neo_hookean)                                                 \
+  X(mpgm_material_mohr_coulomb)
 
 #define MPGM_DECLARE(t) extern const mpgm_material_type t;
 MPGM_MATERIAL_LIST(MPGM_DECLARE)

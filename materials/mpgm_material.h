@@ -82,6 +82,19 @@ struct mpgm_material_type {
   int (*update)(const mpgm_material *m, int kin, const double F[4],
                 const double dF[4], const double *state_n, double *state,
                 double sigma[4], double D[9]);
+  /* Optional operations (NULL when the material has no such notion). */
+  /** Equivalent plastic strain [-] held in a state (output field eps_p). */
+  double (*plastic_strain)(const mpgm_material *m, const double *state);
+  /** Yield function [Pa] at the Kirchhoff stress tau {xx, yy, xy, zz}
+   *  (tau = J sigma; small kinematics: sigma); <= 0 inside the surface. */
+  double (*yield)(const mpgm_material *m, const double tau[4]);
+  /** Initial state of a point that carries the initial Cauchy stress s0
+   *  {xx, yy, xy, zz} [Pa] at F = I: update() at F = I then returns s0, so
+   *  the core does not add s0 as a separate prestress. Returns 0, or
+   *  MPGM_ERR_INPUT with msg filled when s0 is not admissible (outside the
+   *  yield surface). */
+  int (*init_stress)(const mpgm_material *m, int kin, const double s0[4],
+                     double *state, char *msg, size_t msglen);
 };
 
 /** Find an implementation by scene name; NULL if none. */
