@@ -12,6 +12,8 @@
 #ifndef MPGM_CORE_H
 #define MPGM_CORE_H
 
+#include <math.h>
+
 #include "mpgm_base.h"
 #include "mpgm_pool.h"
 #include "mpgm_material.h"
@@ -232,8 +234,18 @@ struct mpgm_problem {
   double *react;     /**< 2 per node: support force on the body at fixed
                           components (mpgm_reactions)                   */
   long contact_rounds; /**< extra solves of steps whose contact set changed */
+  long step_cuts;    /**< steps rejected and retried with half the step
+                          (time.max_cuts; run.c)                        */
   unsigned char *cflip; /**< per node: contact state changed in this step */
 };
+
+/** Load factor at the end of the step being solved: static, the load
+ *  factor t + dt itself (t counts load from 0 to 1); dynamic, the ramp of
+ *  prescribed displacements, (t + dt) / end. At most 1. */
+static inline double mpgm_load_factor(const mpgm_problem *pb) {
+  const double end = pb->scene->analysis == MPGM_ANALYSIS_STATIC ? 1.0 : pb->scene->t_end;
+  return fmin(1.0, (pb->t + pb->dt) / end);
+}
 
 /** Create a problem for a loaded scene with a front end. */
 int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,

@@ -135,6 +135,14 @@ typedef struct mpgm_scene {
   double dt, t_end;         /**< dynamic: step and end time [s]        */
   int load_steps;           /**< static: number of load steps          */
   double beta, gamma;       /**< Newmark parameters                    */
+  int max_cuts;             /**< step control: a step that fails
+                                 recoverably is retried with half the
+                                 step, at most max_cuts halvings in a
+                                 row (0: the run stops at once)        */
+  int grow_after;           /**< step control: after this many steps
+                                 in a row converge at a cut size, the
+                                 step doubles back (up to dt or
+                                 1 / load_steps)                       */
   int initial_accel;        /**< dynamic: 1: a_0 from M a_0 = f_ext -
                                  f_int(sigma_0) before the first step;
                                  0: a_0 = 0                          */

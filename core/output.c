@@ -12,7 +12,7 @@
 
 #include "mpgm_vtk.h"
 
-enum { STEP_COLS = 8 };
+enum { STEP_COLS = 9 };
 
 /* Append a row of width doubles to a growable table; *row points to it. */
 static int table_push(mpgm_ctx *ctx, double **buf, int *n, int *cap, int width, double **row) {
@@ -100,7 +100,8 @@ int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *p
   row[4] = n->res;
   row[5] = n->res_rel;
   row[6] = n->du_rel;
-  row[7] = wall;
+  row[7] = pb->dt;
+  row[8] = wall;
   return 0;
 }
 
@@ -127,8 +128,9 @@ int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *p
   char header[256];
   snprintf(header, sizeof header,
            "step,%s,newton_iterations,residual_initial,residual,residual_relative,"
-           "increment_relative,wall_s\n",
-           pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
+           "increment_relative,%s,wall_s\n",
+           pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time",
+           pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_increment" : "dt");
   return write_table(ctx, o, "steps.csv", header, o->steps, o->nstep, STEP_COLS);
 }
 

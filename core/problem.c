@@ -272,6 +272,9 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
   MPGM_ALLOC(ctx, pb, 1);
   pb->ctx = ctx;
   pb->scene = scene;
+  /* the scene's step (the run loop may cut it): time step, or load
+   * increment in static analysis (t then counts the load factor) */
+  pb->dt = scene->analysis == MPGM_ANALYSIS_DYNAMIC ? scene->dt : 1.0 / scene->load_steps;
   pb->fe = fe;
   pb->pattern_version = -1;
   pb->graph_version = -1;

@@ -28,7 +28,25 @@ typedef struct run_state {
   const char *message;  /**< failure message or ""              */
   long failed_step;     /**< step that failed, -1 if none        */
   double wall;          /**< wall time of the run [s]            */
+  cJSON *cuts;          /**< the first MAX_CUT_LOG step cuts     */
 } run_state;
+
+#define MAX_CUT_LOG 100
+
+/* One rejected step for summary.json: step, end time (or load factor) and
+ * step size tried, error code and message. */
+static void cut_record(run_state *rs, long step, double t, double dt, int code, const char *why) {
+  if (!rs->cuts) rs->cuts = cJSON_CreateArray();
+  if (!rs->cuts || cJSON_GetArraySize(rs->cuts) >= MAX_CUT_LOG) return;
+  cJSON *c = cJSON_CreateObject();
+  if (!c) return;
+  cJSON_AddNumberToObject(c, "step", (double)step);
+  cJSON_AddNumberToObject(c, "t", t);
+  cJSON_AddNumberToObject(c, "dt", dt);
+  cJSON_AddNumberToObject(c, "code", code);
+  cJSON_AddStringToObject(c, "reason", why);
+  cJSON_AddItemToArray(rs->cuts, c);
+}
 
 static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const run_state *rs) {
   const mpgm_ctx *ctx = pb->ctx;
@@ -69,7 +87,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "radius_growths", (double)ctx->n_radius_growths);
   cJSON_AddNumberToObject(c, "cloud_enlargements", (double)ctx->n_cloud_enlargements);
   cJSON_AddNumberToObject(c, "shape_cold_restarts", (double)ctx->n_cold_restarts);
-  cJSON_AddNumberToObject(c, "step_cuts", 0);
+  cJSON_AddNumberToObject(c, "step_cuts", (double)pb->step_cuts);
   cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
   cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)pb->lu_steps);
   cJSON_AddNumberToObject(c, "contact_resolves", (double)pb->contact_rounds);
@@ -112,6 +130,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   if (pb->fx.plasticity)
     cJSON_AddNumberToObject(m, "eps_p_max", mpgm_points_plastic_strain(&pb->pts, s->mats, NULL));
   (void)mpgm_reference_metrics(s, o->nrow, 2 + o->ncol, o->hist, m);
+  if (rs->cuts) cJSON_AddItemReferenceToObject(j, "step_cuts", rs->cuts);
   cJSON *out = cJSON_AddObjectToObject(j, "output");
   cJSON_AddStringToObject(out, "dir", o->dir);
   return j;
@@ -160,39 +179,68 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
   }
   const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
   const long nsteps = dyn ? (long)ceil(s->t_end / s->dt - 1e-9) : s->load_steps;
-  pb->dt = dyn ? s->dt : 1.0 / s->load_steps;
-  run_state rs = {"completed", "", -1, 0.0};
+  /* the step: time step, or load increment (t then counts load, 0 to 1) */
+  const double end = dyn ? s->t_end : 1.0, dt0 = dyn ? s->dt : 1.0 / s->load_steps;
+  double dt_now = dt0; /* halved by a cut, doubled back after easy steps */
+  int level = 0, easy = 0;
+  pb->dt = dt0;
+  run_state rs = {"completed", "", -1, 0.0, NULL};
   mpgm_timer_start(ctx, MPGM_T_OUTPUT);
   err = mpgm_output_probes_record(ctx, &o, pb);
   if (!err) err = mpgm_output_vtk(ctx, &o, pb);
   mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
-  char msg[sizeof ctx->msg + 64] = "";
-  while (!err && pb->step < nsteps) {
-    if (dyn) pb->dt = fmin(s->dt, s->t_end - pb->t);
+  char msg[sizeof ctx->msg + 192] = "";
+  while (!err && pb->t < end - 1e-9 * dt0) {
+    pb->dt = fmin(dt_now, end - pb->t);
     double before[MPGM_T_COUNT];
     memcpy(before, ctx->t, sizeof before);
     const long k = pb->step + 1;
     const double ts = mpgm_wtime();
     err = mpgm_step(pb);
+    if (err > 0 && level < s->max_cuts) {
+      /* step control: a recoverable failure rejects the step (nothing was
+       * committed) and retries it with half the step */
+      fprintf(stderr, "mpgm: step %ld (%s %.9g, %s %.3g) rejected: %s; retrying with %.3g (cut %d of "
+              "at most %d in a row)\n", k, dyn ? "t =" : "load factor", pb->t + pb->dt,
+              dyn ? "dt" : "increment", pb->dt, ctx->msg, 0.5 * pb->dt, level + 1, s->max_cuts);
+      cut_record(&rs, k, pb->t + pb->dt, pb->dt, err, ctx->msg);
+      mpgm_err_clear(ctx);
+      err = 0;
+      dt_now = 0.5 * pb->dt;
+      level++;
+      easy = 0;
+      pb->step_cuts++;
+      pb->factor_valid = 0; /* the tangent of another step size */
+      continue;
+    }
     if (err) {
-      snprintf(msg, sizeof msg, "step %ld (%s %.9g) failed: %s", k, dyn ? "t =" : "load factor",
-               dyn ? pb->t + pb->dt : (double)k / s->load_steps, ctx->msg);
+      snprintf(msg, sizeof msg, "step %ld (%s %.9g) failed: %s%s", k, dyn ? "t =" : "load factor",
+               pb->t + pb->dt, ctx->msg,
+               err > 0 && s->max_cuts > 0 ? " (after the largest number of step cuts in a row, "
+                                            "time.max_cuts)" : "");
       rs.status = "failed";
       rs.message = msg;
       rs.failed_step = k;
       break;
     }
+    /* grow_after steps in a row that converged at the cut size double the
+     * step back towards the scene's */
+    if (level > 0 && ++easy >= s->grow_after) {
+      dt_now = fmin(dt0, 2.0 * dt_now);
+      level--;
+      easy = 0;
+    }
     if (opts && opts->per_iteration) print_split(pb, before);
     mpgm_timer_start(ctx, MPGM_T_OUTPUT);
     err = mpgm_output_probes_record(ctx, &o, pb);
     if (!err) err = mpgm_output_step_record(ctx, &o, pb, mpgm_wtime() - ts);
-    if (!err && (pb->step % s->every == 0 || pb->step == nsteps)) {
+    if (!err && (pb->step % s->every == 0 || pb->t >= end - 1e-9 * dt0)) {
       err = mpgm_output_vtk(ctx, &o, pb);
       if (!err) err = mpgm_output_probes_write(ctx, &o, pb);
       if (!err) err = mpgm_output_steps_write(ctx, &o, pb);
     }
     mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
-    if (opts && opts->progress) progress(pb, nsteps, t0);
+    if (opts && opts->progress) progress(pb, nsteps + pb->step_cuts, t0);
   }
   if (opts && opts->progress) fputc('\n', stderr);
   /* on failure keep the message of the failing step; still write what we have */
@@ -211,6 +259,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
   } else {
     err = werr;
   }
+  cJSON_Delete(rs.cuts);
   mpgm_output_close(&o);
   mpgm_problem_destroy(&pb);
   return err;

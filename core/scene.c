@@ -620,6 +620,8 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&tm, "newmark_gamma", 0.5, 0.5, 1, 0, 0, &s->gamma));
   static const char *const predictor_names[] = {"zero", "velocity", NULL};
   MPGM_CALL(jr_enum(&tm, "predictor", predictor_names, 0, &s->predictor_velocity));
+  MPGM_CALL(jr_int(&tm, "max_cuts", 0, 0, 30, &s->max_cuts));
+  MPGM_CALL(jr_int(&tm, "grow_after", 4, 1, 1000000, &s->grow_after));
   static const char *const accel_names[] = {"zero", "equilibrium", NULL};
   MPGM_CALL(jr_enum(&tm, "initial_acceleration", accel_names, 1, &s->initial_accel));
   MPGM_CALL(jr_end(&tm));

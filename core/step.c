@@ -138,9 +138,9 @@ static int contact_update(mpgm_problem *pb);
 
 /* Newton on the step from the predictor (42) to convergence; warm: start
  * from the current increments (a re-solve after the contact set changed).
- * Returns 0 when converged, 1 when the contact set changed on the way
- * (solve the step again), or an error code. */
-static int newton(mpgm_problem *pb, int warm) {
+ * Returns 0 or an error code; *again = 1 when it stopped early because the
+ * contact set changed on the way (solve the step again). */
+static int newton(mpgm_problem *pb, int warm, int *again) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *sc = pb->scene;
   mpgm_nodes *nd = &pb->nodes;
@@ -185,7 +185,8 @@ static int newton(mpgm_problem *pb, int warm) {
       checked = 1;
       if (contact_update(pb)) {
         info->iterations = it;
-        return 1;
+        *again = 1;
+        return 0;
       }
     }
     /* converged: residual small (absolute or relative to the step's load),
@@ -334,8 +335,7 @@ int mpgm_step(mpgm_problem *pb) {
   int err = pb->fe->begin_step(pb);
   mpgm_timer_stop(ctx, MPGM_T_SHAPE);
   MPGM_CALL(err);
-  if (sc->analysis == MPGM_ANALYSIS_STATIC) pb->lambda = (double)(pb->step + 1) / sc->load_steps;
-  else pb->lambda = fmin(1.0, (pb->t + pb->dt) / sc->t_end);
+  pb->lambda = mpgm_load_factor(pb);
   int rebuild = pb->conn.version != pb->pattern_version, its = 0;
   if (!rebuild && pb->conn.map_version != pb->map_version) MPGM_CALL(mpgm_scatter_build(pb));
   if (pb->fx.contact) memset(pb->cflip, 0, (size_t)nd->n);
@@ -357,8 +357,10 @@ int mpgm_step(mpgm_problem *pb) {
       MPGM_CALL(initial_acceleration(pb));
     MPGM_CHECK(ctx, nd->ndof == ndof_step, MPGM_ERR_INTERNAL,
                "step %ld: equations renumbered within the step (%d -> %d)", pb->step + 1, ndof_step, nd->ndof);
-    const int early = newton(pb, round > 0);
-    MPGM_CALL(early < 0 ? early : 0);
+    /* a recoverable failure of Newton is the step's failure (the run loop
+     * may cut the step); only a contact change solves the step again */
+    int early = 0;
+    MPGM_CALL(newton(pb, round > 0, &early));
     its += pb->last.iterations;
     if (!early && (!pb->fx.contact || !contact_update(pb))) break;
     MPGM_CHECK(ctx, round < 50, MPGM_ERR_NOT_CONVERGED,

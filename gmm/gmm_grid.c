@@ -330,8 +330,7 @@ int mpgm_gmm_grid_park(mpgm_problem *pb, gmm_grid *g, const mpgm_kdtree *tree, d
   const double cut = s->min_node_mass * mmax;
   /* the load factor of the step (as the core sets it): a parked node is
    * held where it is, lambda ubar = u */
-  const double lam = s->analysis == MPGM_ANALYSIS_STATIC ? (double)(pb->step + 1) / s->load_steps
-                                                         : fmin(1.0, (pb->t + pb->dt) / s->t_end);
+  const double lam = mpgm_load_factor(pb);
   for (int i = 0; i < n; i++) {
     if (g->fix0[2 * i] || g->fix0[2 * i + 1]) continue;
     int beyond = 0; /* a body node that moved into an obstacle */
