@@ -140,6 +140,9 @@ typedef struct mpgm_newton_info {
   double res;       /**< final |R| [N]                                 */
   double res_rel;   /**< final |R| / reference                         */
   double du_rel;    /**< final |delta u| / |Delta u|                   */
+  int nhist;        /**< entries of hist                                */
+  double hist[64];  /**< |R| at each iteration of the step's last solve
+                         (the first 64), for the convergence rate        */
 } mpgm_newton_info;
 
 /** Chunks of the threaded assembly; a constant, so that the order of the

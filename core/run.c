@@ -106,6 +106,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(nw, "residual", pb->last.res);
   cJSON_AddNumberToObject(nw, "residual_relative", pb->last.res_rel);
   cJSON_AddNumberToObject(nw, "increment_relative", pb->last.du_rel);
+  cJSON_AddItemToObject(nw, "residuals", cJSON_CreateDoubleArray(pb->last.hist, pb->last.nhist));
   /* metrics: final probe displacements and conservation checks */
   cJSON *m = cJSON_AddObjectToObject(j, "metrics");
   cJSON *pr = cJSON_AddObjectToObject(j, "probes");
@@ -120,13 +121,19 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
     cJSON_AddItemToObject(q, "x", cJSON_CreateDoubleArray(s->probes[k].x, 2));
     cJSON_AddItemToObject(q, "u", cJSON_CreateDoubleArray(pb->pts.u + 2 * p, 2));
   }
-  double mass = 0.0, vol = 0.0;
+  double mass = 0.0, vol = 0.0, xmax = -INFINITY, ymax = -INFINITY;
   for (int p = 0; p < pb->pts.n; p++) {
     mass += pb->pts.mass[p];
     vol += pb->pts.vol[p];
+    xmax = fmax(xmax, pb->pts.x[2 * p]);
+    ymax = fmax(ymax, pb->pts.x[2 * p + 1]);
   }
   cJSON_AddNumberToObject(m, "mass_total", mass);
   cJSON_AddNumberToObject(m, "volume_total", vol);
+  if (pb->pts.n > 0) { /* the reach of the bodies: a collapse's runout and height */
+    cJSON_AddNumberToObject(m, "runout", xmax);
+    cJSON_AddNumberToObject(m, "height", ymax);
+  }
   if (pb->fx.plasticity)
     cJSON_AddNumberToObject(m, "eps_p_max", mpgm_points_plastic_strain(&pb->pts, s->mats, NULL));
   (void)mpgm_reference_metrics(s, o->nrow, 2 + o->ncol, o->hist, m);
@@ -145,13 +152,13 @@ static int write_summary(mpgm_problem *pb, mpgm_output *o, const run_state *rs) 
   return err;
 }
 
-static void progress(const mpgm_problem *pb, long nsteps, double t0) {
-  const double el = mpgm_wtime() - t0;
-  const double eta = pb->step ? el / pb->step * (nsteps - pb->step) : 0.0;
+static void progress(const mpgm_problem *pb, double end, double t0) {
+  const double el = mpgm_wtime() - t0, done = pb->t / end;
+  const double eta = done > 0.0 ? el / done * (1.0 - done) : 0.0;
   const int st = pb->scene->analysis == MPGM_ANALYSIS_STATIC;
-  fprintf(stderr, "\r\033[Kstep %ld/%ld  %s = %.6g  newton %d  |R|/ref = %.2e  elapsed %.1fs  ETA %.1fs",
-          pb->step, nsteps, st ? "load" : "t", st ? pb->lambda : pb->t,
-          pb->last.iterations, pb->last.res_rel, el, eta);
+  fprintf(stderr, "\r\033[Kstep %ld  %s = %.6g of %g  newton %d  |R|/ref = %.2e  cuts %ld  elapsed %.1fs  "
+          "ETA %.1fs", pb->step, st ? "load" : "t", pb->t, end, pb->last.iterations,
+          pb->last.res_rel, pb->step_cuts, el, eta);
   fflush(stderr);
 }
 
@@ -178,7 +185,6 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
     return err;
   }
   const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
-  const long nsteps = dyn ? (long)ceil(s->t_end / s->dt - 1e-9) : s->load_steps;
   /* the step: time step, or load increment (t then counts load, 0 to 1) */
   const double end = dyn ? s->t_end : 1.0, dt0 = dyn ? s->dt : 1.0 / s->load_steps;
   double dt_now = dt0; /* halved by a cut, doubled back after easy steps */
@@ -240,7 +246,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
       if (!err) err = mpgm_output_steps_write(ctx, &o, pb);
     }
     mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
-    if (opts && opts->progress) progress(pb, nsteps + pb->step_cuts, t0);
+    if (opts && opts->progress) progress(pb, end, t0);
   }
   if (opts && opts->progress) fputc('\n', stderr);
   /* on failure keep the message of the failing step; still write what we have */

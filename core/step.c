@@ -177,6 +177,7 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
     }
     info->res = res;
     info->res_rel = ref > 0.0 ? res / ref : 0.0;
+    if (it < 64) info->hist[info->nhist++] = res;
     /* contact: check the active set once, as soon as the residual is below
      * contact_check of the reference, rather than only at convergence: a
      * wrong set is then not iterated to full accuracy first. The converged
