@@ -184,6 +184,10 @@ typedef struct mpgm_scene {
   /* output */
   char out_dir[MPGM_PATH_LEN];
   int every;                /**< write VTK every n steps                */
+  int ntimes;               /**< output.times: entries of times         */
+  double times[64];         /**< output.times: steps end exactly at these
+                                 times (load factors, static) and VTK is
+                                 written there; increasing              */
   int vtk;                  /**< mpgm_vtk_mode                          */
   unsigned fields;          /**< mpgm_field mask                        */
   void *resolved;           /**< cJSON tree of every resolved value     */

@@ -188,7 +188,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
   /* the step: time step, or load increment (t then counts load, 0 to 1) */
   const double end = dyn ? s->t_end : 1.0, dt0 = dyn ? s->dt : 1.0 / s->load_steps;
   double dt_now = dt0; /* halved by a cut, doubled back after easy steps */
-  int level = 0, easy = 0;
+  int level = 0, easy = 0, nout = 0; /* nout: output.times passed */
   pb->dt = dt0;
   run_state rs = {"completed", "", -1, 0.0, NULL};
   mpgm_timer_start(ctx, MPGM_T_OUTPUT);
@@ -198,6 +198,14 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
   char msg[sizeof ctx->msg + 192] = "";
   while (!err && pb->t < end - 1e-9 * dt0) {
     pb->dt = fmin(dt_now, end - pb->t);
+    /* output.times: the step that reaches the next one ends on it (a step
+     * within 1e-6 of it is stretched to it, not followed by a sliver) */
+    while (nout < s->ntimes && s->times[nout] <= pb->t + 1e-9 * dt0) nout++;
+    int on_time = 0;
+    if (nout < s->ntimes && s->times[nout] - pb->t <= pb->dt * (1.0 + 1e-6)) {
+      pb->dt = s->times[nout] - pb->t;
+      on_time = 1;
+    }
     double before[MPGM_T_COUNT];
     memcpy(before, ctx->t, sizeof before);
     const long k = pb->step + 1;
@@ -240,7 +248,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
     mpgm_timer_start(ctx, MPGM_T_OUTPUT);
     err = mpgm_output_probes_record(ctx, &o, pb);
     if (!err) err = mpgm_output_step_record(ctx, &o, pb, mpgm_wtime() - ts);
-    if (!err && (pb->step % s->every == 0 || pb->t >= end - 1e-9 * dt0)) {
+    if (!err && (pb->step % s->every == 0 || on_time || pb->t >= end - 1e-9 * dt0)) {
       err = mpgm_output_vtk(ctx, &o, pb);
       if (!err) err = mpgm_output_probes_write(ctx, &o, pb);
       if (!err) err = mpgm_output_steps_write(ctx, &o, pb);

@@ -528,6 +528,28 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   cJSON *a = cJSON_AddArrayToObject(o.out, "fields");
   for (int i = 0; field_names[i]; i++)
     if (s->fields & (1u << i)) cJSON_AddItemToArray(a, cJSON_CreateString(field_names[i]));
+  /* times: steps end on them and VTK is written there */
+  const cJSON *t = jr_override_json(&o, "times");
+  if (!t) t = jr_raw(&o, "times");
+  else jr_raw(&o, "times");
+  s->ntimes = 0;
+  if (t) {
+    const double end = s->analysis == MPGM_ANALYSIS_DYNAMIC ? s->t_end : 1.0;
+    const int n = cJSON_IsArray(t) ? cJSON_GetArraySize(t) : -1;
+    if (n < 0 || n > 64)
+      return jr_fail(&o, "times", "expected an array of at most 64 times, found %s",
+                     n < 0 ? jr_type(t) : "more than 64 entries");
+    for (const cJSON *c = t->child; c; c = c->next) {
+      const double v = cJSON_IsNumber(c) ? c->valuedouble : NAN;
+      const double prev = s->ntimes ? s->times[s->ntimes - 1] : 0.0;
+      if (!(v > prev && v <= end))
+        return jr_fail(&o, "times", "expected increasing times in (0, %g] (%s), found %s%s", end,
+                       s->analysis == MPGM_ANALYSIS_DYNAMIC ? "time.end" : "load factors",
+                       cJSON_IsNumber(c) ? "" : jr_type(c), cJSON_IsNumber(c) ? "a value out of order or range" : "");
+      s->times[s->ntimes++] = v;
+    }
+  }
+  cJSON_AddItemToObject(o.out, "times", cJSON_CreateDoubleArray(s->times, s->ntimes));
   return jr_end(&o);
 }
 

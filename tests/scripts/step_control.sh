@@ -24,6 +24,9 @@ run ref
 run cuts "${tight[@]}" --set time.max_cuts=6
 run limit "${tight[@]}" --set time.max_cuts=1
 run nocut "${tight[@]}"
+# output.times: steps end on the requested load factors, VTK is written there
+"$exe" run "$scene" --quiet --set mesh.h=0.25 --set time.load_steps=4 --set output.every=1000 \
+  --set 'output.times=[0.3,0.55]' --out "$work/times" > "$work/times.out" 2>&1; echo $? > "$work/times.rc"
 /usr/bin/python3 - "$work" "$src" <<'PY'
 import csv, sys
 sys.path.insert(0, sys.argv[2] + "/tests/tools")
@@ -62,5 +65,12 @@ no = summary(w, "nocut")
 check(rc("nocut") == 1 and no["counts"]["step_cuts"] == 0 and no["counts"]["newton_iterations"] == 0
       and "did not converge in 3 iterations" in err("nocut"),
       "max_cuts 0 (default): the first Newton failure stops the run; no silent restart of Newton")
+import re
+rows = list(csv.DictReader(open(f"{w}/times/steps.csv")))
+lf = [float(r["load_factor"]) for r in rows]
+pvd = re.findall(r'timestep="([^"]+)"', open(f"{w}/times/points.pvd").read())
+check(rc("times") == 0 and lf == [0.25, 0.3, 0.55, 0.8, 1.0],
+      f"output.times [0.3, 0.55] with 4 load steps: steps end at {lf}")
+check([float(x) for x in pvd] == [0.0, 0.3, 0.55, 1.0], f"VTK written at the start, the requested times and the end: {pvd}")
 done()
 PY
