@@ -534,7 +534,6 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   else jr_raw(&o, "times");
   s->ntimes = 0;
   if (t) {
-    const double end = s->analysis == MPGM_ANALYSIS_DYNAMIC ? s->t_end : 1.0;
     const int n = cJSON_IsArray(t) ? cJSON_GetArraySize(t) : -1;
     if (n < 0 || n > 64)
       return jr_fail(&o, "times", "expected an array of at most 64 times, found %s",
@@ -542,10 +541,11 @@ static int read_output(jr_node *root, mpgm_scene *s) {
     for (const cJSON *c = t->child; c; c = c->next) {
       const double v = cJSON_IsNumber(c) ? c->valuedouble : NAN;
       const double prev = s->ntimes ? s->times[s->ntimes - 1] : 0.0;
-      if (!(v > prev && v <= end))
-        return jr_fail(&o, "times", "expected increasing times in (0, %g] (%s), found %s%s", end,
-                       s->analysis == MPGM_ANALYSIS_DYNAMIC ? "time.end" : "load factors",
-                       cJSON_IsNumber(c) ? "" : jr_type(c), cJSON_IsNumber(c) ? "a value out of order or range" : "");
+      if (!(v > prev && isfinite(v)))
+        return jr_fail(&o, "times", "expected increasing positive times (%s), found %s%s",
+                       s->analysis == MPGM_ANALYSIS_DYNAMIC ? "s" : "load factors",
+                       cJSON_IsNumber(c) ? "" : jr_type(c),
+                       cJSON_IsNumber(c) ? "a value not above the one before it (or not above 0)" : "");
       s->times[s->ntimes++] = v;
     }
   }
