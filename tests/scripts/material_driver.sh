@@ -41,13 +41,11 @@ bad stress_outside 'initial_stress: mohr_coulomb: initial stress (0, -400000, 0,
 bad elastic_prestress 'triaxial.confining: material "neo_hookean" cannot start from an initial stress' '{"material": {"type": "neo_hookean", "density": 1850, "E": 1.8e6, "nu": 0.3}, "triaxial": {"confining": 1e4, "axial_strain": 0.1, "steps": 5}}'
 bad truncated 'line 2, column 1: JSON syntax error' '{"material": {"type": "neo_hookean"'
 [ $fail -eq 0 ] || { echo "0 passed, 1 failed"; exit 1; }
-/usr/bin/python3 - "$work" <<'PY'
+/usr/bin/python3 - "$work" "$src" <<'PY'
 import csv, math, sys
+sys.path.insert(0, sys.argv[2] + "/tests/tools")
+from script_check import check, done
 w = sys.argv[1]
-npass = nfail = 0
-def check(ok, msg):
-    global npass, nfail
-    print(("PASS: " if ok else "FAIL: ") + msg); npass += ok; nfail += (not ok)
 phi, c, pc = math.radians(25.0), 5000.0, 50000.0
 s = math.sin(phi)
 k, sc = (1 + s) / (1 - s), 2 * c * math.cos(phi) / (1 - s)
@@ -88,6 +86,5 @@ check(abs(R[0]["sigma_xx"] + 30000) <= 1e-9 * 3e4 and abs(R[0]["sigma_yy"] + 500
       "shear_path: step 0 carries the initial stress (-30, -50) kPa")
 check(max(r["eps_p"] for r in R) > 0.0 and max(r["yield"] for r in R) <= 1e-9 * 5e4,
       f"shear_path: yields (eps_p {R[-1]['eps_p']:.4g}) and stays on or inside f = 0")
-print(f"{npass} passed, {nfail} failed")
-sys.exit(1 if nfail else 0)
+done()
 PY
