@@ -137,8 +137,8 @@ typedef struct mpgm_scene {
   double beta, gamma;       /**< Newmark parameters                    */
   int max_cuts;             /**< step control: a step that fails
                                  recoverably is retried with half the
-                                 step, at most max_cuts halvings in a
-                                 row (0: the run stops at once)        */
+                                 step, down to the scene's step / 2^
+                                 max_cuts (0: the run stops at once)   */
   int grow_after;           /**< step control: after this many steps
                                  in a row converge at a cut size, the
                                  step doubles back (up to dt or

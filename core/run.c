@@ -214,8 +214,8 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
     if (err > 0 && level < s->max_cuts) {
       /* step control: a recoverable failure rejects the step (nothing was
        * committed) and retries it with half the step */
-      fprintf(stderr, "mpgm: step %ld (%s %.9g, %s %.3g) rejected: %s; retrying with %.3g (cut %d of "
-              "at most %d in a row)\n", k, dyn ? "t =" : "load factor", pb->t + pb->dt,
+      fprintf(stderr, "mpgm: step %ld (%s %.9g, %s %.3g) rejected: %s; retrying with %.3g (halving %d "
+              "of at most %d, time.max_cuts)\n", k, dyn ? "t =" : "load factor", pb->t + pb->dt,
               dyn ? "dt" : "increment", pb->dt, ctx->msg, 0.5 * pb->dt, level + 1, s->max_cuts);
       cut_record(&rs, k, pb->t + pb->dt, pb->dt, err, ctx->msg);
       mpgm_err_clear(ctx);
@@ -230,8 +230,8 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
     if (err) {
       snprintf(msg, sizeof msg, "step %ld (%s %.9g) failed: %s%s", k, dyn ? "t =" : "load factor",
                pb->t + pb->dt, ctx->msg,
-               err > 0 && s->max_cuts > 0 ? " (after the largest number of step cuts in a row, "
-                                            "time.max_cuts)" : "");
+               err > 0 && s->max_cuts > 0 ? " (at the smallest step allowed, the scene's halved "
+                                            "time.max_cuts times)" : "");
       rs.status = "failed";
       rs.message = msg;
       rs.failed_step = k;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Step control (issue 5, item 3): a step that fails recoverably is rejected
-# and retried with half the step, at most time.max_cuts times in a row; the
+# and retried with half the step, down to dt / 2^time.max_cuts; the
 # step doubles back after time.grow_after steps converge; every cut is
 # logged on stderr and listed in summary.json; at the limit the run stops
 # with exit 1, a message naming the limit, and its output intact. Also: a
