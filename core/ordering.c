@@ -133,10 +133,10 @@ static void dissect(nd_work *w, int *v, int m, int pos) {
   int nh = 0;
   for (int k = 0; k < m; k++) {
     const int I = v[k], s = w->side[I];
-    int cut = 0;
-    for (int t = w->ptr[I]; t < w->ptr[I + 1]; t++) cut += w->side[w->adj[t]] == 1 - s;
-    w->cnt[I] = cut;
-    if (cut) heap_push(w, &nh, I);
+    int ncut = 0;
+    for (int t = w->ptr[I]; t < w->ptr[I + 1]; t++) ncut += w->side[w->adj[t]] == 1 - s;
+    w->cnt[I] = ncut;
+    if (ncut) heap_push(w, &nh, I);
   }
   while (nh) {
     const int I = heap_pop(w, &nh);
@@ -152,19 +152,18 @@ static void dissect(nd_work *w, int *v, int m, int pos) {
       if (w->side[J] == 1 - s) w->cnt[J]--;
     }
   }
-  /* v = [left rest | right rest | separator] */
-  int na = 0, nb = 0, ns = 0;
-  for (int k = 0; k < m; k++) na += w->side[v[k]] == 0;
-  for (int k = 0; k < m; k++) nb += w->side[v[k]] == 1;
-  {
-    int ia = 0, ib = na, is = na + nb;
-    for (int k = 0; k < m; k++) {
-      const int I = v[k];
-      w->perm[pos + (w->side[I] == 0 ? ia++ : w->side[I] == 1 ? ib++ : is++)] = I;
-    }
-    ns = is - na - nb;
+  /* perm[pos ..] = [left rest | right rest | separator], copied back to v
+   * for the recursion */
+  int na = 0, nb = 0;
+  for (int k = 0; k < m; k++) {
+    na += w->side[v[k]] == 0;
+    nb += w->side[v[k]] == 1;
   }
-  (void)ns;
+  int ia = 0, ib = na, is = na + nb;
+  for (int k = 0; k < m; k++) {
+    const int I = v[k];
+    w->perm[pos + (w->side[I] == 0 ? ia++ : w->side[I] == 1 ? ib++ : is++)] = I;
+  }
   for (int k = 0; k < m; k++) {
     v[k] = w->perm[pos + k];
     w->side[v[k]] = -1;
