@@ -43,31 +43,6 @@ typedef struct driver {
   segment seg[MAX_SEGMENTS];
 } driver;
 
-static int read_text(mpgm_ctx *ctx, const char *file, char **out) {
-  FILE *f = fopen(file, "rb");
-  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", file, strerror(errno));
-  size_t cap = 1 << 14, n = 0, k;
-  char *buf = malloc(cap);
-  while (buf && (k = fread(buf + n, 1, cap - n - 1, f)) > 0) {
-    n += k;
-    if (n + 1 == cap) {
-      char *nb = realloc(buf, cap *= 2);
-      if (!nb) free(buf);
-      buf = nb;
-    }
-  }
-  const int bad = ferror(f);
-  fclose(f);
-  if (!buf) MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: out of memory", file);
-  if (bad) {
-    free(buf);
-    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: read error", file);
-  }
-  buf[n] = '\0';
-  *out = buf;
-  return 0;
-}
-
 /* An array of n finite numbers at key (a JSON array). */
 static int read_numbers(jr_node *o, const char *key, const cJSON *v, int n, double *out) {
   if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != n)
@@ -337,29 +312,8 @@ static int drive(mpgm_ctx *ctx, const char *file, const driver *d, FILE *f) {
 }
 
 int mpgm_material_driver(mpgm_ctx *ctx, const char *file, const char *out_csv) {
-  char *text = NULL;
-  MPGM_CALL(read_text(ctx, file, &text));
-  const char *end = NULL;
-  cJSON *doc = cJSON_ParseWithOpts(text, &end, 1);
-  if (!doc || !cJSON_IsObject(doc)) {
-    const char *at = end ? end : text;
-    int line = 1, col = 1;
-    for (const char *q = text; q < at && *q; q++) {
-      col = *q == '\n' ? 1 : col + 1;
-      line += *q == '\n';
-    }
-    char near[24] = "";
-    snprintf(near, sizeof near, "%.20s", at);
-    for (char *q = near; *q; q++)
-      if (*q == '\n' || *q == '\r') *q = ' ';
-    const int syntax = !doc;
-    cJSON_Delete(doc);
-    free(text);
-    if (syntax)
-      MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: line %d, column %d: JSON syntax error near '%s'%s",
-                 file, line, col, near, near[0] ? "" : " (end of file)");
-    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: (root): expected an object", file);
-  }
+  cJSON *doc = NULL;
+  MPGM_CALL(jr_parse_file(ctx, file, &doc));
   driver *d = calloc(1, sizeof *d);
   cJSON *resolved = cJSON_CreateObject();
   jr_reader r = {.ctx = ctx, .file = file};
@@ -368,7 +322,6 @@ int mpgm_material_driver(mpgm_ctx *ctx, const char *file, const char *out_csv) {
   cJSON_Delete(r.tmp);
   cJSON_Delete(resolved);
   cJSON_Delete(doc);
-  free(text);
   FILE *f = NULL;
   if (!err) {
     f = fopen(out_csv, "w");

@@ -262,3 +262,64 @@ int jr_unused_overrides(jr_reader *r) {
                           r->file, r->ov[i].path, r->ov[i].path, r->ov[i].value);
   return 0;
 }
+
+/* 1-based line and column of `at` in text. */
+static void line_col(const char *text, const char *at, int *line, int *col) {
+  *line = 1;
+  *col = 1;
+  for (const char *p = text; p < at && *p; p++) {
+    if (*p == '\n') {
+      (*line)++;
+      *col = 1;
+    } else {
+      (*col)++;
+    }
+  }
+}
+
+int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc) {
+  *doc = NULL;
+  FILE *f = fopen(file, "rb");
+  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", file, strerror(errno));
+  size_t cap = 1 << 16, n = 0, k;
+  char *text = malloc(cap);
+  while (text && (k = fread(text + n, 1, cap - n - 1, f)) > 0) {
+    n += k;
+    if (n + 1 == cap) {
+      char *nb = realloc(text, cap *= 2);
+      if (!nb) free(text);
+      text = nb;
+    }
+  }
+  const int bad = ferror(f);
+  fclose(f);
+  if (!text) MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: out of memory", file);
+  if (bad) {
+    free(text);
+    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: read error", file);
+  }
+  text[n] = '\0';
+  const char *end = NULL;
+  cJSON *d = cJSON_ParseWithOpts(text, &end, 1);
+  if (!d) {
+    int line, col;
+    const char *at = end ? end : cJSON_GetErrorPtr();
+    if (!at) at = text;
+    line_col(text, at, &line, &col);
+    char near[24] = "";
+    snprintf(near, sizeof near, "%.20s", at);
+    for (char *p = near; *p; p++)
+      if (*p == '\n' || *p == '\r') *p = ' ';
+    free(text);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: line %d, column %d: JSON syntax error near '%s'%s", file,
+               line, col, near, near[0] ? "" : " (end of file)");
+  }
+  free(text);
+  if (!cJSON_IsObject(d)) {
+    const char *type = jr_type(d);
+    cJSON_Delete(d);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: (root): expected an object, found %s", file, type);
+  }
+  *doc = d;
+  return 0;
+}

@@ -67,6 +67,11 @@ int jr_child(jr_node *o, const char *key, int required, jr_node *child);
 const cJSON *jr_raw(jr_node *o, const char *key);
 /** Reject unknown and duplicate keys of o. */
 int jr_end(jr_node *o);
+/** Read FILE and parse it as a JSON object into *doc (caller deletes).
+ *  Errors: MPGM_ERR_IO (cannot read), MPGM_ERR_NOMEM, MPGM_ERR_INPUT
+ *  ("FILE: line L, column C: JSON syntax error near '...'", or
+ *  "FILE: (root): expected an object, found ..."). */
+int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc);
 /** Overrides not consumed by any read: error "unknown path". */
 int jr_unused_overrides(jr_reader *r);
 /** A JSON value given by an override for path (NULL if none); marks it used

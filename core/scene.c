@@ -26,30 +26,6 @@ const char *mpgm_method_name(int method) {
   return (method >= 0 && method <= MPGM_METHOD_GMM) ? method_names[method] : "?";
 }
 
-/* Read a whole file; MPGM_ERR_IO on failure. */
-static int read_file(mpgm_ctx *ctx, const char *file, char **out) {
-  FILE *f = fopen(file, "rb");
-  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", file, strerror(errno));
-  size_t cap = 1 << 16, n = 0;
-  char *buf = malloc(cap);
-  if (!buf) { fclose(f); MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: out of memory", file); }
-  size_t k;
-  while ((k = fread(buf + n, 1, cap - n - 1, f)) > 0) {
-    n += k;
-    if (n + 1 == cap) {
-      char *nb = realloc(buf, cap *= 2);
-      if (!nb) { free(buf); fclose(f); MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: out of memory", file); }
-      buf = nb;
-    }
-  }
-  int bad = ferror(f);
-  fclose(f);
-  if (bad) { free(buf); MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: read error", file); }
-  buf[n] = '\0';
-  *out = buf;
-  return 0;
-}
-
 /* Names of materials, bodies, probes: usable in dotted paths. */
 static int check_name(jr_node *o, const char *name) {
   size_t n = strlen(name);
@@ -529,25 +505,19 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   for (int i = 0; field_names[i]; i++)
     if (s->fields & (1u << i)) cJSON_AddItemToArray(a, cJSON_CreateString(field_names[i]));
   /* times: steps end on them and VTK is written there */
-  const cJSON *t = jr_override_json(&o, "times");
-  if (!t) t = jr_raw(&o, "times");
-  else jr_raw(&o, "times");
+  const cJSON *t = NULL;
+  MPGM_CALL(get_array(&o, "times", &t));
   s->ntimes = 0;
-  if (t) {
-    const int n = cJSON_IsArray(t) ? cJSON_GetArraySize(t) : -1;
-    if (n < 0 || n > 64)
-      return jr_fail(&o, "times", "expected an array of at most 64 times, found %s",
-                     n < 0 ? jr_type(t) : "more than 64 entries");
-    for (const cJSON *c = t->child; c; c = c->next) {
-      const double v = cJSON_IsNumber(c) ? c->valuedouble : NAN;
-      const double prev = s->ntimes ? s->times[s->ntimes - 1] : 0.0;
-      if (!(v > prev && isfinite(v)))
-        return jr_fail(&o, "times", "expected increasing positive times (%s), found %s%s",
-                       s->analysis == MPGM_ANALYSIS_DYNAMIC ? "s" : "load factors",
-                       cJSON_IsNumber(c) ? "" : jr_type(c),
-                       cJSON_IsNumber(c) ? "a value not above the one before it (or not above 0)" : "");
-      s->times[s->ntimes++] = v;
-    }
+  if (t && cJSON_GetArraySize(t) > 64)
+    return jr_fail(&o, "times", "expected at most 64 times, found %d", cJSON_GetArraySize(t));
+  for (const cJSON *c = t ? t->child : NULL; c; c = c->next) {
+    if (!cJSON_IsNumber(c) || !isfinite(c->valuedouble))
+      return jr_fail(&o, "times", "expected numbers, found %s", jr_type(c));
+    const double v = c->valuedouble, prev = s->ntimes ? s->times[s->ntimes - 1] : 0.0;
+    if (!(v > prev))
+      return jr_fail(&o, "times", "expected increasing times above 0 (%s), found %g after %g",
+                     s->analysis == MPGM_ANALYSIS_DYNAMIC ? "s" : "load factors", v, prev);
+    s->times[s->ntimes++] = v;
   }
   cJSON_AddItemToObject(o.out, "times", cJSON_CreateDoubleArray(s->times, s->ntimes));
   return jr_end(&o);
@@ -717,39 +687,11 @@ static int parse_sets(mpgm_ctx *ctx, const char *file, int nset, const char *con
   return 0;
 }
 
-static void line_col(const char *text, const char *at, int *line, int *col) {
-  *line = 1;
-  *col = 1;
-  for (const char *p = text; p < at && *p; p++) {
-    if (*p == '\n') { (*line)++; *col = 1; }
-    else (*col)++;
-  }
-}
-
 int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
                     const char *const *sets, mpgm_scene **out) {
   *out = NULL;
-  char *text = NULL;
-  MPGM_CALL(read_file(ctx, file, &text));
-  const char *end = NULL;
-  cJSON *doc = cJSON_ParseWithOpts(text, &end, 1);
-  if (!doc) {
-    int line, col;
-    const char *at = end ? end : cJSON_GetErrorPtr();
-    if (!at) at = text;
-    line_col(text, at, &line, &col);
-    char near[24] = "";
-    snprintf(near, sizeof near, "%.20s", at);
-    for (char *p = near; *p; p++) if (*p == '\n' || *p == '\r') *p = ' ';
-    free(text);
-    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: line %d, column %d: JSON syntax error near '%s'", file,
-               line, col, near);
-  }
-  if (!cJSON_IsObject(doc)) {
-    free(text);
-    cJSON_Delete(doc);
-    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: (root): expected an object, found %s", file, jr_type(doc));
-  }
+  cJSON *doc = NULL;
+  MPGM_CALL(jr_parse_file(ctx, file, &doc));
   mpgm_scene *s = calloc(1, sizeof *s);
   jr_override *ov = calloc(nset ? nset : 1, sizeof *ov);
   int err = (!s || !ov) ? mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory") : 0;
@@ -770,7 +712,6 @@ int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
   cJSON_Delete(r.tmp);
   cJSON_Delete(doc);
   free(ov);
-  free(text);
   s ? (void)(s->resolved = resolved) : cJSON_Delete(resolved);
   if (err) {
     mpgm_scene_destroy(&s);
