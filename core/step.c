@@ -284,7 +284,6 @@ static int initial_acceleration(mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
   const mpgm_conn *C = &pb->conn;
   mpgm_points *P = &pb->pts;
-  const int n = nd->ndof;
   memset(nd->du, 0, sizeof(double) * 2 * (size_t)nd->n);
   MPGM_CALL(mpgm_body_force(pb));
   MPGM_CALL(mpgm_eval_points(pb));
@@ -310,7 +309,7 @@ static int initial_acceleration(mpgm_problem *pb) {
   }
   for (int i = 0; i < 2 * nd->n; i++) {
     const int e = nd->dof[i];
-    nd->a[i] = e >= 0 && e < n && !nd->fix[i] ? pb->delta[e] : 0.0;
+    nd->a[i] = e >= 0 && !nd->fix[i] ? pb->delta[e] : 0.0;
     if (!isfinite(nd->a[i]))
       MPGM_ERROR(ctx, MPGM_ERR_NAN, "initial acceleration: not finite at node %d", i / 2);
   }
