@@ -375,6 +375,7 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
     j.t0 = mpgm_asm_phase(ph);
     mpgm_pool_run(pb->pool, mpgm_asm_phase(ph + 1) - mpgm_asm_phase(ph), assemble_task, &j);
   }
+  if (pb->fx.contact_points) mpgm_cpoints_assemble(pb, want_K, mass_only);
   /* held contact components: equation delta = 0 (identity row, R = 0) */
   if (pb->fx.contact) {
     const mpgm_nodes *nd = &pb->nodes;

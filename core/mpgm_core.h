@@ -30,7 +30,10 @@ extern "C" {
  *  that are moved exactly as material points but never assembled. */
 typedef struct mpgm_points {
   int n;          /**< material points                                 */
-  int nprobe;     /**< tracer points after the material points         */
+  int nprobe;     /**< probes: tracer points after the material points */
+  int nsurf;      /**< surface tracers after the probes: points on the
+                       bodies' boundaries where contact is enforced
+                       (mpgm_cpoints); 0 without contact at points     */
   int nstate;     /**< state doubles per point (max over materials)    */
   double *x;      /**< current position, 2 per point [m]               */
   double *x0;     /**< initial position, 2 per point [m]               */
@@ -97,7 +100,9 @@ typedef struct mpgm_effects {
   int geometric;      /**< finite kinematics: K_geo and config update   */
   int plasticity;     /**< a plastic material is used                   */
   int prescribed;     /**< non-zero prescribed displacements            */
-  int contact;        /**< unilateral contact planes (active set)        */
+  int contact;        /**< unilateral contact at grid nodes (active set)  */
+  int contact_points; /**< unilateral contact at surface points (penalty,
+                           active set; core/contact_points.c)          */
   int prestress;      /**< a body has a geostatic initial stress         */
 } mpgm_effects;
 
@@ -132,6 +137,25 @@ typedef struct mpgm_frontend_ops {
                const int **conn, const int **type);
   void (*destroy)(mpgm_problem *pb);
 } mpgm_frontend_ops;
+
+/** Unilateral contact without slip at surface points (core/contact_points.c,
+ *  docs/theory.md "Contact at surface points"): the pts.nsurf surface
+ *  tracers (after the probes) move with the body like material points; one
+ *  that reaches a contact plane is held at the place it reached by a
+ *  penalty spring (both components: no slip) and let go where the spring
+ *  would pull it back onto the plane. The grid nodes stay free. */
+typedef struct mpgm_cpoints {
+  int first;          /**< index in pts of the first surface tracer     */
+  int n;              /**< surface tracers                               */
+  signed char *plane; /**< per tracer: scene boundary it is held on, -1  */
+  unsigned char *flip;/**< per tracer: state changed in this step        */
+  unsigned char *off; /**< per tracer: no shape functions this step (no
+                           active cell near it): not enforced          */
+  double *anchor;     /**< 2 per tracer: where it is held [m]            */
+  int held;           /**< tracers held now                              */
+  long holds, releases; /**< changes of state over the run               */
+  long unenforced;    /**< tracer-steps without shape functions          */
+} mpgm_cpoints;
 
 /** Newton statistics of the last step. */
 typedef struct mpgm_newton_info {
@@ -240,6 +264,7 @@ struct mpgm_problem {
   long step_cuts;    /**< steps rejected and retried with half the step
                           (time.max_cuts; run.c)                        */
   unsigned char *cflip; /**< per node: contact state changed in this step */
+  mpgm_cpoints cp;   /**< contact at surface points (fx.contact_points)  */
 };
 
 /** Load factor at the end of the step being solved: static, the load
@@ -323,6 +348,26 @@ int mpgm_scatter_build(mpgm_problem *pb);
 /** Rebuild the scatter maps only (same groups and pattern): after the fixity
  *  of numbered components changed (contact nodes held or released). */
 int mpgm_scatter_maps(mpgm_problem *pb);
+
+/** Contact at surface points (core/contact_points.c). setup: after the
+ *  front end created the surface tracers; tracers on a plane (within
+ *  1e-6 h) start held where they are. */
+int mpgm_cpoints_setup(mpgm_problem *pb);
+void mpgm_cpoints_free(mpgm_cpoints *cp);
+/** Add the springs of the held tracers to R (at the current increments)
+ *  and, if want_K, to K; mass_only: the acceleration form of the springs
+ *  (beta dt^2 k N N^T) for the initial acceleration, R unchanged. */
+void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only);
+/** Active-set update at the current increments: hold the free tracers
+ *  that crossed a plane (at the crossing), release the held ones the
+ *  spring pulls; at most one change per tracer and step. Returns 1 when
+ *  the set changed. */
+int mpgm_cpoints_update(mpgm_problem *pb);
+/** Points on the boundary of body b at most `spacing` apart (a disk: from
+ *  its lowest point, counter-clockwise; rectangles and polygons: every
+ *  vertex and equal divisions of every edge). x == NULL: only count.
+ *  Returns the number of points. */
+int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x);
 
 /** External force (gravity times load factor) into pb->fext. */
 int mpgm_body_force(mpgm_problem *pb);

@@ -37,6 +37,14 @@ typedef enum {
                              be pulled (unilateral; method mpm)          */
 } mpgm_condition;
 
+/** Where a "contact" boundary is enforced. */
+typedef enum {
+  MPGM_ENFORCE_NODES = 0, /**< grid nodes on the plane are held/released  */
+  MPGM_ENFORCE_POINTS = 1 /**< points on the bodies' surfaces are held by
+                               a penalty where they reach the plane; the
+                               grid nodes stay free                      */
+} mpgm_enforce;
+
 /** Output fields of material points (bit mask). */
 typedef enum {
   MPGM_FIELD_DISPLACEMENT = 1 << 0,
@@ -85,6 +93,12 @@ typedef struct mpgm_scene_boundary {
                             (a floor or left wall), -1 on the - side    */
   double displacement[2]; /**< prescribed value of fixed components at
                                the end of the run [m] (ramped)        */
+  int enforce;         /**< contact: MPGM_ENFORCE_NODES or _POINTS     */
+  double penalty;      /**< contact at points: stiffness per point per
+                            unit thickness [Pa] (scene: a multiple of
+                            the largest Young's modulus, resolved here) */
+  double spacing;      /**< contact at points: spacing of the surface
+                            points along the bodies' boundaries [m]     */
 } mpgm_scene_boundary;
 
 /** A rigid obstacle of method gmm: layers of fixed nodes (no material

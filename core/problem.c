@@ -108,7 +108,7 @@ static void gather_task(void *arg, int j, int tid) {
 
 int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *key, int nkey,
                      int *perm_out) {
-  const int n = p->n, m = p->n + p->nprobe;
+  const int n = p->n, m = p->n + p->nprobe + p->nsurf;
   if (n <= 1) {
     if (perm_out && n == 1) perm_out[0] = 0;
     return 0;
@@ -260,7 +260,9 @@ void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
   for (int i = 0; i < s->nbc; i++) {
     for (int d = 0; d < 2; d++)
       fx->prescribed |= s->bcs[i].fix[d] && s->bcs[i].displacement[d] != 0.0;
-    fx->contact |= s->bcs[i].condition == MPGM_COND_CONTACT;
+    const int contact = s->bcs[i].condition == MPGM_COND_CONTACT;
+    fx->contact |= contact && s->bcs[i].enforce == MPGM_ENFORCE_NODES;
+    fx->contact_points |= contact && s->bcs[i].enforce == MPGM_ENFORCE_POINTS;
   }
   for (int i = 0; i < s->nbody; i++) fx->prestress |= s->bodies[i].geostatic;
 }
@@ -337,6 +339,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
     if (!pb->R || !pb->fext || !pb->delta || !pb->dubar || !pb->react || !pb->cflip || !pb->fix_factored)
       err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
   }
+  if (!err && pb->fx.contact_points) err = mpgm_cpoints_setup(pb);
   if (!err && pb->nodes.n > 0 && pb->nodes.ndof == 0)
     err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
                        "%s: boundaries: every degree of freedom is fixed; nothing to solve",
@@ -379,6 +382,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->react);
   free(pb->cflip);
   free(pb->fix_factored);
+  mpgm_cpoints_free(&pb->cp);
   mpgm_solver_destroy(&pb->solver);
   mpgm_solver_destroy(&pb->solver_alt);
   free(pb);

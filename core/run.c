@@ -19,6 +19,7 @@ void *mpgm_effects_json(const mpgm_effects *fx) {
   cJSON_AddBoolToObject(e, "plasticity", fx->plasticity);
   cJSON_AddBoolToObject(e, "prescribed_displacement", fx->prescribed);
   cJSON_AddBoolToObject(e, "contact", fx->contact);
+  cJSON_AddBoolToObject(e, "contact_points", fx->contact_points);
   cJSON_AddBoolToObject(e, "initial_stress", fx->prestress);
   return e;
 }
@@ -91,6 +92,13 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
   cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)pb->lu_steps);
   cJSON_AddNumberToObject(c, "contact_resolves", (double)pb->contact_rounds);
+  if (pb->fx.contact_points) {
+    cJSON_AddNumberToObject(c, "contact_points", pb->cp.n);
+    cJSON_AddNumberToObject(c, "contact_points_held", pb->cp.held);
+    cJSON_AddNumberToObject(c, "contact_point_holds", (double)pb->cp.holds);
+    cJSON_AddNumberToObject(c, "contact_point_releases", (double)pb->cp.releases);
+    cJSON_AddNumberToObject(c, "contact_points_unenforced", (double)pb->cp.unenforced);
+  }
   cJSON_AddNumberToObject(c, "vtk_files", o->files);
   mpgm_solver_stats st = {0, 0};
   if (pb->solver && ctx->n_factorizations && mpgm_solver_get_stats(pb->solver, &st) == 0) {

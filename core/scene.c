@@ -298,6 +298,36 @@ static int selector_meets_body(const mpgm_scene_boundary *bc, const mpgm_scene_b
   return mpgm_body_meets_box(bd, lo, hi);
 }
 
+/* "enforce", "penalty", "spacing" of a contact boundary: contact at the
+ * grid nodes on the plane (default) or at points on the bodies' surfaces
+ * held by a penalty (docs/theory.md, "Contact at surface points"). */
+static int read_contact_points(jr_node *b, const mpgm_scene *s, mpgm_scene_boundary *bc) {
+  static const char *const enforce_names[] = {"nodes", "points", NULL};
+  MPGM_CALL(jr_enum(b, "enforce", enforce_names, MPGM_ENFORCE_NODES, &bc->enforce));
+  if (bc->enforce != MPGM_ENFORCE_POINTS) {
+    if (jr_raw(b, "penalty") || jr_raw(b, "spacing"))
+      return jr_fail(b, jr_raw(b, "penalty") ? "penalty" : "spacing",
+                     "expected no penalty or spacing with \"enforce\": \"nodes\" (they belong to "
+                     "\"enforce\": \"points\")");
+    return 0;
+  }
+  double factor;
+  MPGM_CALL(jr_num(b, "penalty", 20.0, 0.0, 1e12, 1, 0, &factor));
+  MPGM_CALL(jr_num(b, "spacing", 0.5 * s->h, 0.0, INFINITY, 1, 0, &bc->spacing));
+  /* the penalty scales with the stiffest material */
+  double E = 0.0;
+  for (int i = 0; i < s->nmat; i++)
+    for (int k = 0; k < s->mats[i].type->nparam; k++)
+      if (strcmp(s->mats[i].type->params[k].name, "E") == 0) E = fmax(E, s->mats[i].param[k]);
+  if (!(E > 0.0))
+    return jr_fail(b, "penalty", "expected a material with a Young's modulus \"E\" (the penalty is "
+                   "a multiple of the largest), found none");
+  /* the springs, spread over the plane (k / spacing per unit area), are
+   * `factor` times as stiff as a layer of one cell of the body (E / h) */
+  bc->penalty = factor * E * bc->spacing / s->h;
+  return 0;
+}
+
 static int read_boundaries(jr_node *root, mpgm_scene *s) {
   const cJSON *arr = NULL;
   MPGM_CALL(get_array(root, "boundaries", &arr));
@@ -369,13 +399,27 @@ static int read_boundaries(jr_node *root, mpgm_scene *s) {
                          "nodes stay on the plane); found method %s%s", mpgm_method_name(s->method),
                          s->method == MPGM_METHOD_GMM ? " (method gmm: a rigid obstacle, top-level "
                          "\"obstacles\", as in cases/rolling_disk_gmm.json)" : "");
+        MPGM_CALL(read_contact_points(&b, s, bc));
         const int ax = bc->select == MPGM_SELECT_X ? 0 : 1;
         const double tol = 1e-9 * (s->dom_max[ax] - s->dom_min[ax]) + bc->tol;
         if (fabs(bc->value - s->dom_min[ax]) <= tol) bc->side = 1;
         else if (fabs(bc->value - s->dom_max[ax]) <= tol) bc->side = -1;
-        else
+        else if (bc->enforce == MPGM_ENFORCE_POINTS) {
+          /* a plane inside the grid (room for the material to dip into
+           * it by the springs' give): the bodies say which side */
+          int above = 1, below = 1;
+          for (int k = 0; k < s->nbody; k++) {
+            above &= s->bodies[k].min[ax] >= bc->value - tol;
+            below &= s->bodies[k].max[ax] <= bc->value + tol;
+          }
+          if (above == below)
+            return jr_fail(&b, ax ? "y" : "x", "expected every body on one side of the contact plane "
+                           "%c = %g, found bodies on both sides", "xy"[ax], bc->value);
+          bc->side = above ? 1 : -1;
+        } else
           return jr_fail(&b, ax ? "y" : "x", "expected a contact plane on the boundary of mesh.domain "
-                         "(%c = %g or %g, so the body is on one side), found %g", "xy"[ax],
+                         "(%c = %g or %g, so the body is on one side; a plane inside the domain needs "
+                         "\"enforce\": \"points\"), found %g", "xy"[ax],
                          s->dom_min[ax], s->dom_max[ax], bc->value);
       }
       /* the resolved scene keeps "condition" only, so it loads again as is */

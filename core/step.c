@@ -44,7 +44,7 @@ static void commit(mpgm_problem *pb) {
   const mpgm_conn *C = &pb->conn;
   const int move = pb->fx.geometric, inertia = pb->fx.inertia;
   const int newmark_pv = pb->fe->point_velocity == MPGM_PV_NEWMARK;
-  const int m = P->n + P->nprobe;
+  const int m = P->n + P->nprobe + P->nsurf;
   for (int p = 0; p < m; p++) {
     double d[2] = {0, 0}, v[2] = {0, 0}, a[2] = {0, 0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
@@ -182,7 +182,8 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
      * contact_check of the reference, rather than only at convergence: a
      * wrong set is then not iterated to full accuracy first. The converged
      * state is checked again by mpgm_step. */
-    if (pb->fx.contact && !checked && it > 0 && !pb->lift && res <= sc->contact_check * ref) {
+    if ((pb->fx.contact || pb->fx.contact_points) && !checked && it > 0 && !pb->lift &&
+        res <= sc->contact_check * ref) {
       checked = 1;
       if (contact_update(pb)) {
         info->iterations = it;
@@ -250,12 +251,14 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
  * would pull, and held again where a released node moves into the plane.
  * A node changes state at most once per step (pb->cflip), so the active set
  * cannot chatter and settles in a few solves; the front end starts each
- * step from the set the last one ended with. Returns 1 when it changed. */
+ * step from the set the last one ended with. Contact at surface points
+ * follows the same rules (mpgm_cpoints_update). Returns 1 when it changed. */
 static int contact_update(mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
   double *r = pb->react;
+  int changed = pb->fx.contact_points ? mpgm_cpoints_update(pb) : 0;
+  if (!pb->fx.contact) return changed;
   mpgm_reactions(pb, r);
-  int changed = 0;
   for (int i = 0; i < nd->n; i++) {
     const int code = nd->contact[i];
     if (!code || pb->cflip[i]) continue;
@@ -314,7 +317,7 @@ static int initial_acceleration(mpgm_problem *pb) {
       MPGM_ERROR(ctx, MPGM_ERR_NAN, "initial acceleration: not finite at node %d", i / 2);
   }
   if (pb->fe->point_velocity == MPGM_PV_NEWMARK)
-    for (int p = 0; p < P->n + P->nprobe; p++) {
+    for (int p = 0; p < P->n + P->nprobe + P->nsurf; p++) {
       double a[2] = {0, 0};
       for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
         a[0] += C->N[k] * nd->a[2 * C->node[k]];
@@ -339,6 +342,7 @@ int mpgm_step(mpgm_problem *pb) {
   int rebuild = pb->conn.version != pb->pattern_version, its = 0;
   if (!rebuild && pb->conn.map_version != pb->map_version) MPGM_CALL(mpgm_scatter_build(pb));
   if (pb->fx.contact) memset(pb->cflip, 0, (size_t)nd->n);
+  if (pb->fx.contact_points) memset(pb->cp.flip, 0, (size_t)pb->cp.n);
   int ndof_step = nd->ndof;
   lu_resume(pb);
   for (int round = 0;; round++) {
@@ -362,14 +366,14 @@ int mpgm_step(mpgm_problem *pb) {
     int early = 0;
     MPGM_CALL(newton(pb, round > 0, &early));
     its += pb->last.iterations;
-    if (!early && (!pb->fx.contact || !contact_update(pb))) break;
+    if (!early && (!(pb->fx.contact || pb->fx.contact_points) || !contact_update(pb))) break;
     MPGM_CHECK(ctx, round < 50, MPGM_ERR_NOT_CONVERGED,
                "the contact active set did not settle in %d solves of the step", round + 1);
     pb->contact_rounds++;
     /* contact nodes keep their equations whatever their state: the
      * pattern and its analysis stand, only the maps (which leave out held
      * components) and the factorisation change */
-    MPGM_CALL(mpgm_scatter_maps(pb));
+    if (pb->fx.contact) MPGM_CALL(mpgm_scatter_maps(pb));
     pb->factor_valid = 0;
   }
   pb->last.iterations = its;

@@ -120,17 +120,38 @@ static int mpm_setup(mpgm_problem *pb) {
   int nstate = 0;
   for (int i = 0; i < s->nmat; i++)
     if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
-  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe, nstate));
+  /* contact at points: tracers on the bodies' boundaries, after the probes */
+  double spacing = INFINITY;
+  for (int i = 0; i < s->nbc; i++)
+    if (s->bcs[i].condition == MPGM_COND_CONTACT && s->bcs[i].enforce == MPGM_ENFORCE_POINTS)
+      spacing = fmin(spacing, s->bcs[i].spacing);
+  int nsurf = 0;
+  for (int b = 0; b < s->nbody && pb->fx.contact_points; b++)
+    nsurf += mpgm_body_surface(&s->bodies[b], spacing, NULL);
+  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe + nsurf, nstate));
+  pb->pts.nprobe = s->nprobe;
+  pb->pts.nsurf = nsurf;
   MPGM_CALL(fill_bodies(pb, d, &pb->pts, &np));
   for (int k = 0; k < s->nprobe; k++) {
     const int p = np + k;
     pb->pts.x[2 * p] = pb->pts.x0[2 * p] = s->probes[k].x[0];
     pb->pts.x[2 * p + 1] = pb->pts.x0[2 * p + 1] = s->probes[k].x[1];
   }
+  for (int b = 0, p = np + s->nprobe; b < s->nbody && nsurf; b++) {
+    const int k = mpgm_body_surface(&s->bodies[b], spacing, pb->pts.x + 2 * p);
+    for (int q = p; q < p + k; q++) {
+      pb->pts.x0[2 * q] = pb->pts.x[2 * q];
+      pb->pts.x0[2 * q + 1] = pb->pts.x[2 * q + 1];
+      pb->pts.body[q] = b;
+      pb->pts.v[2 * q] = s->bodies[b].velocity[0];
+      pb->pts.v[2 * q + 1] = s->bodies[b].velocity[1];
+    }
+    p += k;
+  }
   /* nodes: room for the whole grid; the step uses those of active cells */
   MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, g->nnode));
   pb->nodes.n = 0;
-  const int m = np + s->nprobe;
+  const int m = np + s->nprobe + nsurf;
   MPGM_ALLOC(ctx, d->pcell, m);
   MPGM_ALLOC(ctx, d->pxi, 2 * (size_t)m);
   MPGM_ALLOC(ctx, d->gmap, g->nnode);
@@ -162,6 +183,8 @@ static int mpm_setup(mpgm_problem *pb) {
   /* grid boundaries: the grid never moves, so the fixity of every grid
    * node is decided once */
   for (int i = 0; i < s->nbc; i++) {
+    /* contact at points acts on the bodies, not on grid nodes */
+    if (s->bcs[i].condition == MPGM_COND_CONTACT && s->bcs[i].enforce == MPGM_ENFORCE_POINTS) continue;
     int hits = 0;
     for (int k = 0; k < g->nnode; k++) {
       double X[2];
@@ -200,6 +223,44 @@ static int probe_cell(const mpm_data *d, const double x[2], int *cell, double xi
   return MPGM_ERR_DOMAIN;
 }
 
+/* Cell of a surface tracer: its own cell if active, else the active
+ * neighbour whose centre is nearest (the tracer may sit just outside the
+ * material: its shape functions there extrapolate the cell's linear
+ * field). Returns 0, or 1 when no active cell is near (not enforced this
+ * step). A tracer slightly outside the grid (a spring lets a held tracer
+ * dip below a plane on the grid's edge) is located in the edge cell. */
+static int surface_cell(const mpm_data *d, const double x[2], int *cell, double xi[2]) {
+  const mpgm_grid *g = &d->g;
+  double xc[2] = {fmin(fmax(x[0], g->min[0]), g->max[0]), fmin(fmax(x[1], g->min[1]), g->max[1])};
+  if (mpgm_grid_locate(g, xc, cell, xi)) return 1;
+  int cand[19], best = -1;
+  const int nc = mpgm_grid_neighbours(g, *cell, cand);
+  cand[nc] = *cell;
+  double dmin = INFINITY;
+  for (int i = 0; i <= nc; i++) {
+    if (!d->cact[cand[i]]) continue;
+    int nodes[MPGM_FE_MAXNODE];
+    double xn[2 * MPGM_FE_MAXNODE], c[2] = {0, 0};
+    mpgm_grid_cell(g, cand[i], nodes, xn);
+    for (int a = 0; a < g->nn; a++) {
+      c[0] += xn[2 * a] / g->nn;
+      c[1] += xn[2 * a + 1] / g->nn;
+    }
+    const double dist = hypot(c[0] - x[0], c[1] - x[1]);
+    if (dist < dmin) {
+      dmin = dist;
+      best = cand[i];
+    }
+  }
+  if (best < 0) return 1;
+  int nodes[MPGM_FE_MAXNODE];
+  double xn[2 * MPGM_FE_MAXNODE];
+  mpgm_grid_cell(g, best, nodes, xn);
+  if (mpgm_fe_local(g->cell, xn, x, xi)) return 1;
+  *cell = best;
+  return 0;
+}
+
 /* a[i] = a[perm[i]] for n records of w doubles, through scratch */
 static void permute(double *a, double *scr, const int *perm, int n, int w) {
   for (int i = 0; i < n; i++)
@@ -223,7 +284,7 @@ static int cloud_shape(mpgm_problem *pb, mpm_data *d) {
   const mpgm_grid *g = &d->g;
   mpgm_points *P = &pb->pts;
   mpgm_conn *C = &pb->conn;
-  const int np = P->n, m = P->n + P->nprobe;
+  const int np = P->n, m = P->n + P->nprobe + P->nsurf;
   double R0;
   MPGM_CALL(mpgm_shape_support_radius(s->shape, &s->shape_par, &R0) ? MPGM_ERR_INPUT : 0);
   const int need = s->min_nodes > 0 ? s->min_nodes : (s->shape_par.order == 2 ? 12 : 6);
@@ -350,11 +411,12 @@ static int mpm_begin_step(mpgm_problem *pb) {
   mpgm_points *P = &pb->pts;
   mpgm_nodes *nd = &pb->nodes;
   mpgm_conn *C = &pb->conn;
-  const int np = P->n, m = P->n + P->nprobe, nn = g->nn;
+  const int np = P->n, m = P->n + P->nprobe + P->nsurf, nn = g->nn;
+  const int ms = P->n + P->nprobe; /* the surface tracers follow */
   const int inertia = pb->fx.inertia;
   d->step++;
   memset(d->cact, 0, (size_t)g->ncell);
-  for (int p = 0; p < m; p++) {
+  for (int p = 0; p < ms; p++) {
     if (mpgm_grid_locate(g, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p)) {
       if (p < np)
         MPGM_ERROR(ctx, MPGM_ERR_DOMAIN,
@@ -389,6 +451,10 @@ static int mpm_begin_step(mpgm_problem *pb) {
                "step %ld: probe \"%s\" at (%g, %g) is in no cell holding material", d->step,
                s->probes[k].name, P->x[2 * p], P->x[2 * p + 1]);
   }
+  for (int p = ms; p < m; p++) {
+    pb->cp.off[p - ms] = (unsigned char)surface_cell(d, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p);
+    pb->cp.unenforced += pb->cp.off[p - ms];
+  }
   /* shape functions at the undeformed grid; the raw nodal masses decide
    * which nodes get equations */
   memset(d->gm, 0, sizeof(double) * (size_t)g->nnode);
@@ -397,10 +463,11 @@ static int mpm_begin_step(mpgm_problem *pb) {
   for (int p = 0; p < m && !d->meshfree; p++) {
     int nodes[MPGM_FE_MAXNODE];
     double xn[2 * MPGM_FE_MAXNODE];
+    C->ptr[p] = k;
+    if (p >= ms && pb->cp.off[p - ms]) continue; /* no shape functions */
     mpgm_grid_cell(g, d->pcell[p], nodes, xn);
     mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[2 * p], P->x[2 * p + 1]},
                           .cell = g->cell, .xi = {d->pxi[2 * p], d->pxi[2 * p + 1]}};
-    C->ptr[p] = k;
     MPGM_CALL(s->shape->eval(&q, C->N + k, C->dN + 2 * k));
     for (int a = 0; a < nn; a++) C->node[k + a] = nodes[a]; /* grid ids for now */
     if (p < np)
@@ -452,6 +519,12 @@ static int mpm_begin_step(mpgm_problem *pb) {
     }
     /* Shepard renormalisation over the kept nodes: sum N = 1 and
      * sum grad N = 0 still hold, so rigid motions cause no strain */
+    if (p >= ms && (pb->cp.off[p - ms] || !(S > 1e-12))) {
+      /* a surface tracer with no cell, or among light nodes only */
+      pb->cp.unenforced += !pb->cp.off[p - ms];
+      pb->cp.off[p - ms] = 1;
+      continue;
+    }
     MPGM_CHECK(ctx, S > 1e-12, MPGM_ERR_SHAPE,
                "step %ld: %s %d at (%g, %g) lost every grid node to mesh.min_node_mass = %g",
                d->step, p < np ? "particle" : "probe", p, P->x[2 * p], P->x[2 * p + 1],

@@ -2,6 +2,7 @@
  * functions with their Gauss rules: the "fe" shape-function kind. */
 #include "mpgm_shapefn.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -121,7 +122,12 @@ int mpgm_fe_local(int cell, const double *xn, const double x[2], double xi[2]) {
     const double d1 = (-J10 * r0 + J00 * r1) / det;
     xi[0] -= d0;
     xi[1] -= d1;
-    if (fabs(d0) + fabs(d1) < 1e-14) return 0;
+    /* xi is O(1), but the correction stalls at the round-off of x(xi),
+     * about eps |x| over the cell size: stop there (a fixed 1e-14 could
+     * never be met by a small cell far from the origin) */
+    const double xmag = fabs(x[0]) + fabs(x[1]) + fabs(xn[0]) + fabs(xn[1]);
+    const double tol = 1e-12 + 64.0 * DBL_EPSILON * xmag / sqrt(fabs(det));
+    if (fabs(d0) + fabs(d1) < tol) return 0;
   }
   return MPGM_ERR_SHAPE;
 }

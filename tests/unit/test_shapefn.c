@@ -315,8 +315,40 @@ static void check_inverted(const mpgm_shapefn_type *t, int cell, const double *x
             err);
 }
 
+/* mpgm_fe_local on small cells far from the origin and at points outside
+ * the cell (extrapolation, as for a surface point next to its cell): the
+ * Newton correction stalls at round-off, about 1e-15 times the coordinates
+ * over the cell size, so a fixed 1e-14 on it could never be met (this T3
+ * of h = 0.02 at x ~ 1 failed before). */
+static void check_local_far(void) {
+  const double tri[6] = {0.96, 0.14, 0.98, 0.16, 0.96, 0.16};
+  const double x[2] = {0.96482549240872539, 0.15809012870533989};
+  double xi[2], back[2];
+  int err = mpgm_fe_local(MPGM_CELL_T3, tri, x, xi);
+  map_point(MPGM_CELL_T3, tri, xi, back);
+  mpgm_test(err == 0 && fabs(back[0] - x[0]) < 1e-14 && fabs(back[1] - x[1]) < 1e-14,
+            "T3 of h = 0.02 at x ~ 1: mpgm_fe_local returns %d, x(xi) - x = (%.1e, %.1e)", err,
+            back[0] - x[0], back[1] - x[1]);
+  for (int cell = MPGM_CELL_T3; cell <= MPGM_CELL_Q4; cell++) {
+    const int nn = mpgm_fe_nnode(cell);
+    double xn[2 * MPGM_FE_MAXNODE];
+    const double base[8] = {0, 0, 1, 0, 1, 1, 0, 1}, t3[6] = {0, 0, 1, 0, 1, 1};
+    for (int a = 0; a < nn; a++) { /* a cell of h = 0.01 at (1234.5, 678.9) */
+      xn[2 * a] = 1234.5 + 0.01 * (cell == MPGM_CELL_T3 ? t3 : base)[2 * a];
+      xn[2 * a + 1] = 678.9 + 0.01 * (cell == MPGM_CELL_T3 ? t3 : base)[2 * a + 1];
+    }
+    const double y[2] = {1234.5 + 0.013, 678.9 - 0.002}; /* outside */
+    err = mpgm_fe_local(cell, xn, y, xi);
+    map_point(cell, xn, xi, back);
+    mpgm_test(err == 0 && fabs(back[0] - y[0]) < 1e-11 && fabs(back[1] - y[1]) < 1e-11,
+              "%s of h = 0.01 at x ~ 1e3, point outside: mpgm_fe_local returns %d, x(xi) - x = "
+              "(%.1e, %.1e)", cell_name(cell), err, back[0] - y[0], back[1] - y[1]);
+  }
+}
+
 int main(void) {
   const mpgm_shapefn_type *const *all = mpgm_shapefn_types();
+  check_local_far();
   int ncell_kinds = 0;
   check_rules();
   for (int it = 0; all[it]; it++) {
