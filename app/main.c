@@ -1,5 +1,6 @@
-/* main.c -- the mpgm command line: run, check, material. Only app/ decides exit codes:
- * 0 success, 1 simulation failed, 2 bad input, 3 I/O error. */
+/* main.c -- the mpgm command line: run, check, material; study, plot and
+ * render (study.h). Only app/ decides exit codes: 0 success, 1 simulation
+ * failed, 2 bad input, 3 I/O error. */
 #define _XOPEN_SOURCE 700
 #include <cjson/cJSON.h>
 #include <stdio.h>
@@ -15,6 +16,7 @@
 #include "mpgm_mpm.h"
 #include "mpgm_run.h"
 #include "mpgm_scene.h"
+#include "study.h"
 
 enum { EXIT_OK = 0, EXIT_SIM = 1, EXIT_INPUT = 2, EXIT_IO = 3 };
 
@@ -23,6 +25,11 @@ static void usage(FILE *f) {
           "usage: mpgm run SCENE [--set KEY=VALUE ...] [--out DIR] [--progress | --quiet]\n"
           "       mpgm check SCENE [--set KEY=VALUE ...]\n"
           "       mpgm material FILE.json [--out FILE.csv]\n"
+          "       mpgm study STUDY.json [--jobs N] [--out DIR] [--no-plot] [--rerun-failed] [--dry-run]\n"
+          "       mpgm plot STUDY.csv [--metric NAME] [--x KEY] [--series KEY,...] [--out DIR] [--title T]\n"
+          "       mpgm render RUN_DIR [--field NAME] [--time T,...|last] [--out DIR] [--sheet FILE.png]\n"
+          "                   [--layout RxC] [--size WxH] [--range MIN:MAX] [--xrange A:B] [--yrange A:B]\n"
+          "                   [--radius R] [--title TEXT]\n"
           "       mpgm help\n"
           "\n"
           "  run       run a scene; results go to DIR (default: the scene's output.dir)\n"
@@ -30,6 +37,10 @@ static void usage(FILE *f) {
           "  material  drive one material along a deformation path; CSV to FILE.csv\n"
           "            (default: FILE's name with .csv, in the current folder;\n"
           "            docs/material-driver.md)\n"
+          "  study     run a scene over axes of --set values, two runs at a time, resumably;\n"
+          "            study.csv and plots (docs/studies.md)\n"
+          "  plot      draw a study.csv: error against mesh size and against wall time\n"
+          "  render    draw a run's material points coloured by a field at given times\n"
           "  --set   override any scene value by dotted path, e.g. --set mesh.h=0.125\n"
           "\n"
           "exit codes: 0 success, 1 simulation failed, 2 bad input, 3 I/O error\n"
@@ -46,7 +57,7 @@ static const mpgm_frontend_ops *frontend_for(int method) {
   }
 }
 
-static int exit_code(int code) {
+int mpgm_exit_code(int code) {
   if (code == 0) return EXIT_OK;
   if (code == MPGM_ERR_INPUT) return EXIT_INPUT;
   if (code == MPGM_ERR_IO) return EXIT_IO;
@@ -106,7 +117,7 @@ static int parse_args(int argc, char **argv, args *a) {
 
 static int report_error(const mpgm_ctx *ctx, int code) {
   fprintf(stderr, "mpgm: %s\n", ctx->msg[0] ? ctx->msg : mpgm_code_str(code));
-  return exit_code(code);
+  return mpgm_exit_code(code);
 }
 
 static int cmd_check(const args *a, mpgm_ctx *ctx) {
@@ -204,6 +215,9 @@ int main(int argc, char **argv) {
     usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? EXIT_INPUT : EXIT_OK;
   }
+  if (strcmp(argv[1], "study") == 0) return mpgm_cmd_study(argc, argv);
+  if (strcmp(argv[1], "plot") == 0) return mpgm_cmd_plot(argc, argv);
+  if (strcmp(argv[1], "render") == 0) return mpgm_cmd_render(argc, argv);
   if (strcmp(argv[1], "run") != 0 && strcmp(argv[1], "check") != 0 &&
       strcmp(argv[1], "material") != 0) {
     fprintf(stderr, "mpgm: unknown command '%s'\n", argv[1]);

@@ -1,4 +1,5 @@
-/* mpgm_output.h -- private to core: the results folder of a run. */
+/* mpgm_output.h -- the results folder of a run (core); app/ uses its
+ * mpgm_mkdir_p and mpgm_write_json for a study's folder. */
 #ifndef MPGM_OUTPUT_H
 #define MPGM_OUTPUT_H
 
@@ -16,6 +17,7 @@ typedef struct mpgm_output {
   double *steps;  /**< per converged step: STEP_COLS values         */
 } mpgm_output;
 
+/** mkdir -p (MPGM_ERR_IO naming the part that failed). */
 int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir);
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir);
 void mpgm_output_close(mpgm_output *o);

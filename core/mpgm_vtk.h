@@ -59,6 +59,48 @@ int mpgm_pvd_add(mpgm_pvd *pvd, mpgm_ctx *ctx, double time, const char *file);
 /** Free (accepts NULL, nulls the pointer). */
 void mpgm_pvd_destroy(mpgm_pvd **pvd);
 
+/** One point-data array read back from a legacy file. */
+typedef struct mpgm_vtk_array {
+  char name[256]; /**< field name                                     */
+  int ncomp;      /**< 1 (SCALARS), 3 (VECTORS, z last), 9 (TENSORS,
+                       row major 3x3)                                  */
+  double *v;      /**< npoints * ncomp values (owned)                  */
+} mpgm_vtk_array;
+
+/** A legacy unstructured grid as mpgm_vtk_write writes it: points and
+ *  point data (the cells are counted, not kept). */
+typedef struct mpgm_vtk_grid {
+  char title[256];         /**< header line                          */
+  int npoints;             /**< points                               */
+  double *x;               /**< 3 coordinates per point (owned)      */
+  int ncells;              /**< cells in the file                    */
+  int narray;              /**< point-data arrays, in file order     */
+  mpgm_vtk_array *arrays;  /**< (owned)                              */
+} mpgm_vtk_grid;
+
+/** Read a legacy file written by mpgm_vtk_write (ASCII or binary) into a
+ *  new grid. Errors: MPGM_ERR_IO (cannot read), MPGM_ERR_INPUT (not our
+ *  format; the message names the file and the line found),
+ *  MPGM_ERR_NOMEM. */
+int mpgm_vtk_read(mpgm_ctx *ctx, const char *path, mpgm_vtk_grid **out);
+/** The array called name, or NULL. */
+const mpgm_vtk_array *mpgm_vtk_array_find(const mpgm_vtk_grid *g, const char *name);
+/** Free (accepts NULL, nulls the pointer). */
+void mpgm_vtk_grid_destroy(mpgm_vtk_grid **g);
+
+/** The entries of a .pvd collection, in file order. */
+typedef struct mpgm_pvd_list {
+  int n;        /**< entries                                   */
+  double *time; /**< timestep of each (time, or load factor)    */
+  char **file;  /**< file of each, relative to the .pvd's folder */
+} mpgm_pvd_list;
+
+/** Read a .pvd collection (as mpgm_pvd_add writes it). Errors as
+ *  mpgm_vtk_read. */
+int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out);
+/** Free the entries (accepts an empty list). */
+void mpgm_pvd_list_free(mpgm_pvd_list *l);
+
 /** Open a temporary file next to path for writing ("path.tmp"). */
 int mpgm_atomic_open(mpgm_ctx *ctx, const char *path, void **fp_out);
 /** Close the temporary and rename it to path (fp is a FILE *). On error the

@@ -394,12 +394,13 @@ static int read_boundaries(jr_node *root, mpgm_scene *s) {
         if (bc->select == MPGM_SELECT_BOX)
           return jr_fail(&b, "condition", "\"contact\" needs a plane selector (\"x\" or \"y\"), "
                          "found a box");
-        if (s->method != MPGM_METHOD_MPM)
-          return jr_fail(&b, "condition", "\"contact\" is a grid condition of method mpm (grid "
-                         "nodes stay on the plane); found method %s%s", mpgm_method_name(s->method),
-                         s->method == MPGM_METHOD_GMM ? " (method gmm: a rigid obstacle, top-level "
-                         "\"obstacles\", as in cases/rolling_disk_gmm.json)" : "");
         MPGM_CALL(read_contact_points(&b, s, bc));
+        if (s->method == MPGM_METHOD_FEM ||
+            (s->method == MPGM_METHOD_GMM && bc->enforce != MPGM_ENFORCE_POINTS))
+          return jr_fail(&b, "condition", "\"contact\" at grid nodes is a condition of method mpm "
+                         "(grid nodes stay on the plane); found method %s%s", mpgm_method_name(s->method),
+                         s->method == MPGM_METHOD_GMM ? " (method gmm: \"enforce\": \"points\", or a "
+                         "rigid obstacle, top-level \"obstacles\", as in cases/rolling_disk_gmm.json)" : "");
         const int ax = bc->select == MPGM_SELECT_X ? 0 : 1;
         const double tol = 1e-9 * (s->dom_max[ax] - s->dom_min[ax]) + bc->tol;
         if (fabs(bc->value - s->dom_min[ax]) <= tol) bc->side = 1;

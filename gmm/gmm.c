@@ -109,7 +109,7 @@ static int gmm_setup(mpgm_problem *pb) {
     MPGM_CALL(err);
   }
   d->min_nodes = s->min_nodes > 0 ? s->min_nodes : d->par.order == 2 ? 12 : 6;
-  const int m = pb->pts.n + pb->pts.nprobe;
+  const int m = pb->pts.n + pb->pts.nprobe + pb->pts.nsurf;
   MPGM_ALLOC(ctx, d->lambda, 2 * (size_t)m);
   MPGM_ALLOC(ctx, d->rad, m);
   MPGM_ALLOC(ctx, d->cptr, m + 1);
@@ -169,7 +169,7 @@ static void sort_by_node(int n, int *idx) {
 static int search_clouds(mpgm_problem *pb, gmm_data *d) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_points *P = &pb->pts;
-  const int m = P->n + P->nprobe, nnode = pb->nodes.n;
+  const int m = P->n + P->nprobe + P->nsurf, nnode = pb->nodes.n;
   const int want = d->min_nodes < nnode ? d->min_nodes : nnode;
   MPGM_CALL(mpgm_kdtree_rebuild(ctx, d->tree, pb->nodes.x, nnode));
   size_t cap = (size_t)d->ccap;
@@ -189,7 +189,7 @@ static int search_clouds(mpgm_problem *pb, gmm_data *d) {
                "%s: shape: step %ld: %s %d at (%g, %g) has %d nodes within its support radius "
                "%g m, more than MPGM_SHAPE_MAXNODE = %d: lower shape.radius / shape.dilation "
                "(mls) or raise shape.gamma (lme)",
-               pb->scene->file, pb->step + 1, p < P->n ? "point" : "probe",
+               pb->scene->file, pb->step + 1, p < P->n ? "point" : p < P->n + P->nprobe ? "probe" : "surface point",
                p < P->n ? P->id[p] : p - P->n, x[0], x[1], n, r, MPGM_SHAPE_MAXNODE);
     d->rad[p] = r;
     MPGM_CALL(grow_int(ctx, &d->cidx, (size_t)d->cptr[p] + (size_t)n, &cap));
@@ -258,6 +258,15 @@ static int shape_point(mpgm_problem *pb, gmm_data *d, int p, int *k, double *t_s
     ctx->n_cloud_enlargements++;
     n = nn;
   }
+  const int surf = p - (P->n + P->nprobe); /* >= 0: a surface point */
+  if (err == MPGM_ERR_SHAPE && surf >= 0) {
+    /* no functions at a surface point: contact is not enforced there in
+     * this step (counted), and the point does not move */
+    mpgm_err_clear(ctx);
+    pb->cp.off[surf] = 1;
+    pb->cp.unenforced++;
+    return 0;
+  }
   if (err) { /* MPGM_ERR_SHAPE (recoverable), or a fatal MPGM_ERR_INPUT */
     if (p < P->n)
       MPGM_ERROR(ctx, err,
@@ -289,7 +298,7 @@ static int gmm_begin_step(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   gmm_data *d = pb->fe_data;
   mpgm_conn *C = &pb->conn;
-  const int m = pb->pts.n + pb->pts.nprobe;
+  const int m = pb->pts.n + pb->pts.nprobe + pb->pts.nsurf;
   /* the core times begin_step as "shape": the search time is moved from
    * "shape" to "search", so that the two add up to the call */
   double t0 = mpgm_wtime();
@@ -297,6 +306,7 @@ static int gmm_begin_step(mpgm_problem *pb) {
   double ts = mpgm_wtime() - t0;
   /* room for every cloud of the search (enlargements may add more) */
   MPGM_CALL(grow_out(ctx, d, d->cptr[m]));
+  if (pb->pts.nsurf) memset(pb->cp.off, 0, (size_t)pb->pts.nsurf);
   int k = 0;
   for (int p = 0; p < m; p++) {
     d->optr[p] = k;

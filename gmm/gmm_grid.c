@@ -48,6 +48,8 @@ static void gg_cell_xy(const void *grid, int c, double *xn) {
 
 int mpgm_gmm_uses_grid(const mpgm_scene *s) {
   int grid = s->nobstacle > 0;
+  for (int i = 0; i < s->nbc; i++) /* contact at surface points */
+    grid |= s->bcs[i].condition == MPGM_COND_CONTACT && s->bcs[i].enforce == MPGM_ENFORCE_POINTS;
   for (int b = 0; b < s->nbody; b++) grid |= s->bodies[b].geometry != MPGM_GEOM_RECTANGLE;
   return grid;
 }
@@ -185,7 +187,19 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
   int nstate = 0;
   for (int i = 0; i < s->nmat; i++)
     if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
-  if (!err) err = mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe, nstate);
+  /* contact at points: tracers on the bodies' boundaries, after the probes */
+  double spacing = INFINITY;
+  for (int i = 0; i < s->nbc; i++)
+    if (s->bcs[i].condition == MPGM_COND_CONTACT && s->bcs[i].enforce == MPGM_ENFORCE_POINTS)
+      spacing = fmin(spacing, s->bcs[i].spacing);
+  int nsurf = 0;
+  for (int b = 0; b < s->nbody && pb->fx.contact_points; b++)
+    nsurf += mpgm_body_surface(&s->bodies[b], spacing, NULL);
+  if (!err) err = mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe + nsurf, nstate);
+  if (!err) {
+    pb->pts.nprobe = s->nprobe;
+    pb->pts.nsurf = nsurf;
+  }
   if (!err) {
     mpgm_nodes *nd = &pb->nodes;
     mpgm_points *P = &pb->pts;
@@ -231,6 +245,17 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
       P->x[2 * p] = P->x0[2 * p] = s->probes[k].x[0];
       P->x[2 * p + 1] = P->x0[2 * p + 1] = s->probes[k].x[1];
     }
+    for (int b = 0; b < s->nbody && nsurf; b++) {
+      const int k = mpgm_body_surface(&s->bodies[b], spacing, P->x + 2 * p);
+      for (int q = p; q < p + k; q++) {
+        P->x0[2 * q] = P->x[2 * q];
+        P->x0[2 * q + 1] = P->x[2 * q + 1];
+        P->body[q] = b;
+        P->v[2 * q] = s->bodies[b].velocity[0];
+        P->v[2 * q + 1] = s->bodies[b].velocity[1];
+      }
+      p += k;
+    }
     /* output cells: the cells holding points whose nodes are all kept */
     int nc = 0;
     err = (gd->cptr = malloc(sizeof(int) * (size_t)(ncell + 1))) &&
@@ -256,6 +281,8 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
     /* boundaries: nodes selected by a geometric predicate */
     for (int i = 0; i < s->nbc && !err; i++) {
       const mpgm_scene_boundary *bc = &s->bcs[i];
+      /* contact at points acts on the bodies' surface points, not nodes */
+      if (bc->condition == MPGM_COND_CONTACT && bc->enforce == MPGM_ENFORCE_POINTS) continue;
       int hits = 0;
       for (int k = 0; k < nd->n; k++) {
         if (!mpgm_boundary_selects(bc, nd->X + 2 * k)) continue;
@@ -399,6 +426,12 @@ int mpgm_gmm_grid_park(mpgm_problem *pb, gmm_grid *g, const mpgm_kdtree *tree, d
       S += N[k];
       Sx += dN[2 * k];
       Sy += dN[2 * k + 1];
+    }
+    if (lost && !(fabs(S) > 1e-12) && p >= P->n + P->nprobe) {
+      /* a surface point among parked nodes only: not enforced this step */
+      pb->cp.unenforced += !pb->cp.off[p - P->n - P->nprobe];
+      pb->cp.off[p - P->n - P->nprobe] = 1;
+      continue;
     }
     MPGM_CHECK(ctx, !lost || fabs(S) > 1e-12, MPGM_ERR_SHAPE,
                "step %ld: %s %d at (%g, %g) lost every node to mesh.min_node_mass = %g",

@@ -10,7 +10,7 @@ MPGM_PACKAGES=(
   libopenblas0-pthread   # fast BLAS for SuiteSparse (Debian's default is the reference BLAS)
   python3 python3-vtk9   # tests read our VTK files with VTK's own reader, as ParaView does
   libnanoflann-dev       # header-only, used only by bench/kdtree
-  gnuplot-nox            # bench/column_collapse draws its pictures
+  gnuplot-nox            # mpgm plot and mpgm render draw with it (docs/studies.md)
 )
 
 mpgm_install_missing() {

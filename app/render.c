@@ -1,0 +1,434 @@
+/* render.c -- `mpgm render RUN_DIR --field NAME --time T,...`: a run's
+ * material points coloured by a field at given times, drawn by gnuplot to
+ * PNG with a colour bar, a time label and equal axis scales
+ * (docs/studies.md).
+ *
+ * For each requested time the frame of RUN_DIR/points.pvd nearest to it
+ * is drawn (a note says which, a warning when it is more than half the
+ * frame spacing away). The colour scale is common to all the pictures of
+ * one call, and so is the view (the scene's mesh.domain from summary.json,
+ * grown to hold every point), so the pictures compare. Each point is a
+ * disc of its own area (the VTK field volume; else h^2 / ppc of the scene,
+ * times J) so the cloud reads as the body.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gnuplot.h"
+#include "json_reader.h"
+#include "mpgm_output.h"
+#include "mpgm_vtk.h"
+#include "study.h"
+
+enum { MAX_TIMES = 64 };
+
+typedef struct ropts {
+  const char *run, *field, *times, *out, *sheet, *title;
+  int w, h, rows, cols;
+  double range[2], xr[2], yr[2]; /* NAN: automatic */
+  double radius;                 /* <= 0: automatic */
+} ropts;
+
+typedef struct frame {
+  int index;          /**< in the .pvd                      */
+  double t_req, t;    /**< requested and drawn time          */
+  char token[32];     /**< the requested time as written     */
+  mpgm_vtk_grid *g;   /**< the frame (shared by equal index) */
+  double *v, *r;      /**< field value and disc radius per point */
+  int owner;          /**< 1: g, v and r are this frame's (freed with it) */
+} frame;
+
+/* "A:B" into v[2] (either side may be empty: NAN); 0 on success. */
+static int parse_range(const char *s, double v[2]) {
+  const char *c = strchr(s, ':');
+  if (!c) return -1;
+  char *end;
+  v[0] = v[1] = NAN;
+  if (c > s) {
+    v[0] = strtod(s, &end);
+    if (end != c || !isfinite(v[0])) return -1;
+  }
+  if (c[1]) {
+    v[1] = strtod(c + 1, &end);
+    if (*end || !isfinite(v[1])) return -1;
+  }
+  return isnan(v[0]) || isnan(v[1]) || v[1] > v[0] ? 0 : -1;
+}
+
+static void usage_render(FILE *f) {
+  fprintf(f, "usage: mpgm render RUN_DIR [--field NAME] [--time T,...|last] [--out DIR] [--sheet FILE.png]\n"
+             "                   [--layout RxC] [--size WxH] [--range MIN:MAX] [--xrange A:B] [--yrange A:B]\n"
+             "                   [--radius R] [--title TEXT]\n"
+             "  draws RUN_DIR's material points coloured by NAME (default displacement) at each time\n"
+             "  (default: the last frame) into DIR/NAME_tT.png (default DIR: RUN_DIR/render), or all\n"
+             "  of them as panels of one picture with --sheet\n");
+}
+
+static int parse(int argc, char **argv, ropts *o) {
+  memset(o, 0, sizeof *o);
+  o->field = "displacement";
+  o->times = "last";
+  for (int k = 0; k < 2; k++) o->range[k] = o->xr[k] = o->yr[k] = NAN;
+  static const char *const flags[] = {"--field", "--time", "--out", "--sheet", "--title", "--size",
+                                      "--layout", "--range", "--xrange", "--yrange", "--radius"};
+  for (int i = 2; i < argc; i++) {
+    int f = -1;
+    for (int k = 0; k < 11; k++)
+      if (!strcmp(argv[i], flags[k])) f = k;
+    if (f < 0 && argv[i][0] == '-' && argv[i][1] == '-') {
+      fprintf(stderr, "mpgm render: unknown option %s\n", argv[i]);
+      usage_render(stderr);
+      return 2;
+    }
+    if (f < 0) {
+      if (o->run) {
+        fprintf(stderr, "mpgm render: unexpected argument %s (one RUN_DIR)\n", argv[i]);
+        return 2;
+      }
+      o->run = argv[i];
+      continue;
+    }
+    if (i + 1 >= argc) {
+      fprintf(stderr, "mpgm render: %s needs a value\n", argv[i]);
+      return 2;
+    }
+    const char *v = argv[++i];
+    const char **text[] = {&o->field, &o->times, &o->out, &o->sheet, &o->title};
+    int bad = 0;
+    char *end;
+    if (f < 5) *text[f] = v;
+    else if (f == 5) bad = sscanf(v, "%dx%d", &o->w, &o->h) != 2 || o->w < 100 || o->h < 100 || o->w > 10000 || o->h > 10000;
+    else if (f == 6) bad = sscanf(v, "%dx%d", &o->rows, &o->cols) != 2 || o->rows < 1 || o->cols < 1 || o->rows * o->cols > MAX_TIMES;
+    else if (f == 7) bad = parse_range(v, o->range) != 0;
+    else if (f == 8) bad = parse_range(v, o->xr) != 0 || isnan(o->xr[0]) || isnan(o->xr[1]);
+    else if (f == 9) bad = parse_range(v, o->yr) != 0 || isnan(o->yr[0]) || isnan(o->yr[1]);
+    else bad = (o->radius = strtod(v, &end), *end || !(o->radius > 0) || !isfinite(o->radius));
+    if (bad) {
+      static const char *const want[] = {"", "", "", "", "", "WxH in pixels (100 to 10000)",
+                                         "RxC (rows x columns)", "MIN:MAX with MIN < MAX (a side may be empty)",
+                                         "A:B with A < B", "A:B with A < B", "a positive length [m]"};
+      fprintf(stderr, "mpgm render: %s: expected %s, found '%s'\n", flags[f], want[f], v);
+      return 2;
+    }
+  }
+  if (!o->run) {
+    fprintf(stderr, "mpgm render: no RUN_DIR given\n");
+    usage_render(stderr);
+    return 2;
+  }
+  return 0;
+}
+
+/* The frames nearest to the requested times (o->times). */
+static int pick_frames(mpgm_ctx *ctx, const ropts *o, const mpgm_pvd_list *pvd, frame *fr, int *nfr) {
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", o->times);
+  *nfr = 0;
+  for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+    MPGM_CHECK(ctx, *nfr < MAX_TIMES, MPGM_ERR_INPUT, "--time: at most %d times", MAX_TIMES);
+    frame *f = &fr[(*nfr)++];
+    memset(f, 0, sizeof *f);
+    char *end;
+    if (!strcmp(tok, "last")) {
+      f->index = pvd->n - 1;
+      f->t_req = pvd->time[f->index];
+      snprintf(f->token, sizeof f->token, "%g", f->t_req);
+    } else {
+      f->t_req = strtod(tok, &end);
+      MPGM_CHECK(ctx, end != tok && !*end && isfinite(f->t_req) && strlen(tok) < sizeof f->token, MPGM_ERR_INPUT,
+                 "--time: expected numbers or \"last\", separated by commas, found '%s'", tok);
+      snprintf(f->token, sizeof f->token, "%s", tok);
+      f->index = 0;
+      for (int k = 1; k < pvd->n; k++)
+        if (fabs(pvd->time[k] - f->t_req) < fabs(pvd->time[f->index] - f->t_req)) f->index = k;
+    }
+    f->t = pvd->time[f->index];
+    const double off = fabs(f->t - f->t_req);
+    if (off <= 1e-9 * fmax(1.0, fabs(f->t_req))) continue;
+    /* the spacing of the frames around the one chosen */
+    double gap = INFINITY;
+    if (f->index > 0) gap = fmin(gap, pvd->time[f->index] - pvd->time[f->index - 1]);
+    if (f->index + 1 < pvd->n) gap = fmin(gap, pvd->time[f->index + 1] - pvd->time[f->index]);
+    const int far = !(off <= 0.5 * gap) || f->t_req < pvd->time[0] || f->t_req > pvd->time[pvd->n - 1];
+    fprintf(stderr, "mpgm render: %s: t = %s requested, frame at t = %.9g drawn (off by %.3g%s)\n",
+            far ? "warning" : "note", tok, f->t, off,
+            far ? ", more than half the spacing of the frames, or outside the run's times" : "");
+  }
+  MPGM_CHECK(ctx, *nfr > 0, MPGM_ERR_INPUT, "--time: no time given");
+  return 0;
+}
+
+/* Value of field name at point p of g; names: a SCALARS field; a VECTORS
+ * field (its length) or NAME_x, NAME_y; a TENSORS field's NAME_xx, _yy,
+ * _xy, _zz, _p (mean pressure, -tr/3) and _q (von Mises). 0 if unknown. */
+static int field_values(const mpgm_vtk_grid *g, const char *name, double *v) {
+  char base[256];
+  snprintf(base, sizeof base, "%s", name);
+  char *us = strrchr(base, '_');
+  const char *suffix = us ? us + 1 : "";
+  const mpgm_vtk_array *a = mpgm_vtk_array_find(g, name);
+  if (!a && us) {
+    *us = '\0';
+    a = mpgm_vtk_array_find(g, base);
+  } else {
+    suffix = "";
+  }
+  if (!a) return 0;
+  static const char *const vec[] = {"x", "y"};
+  static const char *const ten[] = {"xx", "yy", "xy", "zz", "p", "q"};
+  int comp = -1;
+  if (a->ncomp == 3)
+    for (int k = 0; k < 2; k++)
+      if (!strcmp(suffix, vec[k])) comp = k;
+  if (a->ncomp == 9)
+    for (int k = 0; k < 6; k++)
+      if (!strcmp(suffix, ten[k])) comp = k;
+  if ((a->ncomp == 1 && *suffix) || (a->ncomp == 9 && comp < 0) || (a->ncomp == 3 && *suffix && comp < 0)) return 0;
+  for (int p = 0; p < g->npoints; p++) {
+    const double *d = a->v + (size_t)a->ncomp * p;
+    if (a->ncomp == 1) v[p] = d[0];
+    else if (a->ncomp == 3) v[p] = comp < 0 ? hypot(d[0], d[1]) : d[comp];
+    else {
+      const double xx = d[0], yy = d[4], zz = d[8], xy = d[1], m = (xx + yy + zz) / 3.0;
+      const double q = sqrt(1.5 * ((xx - m) * (xx - m) + (yy - m) * (yy - m) + (zz - m) * (zz - m) + 2 * xy * xy));
+      const double tv[6] = {xx, yy, xy, zz, -m, q};
+      v[p] = tv[comp];
+    }
+  }
+  return 1;
+}
+
+/* "eps_p, J, displacement (|u|), displacement_x, ..." */
+static void field_list(const mpgm_vtk_grid *g, char *buf, size_t cap) {
+  size_t n = 0;
+  buf[0] = '\0';
+  for (int i = 0; i < g->narray && n < cap; i++) {
+    const mpgm_vtk_array *a = &g->arrays[i];
+    if (a->ncomp == 1) n += (size_t)snprintf(buf + n, cap - n, "%s%s", n ? ", " : "", a->name);
+    else if (a->ncomp == 3)
+      n += (size_t)snprintf(buf + n, cap - n, "%s%s (length), %s_x, %s_y", n ? ", " : "", a->name, a->name, a->name);
+    else
+      n += (size_t)snprintf(buf + n, cap - n, "%s%s_xx, %s_yy, %s_xy, %s_zz, %s_p, %s_q", n ? ", " : "", a->name,
+                            a->name, a->name, a->name, a->name, a->name);
+  }
+}
+
+/* What RUN_DIR/summary.json tells about the picture (absent: zeros). */
+typedef struct run_info {
+  int have_domain, is_static;
+  double dom[4];   /**< xmin, xmax, ymin, ymax [m]       */
+  double area0;    /**< area of a point at the start [m^2]: h^2 / ppc (quad), h^2 / (2 ppc) (tri) */
+} run_info;
+
+static void read_info(const char *run, run_info *ri) {
+  memset(ri, 0, sizeof *ri);
+  char path[STUDY_PATH + 32];
+  snprintf(path, sizeof path, "%s/summary.json", run);
+  mpgm_ctx quiet;
+  mpgm_ctx_init(&quiet);
+  cJSON *doc = NULL;
+  if (jr_parse_file(&quiet, path, &doc)) return;
+  const cJSON *sc = cJSON_GetObjectItemCaseSensitive(doc, "scene");
+  const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(sc, "mesh");
+  const cJSON *dom = cJSON_GetObjectItemCaseSensitive(mesh, "domain");
+  const cJSON *mn = cJSON_GetObjectItemCaseSensitive(dom, "min"), *mx = cJSON_GetObjectItemCaseSensitive(dom, "max");
+  if (cJSON_GetArraySize(mn) == 2 && cJSON_GetArraySize(mx) == 2) {
+    ri->have_domain = 1;
+    ri->dom[0] = cJSON_GetNumberValue(cJSON_GetArrayItem(mn, 0));
+    ri->dom[1] = cJSON_GetNumberValue(cJSON_GetArrayItem(mx, 0));
+    ri->dom[2] = cJSON_GetNumberValue(cJSON_GetArrayItem(mn, 1));
+    ri->dom[3] = cJSON_GetNumberValue(cJSON_GetArrayItem(mx, 1));
+    ri->have_domain = isfinite(ri->dom[0] + ri->dom[1] + ri->dom[2] + ri->dom[3]);
+  }
+  const double h = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(mesh, "h"));
+  const double ppc = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(mesh, "ppc"));
+  const char *cell = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(mesh, "cell"));
+  if (h > 0 && ppc > 0) ri->area0 = h * h / ppc / (cell && !strcmp(cell, "tri") ? 2.0 : 1.0);
+  const char *an = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(sc, "time"),
+                                                                         "analysis"));
+  ri->is_static = an && !strcmp(an, "static");
+  cJSON_Delete(doc);
+}
+
+/* Disc radius of every point of f: half the side of its area, a little
+ * more so that neighbours touch. */
+static void radii(const ropts *o, const run_info *ri, frame *f, const double *bbox) {
+  const mpgm_vtk_grid *g = f->g;
+  const mpgm_vtk_array *vol = mpgm_vtk_array_find(g, "volume"), *J = mpgm_vtk_array_find(g, "J");
+  if (vol && vol->ncomp != 1) vol = NULL;
+  if (J && J->ncomp != 1) J = NULL;
+  const double box = (bbox[1] - bbox[0]) * (bbox[3] - bbox[2]) / (g->npoints ? g->npoints : 1);
+  for (int p = 0; p < g->npoints; p++) {
+    double a = box;
+    if (vol && vol->v[p] > 0) a = vol->v[p];
+    else if (ri->area0 > 0) a = ri->area0 * (J && J->v[p] > 0 ? J->v[p] : 1.0);
+    f->r[p] = o->radius > 0 ? o->radius : 0.6 * sqrt(a);
+  }
+}
+
+/* One panel: the points of f as discs coloured by the field. */
+static void panel(FILE *gp, const run_info *ri, const frame *f, const char *title) {
+  fprintf(gp, "set title ");
+  mpgm_gnuplot_quote(gp, title);
+  fprintf(gp, " noenhanced\nset label 1 ");
+  char lab[96];
+  snprintf(lab, sizeof lab, ri->is_static ? "load factor %.4g" : "t = %.4g s", f->t);
+  mpgm_gnuplot_quote(gp, lab);
+  fprintf(gp, " at graph 0.02, graph 0.95 left front font ',13' noenhanced\n");
+  fprintf(gp, "$p << EOD\n");
+  for (int p = 0; p < f->g->npoints; p++)
+    fprintf(gp, "%.9g %.9g %.6g %.9g\n", f->g->x[3 * p], f->g->x[3 * p + 1], f->r[p], f->v[p]);
+  fprintf(gp, "EOD\nplot $p using 1:2:3:4 with circles lc palette fs solid noborder notitle\n");
+}
+
+/* The gnuplot preamble: terminal, view, palette, colour scale. */
+static void preamble(FILE *gp, const ropts *o, const double *view, const double *cr, int w, int h) {
+  fprintf(gp, "set terminal pngcairo size %d,%d enhanced font ',11'\n", w, h);
+  fprintf(gp, "set size ratio -1\nset xrange [%.9g:%.9g]\nset yrange [%.9g:%.9g]\n", view[0], view[1], view[2],
+          view[3]);
+  fprintf(gp, "set xlabel 'x [m]'\nset ylabel 'y [m]'\nunset key\nset cbrange [%.9g:%.9g]\n", cr[0], cr[1]);
+  fprintf(gp, "set palette defined (0 '#440154', 0.13 '#482878', 0.25 '#3e4989', 0.38 '#31688e', "
+              "0.5 '#26828e', 0.63 '#1f9e89', 0.75 '#35b779', 0.88 '#6ece58', 1 '#fde725')\n");
+  fprintf(gp, "set cblabel ");
+  mpgm_gnuplot_quote(gp, o->field);
+  fprintf(gp, " noenhanced\nset style fill solid noborder\n");
+}
+
+static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame *fr, int *nfr) {
+  char path[STUDY_PATH + 64], outdir[STUDY_PATH];
+  MPGM_CALL(mpgm_gnuplot_check(ctx));
+  snprintf(path, sizeof path, "%s/points.pvd", o->run);
+  if (mpgm_pvd_read(ctx, path, pvd)) {
+    if (ctx->code == MPGM_ERR_IO)
+      snprintf(ctx->msg + strlen(ctx->msg), sizeof ctx->msg - strlen(ctx->msg),
+               " (not a run folder, or the run wrote no VTK: output.vtk \"none\")");
+    return ctx->code;
+  }
+  MPGM_CHECK(ctx, pvd->n > 0, MPGM_ERR_INPUT, "%s: no frames", path);
+  MPGM_CALL(pick_frames(ctx, o, pvd, fr, nfr));
+  run_info ri;
+  read_info(o->run, &ri);
+  double bbox[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY}, cr[2] = {INFINITY, -INFINITY};
+  for (int i = 0; i < *nfr; i++) {
+    frame *f = &fr[i];
+    for (int j = 0; j < i && !f->g; j++) /* equal frames are read once */
+      if (fr[j].index == f->index) {
+        f->g = fr[j].g;
+        f->v = fr[j].v;
+        f->r = fr[j].r;
+      }
+    if (f->g) continue;
+    snprintf(path, sizeof path, "%s/%s", o->run, pvd->file[f->index]);
+    f->owner = 1;
+    MPGM_CALL(mpgm_vtk_read(ctx, path, &f->g));
+    MPGM_ALLOC(ctx, f->v, f->g->npoints);
+    MPGM_ALLOC(ctx, f->r, f->g->npoints);
+    if (!field_values(f->g, o->field, f->v)) {
+      char list[2000];
+      field_list(f->g, list, sizeof list);
+      MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: no field \"%s\"; fields: %s", path, o->field, list[0] ? list : "none");
+    }
+    for (int p = 0; p < f->g->npoints; p++) {
+      bbox[0] = fmin(bbox[0], f->g->x[3 * p]);
+      bbox[1] = fmax(bbox[1], f->g->x[3 * p]);
+      bbox[2] = fmin(bbox[2], f->g->x[3 * p + 1]);
+      bbox[3] = fmax(bbox[3], f->g->x[3 * p + 1]);
+      if (isfinite(f->v[p])) {
+        cr[0] = fmin(cr[0], f->v[p]);
+        cr[1] = fmax(cr[1], f->v[p]);
+      }
+    }
+  }
+  MPGM_CHECK(ctx, bbox[0] <= bbox[1], MPGM_ERR_INPUT, "%s: the frames hold no points", o->run);
+  for (int i = 0; i < *nfr; i++)
+    if (fr[i].owner) radii(o, &ri, &fr[i], bbox);
+  /* colour scale: the given range, else the values' (common to all) */
+  if (!isnan(o->range[0])) cr[0] = o->range[0];
+  if (!isnan(o->range[1])) cr[1] = o->range[1];
+  if (!(cr[1] > cr[0])) { /* a constant field: a scale around it */
+    const double d = fmax(1e-12, 0.05 * fabs(cr[0]));
+    cr[0] -= d;
+    cr[1] += d;
+  }
+  /* view: the domain, grown to hold every point and its disc */
+  double view[4] = {bbox[0], bbox[1], bbox[2], bbox[3]};
+  if (ri.have_domain)
+    for (int k = 0; k < 4; k++) view[k] = k % 2 ? fmax(view[k], ri.dom[k]) : fmin(view[k], ri.dom[k]);
+  const double pad = 0.02 * fmax(view[1] - view[0], view[3] - view[2]) + 1e-12;
+  for (int k = 0; k < 4; k++) view[k] += k % 2 ? pad : -pad;
+  if (!isnan(o->xr[0])) view[0] = o->xr[0], view[1] = o->xr[1];
+  if (!isnan(o->yr[0])) view[2] = o->yr[0], view[3] = o->yr[1];
+  const char *slash = strrchr(o->run, '/');
+  char name[STUDY_NAME];
+  snprintf(name, sizeof name, "%s", o->title ? o->title : slash && slash[1] ? slash + 1 : o->run);
+  snprintf(outdir, sizeof outdir, "%s", o->out ? o->out : o->run);
+  if (!o->out) strncat(outdir, "/render", sizeof outdir - strlen(outdir) - 1);
+  if (!o->sheet) MPGM_CALL(mpgm_mkdir_p(ctx, outdir));
+  /* default sizes: the panel's height follows the view's aspect */
+  const double aspect = (view[3] - view[2]) / (view[1] - view[0]);
+  const int h1 = (int)fmin(1400, fmax(300, 170 + 740 * aspect)), hp = (int)fmin(1000, fmax(250, 140 + 470 * aspect));
+  mpgm_gnuplot gp;
+  MPGM_CALL(mpgm_gnuplot_open(ctx, &gp, NULL));
+  char title[STUDY_NAME + 300];
+  if (o->sheet) {
+    const int cols = o->cols ? o->cols : (int)ceil(sqrt((double)*nfr));
+    const int rows = o->rows ? o->rows : (*nfr + cols - 1) / cols;
+    preamble(gp.in, o, view, cr, o->w ? o->w : 700 * cols, o->h ? o->h : hp * rows + 40);
+    fprintf(gp.in, "set output ");
+    mpgm_gnuplot_quote(gp.in, o->sheet);
+    snprintf(title, sizeof title, "%s: material points coloured by %s", name, o->field);
+    fprintf(gp.in, "\nset multiplot layout %d,%d title ", rows, cols);
+    mpgm_gnuplot_quote(gp.in, title);
+    fprintf(gp.in, " noenhanced\n");
+    for (int i = 0; i < *nfr && i < rows * cols; i++) panel(gp.in, &ri, &fr[i], "");
+    fprintf(gp.in, "unset multiplot\nunset output\n");
+  } else {
+    preamble(gp.in, o, view, cr, o->w ? o->w : 1000, o->h ? o->h : h1);
+    for (int i = 0; i < *nfr; i++) {
+      snprintf(path, sizeof path, "%s/%s_t%s.png", outdir, o->field, fr[i].token);
+      fprintf(gp.in, "set output ");
+      mpgm_gnuplot_quote(gp.in, path);
+      snprintf(title, sizeof title, "%s: %s", name, o->field);
+      fprintf(gp.in, "\n");
+      panel(gp.in, &ri, &fr[i], title);
+      fprintf(gp.in, "unset output\n");
+    }
+  }
+  MPGM_CALL(mpgm_gnuplot_close(ctx, &gp));
+  for (int i = 0; i < (o->sheet ? 1 : *nfr); i++) {
+    if (o->sheet) snprintf(path, sizeof path, "%s", o->sheet);
+    else snprintf(path, sizeof path, "%s/%s_t%s.png", outdir, o->field, fr[i].token);
+    MPGM_CALL(mpgm_file_nonempty(ctx, path));
+    if (o->sheet) printf("render: %s (%d panels)\n", path, *nfr);
+    else printf("render: %s (frame at t = %.9g)\n", path, fr[i].t);
+  }
+  printf("render: %s from %.6g to %.6g\n", o->field, cr[0], cr[1]);
+  return 0;
+}
+
+int mpgm_cmd_render(int argc, char **argv) {
+  ropts o;
+  int rc = parse(argc, argv, &o);
+  if (rc) return rc;
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_pvd_list pvd;
+  memset(&pvd, 0, sizeof pvd);
+  frame *fr = calloc(MAX_TIMES, sizeof *fr);
+  int nfr = 0;
+  const int err = fr ? render_main(&ctx, &o, &pvd, fr, &nfr) : MPGM_ERR_NOMEM;
+  if (err) fprintf(stderr, "mpgm render: %s\n", ctx.msg[0] ? ctx.msg : mpgm_code_str(err));
+  for (int i = 0; fr && i < nfr; i++) {
+    if (!fr[i].owner) continue;
+    mpgm_vtk_grid_destroy(&fr[i].g);
+    free(fr[i].v);
+    free(fr[i].r);
+  }
+  free(fr);
+  mpgm_pvd_list_free(&pvd);
+  return mpgm_exit_code(err);
+}

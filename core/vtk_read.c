@@ -1,0 +1,286 @@
+/* vtk_read.c -- read back what vtk.c writes: legacy unstructured grids
+ * (ASCII or big-endian binary; points and point data, cells skipped) and
+ * .pvd collections. See mpgm_vtk.h. Only our own output is supported: a
+ * file of another writer is reported as malformed, with the offending
+ * header line, never read past its end.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "mpgm_vtk.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Read a whole file, NUL-terminated (binary content may hold NULs). */
+static int slurp(mpgm_ctx *ctx, const char *path, char **buf, size_t *len) {
+  *buf = NULL;
+  FILE *f = fopen(path, "rb");
+  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  size_t cap = 1 << 16, n = 0, k;
+  char *b = malloc(cap);
+  while (b && (k = fread(b + n, 1, cap - n - 1, f)) > 0) {
+    n += k;
+    if (n + 1 == cap) {
+      char *nb = cap < SIZE_MAX / 2 ? realloc(b, cap *= 2) : NULL;
+      if (!nb) free(b);
+      b = nb;
+    }
+  }
+  const int bad = ferror(f);
+  fclose(f);
+  MPGM_CHECK(ctx, b, MPGM_ERR_NOMEM, "%s: out of memory", path);
+  if (bad) {
+    free(b);
+    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: read error", path);
+  }
+  b[n] = '\0';
+  *buf = b;
+  *len = n;
+  return 0;
+}
+
+typedef struct rd {
+  mpgm_ctx *ctx;
+  const char *path;
+  const char *b;
+  size_t len, pos;
+  int binary;
+} rd;
+
+/* Next header line into out (without '\n'); ASCII files may have blank
+ * lines between blocks. 0 at the end of the file. */
+static int next_line(rd *r, char *out, size_t cap) {
+  for (;;) {
+    if (r->pos >= r->len) return 0;
+    size_t k = 0;
+    while (r->pos < r->len && r->b[r->pos] != '\n') {
+      if (k + 1 < cap) out[k++] = r->b[r->pos] == '\r' ? ' ' : r->b[r->pos];
+      r->pos++;
+    }
+    if (r->pos < r->len) r->pos++;
+    out[k] = '\0';
+    if (k > 0) return 1;
+  }
+}
+
+static int malformed(rd *r, const char *expected, const char *found) {
+  MPGM_ERROR(r->ctx, MPGM_ERR_INPUT, "%s: not a legacy VTK file as mpgm writes it: expected %s, found '%.60s'",
+             r->path, expected, found ? found : "end of file");
+}
+
+/* n doubles into v (n may be 0). */
+static int read_doubles(rd *r, double *v, size_t n) {
+  if (r->binary) {
+    MPGM_CHECK(r->ctx, r->len - r->pos >= 8 * n, MPGM_ERR_INPUT, "%s: binary data ends early", r->path);
+    const unsigned char *p = (const unsigned char *)r->b + r->pos;
+    for (size_t i = 0; i < n; i++, p += 8) {
+      uint64_t u = 0;
+      for (int k = 0; k < 8; k++) u = (u << 8) | p[k];
+      memcpy(v + i, &u, sizeof u);
+    }
+    r->pos += 8 * n;
+    return 0;
+  }
+  for (size_t i = 0; i < n; i++) {
+    char *end;
+    errno = 0;
+    v[i] = strtod(r->b + r->pos, &end);
+    MPGM_CHECK(r->ctx, end != r->b + r->pos, MPGM_ERR_INPUT, "%s: expected a number at byte %zu, found '%.20s'",
+               r->path, r->pos, r->b + r->pos);
+    r->pos = (size_t)(end - r->b);
+  }
+  return 0;
+}
+
+/* Skip n ints (cell data we do not keep). */
+static int skip_ints(rd *r, size_t n) {
+  if (r->binary) {
+    MPGM_CHECK(r->ctx, r->len - r->pos >= 4 * n, MPGM_ERR_INPUT, "%s: binary data ends early", r->path);
+    r->pos += 4 * n;
+    return 0;
+  }
+  for (size_t i = 0; i < n; i++) {
+    char *end;
+    (void)strtol(r->b + r->pos, &end, 10);
+    MPGM_CHECK(r->ctx, end != r->b + r->pos, MPGM_ERR_INPUT, "%s: expected an integer at byte %zu",
+               r->path, r->pos);
+    r->pos = (size_t)(end - r->b);
+  }
+  return 0;
+}
+
+/* A count from a header line, bounded by what the file can hold (one byte
+ * per value at least), so a corrupt header cannot ask for huge memory. */
+static int bounded(rd *r, long v, const char *line) {
+  if (v < 0 || v > INT_MAX / 9 || (size_t)v > r->len) return malformed(r, "a count that fits the file", line);
+  return 0;
+}
+
+static int read_body(rd *r, mpgm_vtk_grid *g) {
+  char line[512];
+  if (!next_line(r, line, sizeof line) || strcmp(line, "# vtk DataFile Version 3.0") != 0)
+    return malformed(r, "'# vtk DataFile Version 3.0'", r->pos ? line : NULL);
+  if (!next_line(r, g->title, sizeof g->title)) return malformed(r, "a title line", NULL);
+  if (!next_line(r, line, sizeof line)) return malformed(r, "ASCII or BINARY", NULL);
+  if (strcmp(line, "BINARY") == 0) r->binary = 1;
+  else if (strcmp(line, "ASCII") != 0) return malformed(r, "ASCII or BINARY", line);
+  if (!next_line(r, line, sizeof line) || strcmp(line, "DATASET UNSTRUCTURED_GRID") != 0)
+    return malformed(r, "'DATASET UNSTRUCTURED_GRID'", line);
+  long n = -1, m = -1;
+  char kind[32], name[300], type[32];
+  if (!next_line(r, line, sizeof line) || sscanf(line, "POINTS %ld double", &n) != 1)
+    return malformed(r, "'POINTS n double'", line);
+  MPGM_CALL(bounded(r, n, line));
+  g->npoints = (int)n;
+  MPGM_ALLOC(r->ctx, g->x, 3 * (size_t)n);
+  MPGM_CALL(read_doubles(r, g->x, 3 * (size_t)n));
+  if (!next_line(r, line, sizeof line) || sscanf(line, "CELLS %ld %ld", &n, &m) != 2)
+    return malformed(r, "'CELLS n size'", line);
+  MPGM_CALL(bounded(r, n, line));
+  MPGM_CALL(bounded(r, m, line));
+  g->ncells = (int)n;
+  MPGM_CALL(skip_ints(r, (size_t)m));
+  if (!next_line(r, line, sizeof line) || sscanf(line, "CELL_TYPES %ld", &n) != 1 || n != g->ncells)
+    return malformed(r, "'CELL_TYPES n' with the count of CELLS", line);
+  MPGM_CALL(skip_ints(r, (size_t)n));
+  if (!next_line(r, line, sizeof line)) return 0; /* no point data */
+  if (sscanf(line, "POINT_DATA %ld", &n) != 1 || n != g->npoints)
+    return malformed(r, "'POINT_DATA n' with the count of POINTS", line);
+  while (next_line(r, line, sizeof line)) {
+    if (sscanf(line, "%31s %299s %31s", kind, name, type) != 3 || strcmp(type, "double") != 0)
+      return malformed(r, "'SCALARS|VECTORS|TENSORS name double'", line);
+    int nc = strcmp(kind, "SCALARS") == 0 ? 1 : strcmp(kind, "VECTORS") == 0 ? 3
+             : strcmp(kind, "TENSORS") == 0 ? 9 : 0;
+    if (!nc) return malformed(r, "'SCALARS|VECTORS|TENSORS name double'", line);
+    if (nc == 1 && (!next_line(r, line, sizeof line) || strcmp(line, "LOOKUP_TABLE default") != 0))
+      return malformed(r, "'LOOKUP_TABLE default'", line);
+    MPGM_CHECK(r->ctx, strlen(name) < sizeof g->arrays[0].name, MPGM_ERR_INPUT, "%s: field name too long",
+               r->path);
+    mpgm_vtk_array *a = realloc(g->arrays, sizeof *a * (size_t)(g->narray + 1));
+    MPGM_CHECK(r->ctx, a, MPGM_ERR_NOMEM, "%s: out of memory", r->path);
+    g->arrays = a;
+    a += g->narray++;
+    memset(a, 0, sizeof *a);
+    memcpy(a->name, name, strlen(name) + 1); /* length checked above */
+    a->ncomp = nc;
+    MPGM_ALLOC(r->ctx, a->v, (size_t)nc * (size_t)g->npoints);
+    MPGM_CALL(read_doubles(r, a->v, (size_t)nc * (size_t)g->npoints));
+  }
+  return 0;
+}
+
+int mpgm_vtk_read(mpgm_ctx *ctx, const char *path, mpgm_vtk_grid **out) {
+  *out = NULL;
+  rd r = {ctx, path, NULL, 0, 0, 0};
+  char *buf;
+  MPGM_CALL(slurp(ctx, path, &buf, &r.len));
+  r.b = buf;
+  mpgm_vtk_grid *g = calloc(1, sizeof *g);
+  int err = g ? read_body(&r, g) : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
+  free(buf);
+  if (err) {
+    mpgm_vtk_grid_destroy(&g);
+    return err;
+  }
+  *out = g;
+  return 0;
+}
+
+const mpgm_vtk_array *mpgm_vtk_array_find(const mpgm_vtk_grid *g, const char *name) {
+  for (int i = 0; g && i < g->narray; i++)
+    if (strcmp(g->arrays[i].name, name) == 0) return &g->arrays[i];
+  return NULL;
+}
+
+void mpgm_vtk_grid_destroy(mpgm_vtk_grid **g) {
+  if (!g || !*g) return;
+  for (int i = 0; i < (*g)->narray; i++) free((*g)->arrays[i].v);
+  free((*g)->arrays);
+  free((*g)->x);
+  free(*g);
+  *g = NULL;
+}
+
+/* ------------------------------------------------------------------------ */
+/* .pvd collections                                                         */
+/* ------------------------------------------------------------------------ */
+
+/* Value of attribute `name="..."` in the element text [s, e), unescaped
+ * (the escapes vtk.c writes) into out. 0 if absent or too long. */
+static int attribute(const char *s, const char *e, const char *name, char *out, size_t cap) {
+  char key[32];
+  snprintf(key, sizeof key, " %s=\"", name);
+  const size_t kl = strlen(key);
+  for (const char *p = s; p + kl <= e; p++) {
+    if (memcmp(p, key, kl) != 0) continue;
+    size_t n = 0;
+    for (p += kl; p < e && *p != '"'; p++) {
+      char c = *p;
+      static const char *const esc[][2] = {{"&amp;", "&"}, {"&lt;", "<"}, {"&gt;", ">"}, {"&quot;", "\""}};
+      for (size_t k = 0; c == '&' && k < 4; k++) {
+        const size_t l = strlen(esc[k][0]);
+        if ((size_t)(e - p) >= l && memcmp(p, esc[k][0], l) == 0) {
+          p += l - 1;
+          c = esc[k][1][0];
+          break;
+        }
+      }
+      if (n + 1 >= cap) return 0;
+      out[n++] = c;
+    }
+    out[n] = '\0';
+    return p < e;
+  }
+  return 0;
+}
+
+int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out) {
+  memset(out, 0, sizeof *out);
+  char *buf;
+  size_t len;
+  MPGM_CALL(slurp(ctx, path, &buf, &len));
+  int err = 0;
+  if (!strstr(buf, "<VTKFile") || !strstr(buf, "type=\"Collection\""))
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: not a .pvd collection", path);
+  for (const char *p = buf; !err && (p = strstr(p, "<DataSet")); ) {
+    const char *e = strchr(p, '>');
+    char t[64], f[4096];
+    if (!e || !attribute(p, e, "timestep", t, sizeof t) || !attribute(p, e, "file", f, sizeof f)) {
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                         "%s: a DataSet without timestep or file attribute", path);
+      break;
+    }
+    char *end;
+    const double time = strtod(t, &end);
+    if (end == t || *end || !isfinite(time)) {
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: timestep \"%s\" is not a number", path, t);
+      break;
+    }
+    double *tt = realloc(out->time, sizeof *tt * (size_t)(out->n + 1));
+    if (tt) out->time = tt;
+    char **ff = tt ? realloc(out->file, sizeof *ff * (size_t)(out->n + 1)) : NULL;
+    if (ff) out->file = ff;
+    char *dup = ff ? strdup(f) : NULL;
+    if (!dup) {
+      err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "%s: out of memory", path);
+      break;
+    }
+    out->time[out->n] = time;
+    out->file[out->n++] = dup;
+    p = e;
+  }
+  free(buf);
+  if (err) mpgm_pvd_list_free(out);
+  return err;
+}
+
+void mpgm_pvd_list_free(mpgm_pvd_list *l) {
+  if (!l) return;
+  for (int i = 0; i < l->n; i++) free(l->file[i]);
+  free(l->file);
+  free(l->time);
+  memset(l, 0, sizeof *l);
+}

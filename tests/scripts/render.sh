@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# `mpgm render` (docs/studies.md): a short, coarse column collapse drawn
+# coloured by eps_p at given times to PNG (one per time, and a sheet of
+# panels), the nearest frame taken with a note or a warning, the common
+# colour range equal to the field's range as VTK's own reader sees it (binary
+# and ASCII files), --size obeyed; an unknown field lists the fields, a
+# folder without points.pvd is an I/O error, bad options are bad input.
+# usage: render.sh MPGM_EXE SOURCE_DIR WORK_DIR
+set -uo pipefail
+exe="$(realpath "$1")"; src="$(realpath "$2")"; work="$3"
+rm -rf "$work"; mkdir -p "$work"; work="$(realpath "$work")"
+cd "$work" || exit 1
+npass=0; nfail=0
+ok() { echo "PASS: $1"; npass=$((npass + 1)); }
+ko() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
+expect() { # code, needle, description, command...
+  local code="$1" needle="$2" what="$3"; shift 3
+  "$@" > out.txt 2> err.txt; local rc=$?
+  if [ $rc -eq "$code" ] && grep -qF -- "$needle" err.txt; then ok "$what (exit $rc)"
+  else ko "$what: exit $rc (expected $code), stderr: $(head -c 400 err.txt)"; fi
+}
+"$exe" run "$src/cases/column_collapse.json" --quiet --set mesh.h=0.1 --set time.dt=0.01 --set time.end=0.2 \
+  --set 'output.times=[0.1]' --set output.every=1000 --out cc > cc.log 2>&1 || { ko "column collapse run"; cat cc.log; }
+"$exe" run "$src/cases/cantilever.json" --quiet --set mesh.h=0.5 --set output.vtk=ascii --out cl > cl.log 2>&1 \
+  || { ko "cantilever run"; cat cl.log; }
+
+"$exe" render cc --field eps_p --time 0.1,0.2 > r1.out 2> r1.err; rc=$?
+[ $rc -eq 0 ] && [ -s cc/render/eps_p_t0.1.png ] && [ -s cc/render/eps_p_t0.2.png ] \
+  && ok "eps_p at t = 0.1, 0.2 into RUN/render/eps_p_t*.png" || ko "render (exit $rc): $(cat r1.err)"
+"$exe" render cc --field eps_p --time 0.14,5 --size 640x400 --out sized > r2.out 2> r2.err; rc=$?
+[ $rc -eq 0 ] && grep -q "note: t = 0.14 requested, frame at t = 0.1 drawn" r2.err \
+  && grep -q "warning: t = 5 requested, frame at t = 0.2 drawn" r2.err \
+  && ok "nearest frames: a note when off, a warning when far off" || ko "nearest frames (exit $rc): $(cat r2.err)"
+"$exe" render cc --field eps_p --time 0,0.1,0.2 --range 0:0.5 --sheet "$work/sheet.png" --title "coarse" \
+  > r3.out 2> r3.err; rc=$?
+[ $rc -eq 0 ] && [ -s sheet.png ] && grep -q "3 panels" r3.out && grep -q "from 0 to 0.5" r3.out \
+  && ok "--sheet: three panels in one picture, --range obeyed" || ko "sheet (exit $rc): $(cat r3.err)"
+"$exe" render cl --field displacement_y > r4.out 2> r4.err; rc=$?
+[ $rc -eq 0 ] && [ -s cl/render/displacement_y_t1.png ] && ok "ASCII VTK: the last frame by default" \
+  || ko "ASCII render (exit $rc): $(cat r4.err) $(ls cl/render)"
+expect 2 "no field \"nosuch\"; fields: displacement (length), displacement_x" "unknown field: the fields listed" \
+  "$exe" render cc --field nosuch
+grep -q "eps_p" err.txt && grep -q "stress_q" err.txt && ok "the list names eps_p and stress_q" || ko "list: $(cat err.txt)"
+expect 3 "points.pvd: cannot open" "a folder without points.pvd: exit 3" "$exe" render "$work/nothing"
+expect 2 "--time: expected numbers" "bad --time" "$exe" render cc --time 0.1,abc
+expect 2 "--size: expected WxH" "bad --size" "$exe" render cc --size 10x10
+expect 2 "--range: expected MIN:MAX" "bad --range" "$exe" render cc --range 2:1
+expect 2 "unknown option" "unknown option" "$exe" render cc --frobnicate
+expect 2 "no RUN_DIR" "no run folder" "$exe" render
+expect 3 "gnuplot not found on PATH" "without gnuplot on PATH: message, exit 3" \
+  env PATH="$work/nowhere" "$exe" render cc --field eps_p
+
+/usr/bin/python3 - "$work" "$src" <<'PY'
+import re, struct, sys
+sys.path.insert(0, sys.argv[2] + "/tests/tools")
+from script_check import check, done
+import vtk
+w = sys.argv[1]
+def size(p):
+    b = open(p, "rb").read(24)
+    return (struct.unpack(">II", b[16:24]) if b[:8] == b"\x89PNG\r\n\x1a\n" else None)
+check(size(f"{w}/sized/eps_p_t0.14.png") == (640, 400), f"--size 640x400: {size(w + '/sized/eps_p_t0.14.png')}")
+def vrange(f, name, comp):
+    rd = vtk.vtkGenericDataObjectReader(); rd.SetFileName(f); rd.ReadAllScalarsOn(); rd.ReadAllVectorsOn(); rd.Update()
+    a = rd.GetOutput().GetPointData().GetArray(name)
+    v = [a.GetComponent(i, comp) for i in range(a.GetNumberOfTuples())]
+    return min(v), max(v)
+r = [vrange(f"{w}/cc/vtk/points_{k:06d}.vtk", "eps_p", 0) for k in (1, 2)]
+lo, hi = min(x[0] for x in r), max(x[1] for x in r)
+m = re.search(r"eps_p from (\S+) to (\S+)", open(f"{w}/r1.out").read())
+check(m and abs(float(m.group(1)) - lo) <= 1e-6 and abs(float(m.group(2)) - hi) <= 1e-5 * hi and hi > 0,
+      f"binary VTK: the common colour range is eps_p's over both frames as VTK reads it ({lo:.6g} to {hi:.6g})")
+lo, hi = vrange(f"{w}/cl/vtk/points_000001.vtk", "displacement", 1)
+m = re.search(r"displacement_y from (\S+) to (\S+)", open(f"{w}/r4.out").read())
+check(m and abs(float(m.group(1)) - lo) <= 1e-5 * abs(lo) and abs(float(m.group(2)) - hi) <= 1e-5 * abs(lo) + 1e-12,
+      f"ASCII VTK: displacement_y from {lo:.6g} to {hi:.6g}, as VTK reads it")
+done()
+PY
+pyrc=$?
+echo "$npass passed, $nfail failed (shell checks)"
+[ $nfail -eq 0 ] && [ $pyrc -eq 0 ]
