@@ -18,6 +18,10 @@ source "$src/tests/tools/run_case.bash"
 run() { run_case "$@"; }
 run mls "$scene" "${coarse[@]}" --set shape.kind=mls
 run lme "$scene" "${coarse[@]}" --set shape.kind=lme --set shape.gamma=1.8
+# contact at the disk's rim points instead of obstacle nodes (cases/rolling_disk.json
+# with method gmm: "enforce": "points")
+run mls_cp "$src/cases/rolling_disk.json" "${coarse[@]}" --set method=gmm --set shape.kind=mls
+run lme_cp "$src/cases/rolling_disk.json" "${coarse[@]}" --set method=gmm --set shape.kind=lme --set shape.gamma=1.8
 # method mpm on the same grid (from y = 0, as the gmm case's), one step: its particles
 run mpm "$src/cases/rolling_disk.json" "${coarse[@]}" --set time.end=0.005 --set 'mesh.domain.min=[0,0]'
 # the cantilever meshed (rectangles only) and on the grid (a far-away
@@ -75,6 +79,20 @@ for kind in ("mls", "lme"):
     # run 0.0079 m (MLS) and 0.0053 m (LME) = 0.3 h; band h / 2
     uy = [abs(float(row["centre_uy"])) for row in csv.DictReader(open(f"{w}/{kind}/probes.csv"))]
     check(max(uy) < 0.5 * h, f"{kind}: the centre stays on the plane: max |uy| = {max(uy):.4f} m < h/2 = {h / 2} m")
+for kind in ("mls", "lme"):
+    # Contact at rim points (docs/theory.md section 17): the obstacle's
+    # resistance to rolling is gone. Measured s = 1.0017 (MLS) and 1.0013
+    # (LME) s_ref, error_max 0.00026 and 0.00023 m (obstacle nodes: 0.036
+    # and 0.029 m); bands -1.5 %/+1.5 % and 0.0004 m.
+    s = S(kind + "_cp"); m, c = s["metrics"], s["counts"]
+    r = m["s_final"] / m["s_ref_final"]
+    check(s["status"] == "completed" and s["method"] == "gmm" and s["effects"]["contact_points"]
+          and c["contact_point_holds"] > 0 and c["contact_point_releases"] > 0 and finite(m),
+          f"{kind}, contact at rim points: completed, {c['contact_point_holds']} holds, "
+          f"{c['contact_point_releases']} releases, {c['contact_points_unenforced']} point-steps without functions")
+    check(0.985 < r < 1.015 and m["error_max"] < 0.0004 and m["error_max"] < 0.1 * S(kind)["metrics"]["error_max"],
+          f"{kind}, contact at rim points: s(0.3 s) = {r:.4f} s_ref (within 1.5 %), max |u_ref - u| = "
+          f"{m['error_max']:.5f} m < 0.0004 m and under a tenth of the obstacle's {S(kind)['metrics']['error_max']:.4f} m")
 a, b = S("cl_mesh"), S("cl_grid")
 ta, tb = a["metrics"]["tip_uy"], b["metrics"]["tip_uy"]
 # same nodes and points in another numbering: the sums run in another
