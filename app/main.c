@@ -1,8 +1,9 @@
-/* main.c -- the mpgm command line: run, check, material; study, plot and
- * render (study.h). Only app/ decides exit codes: 0 success, 1 simulation
- * failed, 2 bad input, 3 I/O error. */
+/* main.c -- the mpgm command line: run, check, material, bench-solvers;
+ * study, plot and render (study.h). Only app/ decides exit codes: 0 success,
+ * 1 simulation failed, 2 bad input, 3 I/O error. */
 #define _XOPEN_SOURCE 700
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +12,7 @@
 #include <malloc.h>
 #endif
 
+#include "bench_solvers.h"
 #include "material_driver.h"
 #include "mpgm_frontends.h"
 #include "mpgm_mpm.h"
@@ -30,6 +32,8 @@ static void usage(FILE *f) {
           "       mpgm render RUN_DIR [--field NAME] [--time T,...|last] [--out DIR] [--sheet FILE.png]\n"
           "                   [--layout RxC] [--size WxH] [--range MIN:MAX] [--xrange A:B] [--yrange A:B]\n"
           "                   [--radius R] [--title TEXT]\n"
+          "       mpgm bench-solvers DIR [--repeat N] [--out FILE.csv] [--only NAME,...]\n"
+          "                          [--tol X] [--restart M] [--max-iterations N]\n"
           "       mpgm help\n"
           "\n"
           "  run       run a scene; results go to DIR (default: the scene's output.dir)\n"
@@ -41,6 +45,12 @@ static void usage(FILE *f) {
           "            study.csv and plots (docs/studies.md)\n"
           "  plot      draw a study.csv: error against mesh size and against wall time\n"
           "  render    draw a run's material points coloured by a field at given times\n"
+          "  bench-solvers  time every linear solver backend on the systems a run wrote with\n"
+          "            --set output.matrices=STEP (DIR: the run folder or its matrices/);\n"
+          "            CSV to FILE.csv (default DIR/matrices/bench_solvers.csv), a Markdown\n"
+          "            table on stdout; --repeat: best of N (default 3); --only: these\n"
+          "            backends; --tol, --restart, --max-iterations: the iterative backend's\n"
+          "            options (as solver.linear_tol, linear_restart, linear_max_iterations)\n"
           "  --set   override any scene value by dotted path, e.g. --set mesh.h=0.125\n"
           "\n"
           "exit codes: 0 success, 1 simulation failed, 2 bad input, 3 I/O error\n"
@@ -202,6 +212,74 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
   return rc;
 }
 
+/* Parse a whole argument as a number in [lo, hi]; 0 or -1. */
+static int parse_num(const char *s, double lo, double hi, double *out) {
+  char *end;
+  errno = 0;
+  const double v = strtod(s, &end);
+  if (end == s || *end != '\0' || errno || !(v >= lo && v <= hi)) return -1;
+  *out = v;
+  return 0;
+}
+
+static int cmd_bench_solvers(int argc, char **argv) {
+  mpgm_bench_opts o = {.repeat = 3, .solver = mpgm_solver_opts_default()};
+  for (int i = 2; i < argc; i++) {
+    const char *s = argv[i];
+    if (s[0] == '-' && s[1] == '-') {
+      const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+      double x = 0.0;
+      int ok = v != NULL;
+      if (strcmp(s, "--out") == 0) {
+        o.csv = v;
+      } else if (strcmp(s, "--only") == 0) {
+        o.only = v;
+      } else if (strcmp(s, "--repeat") == 0) {
+        ok = ok && parse_num(v, 1, 1000, &x) == 0 && x == (int)x;
+        o.repeat = (int)x;
+      } else if (strcmp(s, "--tol") == 0) {
+        ok = ok && parse_num(v, 0, 1, &x) == 0 && x > 0.0 && x < 1.0;
+        o.solver.tol = x;
+      } else if (strcmp(s, "--restart") == 0) {
+        ok = ok && parse_num(v, 1, 1000, &x) == 0 && x == (int)x;
+        o.solver.restart = (int)x;
+      } else if (strcmp(s, "--max-iterations") == 0) {
+        ok = ok && parse_num(v, 1, 1e7, &x) == 0 && x == (int)x;
+        o.solver.max_iter = (int)x;
+      } else {
+        fprintf(stderr, "mpgm bench-solvers: unknown option %s\n", s);
+        usage(stderr);
+        return EXIT_INPUT;
+      }
+      if (!ok) {
+        fprintf(stderr, "mpgm bench-solvers: %s: expected %s, found %s\n", s,
+                strcmp(s, "--out") == 0    ? "a file name"
+                : strcmp(s, "--only") == 0 ? "a comma-separated list of backends"
+                : strcmp(s, "--tol") == 0  ? "a number in (0, 1)"
+                : strcmp(s, "--repeat") == 0 || strcmp(s, "--restart") == 0 ? "an integer in [1, 1000]"
+                                                                           : "an integer in [1, 1e7]",
+                v ? v : "nothing");
+        return EXIT_INPUT;
+      }
+      i++;
+    } else if (!o.dir) {
+      o.dir = s;
+    } else {
+      fprintf(stderr, "mpgm bench-solvers: unexpected argument %s (one folder)\n", s);
+      return EXIT_INPUT;
+    }
+  }
+  if (!o.dir) {
+    fprintf(stderr, "mpgm bench-solvers: no DIR given\n");
+    usage(stderr);
+    return EXIT_INPUT;
+  }
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  const int err = mpgm_bench_solvers(&ctx, &o, stdout);
+  return err ? report_error(&ctx, err) : EXIT_OK;
+}
+
 int main(int argc, char **argv) {
 #if defined(__GLIBC__)
   /* MPM rebuilds its pattern, maps and factor every step: keep freed memory
@@ -218,6 +296,7 @@ int main(int argc, char **argv) {
   if (strcmp(argv[1], "study") == 0) return mpgm_cmd_study(argc, argv);
   if (strcmp(argv[1], "plot") == 0) return mpgm_cmd_plot(argc, argv);
   if (strcmp(argv[1], "render") == 0) return mpgm_cmd_render(argc, argv);
+  if (strcmp(argv[1], "bench-solvers") == 0) return cmd_bench_solvers(argc, argv);
   if (strcmp(argv[1], "run") != 0 && strcmp(argv[1], "check") != 0 &&
       strcmp(argv[1], "material") != 0) {
     fprintf(stderr, "mpgm: unknown command '%s'\n", argv[1]);

@@ -24,6 +24,7 @@ const char *mpgm_code_str(int code) {
   case MPGM_ERR_SINGULAR: return "singular or indefinite matrix";
   case MPGM_ERR_RETURN_MAP: return "return mapping did not converge";
   case MPGM_ERR_SHAPE: return "shape function failure";
+  case MPGM_ERR_LINEAR: return "iterative linear solver did not converge";
   default: return "unknown error";
   }
 }

@@ -39,7 +39,9 @@ typedef enum {
   MPGM_ERR_NAN = 4,          /**< NaN or Inf in residual or solution      */
   MPGM_ERR_SINGULAR = 5,     /**< matrix singular / not positive definite */
   MPGM_ERR_RETURN_MAP = 6,   /**< return mapping did not converge         */
-  MPGM_ERR_SHAPE = 7         /**< shape function ill-conditioned/outside  */
+  MPGM_ERR_SHAPE = 7,        /**< shape function ill-conditioned/outside  */
+  MPGM_ERR_LINEAR = 8        /**< iterative linear solver did not reach its
+                                  tolerance                               */
 } mpgm_code;
 
 /** Short fixed description of a code ("bad input", "det F <= 0", ...). */
@@ -76,6 +78,7 @@ typedef struct mpgm_ctx {
   long n_analyses;       /**< symbolic analyses                      */
   long n_factorizations; /**< numeric factorisations                 */
   long n_solves;         /**< solves                                 */
+  long n_linear_iterations; /**< iterations of iterative linear solvers */
   long n_material_calls; /**< constitutive updates (per point)       */
   long n_body_force;     /**< body-force loops                       */
   long n_mass;           /**< inertia loops                          */

@@ -247,6 +247,11 @@ struct mpgm_problem {
                            enters Newton linearly, not as a jump of the
                            boundary nodes alone                           */
   mpgm_solver *solver;
+  const char *matrices_dir; /**< output.matrices: the folder the systems go
+                          to (borrowed from the run's output); NULL: none */
+  int matrices_on;   /**< output.matrices lists the current step         */
+  int matrices_step; /**< systems written in the current step            */
+  long matrices_written; /**< systems written in the run                 */
   int symmetric;     /**< all tangents symmetric (static or dynamic)    */
   int solver_auto;   /**< solver chosen by "auto": may fall back to LU   */
   mpgm_solver *solver_alt; /**< "auto": the backend not in use (LU after

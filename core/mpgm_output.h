@@ -7,6 +7,8 @@
 
 typedef struct mpgm_output {
   char dir[MPGM_PATH_LEN];
+  char matrices_dir[MPGM_PATH_LEN + 16]; /**< output.matrices: DIR/matrices
+                     (emptied of earlier systems when opened); "" if none */
   struct mpgm_pvd *pvd_points, *pvd_mesh;
   int nvtk;       /**< VTK outputs written (index of the next one) */
   int files;      /**< VTK files written                          */
@@ -19,6 +21,10 @@ typedef struct mpgm_output {
 
 /** mkdir -p (MPGM_ERR_IO naming the part that failed). */
 int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir);
+/** Remove the files of folder dir whose names start with prefix and end
+ *  with suffix (a folder that does not exist holds none). Errors:
+ *  MPGM_ERR_IO (a file that cannot be removed). */
+int mpgm_remove_files(mpgm_ctx *ctx, const char *dir, const char *prefix, const char *suffix);
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir);
 void mpgm_output_close(mpgm_output *o);
 int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb);

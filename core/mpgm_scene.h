@@ -21,6 +21,7 @@ extern "C" {
 #define MPGM_NAME_LEN 64
 #define MPGM_PATH_LEN 1024
 #define MPGM_POLYGON_MAX 256 /**< most vertices of a polygon body */
+#define MPGM_MATRICES_MAX 64 /**< most steps in output.matrices */
 
 typedef enum { MPGM_METHOD_FEM = 0, MPGM_METHOD_MPM = 1, MPGM_METHOD_GMM = 2 } mpgm_method;
 typedef enum { MPGM_ANALYSIS_STATIC = 0, MPGM_ANALYSIS_DYNAMIC = 1 } mpgm_analysis;
@@ -180,6 +181,9 @@ typedef struct mpgm_scene {
                                  (AMD)                                 */
   int threads;              /**< threads of BLAS under the solvers (0:
                                  the libraries' defaults)              */
+  mpgm_solver_opts solver_opts; /**< iterative backends: solver.linear_tol
+                                 (1e-10), linear_restart (100),
+                                 linear_max_iterations (5000)          */
   int loop_threads;         /**< threads of mpgm's point and assembly
                                  loops (0: one per online core)       */
   /* physics */
@@ -203,6 +207,11 @@ typedef struct mpgm_scene {
                                  times (load factors, static) and VTK is
                                  written there; increasing              */
   int vtk;                  /**< mpgm_vtk_mode                          */
+  int nmatrices;            /**< output.matrices: entries of matrices   */
+  long matrices[MPGM_MATRICES_MAX]; /**< output.matrices: steps (from 1)
+                                 whose tangents and right-hand sides are
+                                 written to DIR/matrices (Matrix Market);
+                                 increasing                             */
   unsigned fields;          /**< mpgm_field mask                        */
   void *resolved;           /**< cJSON tree of every resolved value     */
 } mpgm_scene;

@@ -46,6 +46,25 @@ int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir) {
   return 0;
 }
 
+int mpgm_remove_files(mpgm_ctx *ctx, const char *dir, const char *prefix, const char *suffix) {
+  DIR *dd = opendir(dir);
+  if (!dd) return 0;
+  const size_t lp = strlen(prefix), ls = strlen(suffix);
+  struct dirent *e;
+  int err = 0;
+  while (!err && (e = readdir(dd))) {
+    const size_t l = strlen(e->d_name);
+    if (l < lp + ls || strncmp(e->d_name, prefix, lp) != 0 || strcmp(e->d_name + l - ls, suffix) != 0)
+      continue;
+    char f[MPGM_PATH_LEN + 512];
+    snprintf(f, sizeof f, "%s/%s", dir, e->d_name);
+    if (remove(f) != 0)
+      err = mpgm_err_set(ctx, MPGM_ERR_IO, __FILE__, __LINE__, "%s: cannot remove: %s", f, strerror(errno));
+  }
+  closedir(dd);
+  return err;
+}
+
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
   memset(o, 0, sizeof *o);
   snprintf(o->dir, sizeof o->dir, "%s", dir);
@@ -75,6 +94,11 @@ int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, cons
       remove(path);
       MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_mesh));
     }
+  }
+  if (pb->scene->nmatrices > 0) { /* output.matrices; no systems of an earlier run */
+    snprintf(o->matrices_dir, sizeof o->matrices_dir, "%s/matrices", dir);
+    MPGM_CALL(mpgm_mkdir_p(ctx, o->matrices_dir));
+    MPGM_CALL(mpgm_remove_files(ctx, o->matrices_dir, "step", ".mtx"));
   }
   o->ncol = 2 * pb->pts.nprobe;
   return 0;

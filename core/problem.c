@@ -293,7 +293,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
   const mpgm_solver_type *st = scene->solver;
   pb->solver_auto = !st;
   if (!st) st = mpgm_solver_type_find(pb->symmetric ? "cholmod" : "umfpack");
-  int err = st ? mpgm_solver_create(ctx, st, &pb->solver)
+  int err = st ? mpgm_solver_create(ctx, st, &scene->solver_opts, &pb->solver)
                : mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "no solver backend");
   mpgm_timer_start(ctx, MPGM_T_SHAPE);
   if (!err) err = fe->setup(pb);

@@ -100,11 +100,15 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
     cJSON_AddNumberToObject(c, "contact_points_unenforced", (double)pb->cp.unenforced);
   }
   cJSON_AddNumberToObject(c, "vtk_files", o->files);
-  mpgm_solver_stats st = {0, 0};
+  mpgm_solver_stats st = {0};
   if (pb->solver && ctx->n_factorizations && mpgm_solver_get_stats(pb->solver, &st) == 0) {
     cJSON_AddNumberToObject(c, "nnz_factor", st.nnz_factor);
     if (st.flops > 0) cJSON_AddNumberToObject(c, "factor_flops", st.flops);
+    if (st.mem_peak > 0) cJSON_AddNumberToObject(c, "solver_memory_peak", st.mem_peak);
   }
+  if (pb->solver && pb->solver->type->iterative)
+    cJSON_AddNumberToObject(c, "linear_iterations", (double)ctx->n_linear_iterations);
+  if (pb->matrices_dir) cJSON_AddNumberToObject(c, "matrices_written", pb->matrices_written);
   cJSON *t = cJSON_AddObjectToObject(j, "time_s");
   for (int i = 0; i < MPGM_T_COUNT; i++)
     cJSON_AddNumberToObject(t, mpgm_timer_name(i), i == MPGM_T_TOTAL ? rs->wall : ctx->t[i]);
@@ -187,6 +191,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
   MPGM_CALL(mpgm_problem_create(ctx, s, fe, &pb));
   mpgm_output o;
   int err = mpgm_output_open(ctx, &o, pb, opts && opts->out_dir ? opts->out_dir : s->out_dir);
+  if (!err && o.matrices_dir[0]) pb->matrices_dir = o.matrices_dir;
   if (err) {
     mpgm_output_close(&o);
     mpgm_problem_destroy(&pb);

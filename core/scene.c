@@ -519,6 +519,36 @@ static int read_probes(jr_node *root, mpgm_scene *s) {
   return 0;
 }
 
+/* output.matrices: a step number (from 1) or an increasing array of them;
+ * [] or absent: none. */
+static int read_matrices(jr_node *o, mpgm_scene *s) {
+  const cJSON *v = jr_override_json(o, "matrices");
+  if (!v) v = jr_raw(o, "matrices");
+  else jr_raw(o, "matrices");
+  s->nmatrices = 0;
+  if (v && !cJSON_IsNumber(v) && !cJSON_IsArray(v))
+    return jr_fail(o, "matrices", "expected a step number or an array of step numbers, found %s", jr_type(v));
+  const int n = !v ? 0 : cJSON_IsNumber(v) ? 1 : cJSON_GetArraySize(v);
+  if (n > MPGM_MATRICES_MAX)
+    return jr_fail(o, "matrices", "expected at most %d steps, found %d", MPGM_MATRICES_MAX, n);
+  for (int i = 0; i < n; i++) {
+    const cJSON *c = cJSON_IsNumber(v) ? v : cJSON_GetArrayItem(v, i);
+    const long prev = s->nmatrices ? s->matrices[s->nmatrices - 1] : 0;
+    if (!cJSON_IsNumber(c))
+      return jr_fail(o, "matrices", "expected step numbers (integers from 1), found %s", jr_type(c));
+    const double x = c->valuedouble;
+    if (!(x == floor(x)) || !(x >= 1.0 && x <= 1e9))
+      return jr_fail(o, "matrices", "expected step numbers, integers in [1, 1e9] (the first step is "
+                     "1), found %.17g", x);
+    if ((long)x <= prev)
+      return jr_fail(o, "matrices", "expected increasing step numbers, found %ld after %ld", (long)x, prev);
+    s->matrices[s->nmatrices++] = (long)x;
+  }
+  cJSON *a = cJSON_AddArrayToObject(o->out, "matrices");
+  for (int i = 0; i < s->nmatrices; i++) cJSON_AddItemToArray(a, cJSON_CreateNumber((double)s->matrices[i]));
+  return 0;
+}
+
 static int read_output(jr_node *root, mpgm_scene *s) {
   jr_node o;
   MPGM_CALL(jr_child(root, "output", 0, &o));
@@ -565,6 +595,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
     s->times[s->ntimes++] = v;
   }
   cJSON_AddItemToObject(o.out, "times", cJSON_CreateDoubleArray(s->times, s->ntimes));
+  MPGM_CALL(read_matrices(&o, s));
   return jr_end(&o);
 }
 
@@ -688,6 +719,12 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   static const char *const ordering_names[] = {"backend", "geometric", NULL};
   MPGM_CALL(jr_enum(&so, "ordering", ordering_names, 0, &s->ordering_nd));
   MPGM_CALL(jr_int(&so, "threads", 1, 0, 256, &s->threads));
+  /* iterative backends (gmres); the direct ones ignore them */
+  s->solver_opts = mpgm_solver_opts_default();
+  MPGM_CALL(jr_num(&so, "linear_tol", s->solver_opts.tol, 0, 1, 1, 1, &s->solver_opts.tol));
+  MPGM_CALL(jr_int(&so, "linear_restart", s->solver_opts.restart, 1, 1000, &s->solver_opts.restart));
+  MPGM_CALL(jr_int(&so, "linear_max_iterations", s->solver_opts.max_iter, 1, 10000000,
+                   &s->solver_opts.max_iter));
   MPGM_CALL(jr_end(&so));
 
   MPGM_CALL(read_materials(root, s));

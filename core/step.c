@@ -2,10 +2,13 @@
  * (Algorithm 1/2 phase b of Iaconeta et al. 2017, shared by every front
  * end; docs/theory.md). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "mpgm_core.h"
+#include "mpgm_mtx.h"
+#include "mpgm_output.h"
 
 static double norm2(const double *x, int n) {
   double s = 0.0;
@@ -118,7 +121,7 @@ static int lu_fallback(mpgm_problem *pb) {
   if (!pb->solver_alt) {
     const mpgm_solver_type *lu = mpgm_solver_type_find("umfpack");
     MPGM_CHECK(ctx, lu, MPGM_ERR_SOLVER, "%s (and no LU backend to fall back to)", ctx->msg);
-    MPGM_CALL(mpgm_solver_create(ctx, lu, &pb->solver_alt));
+    MPGM_CALL(mpgm_solver_create(ctx, lu, &pb->scene->solver_opts, &pb->solver_alt));
   }
   mpgm_err_clear(ctx);
   swap_solvers(pb);
@@ -135,6 +138,32 @@ static int lu_fallback(mpgm_problem *pb) {
 }
 
 static int contact_update(mpgm_problem *pb);
+
+/* output.matrices: the system K delta = R about to be solved, as
+ * DIR/matrices/stepSSSS_itII_K.mtx and _b.mtx (II counts the Newton
+ * iterations of the step from 0, across contact re-solves). */
+static int write_system(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  char path[MPGM_PATH_LEN + 64], what[MPGM_PATH_LEN + 128];
+  const int len = snprintf(path, sizeof path, "%s/step%04ld_it%02d_", pb->matrices_dir, pb->step + 1,
+                           pb->matrices_step);
+  MPGM_CHECK(ctx, len > 0 && (size_t)len + 6 < sizeof path, MPGM_ERR_IO, "%s: path too long",
+             pb->matrices_dir);
+  mpgm_timer_start(ctx, MPGM_T_OUTPUT);
+  snprintf(what, sizeof what, "mpgm: tangent K of step %ld, system %d (K delta = b), scene %s",
+           pb->step + 1, pb->matrices_step, pb->scene->file);
+  strcat(path, "K.mtx");
+  int err = mpgm_mtx_write_csc(ctx, path, &pb->K, what);
+  snprintf(what, sizeof what, "mpgm: right-hand side b (residual R) of step %ld, system %d, scene %s",
+           pb->step + 1, pb->matrices_step, pb->scene->file);
+  strcpy(path + len, "b.mtx");
+  if (!err) err = mpgm_mtx_write_vec(ctx, path, pb->R, pb->K.n, what);
+  mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
+  MPGM_CALL(err);
+  pb->matrices_step++;
+  pb->matrices_written++;
+  return MPGM_OK;
+}
 
 /* Newton on the step from the predictor (42) to convergence; warm: start
  * from the current increments (a re-solve after the contact set changed).
@@ -214,6 +243,10 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
       MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));
       pb->solver->analysed = 1;
     }
+    /* output.matrices: the system this iteration solves (modified Newton
+     * reusing a factorisation: K holds the factorised values still, as K
+     * is assembled only to be factorised) */
+    if (pb->matrices_on) MPGM_CALL(write_system(pb));
     err = reuse ? 0 : mpgm_solver_factor(pb->solver, ctx, &pb->K);
     factored = 1;
     if (pb->solver_auto && pb->solver->type->needs_spd) {
@@ -345,6 +378,16 @@ int mpgm_step(mpgm_problem *pb) {
   if (pb->fx.contact_points) memset(pb->cp.flip, 0, (size_t)pb->cp.n);
   int ndof_step = nd->ndof;
   lu_resume(pb);
+  /* output.matrices: a retried (cut) step writes its systems afresh */
+  pb->matrices_on = 0;
+  pb->matrices_step = 0;
+  for (int i = 0; pb->matrices_dir && i < sc->nmatrices; i++)
+    pb->matrices_on |= sc->matrices[i] == pb->step + 1;
+  if (pb->matrices_on) {
+    char prefix[32];
+    snprintf(prefix, sizeof prefix, "step%04ld_", pb->step + 1);
+    MPGM_CALL(mpgm_remove_files(ctx, pb->matrices_dir, prefix, ".mtx"));
+  }
   for (int round = 0;; round++) {
     if (rebuild) {
       mpgm_nodes_number(nd);

@@ -1,5 +1,9 @@
 /* cholmod.c -- sparse Cholesky (CHOLMOD, int interface) for symmetric
- * positive definite matrices.
+ * positive definite matrices: three backends that differ only in the
+ * factorisation CHOLMOD is told to use (Common->supernodal): "cholmod"
+ * lets CHOLMOD choose (supernodal when the analysis finds at least 40
+ * flops per entry of L, CHOLMOD's default), "cholmod_simplicial" and
+ * "cholmod_supernodal" force one.
  *
  * The core's mpgm_csc arrays are wrapped in a cholmod_sparse header without
  * copying (stype = 1: CHOLMOD reads the upper triangle of the full pattern).
@@ -72,9 +76,10 @@ static int fail(mpgm_ctx *ctx, const chol_data *d, const char *what) {
              "cholmod: %s failed (status %d: %s)", what, st, status_str(st));
 }
 
-/* Allocate the instance and start CHOLMOD. On failure the half-built data
- * stays in *data; the generic wrapper destroys it. */
-static int chol_create(mpgm_ctx *ctx, void **data) {
+/* Allocate the instance and start CHOLMOD with factorisation `kind`
+ * (CHOLMOD_AUTO, CHOLMOD_SIMPLICIAL, CHOLMOD_SUPERNODAL). On failure the
+ * half-built data stays in *data; the generic wrapper destroys it. */
+static int create_kind(mpgm_ctx *ctx, void **data, int kind) {
   chol_data *d;
   MPGM_ALLOC(ctx, d, 1);
   *data = d;
@@ -83,7 +88,22 @@ static int chol_create(mpgm_ctx *ctx, void **data) {
   d->started = 1;
   d->cm.print = 0;     /* failures are reported through mpgm_ctx */
   d->cm.final_ll = 1;  /* LL' also for simplicial: detects indefiniteness */
+  d->cm.supernodal = kind;
   return MPGM_OK;
+}
+
+/* The options concern iterative backends only. */
+static int chol_create(mpgm_ctx *ctx, const mpgm_solver_opts *opts, void **data) {
+  (void)opts;
+  return create_kind(ctx, data, CHOLMOD_AUTO);
+}
+static int chol_create_simplicial(mpgm_ctx *ctx, const mpgm_solver_opts *opts, void **data) {
+  (void)opts;
+  return create_kind(ctx, data, CHOLMOD_SIMPLICIAL);
+}
+static int chol_create_supernodal(mpgm_ctx *ctx, const mpgm_solver_opts *opts, void **data) {
+  (void)opts;
+  return create_kind(ctx, data, CHOLMOD_SUPERNODAL);
 }
 
 /* Free the factor, the dense arrays and the common; accepts NULL and
@@ -185,21 +205,51 @@ static int chol_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   return MPGM_OK;
 }
 
-/* Entries of L and flop count of the factorisation (from the analysis). */
+/* Entries of L and flop count of the factorisation (from the analysis);
+ * CHOLMOD's peak memory since cholmod_start (Common->memory_usage: the
+ * factor, its workspace and the dense vectors of solve2). */
 static int chol_stats(void *data, mpgm_solver_stats *st) {
   const chol_data *d = data;
   st->nnz_factor = d->L ? d->lnz : 0.0;
   st->flops = d->L ? d->fl : 0.0;
+  st->mem_peak = d->started ? (double)d->cm.memory_usage : 0.0;
   return MPGM_OK;
 }
 
-/** CHOLMOD supernodal/simplicial LL' for symmetric positive definite
- *  matrices; reads the upper triangle. Indefinite: MPGM_ERR_SINGULAR. */
+/** CHOLMOD LL' for symmetric positive definite matrices; reads the upper
+ *  triangle. Indefinite: MPGM_ERR_SINGULAR. Supernodal or simplicial as
+ *  CHOLMOD chooses (Common->supernodal = CHOLMOD_AUTO). */
 const mpgm_solver_type mpgm_solver_cholmod = {
     .name = "cholmod",
-    .doc = "sparse Cholesky LL' (CHOLMOD), symmetric positive definite only",
+    .doc = "sparse Cholesky LL' (CHOLMOD, supernodal or simplicial as it chooses), SPD only",
     .needs_spd = 1,
     .create = chol_create,
+    .destroy = chol_destroy,
+    .analyse = chol_analyse,
+    .factor = chol_factor,
+    .solve = chol_solve,
+    .stats = chol_stats,
+};
+
+/** As mpgm_solver_cholmod, always simplicial (CHOLMOD_SIMPLICIAL). */
+const mpgm_solver_type mpgm_solver_cholmod_simplicial = {
+    .name = "cholmod_simplicial",
+    .doc = "sparse Cholesky LL' (CHOLMOD, simplicial: column by column), SPD only",
+    .needs_spd = 1,
+    .create = chol_create_simplicial,
+    .destroy = chol_destroy,
+    .analyse = chol_analyse,
+    .factor = chol_factor,
+    .solve = chol_solve,
+    .stats = chol_stats,
+};
+
+/** As mpgm_solver_cholmod, always supernodal (CHOLMOD_SUPERNODAL). */
+const mpgm_solver_type mpgm_solver_cholmod_supernodal = {
+    .name = "cholmod_supernodal",
+    .doc = "sparse Cholesky LL' (CHOLMOD, supernodal: dense blocks through the BLAS), SPD only",
+    .needs_spd = 1,
+    .create = chol_create_supernodal,
     .destroy = chol_destroy,
     .analyse = chol_analyse,
     .factor = chol_factor,

@@ -27,17 +27,40 @@ typedef struct mpgm_csc {
   int symmetric;  /**< 1 when the values are symmetric         */
 } mpgm_csc;
 
-/** Statistics a backend reports after factor. */
+/** Statistics a backend reports after factor (and solve). */
 typedef struct mpgm_solver_stats {
-  double nnz_factor; /**< entries in the factors (L, or L + U)  */
+  double nnz_factor; /**< entries in the factors (L, or L + U; the
+                          incomplete factors of an iterative backend)   */
   double flops;      /**< flop count of the factorisation, if known (else 0) */
+  double mem_peak;   /**< peak memory of the instance since it was
+                          created [bytes]: the library's own count plus
+                          the copies the backend keeps (0 if unknown)    */
+  int iterations;    /**< iterative backends: iterations of the last
+                          solve (0 for direct backends)                  */
 } mpgm_solver_stats;
 
+/** Options of the backends (the scene's solver block). A backend reads
+ *  the fields that concern it and ignores the others;
+ *  mpgm_solver_opts_default gives the defaults. */
+typedef struct mpgm_solver_opts {
+  double tol;   /**< iterative: relative residual |b - A x| / |b| a solve
+                     must reach (default 1e-10)                          */
+  int restart;  /**< gmres: Krylov vectors per cycle (default 100)       */
+  int max_iter; /**< iterative: iterations per solve before it fails with
+                     MPGM_ERR_LINEAR (default 5000)                      */
+} mpgm_solver_opts;
+
+/** The default options (tol 1e-10, restart 100, max_iter 5000). */
+mpgm_solver_opts mpgm_solver_opts_default(void);
+
 typedef struct mpgm_solver_type {
-  const char *name;  /**< scene name: "cholmod", "umfpack"                */
+  const char *name;  /**< scene name: "cholmod", "umfpack", "klu", ...    */
   const char *doc;   /**< one line for docs                               */
   int needs_spd;     /**< 1: only for symmetric positive definite matrices */
-  int (*create)(mpgm_ctx *ctx, void **data);
+  int iterative;     /**< 1: the solution meets opts.tol only (solve may
+                          fail with MPGM_ERR_LINEAR); 0: a direct solver  */
+  /** Allocate the instance with options opts (never NULL; copied). */
+  int (*create)(mpgm_ctx *ctx, const mpgm_solver_opts *opts, void **data);
   void (*destroy)(void *data); /**< accepts NULL and half-built data       */
   /** Symbolic analysis of A's pattern: fill-reducing ordering (perm,
    *  when not NULL: the n equations in the order to eliminate them, used
@@ -46,7 +69,9 @@ typedef struct mpgm_solver_type {
   /** Numeric factorisation of A (same pattern as analysed).
    *  Not positive definite / singular: MPGM_ERR_SINGULAR (recoverable). */
   int (*factor)(void *data, mpgm_ctx *ctx, const mpgm_csc *A);
-  /** x = A^-1 b with the last factorisation (b, x of length n; may alias). */
+  /** x = A^-1 b with the last factorisation (b, x of length n; may alias).
+   *  Iterative backends: not converged within opts.max_iter iterations:
+   *  MPGM_ERR_LINEAR (recoverable). */
   int (*solve)(void *data, mpgm_ctx *ctx, const double *b, double *x);
   /** Optional (may be NULL). */
   int (*stats)(void *data, mpgm_solver_stats *st);
@@ -64,12 +89,14 @@ const mpgm_solver_type *mpgm_solver_type_find(const char *name);
 /** All backends, NULL-terminated. */
 const mpgm_solver_type *const *mpgm_solver_types(void);
 
-/** Create/destroy an instance (destroy accepts NULL, nulls the pointer). */
+/** Create/destroy an instance (opts NULL: the defaults; destroy accepts
+ *  NULL, nulls the pointer). */
 int mpgm_solver_create(mpgm_ctx *ctx, const mpgm_solver_type *type,
-                       mpgm_solver **out);
+                       const mpgm_solver_opts *opts, mpgm_solver **out);
 void mpgm_solver_destroy(mpgm_solver **s);
 /** Generic wrappers: time into ctx (MPGM_T_ANALYSE/FACTOR/SOLVE) and count
- *  analyses, factorisations and solves in ctx. */
+ *  analyses, factorisations and solves in ctx (and, for iterative
+ *  backends, their iterations in ctx->n_linear_iterations). */
 int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A, const int *perm);
 int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A);
 int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,

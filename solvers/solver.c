@@ -10,7 +10,11 @@
 
 #define MPGM_SOLVER_LIST(X)                                                    \
   X(mpgm_solver_cholmod)                                                       \
-  X(mpgm_solver_umfpack)
+  X(mpgm_solver_cholmod_simplicial)                                            \
+  X(mpgm_solver_cholmod_supernodal)                                            \
+  X(mpgm_solver_umfpack)                                                       \
+  X(mpgm_solver_klu)                                                           \
+  X(mpgm_solver_gmres)
 
 #define MPGM_DECLARE(t) extern const mpgm_solver_type t;
 MPGM_SOLVER_LIST(MPGM_DECLARE)
@@ -32,23 +36,34 @@ const mpgm_solver_type *mpgm_solver_type_find(const char *name) {
   return NULL;
 }
 
-/** Create an instance of `type` in *out (NULL on failure).
- *  Errors: MPGM_ERR_INPUT (NULL arguments), MPGM_ERR_UNSUPPORTED (no
- *  create), MPGM_ERR_NOMEM, or the backend's code. A backend's create may
- *  leave half-built data behind on failure: it is released here. */
+mpgm_solver_opts mpgm_solver_opts_default(void) {
+  return (mpgm_solver_opts){.tol = 1e-10, .restart = 100, .max_iter = 5000};
+}
+
+/** Create an instance of `type` with options opts (NULL: the defaults)
+ *  in *out (NULL on failure).
+ *  Errors: MPGM_ERR_INPUT (NULL arguments, options out of range),
+ *  MPGM_ERR_UNSUPPORTED (no create), MPGM_ERR_NOMEM, or the backend's
+ *  code. A backend's create may leave half-built data behind on failure:
+ *  it is released here. */
 int mpgm_solver_create(mpgm_ctx *ctx, const mpgm_solver_type *type,
-                       mpgm_solver **out) {
+                       const mpgm_solver_opts *opts, mpgm_solver **out) {
   MPGM_CHECK(ctx, out != NULL && type != NULL, MPGM_ERR_INPUT,
              "mpgm_solver_create: NULL argument");
   *out = NULL;
   MPGM_CHECK(ctx, type->create != NULL, MPGM_ERR_UNSUPPORTED,
              "solver %s: no create operation", type->name);
+  const mpgm_solver_opts def = mpgm_solver_opts_default();
+  if (!opts) opts = &def;
+  MPGM_CHECK(ctx, opts->tol > 0.0 && opts->tol < 1.0 && opts->restart >= 1 && opts->max_iter >= 1,
+             MPGM_ERR_INPUT, "solver %s: options out of range (tol %g in (0, 1), restart %d >= 1, "
+             "max_iter %d >= 1)", type->name, opts->tol, opts->restart, opts->max_iter);
   mpgm_solver *s;
   MPGM_ALLOC(ctx, s, 1);
   s->type = type;
   s->data = NULL;
   s->analysed = 0;
-  int ierr = type->create(ctx, &s->data);
+  int ierr = type->create(ctx, opts, &s->data);
   if (ierr) {
     mpgm_solver_destroy(&s);
     return ierr;
@@ -120,8 +135,10 @@ int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A) {
 }
 
 /** x = A^-1 b with the last factorisation (b and x of length n, may
- *  alias). Times MPGM_T_SOLVE, counts ctx->n_solves. Errors:
- *  MPGM_ERR_INPUT, MPGM_ERR_UNSUPPORTED, backend's. */
+ *  alias). Times MPGM_T_SOLVE, counts ctx->n_solves (and the iterations
+ *  of an iterative backend in ctx->n_linear_iterations, also when it did
+ *  not converge). Errors: MPGM_ERR_INPUT, MPGM_ERR_UNSUPPORTED,
+ *  MPGM_ERR_LINEAR (iterative, recoverable), backend's. */
 int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
                       double *x) {
   MPGM_CHECK(ctx, s != NULL && b != NULL && x != NULL, MPGM_ERR_INPUT,
@@ -133,6 +150,9 @@ int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
   int ierr = s->type->solve(s->data, ctx, b, x);
   mpgm_timer_stop(ctx, MPGM_T_SOLVE);
   ctx->n_solves++;
+  mpgm_solver_stats st;
+  if (s->type->iterative && mpgm_solver_get_stats(s, &st) == 0)
+    ctx->n_linear_iterations += st.iterations;
   return ierr;
 }
 

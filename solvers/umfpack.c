@@ -28,6 +28,8 @@ typedef struct umf_data {
   double *W;        /**< wsolve workspace (5 n, refinement)             */
   double *bw;       /**< copy of b (n): b and x may alias               */
   double flops;     /**< flop count of the last factorisation          */
+  double mem_peak;  /**< largest UMFPACK peak seen (symbolic + numeric)
+                         [bytes], without the copies above            */
 } umf_data;
 
 /* Record a failure of `what` with UMFPACK status st (< 0). */
@@ -49,8 +51,10 @@ static int fail(mpgm_ctx *ctx, int st, const char *what) {
   MPGM_ERROR(ctx, code, "umfpack: %s failed (status %d: %s)", what, st, s);
 }
 
-/* Allocate the instance with default controls. */
-static int umf_create(mpgm_ctx *ctx, void **data) {
+/* Allocate the instance with default controls (the options concern
+ * iterative backends only). */
+static int umf_create(mpgm_ctx *ctx, const mpgm_solver_opts *opts, void **data) {
+  (void)opts;
   umf_data *d;
   MPGM_ALLOC(ctx, d, 1);
   *data = d;
@@ -137,6 +141,8 @@ static int umf_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
     return fail(ctx, st, "umfpack_di_numeric");
   }
   d->flops = d->Info[UMFPACK_FLOPS];
+  const double peak = d->Info[UMFPACK_PEAK_MEMORY] * d->Info[UMFPACK_SIZE_OF_UNIT];
+  if (peak > d->mem_peak) d->mem_peak = peak;
   return MPGM_OK;
 }
 
@@ -157,11 +163,16 @@ static int umf_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
 }
 
 /* Entries of L + U (umfpack_di_get_lunz; both count their diagonal) and
- * the flop count of the last factorisation; zeros when not factorised. */
+ * the flop count of the last factorisation; zeros when not factorised.
+ * Peak memory: UMFPACK's (Info[UMFPACK_PEAK_MEMORY] units of
+ * Info[UMFPACK_SIZE_OF_UNIT] bytes) plus the instance's copies of the
+ * matrix and the wsolve workspace. */
 static int umf_stats(void *data, mpgm_solver_stats *st) {
   umf_data *d = data;
   st->nnz_factor = 0.0;
   st->flops = 0.0;
+  const double n = d->n, nnz = d->nnz;
+  st->mem_peak = d->mem_peak + (n + 1 + nnz + n) * sizeof(int) + (nnz + 6 * n) * sizeof(double);
   if (!d->Numeric) return MPGM_OK;
   int lnz, unz, nrow, ncol, nz_udiag;
   if (umfpack_di_get_lunz(&lnz, &unz, &nrow, &ncol, &nz_udiag, d->Numeric) ==

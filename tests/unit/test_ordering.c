@@ -150,7 +150,7 @@ static double factor_fill(const mpgm_solver_type *type, const mpgm_csc *A, const
   mpgm_solver *s = NULL;
   double fill = -1;
   *err = INFINITY;
-  if (mpgm_solver_create(&ctx, type, &s) == 0 && mpgm_solver_analyse(s, &ctx, A, perm) == 0 &&
+  if (mpgm_solver_create(&ctx, type, NULL, &s) == 0 && mpgm_solver_analyse(s, &ctx, A, perm) == 0 &&
       mpgm_solver_factor(s, &ctx, A) == 0) {
     /* x_true = (1, 2, 3, ...) / n; b = A x_true */
     const int n = A->n;

@@ -13,7 +13,13 @@
  * a new pattern, an unsymmetric system (needs_spd = 0), an indefinite
  * symmetric system (MPGM_ERR_SINGULAR for SPD-only backends, followed by a
  * successful refactorisation; solved otherwise), zero and structurally
- * singular matrices (MPGM_ERR_SINGULAR), misuse and NULL destroys.
+ * singular matrices (MPGM_ERR_SINGULAR), a given elimination order, misuse
+ * and NULL destroys.
+ *
+ * Iterative backends (type->iterative) are held to their tolerance
+ * (ITER_BE, ITER_FE) instead of round-off; on the indefinite matrices they
+ * may fail to converge, with the recoverable MPGM_ERR_LINEAR and a
+ * message; check_iterative tests their options.
  */
 #include "mpgm_solver.h"
 #include "mpgm_test.h"
@@ -128,11 +134,21 @@ static void known_rhs(const mpgm_csc *A, vecs *v) {
   matvec(A, v->xt, v->b);
 }
 
+/* Tolerances of an iterative backend, from its default options: the
+ * backward error it guarantees is about opts.tol (10 tol allows for the
+ * 2-norm of the stopping test against the infinity norms here), and the
+ * forward error of these grids (condition numbers below 100) 1000 tol. */
+#define ITER_BE (10.0 * mpgm_solver_opts_default().tol)
+#define ITER_FE (1e3 * mpgm_solver_opts_default().tol)
+
 /* Check a solution x of A x = b against xt: normwise backward error
  * ||b - A x|| / (||A|| ||x|| + ||b||) and forward error ||x - xt|| / ||xt||
- * (inf norms). */
-static void check_solution(const char *name, const char *what,
+ * (inf norms); an iterative backend to its tolerance (ITER_BE, ITER_FE). */
+static void check_solution(const mpgm_solver_type *t, const char *what,
                            const mpgm_csc *A, vecs *v, double tol_err) {
+  const char *name = t->name;
+  const double tol_be = t->iterative ? ITER_BE : 1e-14;
+  if (t->iterative && tol_err < ITER_FE) tol_err = ITER_FE;
   const int n = A->n;
   matvec(A, v->x, v->r);
   for (int i = 0; i < n; i++) v->r[i] = v->b[i] - v->r[i];
@@ -140,7 +156,7 @@ static void check_solution(const char *name, const char *what,
               (norm_inf_A(A) * norm_inf(v->x, n) + norm_inf(v->b, n));
   for (int i = 0; i < n; i++) v->r[i] = v->x[i] - v->xt[i];
   double fe = norm_inf(v->r, n) / norm_inf(v->xt, n);
-  mpgm_test_abs(be, 0.0, 1e-14, "%s: %s: backward error", name, what);
+  mpgm_test_abs(be, 0.0, tol_be, "%s: %s: backward error", name, what);
   mpgm_test_abs(fe, 0.0, tol_err, "%s: %s: forward error", name, what);
 }
 
@@ -160,7 +176,7 @@ static void check_spd(const mpgm_solver_type *t) {
     goto done;
   }
   known_rhs(&A, &v);
-  int ierr = mpgm_solver_create(&ctx, t, &s);
+  int ierr = mpgm_solver_create(&ctx, t, NULL, &s);
   mpgm_test(ierr == 0 && s != NULL, "%s: create (%d)", nm, ierr);
   if (ierr) goto done;
   int e1 = mpgm_solver_analyse(s, &ctx, &A, NULL);
@@ -169,13 +185,20 @@ static void check_spd(const mpgm_solver_type *t) {
   mpgm_test(e1 == 0 && e2 == 0 && e3 == 0,
             "%s: SPD 17x13: analyse, factor, solve return %d %d %d (%s)", nm,
             e1, e2, e3, ctx.msg);
-  check_solution(nm, "SPD 17x13", &A, &v, 1e-12);
+  check_solution(t, "SPD 17x13", &A, &v, 1e-12);
 
   mpgm_solver_stats st;
   ierr = mpgm_solver_get_stats(s, &st);
   mpgm_test(ierr == 0 && st.nnz_factor >= A.n && st.flops >= 0.0,
             "%s: stats (%d): nnz(factor) = %g >= n = %d, flops = %g", nm, ierr,
             st.nnz_factor, A.n, st.flops);
+  /* at least the factors' values (8 bytes per entry) */
+  mpgm_test(st.mem_peak >= 8.0 * st.nnz_factor && st.mem_peak < 1e9,
+            "%s: stats: peak memory %g bytes >= 8 nnz(factor)", nm, st.mem_peak);
+  mpgm_test(t->iterative ? st.iterations > 0 && ctx.n_linear_iterations == st.iterations
+                         : st.iterations == 0 && ctx.n_linear_iterations == 0,
+            "%s: stats: %d iterations, %ld counted in ctx (%s)", nm, st.iterations,
+            ctx.n_linear_iterations, t->iterative ? "iterative" : "direct: none");
 
   /* new values, same pattern: factor again without a new analysis */
   if (build(17, 13, -1, 1.713, 0.0, 1.37 * SCALE, &B)) {
@@ -187,7 +210,7 @@ static void check_spd(const mpgm_solver_type *t) {
   e2 = mpgm_solver_factor(s, &ctx, &A);
   e3 = mpgm_solver_solve(s, &ctx, w.b, w.x);
   mpgm_test(e2 == 0 && e3 == 0, "%s: refactor, solve return %d %d", nm, e2, e3);
-  check_solution(nm, "SPD refactored", &A, &w, 1e-12);
+  check_solution(t, "SPD refactored", &A, &w, 1e-12);
   mpgm_test(ctx.n_analyses == 1 && ctx.n_factorizations == 2 &&
                 ctx.n_solves == 2,
             "%s: counters: %ld analyses (1), %ld factorizations (2), %ld "
@@ -202,7 +225,7 @@ static void check_spd(const mpgm_solver_type *t) {
   memcpy(w.x, w.b, (size_t)A.n * sizeof(double));
   e3 = mpgm_solver_solve(s, &ctx, w.x, w.x);
   mpgm_test(e3 == 0, "%s: in-place solve returns %d", nm, e3);
-  check_solution(nm, "in-place solve", &A, &w, 1e-12);
+  check_solution(t, "in-place solve", &A, &w, 1e-12);
 
   /* a new pattern: analyse again on the same instance */
   release(&B);
@@ -219,7 +242,7 @@ static void check_spd(const mpgm_solver_type *t) {
   mpgm_test(e1 == 0 && e2 == 0 && e3 == 0 && ctx.n_analyses == 2,
             "%s: new pattern 11x19: analyse, factor, solve return %d %d %d, "
             "%ld analyses (2)", nm, e1, e2, e3, ctx.n_analyses);
-  check_solution(nm, "new pattern 11x19", &B, &w, 1e-12);
+  check_solution(t, "new pattern 11x19", &B, &w, 1e-12);
   mpgm_test(ctx.code == 0, "%s: no error recorded (%s)", nm, ctx.msg);
 
 done:
@@ -232,9 +255,10 @@ done:
 }
 
 /* One system on a fresh instance; returns the factor's code (solution
- * checked when it is 0). */
+ * checked when it is 0). may_fail: an iterative backend may fail to
+ * converge (MPGM_ERR_LINEAR, recorded with a message). */
 static int solve_fresh(const mpgm_solver_type *t, const char *what,
-                       const mpgm_csc *A, double tol_err, mpgm_ctx *ctx) {
+                       const mpgm_csc *A, double tol_err, int may_fail, mpgm_ctx *ctx) {
   const char *nm = t->name;
   mpgm_solver *s = NULL;
   vecs v = {0};
@@ -244,15 +268,21 @@ static int solve_fresh(const mpgm_solver_type *t, const char *what,
     goto done;
   }
   known_rhs(A, &v);
-  int ierr = mpgm_solver_create(ctx, t, &s);
+  int ierr = mpgm_solver_create(ctx, t, NULL, &s);
   if (ierr == 0) ierr = mpgm_solver_analyse(s, ctx, A, NULL);
   mpgm_test(ierr == 0, "%s: %s: create and analyse return %d", nm, what, ierr);
   if (ierr) goto done;
   ef = mpgm_solver_factor(s, ctx, A);
   if (ef == 0) {
     int es = mpgm_solver_solve(s, ctx, v.b, v.x);
-    mpgm_test(es == 0, "%s: %s: solve returns %d", nm, what, es);
-    check_solution(nm, what, A, &v, tol_err);
+    if (t->iterative && may_fail && es == MPGM_ERR_LINEAR) {
+      mpgm_test(ctx->code == MPGM_ERR_LINEAR && ctx->msg[0] != '\0',
+                "%s: %s: not converged, recoverable MPGM_ERR_LINEAR recorded (allowed for an "
+                "iterative backend): %s", nm, what, ctx->msg);
+    } else {
+      mpgm_test(es == 0, "%s: %s: solve returns %d", nm, what, es);
+      check_solution(t, what, A, &v, tol_err);
+    }
   } else {
     /* no valid factorisation: solve must refuse, not crash */
     int es = mpgm_solver_solve(s, ctx, v.b, v.x);
@@ -275,7 +305,7 @@ static void check_indefinite(const mpgm_solver_type *t, int nx, int ny,
   char what[64];
   snprintf(what, sizeof(what), "indefinite %dx%d", nx, ny);
   if (build(nx, ny, -1, -3.1, 0.0, SCALE, &A) == 0) {
-    int ef = solve_fresh(t, what, &A, tol_err, &ctx);
+    int ef = solve_fresh(t, what, &A, tol_err, 1, &ctx);
     if (t->needs_spd)
       mpgm_test(ef == MPGM_ERR_SINGULAR && ctx.code == MPGM_ERR_SINGULAR &&
                     ctx.msg[0] != '\0',
@@ -302,7 +332,7 @@ static void check_recovery(const mpgm_solver_type *t, int nx, int ny) {
            ny);
   if (build(nx, ny, -1, -3.1, 0.0, SCALE, &A) == 0 &&
       build(nx, ny, -1, 0.3817, 0.0, SCALE, &S) == 0 &&
-      vecs_alloc(S.n, &v) == 0 && mpgm_solver_create(&ctx, t, &s) == 0 &&
+      vecs_alloc(S.n, &v) == 0 && mpgm_solver_create(&ctx, t, NULL, &s) == 0 &&
       mpgm_solver_analyse(s, &ctx, &A, NULL) == 0) {
     mpgm_solver_factor(s, &ctx, &A); /* fails for SPD-only backends */
     mpgm_err_clear(&ctx);
@@ -311,7 +341,7 @@ static void check_recovery(const mpgm_solver_type *t, int nx, int ny) {
     int es = mpgm_solver_solve(s, &ctx, v.b, v.x);
     mpgm_test(ef == 0 && es == 0, "%s: %s: factor, solve %d %d", nm, what, ef,
               es);
-    check_solution(nm, what, &S, &v, 1e-12);
+    check_solution(t, what, &S, &v, 1e-12);
   } else {
     mpgm_test(0, "%s: %s: set-up (%s)", nm, what, ctx.msg);
   }
@@ -330,7 +360,7 @@ static void check_hard(const mpgm_solver_type *t) {
   if (!t->needs_spd) { /* convection-diffusion, cell Peclet about 0.8 */
     mpgm_ctx_init(&ctx);
     if (build(17, 13, -1, 0.05, 0.8, SCALE, &A) == 0) {
-      int ef = solve_fresh(t, "unsymmetric 17x13", &A, 1e-12, &ctx);
+      int ef = solve_fresh(t, "unsymmetric 17x13", &A, 1e-12, 0, &ctx);
       mpgm_test(ef == 0, "%s: unsymmetric 17x13: factor returns %d (%s)", nm,
                 ef, ctx.msg);
     }
@@ -345,7 +375,7 @@ static void check_hard(const mpgm_solver_type *t) {
   /* a larger SPD system (supernodal in CHOLMOD) */
   mpgm_ctx_init(&ctx);
   if (build(100, 100, -1, 0.3817, 0.0, SCALE, &A) == 0) {
-    int ef = solve_fresh(t, "SPD 100x100", &A, 1e-12, &ctx);
+    int ef = solve_fresh(t, "SPD 100x100", &A, 1e-12, 0, &ctx);
     mpgm_test(ef == 0, "%s: SPD 100x100: factor returns %d (%s)", nm, ef,
               ctx.msg);
   }
@@ -358,7 +388,7 @@ static void check_hard(const mpgm_solver_type *t) {
   /* zero values on the full pattern */
   mpgm_ctx_init(&ctx);
   if (build(17, 13, -1, 0.3817, 0.0, 0.0, &A) == 0) {
-    int ef = solve_fresh(t, "zero matrix", &A, 1e-12, &ctx);
+    int ef = solve_fresh(t, "zero matrix", &A, 1e-12, 0, &ctx);
     mpgm_test(ef == MPGM_ERR_SINGULAR && ctx.code == MPGM_ERR_SINGULAR,
               "%s: zero matrix: MPGM_ERR_SINGULAR (%d): %s", nm, ef, ctx.msg);
   }
@@ -367,10 +397,102 @@ static void check_hard(const mpgm_solver_type *t) {
   /* structurally singular: node 100 has an empty row and column */
   mpgm_ctx_init(&ctx);
   if (build(17, 13, 100, 0.3817, 0.0, SCALE, &A) == 0) {
-    int ef = solve_fresh(t, "structurally singular", &A, 1e-12, &ctx);
+    int ef = solve_fresh(t, "structurally singular", &A, 1e-12, 0, &ctx);
     mpgm_test(ef == MPGM_ERR_SINGULAR && ctx.code == MPGM_ERR_SINGULAR,
               "%s: empty column: MPGM_ERR_SINGULAR (%d): %s", nm, ef, ctx.msg);
   }
+  release(&A);
+}
+
+/* Iterative backends: the options are honoured. A short restart still
+ * converges (over several cycles); an iteration cap too small fails with
+ * the recoverable MPGM_ERR_LINEAR, a message, the iterations counted, and
+ * the last iterate in x; options out of range are refused at create. */
+static void check_iterative(const mpgm_solver_type *t) {
+  const char *nm = t->name;
+  mpgm_ctx ctx;
+  mpgm_csc A = {0};
+  vecs v = {0};
+  mpgm_solver *s = NULL;
+  if (build(100, 100, -1, 0.3817, 0.0, SCALE, &A) || vecs_alloc(A.n, &v)) {
+    mpgm_test(0, "%s: allocation", nm);
+    goto done;
+  }
+  known_rhs(&A, &v);
+  mpgm_solver_opts o = mpgm_solver_opts_default();
+  o.restart = 4;
+  mpgm_ctx_init(&ctx);
+  int e = mpgm_solver_create(&ctx, t, &o, &s);
+  if (!e) e = mpgm_solver_analyse(s, &ctx, &A, NULL);
+  if (!e) e = mpgm_solver_factor(s, &ctx, &A);
+  if (!e) e = mpgm_solver_solve(s, &ctx, v.b, v.x);
+  mpgm_solver_stats st = {0};
+  mpgm_solver_get_stats(s, &st);
+  mpgm_test(e == 0 && st.iterations > o.restart, "%s: restart %d: converges (%d), %d iterations "
+            "(%s)", nm, o.restart, e, st.iterations, ctx.msg);
+  if (!e) check_solution(t, "restart 4", &A, &v, 1e-12);
+  mpgm_solver_destroy(&s);
+
+  o = mpgm_solver_opts_default();
+  o.max_iter = 3;
+  mpgm_ctx_init(&ctx);
+  e = mpgm_solver_create(&ctx, t, &o, &s);
+  if (!e) e = mpgm_solver_analyse(s, &ctx, &A, NULL);
+  if (!e) e = mpgm_solver_factor(s, &ctx, &A);
+  for (int i = 0; i < A.n; i++) v.x[i] = NAN;
+  if (!e) e = mpgm_solver_solve(s, &ctx, v.b, v.x);
+  mpgm_solver_get_stats(s, &st);
+  int finite = 1;
+  for (int i = 0; i < A.n; i++) finite &= isfinite(v.x[i]) != 0;
+  mpgm_test(e == MPGM_ERR_LINEAR && ctx.code == MPGM_ERR_LINEAR && strstr(ctx.msg, "3 iterations") &&
+                st.iterations == 3 && ctx.n_linear_iterations == 3 && finite,
+            "%s: max_iter 3: MPGM_ERR_LINEAR (%d) after %d iterations (%ld counted), last iterate "
+            "in x: %s", nm, e, st.iterations, ctx.n_linear_iterations, ctx.msg);
+  mpgm_solver_destroy(&s);
+
+  o = mpgm_solver_opts_default();
+  o.tol = 0.0;
+  mpgm_ctx_init(&ctx);
+  e = mpgm_solver_create(&ctx, t, &o, &s);
+  mpgm_test(e == MPGM_ERR_INPUT && s == NULL, "%s: tol 0 refused (%d): %s", nm, e, ctx.msg);
+done:
+  mpgm_solver_destroy(&s);
+  vecs_free(&v);
+  release(&A);
+}
+
+/* A given elimination order (solver.ordering geometric hands one to
+ * analyse): the solution is the same. The order is a deterministic
+ * shuffle: odd equations backwards, then even ones forwards. */
+static void check_given_order(const mpgm_solver_type *t) {
+  const char *nm = t->name;
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_csc A = {0};
+  vecs v = {0};
+  mpgm_solver *s = NULL;
+  int *perm = NULL;
+  const double conv = t->needs_spd ? 0.0 : 0.3;
+  if (build(23, 11, -1, 0.3817, conv, SCALE, &A) || vecs_alloc(A.n, &v) ||
+      !(perm = malloc((size_t)A.n * sizeof(int)))) {
+    mpgm_test(0, "%s: allocation", nm);
+    goto done;
+  }
+  int k = 0;
+  for (int i = (A.n - 1) % 2 ? A.n - 1 : A.n - 2; i >= 0; i -= 2) perm[k++] = i;
+  for (int i = 0; i < A.n; i += 2) perm[k++] = i;
+  known_rhs(&A, &v);
+  int e = mpgm_solver_create(&ctx, t, NULL, &s);
+  if (!e) e = mpgm_solver_analyse(s, &ctx, &A, perm);
+  if (!e) e = mpgm_solver_factor(s, &ctx, &A);
+  if (!e) e = mpgm_solver_solve(s, &ctx, v.b, v.x);
+  mpgm_test(e == 0 && k == A.n, "%s: given order, %s 23x11: analyse, factor, solve return %d (%s)",
+            nm, conv ? "unsymmetric" : "SPD", e, ctx.msg);
+  if (!e) check_solution(t, "given order", &A, &v, 1e-12);
+done:
+  mpgm_solver_destroy(&s);
+  free(perm);
+  vecs_free(&v);
   release(&A);
 }
 
@@ -387,7 +509,7 @@ static void check_misuse(const mpgm_solver_type *t) {
   mpgm_solver_destroy(&s);
   mpgm_test(s == NULL, "%s: destroy(NULL) accepted", nm);
   if (build(2, 2, -1, 0.3817, 0.0, SCALE, &A) == 0 &&
-      mpgm_solver_create(&ctx, t, &s) == 0) {
+      mpgm_solver_create(&ctx, t, NULL, &s) == 0) {
     int ef = mpgm_solver_factor(s, &ctx, &A);
     mpgm_test(ef == MPGM_ERR_INTERNAL, "%s: factor before analyse refused (%d)",
               nm, ef);
@@ -405,8 +527,9 @@ static void check_misuse(const mpgm_solver_type *t) {
 }
 
 /* ---- a backend without optional operations ------------------------------ */
-static int bare_create(mpgm_ctx *ctx, void **data) {
+static int bare_create(mpgm_ctx *ctx, const mpgm_solver_opts *opts, void **data) {
   (void)ctx;
+  (void)opts;
   *data = NULL;
   return 0;
 }
@@ -421,7 +544,7 @@ static void check_wrappers(void) {
   mpgm_solver *s = NULL;
   mpgm_csc A = {0};
   mpgm_solver_stats st;
-  int ierr = mpgm_solver_create(&ctx, &bare, &s);
+  int ierr = mpgm_solver_create(&ctx, &bare, NULL, &s);
   mpgm_test(ierr == 0 && s, "bare backend: create (%d)", ierr);
   if (!ierr && build(2, 2, -1, 1.0, 0.0, 1.0, &A) == 0) {
     ierr = mpgm_solver_analyse(s, &ctx, &A, NULL);
@@ -449,6 +572,8 @@ int main(void) {
               t->name);
     check_spd(t);
     check_hard(t);
+    check_given_order(t);
+    if (t->iterative) check_iterative(t);
     check_misuse(t);
   }
   return mpgm_test_summary();

@@ -1,0 +1,323 @@
+/* bench_solvers.c -- `mpgm bench-solvers DIR`: the linear solver backends
+ * on the systems K x = b a run wrote with output.matrices (Matrix Market,
+ * core/mpgm_mtx.h). Every backend runs through the mpgm_solver_* wrappers,
+ * as in a run: the times are those of the wrappers' timers. */
+#define _POSIX_C_SOURCE 200809L
+#include "bench_solvers.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "mpgm_mtx.h"
+
+#define PATH_CAP  4096
+#define MAX_TYPES 32
+
+/** One backend on one system. */
+typedef struct result {
+  const mpgm_solver_type *type;
+  const char *status;                     /**< ok, not SPD, singular, not converged, not
+                                               symmetric (skipped), out of memory, failed  */
+  char msg[sizeof(((mpgm_ctx *)0)->msg)]; /**< the backend's message when it failed */
+  int solved;                             /**< x holds a solution (or a last iterate)     */
+  double t[3];                            /**< best analyse, factor, solve [s]            */
+  mpgm_solver_stats st;                   /**< statistics of the last repeat              */
+  double residual;                        /**< |A x - b| / |b| (2-norms)                   */
+  double diff;                            /**< |x - x_ref| / |x_ref|; NAN without reference */
+  double *x;                              /**< solution (n)                                */
+} result;
+
+static int is_dir(const char *p) {
+  struct stat st;
+  return stat(p, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+static int ends_with(const char *s, const char *suf) {
+  const size_t l = strlen(s), m = strlen(suf);
+  return l > m && strcmp(s + l - m, suf) == 0;
+}
+
+static int select_k(const struct dirent *e) {
+  return ends_with(e->d_name, "_K.mtx");
+}
+
+/* Status of a failed call of backend t with code. */
+static const char *status_of(const mpgm_solver_type *t, int code) {
+  if (code == MPGM_ERR_SINGULAR) return t->needs_spd ? "not SPD" : "singular";
+  if (code == MPGM_ERR_LINEAR) return "not converged";
+  if (code == MPGM_ERR_NOMEM) return "out of memory";
+  return "failed";
+}
+
+/* The backends to run: all, or the comma-separated names of only. */
+static int pick_types(mpgm_ctx *ctx, const char *only, const mpgm_solver_type **types, int *nt) {
+  const mpgm_solver_type *const *all = mpgm_solver_types();
+  *nt = 0;
+  if (!only) {
+    for (int i = 0; all[i] && *nt < MAX_TYPES; i++) types[(*nt)++] = all[i];
+    return 0;
+  }
+  const char *p = only;
+  while (*p) {
+    const size_t l = strcspn(p, ",");
+    char name[64];
+    snprintf(name, sizeof name, "%.*s", (int)(l < 63 ? l : 63), p);
+    const mpgm_solver_type *t = mpgm_solver_type_find(name);
+    if (!t) {
+      char list[512] = "";
+      for (int i = 0; all[i]; i++) {
+        const size_t n = strlen(list);
+        snprintf(list + n, sizeof list - n, "%s%s", i ? ", " : "", all[i]->name);
+      }
+      MPGM_ERROR(ctx, MPGM_ERR_INPUT,
+                 "--only: unknown backend \"%s\" (expected a comma-separated "
+                 "list of: %s)",
+                 name, list);
+    }
+    MPGM_CHECK(ctx, *nt < MAX_TYPES, MPGM_ERR_INPUT, "--only: more than %d backends", MAX_TYPES);
+    types[(*nt)++] = t;
+    p += l;
+    if (*p == ',') p++;
+  }
+  MPGM_CHECK(ctx, *nt > 0, MPGM_ERR_INPUT, "--only: expected backend names, found \"%s\"", only);
+  return 0;
+}
+
+/* |A x - b| / |b| (2-norms; |A x - b| when b = 0). r: scratch (n). */
+static double rel_residual(const mpgm_csc *A, const double *x, const double *b, double *r) {
+  memset(r, 0, (size_t)A->n * sizeof(double));
+  for (int j = 0; j < A->n; j++)
+    for (int p = A->colptr[j]; p < A->colptr[j + 1]; p++) r[A->rowind[p]] += A->val[p] * x[j];
+  double rr = 0.0, bb = 0.0;
+  for (int i = 0; i < A->n; i++) {
+    rr += (r[i] - b[i]) * (r[i] - b[i]);
+    bb += b[i] * b[i];
+  }
+  return bb > 0.0 ? sqrt(rr / bb) : sqrt(rr);
+}
+
+/* One backend on A x = b, o->repeat times on fresh instances. */
+static void run_backend(const mpgm_bench_opts *o, const mpgm_csc *A, const double *b, result *r) {
+  r->status = "ok";
+  r->msg[0] = '\0';
+  r->solved = 0;
+  for (int k = 0; k < 3; k++) r->t[k] = INFINITY;
+  if (r->type->needs_spd && !A->symmetric) {
+    r->status = "not symmetric";
+    return;
+  }
+  for (int rep = 0; rep < o->repeat; rep++) {
+    mpgm_ctx c;
+    mpgm_ctx_init(&c);
+    mpgm_solver *s = NULL;
+    int err = mpgm_solver_create(&c, r->type, &o->solver, &s);
+    if (!err) err = mpgm_solver_analyse(s, &c, A, NULL);
+    if (!err) err = mpgm_solver_factor(s, &c, A);
+    int solved = 0;
+    if (!err) {
+      err = mpgm_solver_solve(s, &c, b, r->x);
+      solved = !err || err == MPGM_ERR_LINEAR; /* an iterative backend leaves its last iterate */
+    }
+    if (s) mpgm_solver_get_stats(s, &r->st);
+    mpgm_solver_destroy(&s);
+    const int ids[3] = {MPGM_T_ANALYSE, MPGM_T_FACTOR, MPGM_T_SOLVE};
+    for (int k = 0; k < 3; k++)
+      if (c.t[ids[k]] > 0.0 && c.t[ids[k]] < r->t[k]) r->t[k] = c.t[ids[k]];
+    r->solved = solved;
+    if (err) {
+      r->status = status_of(r->type, err);
+      snprintf(r->msg, sizeof r->msg, "%s", c.msg[0] ? c.msg : mpgm_code_str(err));
+      return;
+    }
+  }
+}
+
+/* A CSV field: the message without commas, quotes or newlines. */
+static void csv_text(FILE *f, const char *s) {
+  fputc('"', f);
+  for (; *s; s++) fputc(*s == '"' ? '\'' : (*s == '\n' ? ' ' : *s), f);
+  fputc('"', f);
+}
+
+static void csv_num(FILE *f, double v, const char *fmt) {
+  fputc(',', f);
+  if (isfinite(v)) fprintf(f, fmt, v);
+}
+
+static void write_rows(FILE *csv, FILE *table, const char *name, const mpgm_csc *A,
+                       const result *res, int nt) {
+  for (int k = 0; k < nt; k++) {
+    const result *r = &res[k];
+    const int ran = strcmp(r->status, "not symmetric") != 0;
+    const double fill = r->st.nnz_factor > 0 ? r->st.nnz_factor / A->nnz : NAN;
+    fprintf(csv, "%s,%d,%d,%d,%s,%s", name, A->n, A->nnz, A->symmetric, r->type->name, r->status);
+    for (int p = 0; p < 3; p++) csv_num(csv, ran ? 1e3 * r->t[p] : NAN, "%.6f");
+    csv_num(csv, ran && r->st.nnz_factor > 0 ? r->st.nnz_factor : NAN, "%.0f");
+    csv_num(csv, ran ? fill : NAN, "%.4f");
+    csv_num(csv, ran && r->st.flops > 0 ? r->st.flops : NAN, "%.6g");
+    csv_num(csv, ran && r->st.mem_peak > 0 ? r->st.mem_peak : NAN, "%.0f");
+    csv_num(csv, r->type->iterative && r->solved ? r->st.iterations : NAN, "%.0f");
+    csv_num(csv, r->solved ? r->residual : NAN, "%.6e");
+    csv_num(csv, r->solved ? r->diff : NAN, "%.6e");
+    fputc(',', csv);
+    csv_text(csv, r->msg);
+    fputc('\n', csv);
+
+    char t[3][32], its[16] = "", res_s[32] = "", dif[32] = "", mem[32] = "", fl[32] = "",
+                   nf[32] = "";
+    for (int p = 0; p < 3; p++) {
+      if (ran && isfinite(r->t[p]))
+        snprintf(t[p], sizeof t[p], "%.3f", 1e3 * r->t[p]);
+      else
+        t[p][0] = '\0';
+    }
+    if (ran && r->st.nnz_factor > 0) {
+      snprintf(nf, sizeof nf, "%.0f", r->st.nnz_factor);
+      snprintf(fl, sizeof fl, "%.2f", fill);
+    }
+    if (ran && r->st.mem_peak > 0) snprintf(mem, sizeof mem, "%.2f", r->st.mem_peak / 1048576.0);
+    if (r->type->iterative && r->solved) snprintf(its, sizeof its, "%d", r->st.iterations);
+    if (r->solved) snprintf(res_s, sizeof res_s, "%.1e", r->residual);
+    if (r->solved && isfinite(r->diff)) snprintf(dif, sizeof dif, "%.1e", r->diff);
+    fprintf(table, "| %s | %d | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n",
+            name, A->n, A->nnz, r->type->name, r->status, t[0], t[1], t[2], nf, fl, mem, its, res_s,
+            dif);
+  }
+}
+
+/* All backends on the system `base`_K.mtx / _b.mtx of folder dir. */
+static int bench_one(mpgm_ctx *ctx, const mpgm_bench_opts *o, const char *dir, const char *kname,
+                     const mpgm_solver_type **types, int nt, FILE *csv, FILE *table) {
+  char kpath[PATH_CAP], bpath[PATH_CAP], name[PATH_CAP];
+  const size_t stem = strlen(kname) - strlen("_K.mtx");
+  snprintf(name, sizeof name, "%.*s", (int)stem, kname);
+  const int lk = snprintf(kpath, sizeof kpath, "%s/%s", dir, kname);
+  const int lb = snprintf(bpath, sizeof bpath, "%s/%s_b.mtx", dir, name);
+  MPGM_CHECK(ctx, lk > 0 && lb > 0 && lk < PATH_CAP && lb < PATH_CAP, MPGM_ERR_INPUT,
+             "%s/%s: path too long", dir, kname);
+  mpgm_csc A = {0};
+  double *b = NULL, *scratch = NULL;
+  int nb = 0, err;
+  result res[MAX_TYPES];
+  memset(res, 0, sizeof res);
+  err = mpgm_mtx_read_csc(ctx, kpath, &A);
+  if (!err) {
+    struct stat st;
+    if (stat(bpath, &st) != 0)
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                         "%s: no right-hand side %s beside it", kpath, bpath);
+  }
+  if (!err) err = mpgm_mtx_read_vec(ctx, bpath, &b, &nb);
+  if (!err && nb != A.n)
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "%s: expected %d values (the order of "
+                       "%s), found %d",
+                       bpath, A.n, kpath, nb);
+  if (!err) {
+    scratch = malloc((size_t)A.n * sizeof(double));
+    for (int k = 0; k < nt && scratch; k++) {
+      res[k].type = types[k];
+      res[k].x = calloc((size_t)A.n, sizeof(double));
+      if (!res[k].x) break;
+    }
+    for (int k = 0; k < nt; k++)
+      if (!scratch || !res[k].x) {
+        err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__,
+                           "out of memory (%d solutions of %d)", nt, A.n);
+        break;
+      }
+  }
+  if (!err) {
+    fprintf(stderr, "bench-solvers: %s: n = %d, %d entries, %s\n", name, A.n, A.nnz,
+            A.symmetric ? "symmetric" : "unsymmetric");
+    const double *xref = NULL;
+    for (int k = 0; k < nt; k++) {
+      run_backend(o, &A, b, &res[k]);
+      if (res[k].solved) res[k].residual = rel_residual(&A, res[k].x, b, scratch);
+      if (strcmp(types[k]->name, "umfpack") == 0 && strcmp(res[k].status, "ok") == 0)
+        xref = res[k].x;
+    }
+    if (!xref) { /* UMFPACK not run or failed: the first direct backend that worked */
+      for (int k = 0; k < nt && !xref; k++)
+        if (!types[k]->iterative && strcmp(res[k].status, "ok") == 0) xref = res[k].x;
+    }
+    double nref = 0.0;
+    for (int i = 0; xref && i < A.n; i++) nref += xref[i] * xref[i];
+    for (int k = 0; k < nt; k++) {
+      res[k].diff = NAN;
+      if (!xref || !res[k].solved) continue;
+      double dd = 0.0;
+      for (int i = 0; i < A.n; i++) dd += (res[k].x[i] - xref[i]) * (res[k].x[i] - xref[i]);
+      res[k].diff = nref > 0.0 ? sqrt(dd / nref) : sqrt(dd);
+    }
+    write_rows(csv, table, name, &A, res, nt);
+  }
+  for (int k = 0; k < nt; k++) free(res[k].x);
+  free(scratch);
+  free(b);
+  mpgm_mtx_free_csc(&A);
+  return err;
+}
+
+int mpgm_bench_solvers(mpgm_ctx *ctx, const mpgm_bench_opts *o, FILE *table) {
+  MPGM_CHECK(ctx, o && o->dir && o->repeat >= 1, MPGM_ERR_INPUT, "bench-solvers: bad arguments");
+  char dir[PATH_CAP];
+  MPGM_CHECK(ctx, is_dir(o->dir), MPGM_ERR_INPUT,
+             "%s: not a folder (expected a run folder holding "
+             "matrices/, or a matrices folder)",
+             o->dir);
+  MPGM_CHECK(ctx, strlen(o->dir) + 64 < PATH_CAP, MPGM_ERR_INPUT, "%.64s...: path too long",
+             o->dir);
+  snprintf(dir, sizeof dir, "%s/matrices", o->dir);
+  if (!is_dir(dir)) snprintf(dir, sizeof dir, "%s", o->dir);
+  const mpgm_solver_type *types[MAX_TYPES];
+  int nt = 0;
+  MPGM_CALL(pick_types(ctx, o->only, types, &nt));
+  struct dirent **list = NULL;
+  const int nk = scandir(dir, &list, select_k, alphasort);
+  MPGM_CHECK(ctx, nk >= 0, MPGM_ERR_IO, "%s: cannot list: %s", dir, strerror(errno));
+  int err = 0;
+  if (nk == 0)
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "%s: no systems NAME_K.mtx / NAME_b.mtx "
+                       "(write them with mpgm run SCENE --set output.matrices=STEP)",
+                       dir);
+  char csvpath[PATH_CAP + 32];
+  if (o->csv)
+    snprintf(csvpath, sizeof csvpath, "%.*s", PATH_CAP, o->csv);
+  else
+    snprintf(csvpath, sizeof csvpath, "%s/bench_solvers.csv", dir);
+  FILE *csv = NULL;
+  if (!err) {
+    csv = fopen(csvpath, "w");
+    if (!csv)
+      err = mpgm_err_set(ctx, MPGM_ERR_IO, __FILE__, __LINE__, "%s: cannot write: %s", csvpath,
+                         strerror(errno));
+  }
+  if (!err) {
+    /* the runs' default (solver.threads = 1); says which BLAS runs */
+    const int applied = mpgm_solver_threads(1);
+    fprintf(stderr, "bench-solvers: BLAS: %s\n",
+            applied & 1 ? "OpenBLAS, 1 thread" : "not OpenBLAS (the reference BLAS or another)");
+    fputs("matrix,n,nnz,symmetric,backend,status,analyse_ms,factor_ms,solve_ms,nnz_factor,fill,"
+          "factor_flops,memory_bytes,iterations,residual,diff_ref,message\n",
+          csv);
+    fprintf(table,
+            "| matrix | n | nnz | backend | status | analyse [ms] | factor [ms] | solve [ms] | "
+            "nnz(factor) | fill | memory [MB] | iterations | residual | diff |\n");
+    fprintf(table, "|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  }
+  for (int i = 0; i < nk && !err; i++)
+    err = bench_one(ctx, o, dir, list[i]->d_name, types, nt, csv, table);
+  for (int i = 0; i < nk; i++) free(list[i]);
+  free(list);
+  if (csv && fclose(csv) != 0 && !err)
+    err = mpgm_err_set(ctx, MPGM_ERR_IO, __FILE__, __LINE__, "%s: cannot write: %s", csvpath,
+                       strerror(errno));
+  if (!err) fprintf(stderr, "bench-solvers: results: %s\n", csvpath);
+  return err;
+}
