@@ -108,6 +108,9 @@ void mpgm_err_clear(mpgm_ctx *ctx);
 
 /** Monotonic wall clock in seconds. */
 double mpgm_wtime(void);
+/** Calls of mpgm_wtime so far in this process (all threads): the timers'
+ *  own cost is this count times the cost of one call (bench/timers). */
+long mpgm_wtime_reads(void);
 
 static inline void mpgm_timer_start(mpgm_ctx *ctx, int id) {
   ctx->t_start[id] = mpgm_wtime();

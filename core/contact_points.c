@@ -213,8 +213,5 @@ int mpgm_cpoints_update(mpgm_problem *pb) {
       break;
     }
   }
-  /* the springs are part of the tangent: a factorisation of the old set
-   * is not one of this matrix */
-  if (changed) pb->factor_valid = 0;
   return changed;
 }

@@ -100,6 +100,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
     cJSON_AddNumberToObject(c, "contact_points_unenforced", (double)pb->cp.unenforced);
   }
   cJSON_AddNumberToObject(c, "vtk_files", o->files);
+  cJSON_AddNumberToObject(c, "clock_reads", (double)mpgm_wtime_reads());
   mpgm_solver_stats st = {0};
   if (pb->solver && ctx->n_factorizations && mpgm_solver_get_stats(pb->solver, &st) == 0) {
     cJSON_AddNumberToObject(c, "nnz_factor", st.nnz_factor);

@@ -312,7 +312,7 @@ static int read_contact_points(jr_node *b, const mpgm_scene *s, mpgm_scene_bound
     return 0;
   }
   double factor;
-  MPGM_CALL(jr_num(b, "penalty", 20.0, 0.0, 1e12, 1, 0, &factor));
+  MPGM_CALL(jr_num(b, "penalty", 2.0, 0.0, 1e12, 1, 0, &factor));
   MPGM_CALL(jr_num(b, "spacing", 0.5 * s->h, 0.0, INFINITY, 1, 0, &bc->spacing));
   /* the penalty scales with the stiffest material */
   double E = 0.0;

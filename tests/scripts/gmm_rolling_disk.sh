@@ -81,18 +81,18 @@ for kind in ("mls", "lme"):
     check(max(uy) < 0.5 * h, f"{kind}: the centre stays on the plane: max |uy| = {max(uy):.4f} m < h/2 = {h / 2} m")
 for kind in ("mls", "lme"):
     # Contact at rim points (docs/theory.md section 17): the obstacle's
-    # resistance to rolling is gone. Measured s = 1.0017 (MLS) and 1.0013
-    # (LME) s_ref, error_max 0.00026 and 0.00023 m (obstacle nodes: 0.036
-    # and 0.029 m); bands -1.5 %/+1.5 % and 0.0004 m.
+    # resistance to rolling is gone. Measured s = 1.0024 (MLS) and 1.0026
+    # (LME) s_ref, error_max 0.00031 and 0.00037 m (obstacle nodes: 0.036
+    # and 0.029 m); bands -1.5 %/+1.5 % and 0.0006 m.
     s = S(kind + "_cp"); m, c = s["metrics"], s["counts"]
     r = m["s_final"] / m["s_ref_final"]
     check(s["status"] == "completed" and s["method"] == "gmm" and s["effects"]["contact_points"]
           and c["contact_point_holds"] > 0 and c["contact_point_releases"] > 0 and finite(m),
           f"{kind}, contact at rim points: completed, {c['contact_point_holds']} holds, "
           f"{c['contact_point_releases']} releases, {c['contact_points_unenforced']} point-steps without functions")
-    check(0.985 < r < 1.015 and m["error_max"] < 0.0004 and m["error_max"] < 0.1 * S(kind)["metrics"]["error_max"],
+    check(0.985 < r < 1.015 and m["error_max"] < 0.0006 and m["error_max"] < 0.1 * S(kind)["metrics"]["error_max"],
           f"{kind}, contact at rim points: s(0.3 s) = {r:.4f} s_ref (within 1.5 %), max |u_ref - u| = "
-          f"{m['error_max']:.5f} m < 0.0004 m and under a tenth of the obstacle's {S(kind)['metrics']['error_max']:.4f} m")
+          f"{m['error_max']:.5f} m < 0.0006 m and under a tenth of the obstacle's {S(kind)['metrics']['error_max']:.4f} m")
 a, b = S("cl_mesh"), S("cl_grid")
 ta, tb = a["metrics"]["tip_uy"], b["metrics"]["tip_uy"]
 # same nodes and points in another numbering: the sums run in another

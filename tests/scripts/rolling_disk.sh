@@ -71,12 +71,12 @@ check(r["effects"]["contact_points"] and not r["effects"]["contact"] and c["cont
       c["contact_point_releases"] > 0 and c["contact_points_unenforced"] == 0,
       f"contact at rim points: {c['contact_points']} points, held {c['contact_point_holds']} times and "
       f"let go {c['contact_point_releases']} times as the disk rolls over them, none without shape functions")
-# Rim points: measured here s_final 3.3 % below s_ref, max horizontal
-# deviation 0.0043 m (a quarter of the grid-node contact's, below). The
-# bounds leave a margin of about 1.4x.
-check(m["s_final"] > 0.955 * m["s_ref_final"] and m["s_final"] < 1.02 * m["s_ref_final"],
-      f"rolls: s(0.3 s) = {m['s_final']:.4f} m against s_ref = {m['s_ref_final']:.4f} m (within -4.5 %/+2 %)")
-check(m["error_max"] < 0.006, f"centre follows the analytic curve: max |u_ref - u| = {m['error_max']:.4f} m < 0.006 m")
+# Rim points: measured here s_final 2.4 % below s_ref, max horizontal
+# deviation 0.0030 m (a fifth of the grid-node contact's, below). The
+# bounds leave a margin of about 1.5x.
+check(m["s_final"] > 0.965 * m["s_ref_final"] and m["s_final"] < 1.02 * m["s_ref_final"],
+      f"rolls: s(0.3 s) = {m['s_final']:.4f} m against s_ref = {m['s_ref_final']:.4f} m (within -3.5 %/+2 %)")
+check(m["error_max"] < 0.0045, f"centre follows the analytic curve: max |u_ref - u| = {m['error_max']:.4f} m < 0.0045 m")
 check(abs(m["centre_uy"]) < 1e-3, f"the disk stays on the plane: centre uy = {m['centre_uy']:.2e} m")
 check(rn["effects"]["contact"] and rn["counts"]["contact_resolves"] > 0,
       f"contact at grid nodes: nodes released where the disk lifts ({rn['counts']['contact_resolves']} re-solves)")
