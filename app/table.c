@@ -181,23 +181,10 @@ static int parse_record(const char **p, char ***cells, int *cap) {
 
 int mpgm_table_read(mpgm_ctx *ctx, const char *path, mpgm_table *t) {
   memset(t, 0, sizeof *t);
-  FILE *f = fopen(path, "rb");
-  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-  size_t cap = 1 << 16, n = 0, k;
-  char *text = malloc(cap);
-  while (text && (k = fread(text + n, 1, cap - n - 1, f)) > 0) {
-    n += k;
-    if (n + 1 == cap) {
-      char *nb = realloc(text, cap *= 2);
-      if (!nb) free(text);
-      text = nb;
-    }
-  }
-  const int bad = ferror(f);
-  fclose(f);
-  MPGM_CHECK(ctx, text, MPGM_ERR_NOMEM, "%s: out of memory", path);
-  text[n] = '\0';
-  int err = bad ? mpgm_err_set(ctx, MPGM_ERR_IO, __FILE__, __LINE__, "%s: read error", path) : 0;
+  char *text;
+  size_t n;
+  MPGM_CALL(mpgm_read_file(ctx, path, &text, &n));
+  int err = 0;
   if (!err && n == 0) err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: empty file", path);
   const char *p = text;
   char **cells = NULL;

@@ -2,8 +2,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_base.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -70,4 +72,32 @@ double mpgm_wtime(void) {
   __atomic_fetch_add(&clock_reads, 1, __ATOMIC_RELAXED);
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int mpgm_read_file(mpgm_ctx *ctx, const char *path, char **text, size_t *len) {
+  *text = NULL;
+  if (len) *len = 0;
+  FILE *f = fopen(path, "rb");
+  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  size_t cap = 1 << 16, n = 0, k;
+  char *buf = malloc(cap);
+  while (buf && (k = fread(buf + n, 1, cap - n - 1, f)) > 0) {
+    n += k;
+    if (n + 1 == cap) {
+      char *nb = realloc(buf, cap *= 2);
+      if (!nb) free(buf);
+      buf = nb;
+    }
+  }
+  const int bad = ferror(f);
+  fclose(f);
+  MPGM_CHECK(ctx, buf, MPGM_ERR_NOMEM, "%s: out of memory", path);
+  if (bad) {
+    free(buf);
+    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: read error", path);
+  }
+  buf[n] = '\0';
+  *text = buf;
+  if (len) *len = n;
+  return 0;
 }

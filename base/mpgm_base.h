@@ -106,6 +106,11 @@ int mpgm_err_set(mpgm_ctx *ctx, int code, const char *file, int line,
 /** Forget a recorded (recoverable) error, e.g. after a step cut. */
 void mpgm_err_clear(mpgm_ctx *ctx);
 
+/** Read a whole file into *text (malloc'd, NUL-terminated; the caller
+ *  frees it), its length in *len (may be NULL). Errors: MPGM_ERR_IO (cannot
+ *  open or read, with the path), MPGM_ERR_NOMEM. */
+int mpgm_read_file(mpgm_ctx *ctx, const char *path, char **text, size_t *len);
+
 /** Monotonic wall clock in seconds. */
 double mpgm_wtime(void);
 /** Calls of mpgm_wtime so far in this process (all threads): the timers'

@@ -279,26 +279,8 @@ static void line_col(const char *text, const char *at, int *line, int *col) {
 
 int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc) {
   *doc = NULL;
-  FILE *f = fopen(file, "rb");
-  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", file, strerror(errno));
-  size_t cap = 1 << 16, n = 0, k;
-  char *text = malloc(cap);
-  while (text && (k = fread(text + n, 1, cap - n - 1, f)) > 0) {
-    n += k;
-    if (n + 1 == cap) {
-      char *nb = realloc(text, cap *= 2);
-      if (!nb) free(text);
-      text = nb;
-    }
-  }
-  const int bad = ferror(f);
-  fclose(f);
-  if (!text) MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: out of memory", file);
-  if (bad) {
-    free(text);
-    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: read error", file);
-  }
-  text[n] = '\0';
+  char *text;
+  MPGM_CALL(mpgm_read_file(ctx, file, &text, NULL));
   const char *end = NULL;
   cJSON *d = cJSON_ParseWithOpts(text, &end, 1);
   if (!d) {
