@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -84,7 +85,7 @@ int mpgm_read_file(mpgm_ctx *ctx, const char *path, char **text, size_t *len) {
   while (buf && (k = fread(buf + n, 1, cap - n - 1, f)) > 0) {
     n += k;
     if (n + 1 == cap) {
-      char *nb = realloc(buf, cap *= 2);
+      char *nb = cap < SIZE_MAX / 2 ? realloc(buf, cap *= 2) : NULL;
       if (!nb) free(buf);
       buf = nb;
     }

@@ -107,7 +107,8 @@ int mpgm_err_set(mpgm_ctx *ctx, int code, const char *file, int line,
 void mpgm_err_clear(mpgm_ctx *ctx);
 
 /** Read a whole file into *text (malloc'd, NUL-terminated; the caller
- *  frees it), its length in *len (may be NULL). Errors: MPGM_ERR_IO (cannot
+ *  frees it; binary content may hold NULs), its length in *len (may be
+ *  NULL). Errors: MPGM_ERR_IO (cannot
  *  open or read, with the path), MPGM_ERR_NOMEM. */
 int mpgm_read_file(mpgm_ctx *ctx, const char *path, char **text, size_t *len);
 

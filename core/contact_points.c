@@ -68,6 +68,37 @@ int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x) {
   return n;
 }
 
+/* Spacing of the surface points: the smallest of the contact boundaries
+ * enforced at points. */
+static double surface_spacing(const mpgm_scene *s) {
+  double spacing = INFINITY;
+  for (int i = 0; i < s->nbc; i++)
+    if (mpgm_bc_at_points(&s->bcs[i])) spacing = fmin(spacing, s->bcs[i].spacing);
+  return spacing;
+}
+
+int mpgm_surface_tracers_count(const mpgm_scene *s) {
+  const double spacing = surface_spacing(s);
+  int n = 0;
+  for (int b = 0; b < s->nbody && isfinite(spacing); b++) n += mpgm_body_surface(&s->bodies[b], spacing, NULL);
+  return n;
+}
+
+void mpgm_surface_tracers_fill(mpgm_points *P, const mpgm_scene *s) {
+  const double spacing = surface_spacing(s);
+  for (int b = 0, p = P->n + P->nprobe; b < s->nbody && P->nsurf; b++) {
+    const int k = mpgm_body_surface(&s->bodies[b], spacing, P->x + 2 * p);
+    for (int q = p; q < p + k; q++) {
+      P->x0[2 * q] = P->x[2 * q];
+      P->x0[2 * q + 1] = P->x[2 * q + 1];
+      P->body[q] = b;
+      P->v[2 * q] = s->bodies[b].velocity[0];
+      P->v[2 * q + 1] = s->bodies[b].velocity[1];
+    }
+    p += k;
+  }
+}
+
 void mpgm_cpoints_free(mpgm_cpoints *cp) {
   free(cp->plane);
   free(cp->flip);
@@ -93,7 +124,7 @@ int mpgm_cpoints_setup(mpgm_problem *pb) {
     cp->plane[t] = -1;
     for (int i = 0; i < s->nbc && cp->plane[t] < 0; i++) {
       const mpgm_scene_boundary *bc = &s->bcs[i];
-      if (bc->condition != MPGM_COND_CONTACT || bc->enforce != MPGM_ENFORCE_POINTS) continue;
+      if (!mpgm_bc_at_points(bc)) continue;
       int axis, side;
       plane_of(bc, &axis, &side);
       if (side * (x[axis] - bc->value) > 1e-6 * s->h) continue;
@@ -195,7 +226,7 @@ int mpgm_cpoints_update(mpgm_problem *pb) {
     const double *xs = pb->pts.x + 2 * p;
     for (int i = 0; i < s->nbc; i++) {
       const mpgm_scene_boundary *bc = &s->bcs[i];
-      if (bc->condition != MPGM_COND_CONTACT || bc->enforce != MPGM_ENFORCE_POINTS) continue;
+      if (!mpgm_bc_at_points(bc)) continue;
       int axis, side;
       plane_of(bc, &axis, &side);
       const double ge = side * (xe[axis] - bc->value);

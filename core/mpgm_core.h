@@ -285,8 +285,9 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
                         const mpgm_frontend_ops *fe, mpgm_problem **out);
 void mpgm_problem_destroy(mpgm_problem **pb);
 
-/** Allocate points (n material + nprobe tracers) with nstate doubles. */
-int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nstate);
+/** Allocate points (n material, nprobe probes, nsurf surface tracers) with
+ *  nstate doubles. */
+int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsurf, int nstate);
 /** Material point p of scene body `body` at (x, y) with volume vol [m^3]:
  *  position, mass (density x volume), the body's initial velocity,
  *  material, and the material's initial state. */
@@ -368,6 +369,12 @@ void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only);
  *  spring pulls; at most one change per tracer and step. Returns 1 when
  *  the set changed. */
 int mpgm_cpoints_update(mpgm_problem *pb);
+/** Surface tracers of the scene's bodies (contact at points; 0 without):
+ *  how many, and their positions, bodies and initial velocities into the
+ *  last P->nsurf points of P (after the probes). The front ends call both
+ *  (mpm.c, gmm_grid.c). */
+int mpgm_surface_tracers_count(const mpgm_scene *s);
+void mpgm_surface_tracers_fill(mpgm_points *P, const mpgm_scene *s);
 /** Points on the boundary of body b at most `spacing` apart (a disk: from
  *  its lowest point, counter-clockwise; rectangles and polygons: every
  *  vertex and equal divisions of every edge). x == NULL: only count.

@@ -102,6 +102,12 @@ typedef struct mpgm_scene_boundary {
                             points along the bodies' boundaries [m]     */
 } mpgm_scene_boundary;
 
+/** 1 when boundary bc is a contact enforced at the bodies' surface points
+ *  (condition "contact", "enforce": "points"; core/contact_points.c). */
+static inline int mpgm_bc_at_points(const mpgm_scene_boundary *bc) {
+  return bc->condition == MPGM_COND_CONTACT && bc->enforce == MPGM_ENFORCE_POINTS;
+}
+
 /** A rigid obstacle of method gmm: layers of fixed nodes (no material
  *  points) beyond a plane x = value or y = value, spacing mesh.h, aligned
  *  with the grid over mesh.domain and spanning its extent along the plane

@@ -5,10 +5,11 @@
 
 #include "mpgm_core.h"
 
-int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nstate) {
-  const int m = n + nprobe;
+int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsurf, int nstate) {
+  const int m = n + nprobe + nsurf;
   p->n = n;
   p->nprobe = nprobe;
+  p->nsurf = nsurf;
   p->nstate = nstate;
   MPGM_ALLOC(ctx, p->x, 2 * m);
   MPGM_ALLOC(ctx, p->x0, 2 * m);
@@ -260,9 +261,8 @@ void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
   for (int i = 0; i < s->nbc; i++) {
     for (int d = 0; d < 2; d++)
       fx->prescribed |= s->bcs[i].fix[d] && s->bcs[i].displacement[d] != 0.0;
-    const int contact = s->bcs[i].condition == MPGM_COND_CONTACT;
-    fx->contact |= contact && s->bcs[i].enforce == MPGM_ENFORCE_NODES;
-    fx->contact_points |= contact && s->bcs[i].enforce == MPGM_ENFORCE_POINTS;
+    fx->contact |= s->bcs[i].condition == MPGM_COND_CONTACT && !mpgm_bc_at_points(&s->bcs[i]);
+    fx->contact_points |= mpgm_bc_at_points(&s->bcs[i]);
   }
   for (int i = 0; i < s->nbody; i++) fx->prestress |= s->bodies[i].geostatic;
 }

@@ -14,34 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Read a whole file, NUL-terminated (binary content may hold NULs). */
-static int slurp(mpgm_ctx *ctx, const char *path, char **buf, size_t *len) {
-  *buf = NULL;
-  FILE *f = fopen(path, "rb");
-  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-  size_t cap = 1 << 16, n = 0, k;
-  char *b = malloc(cap);
-  while (b && (k = fread(b + n, 1, cap - n - 1, f)) > 0) {
-    n += k;
-    if (n + 1 == cap) {
-      char *nb = cap < SIZE_MAX / 2 ? realloc(b, cap *= 2) : NULL;
-      if (!nb) free(b);
-      b = nb;
-    }
-  }
-  const int bad = ferror(f);
-  fclose(f);
-  MPGM_CHECK(ctx, b, MPGM_ERR_NOMEM, "%s: out of memory", path);
-  if (bad) {
-    free(b);
-    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: read error", path);
-  }
-  b[n] = '\0';
-  *buf = b;
-  *len = n;
-  return 0;
-}
-
 typedef struct rd {
   mpgm_ctx *ctx;
   const char *path;
@@ -176,7 +148,7 @@ int mpgm_vtk_read(mpgm_ctx *ctx, const char *path, mpgm_vtk_grid **out) {
   *out = NULL;
   rd r = {ctx, path, NULL, 0, 0, 0};
   char *buf;
-  MPGM_CALL(slurp(ctx, path, &buf, &r.len));
+  MPGM_CALL(mpgm_read_file(ctx, path, &buf, &r.len));
   r.b = buf;
   mpgm_vtk_grid *g = calloc(1, sizeof *g);
   int err = g ? read_body(&r, g) : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
@@ -241,7 +213,7 @@ int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out) {
   memset(out, 0, sizeof *out);
   char *buf;
   size_t len;
-  MPGM_CALL(slurp(ctx, path, &buf, &len));
+  MPGM_CALL(mpgm_read_file(ctx, path, &buf, &len));
   int err = 0;
   if (!strstr(buf, "<VTKFile") || !strstr(buf, "type=\"Collection\""))
     err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: not a .pvd collection", path);

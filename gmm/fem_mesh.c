@@ -51,7 +51,7 @@ int mpgm_fem_setup_mesh(mpgm_problem *pb, const mpgm_fem_mesh *m) {
   int nstate = 0;
   for (int i = 0; i < s->nmat; i++)
     if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
-  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, npts, s->nprobe, nstate));
+  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, npts, s->nprobe, 0, nstate));
   MPGM_ALLOC(ctx, d->cnode, (size_t)d->nn * m->ncell);
   MPGM_ALLOC(ctx, d->cptr, m->ncell + 1);
   MPGM_ALLOC(ctx, d->ctype, m->ncell);

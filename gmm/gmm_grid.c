@@ -49,7 +49,7 @@ static void gg_cell_xy(const void *grid, int c, double *xn) {
 int mpgm_gmm_uses_grid(const mpgm_scene *s) {
   int grid = s->nobstacle > 0;
   for (int i = 0; i < s->nbc; i++) /* contact at surface points */
-    grid |= s->bcs[i].condition == MPGM_COND_CONTACT && s->bcs[i].enforce == MPGM_ENFORCE_POINTS;
+    grid |= mpgm_bc_at_points(&s->bcs[i]);
   for (int b = 0; b < s->nbody; b++) grid |= s->bodies[b].geometry != MPGM_GEOM_RECTANGLE;
   return grid;
 }
@@ -188,18 +188,8 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
   for (int i = 0; i < s->nmat; i++)
     if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
   /* contact at points: tracers on the bodies' boundaries, after the probes */
-  double spacing = INFINITY;
-  for (int i = 0; i < s->nbc; i++)
-    if (s->bcs[i].condition == MPGM_COND_CONTACT && s->bcs[i].enforce == MPGM_ENFORCE_POINTS)
-      spacing = fmin(spacing, s->bcs[i].spacing);
-  int nsurf = 0;
-  for (int b = 0; b < s->nbody && pb->fx.contact_points; b++)
-    nsurf += mpgm_body_surface(&s->bodies[b], spacing, NULL);
-  if (!err) err = mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe + nsurf, nstate);
-  if (!err) {
-    pb->pts.nprobe = s->nprobe;
-    pb->pts.nsurf = nsurf;
-  }
+  const int nsurf = pb->fx.contact_points ? mpgm_surface_tracers_count(s) : 0;
+  if (!err) err = mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe, nsurf, nstate);
   if (!err) {
     mpgm_nodes *nd = &pb->nodes;
     mpgm_points *P = &pb->pts;
@@ -245,17 +235,7 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
       P->x[2 * p] = P->x0[2 * p] = s->probes[k].x[0];
       P->x[2 * p + 1] = P->x0[2 * p + 1] = s->probes[k].x[1];
     }
-    for (int b = 0; b < s->nbody && nsurf; b++) {
-      const int k = mpgm_body_surface(&s->bodies[b], spacing, P->x + 2 * p);
-      for (int q = p; q < p + k; q++) {
-        P->x0[2 * q] = P->x[2 * q];
-        P->x0[2 * q + 1] = P->x[2 * q + 1];
-        P->body[q] = b;
-        P->v[2 * q] = s->bodies[b].velocity[0];
-        P->v[2 * q + 1] = s->bodies[b].velocity[1];
-      }
-      p += k;
-    }
+    mpgm_surface_tracers_fill(P, s);
     /* output cells: the cells holding points whose nodes are all kept */
     int nc = 0;
     err = (gd->cptr = malloc(sizeof(int) * (size_t)(ncell + 1))) &&
@@ -282,7 +262,7 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
     for (int i = 0; i < s->nbc && !err; i++) {
       const mpgm_scene_boundary *bc = &s->bcs[i];
       /* contact at points acts on the bodies' surface points, not nodes */
-      if (bc->condition == MPGM_COND_CONTACT && bc->enforce == MPGM_ENFORCE_POINTS) continue;
+      if (mpgm_bc_at_points(bc)) continue;
       int hits = 0;
       for (int k = 0; k < nd->n; k++) {
         if (!mpgm_boundary_selects(bc, nd->X + 2 * k)) continue;

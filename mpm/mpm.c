@@ -121,33 +121,15 @@ static int mpm_setup(mpgm_problem *pb) {
   for (int i = 0; i < s->nmat; i++)
     if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
   /* contact at points: tracers on the bodies' boundaries, after the probes */
-  double spacing = INFINITY;
-  for (int i = 0; i < s->nbc; i++)
-    if (s->bcs[i].condition == MPGM_COND_CONTACT && s->bcs[i].enforce == MPGM_ENFORCE_POINTS)
-      spacing = fmin(spacing, s->bcs[i].spacing);
-  int nsurf = 0;
-  for (int b = 0; b < s->nbody && pb->fx.contact_points; b++)
-    nsurf += mpgm_body_surface(&s->bodies[b], spacing, NULL);
-  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe + nsurf, nstate));
-  pb->pts.nprobe = s->nprobe;
-  pb->pts.nsurf = nsurf;
+  const int nsurf = pb->fx.contact_points ? mpgm_surface_tracers_count(s) : 0;
+  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe, nsurf, nstate));
   MPGM_CALL(fill_bodies(pb, d, &pb->pts, &np));
   for (int k = 0; k < s->nprobe; k++) {
     const int p = np + k;
     pb->pts.x[2 * p] = pb->pts.x0[2 * p] = s->probes[k].x[0];
     pb->pts.x[2 * p + 1] = pb->pts.x0[2 * p + 1] = s->probes[k].x[1];
   }
-  for (int b = 0, p = np + s->nprobe; b < s->nbody && nsurf; b++) {
-    const int k = mpgm_body_surface(&s->bodies[b], spacing, pb->pts.x + 2 * p);
-    for (int q = p; q < p + k; q++) {
-      pb->pts.x0[2 * q] = pb->pts.x[2 * q];
-      pb->pts.x0[2 * q + 1] = pb->pts.x[2 * q + 1];
-      pb->pts.body[q] = b;
-      pb->pts.v[2 * q] = s->bodies[b].velocity[0];
-      pb->pts.v[2 * q + 1] = s->bodies[b].velocity[1];
-    }
-    p += k;
-  }
+  mpgm_surface_tracers_fill(&pb->pts, s);
   /* nodes: room for the whole grid; the step uses those of active cells */
   MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, g->nnode));
   pb->nodes.n = 0;
@@ -184,7 +166,7 @@ static int mpm_setup(mpgm_problem *pb) {
    * node is decided once */
   for (int i = 0; i < s->nbc; i++) {
     /* contact at points acts on the bodies, not on grid nodes */
-    if (s->bcs[i].condition == MPGM_COND_CONTACT && s->bcs[i].enforce == MPGM_ENFORCE_POINTS) continue;
+    if (mpgm_bc_at_points(&s->bcs[i])) continue;
     int hits = 0;
     for (int k = 0; k < g->nnode; k++) {
       double X[2];

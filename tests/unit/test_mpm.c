@@ -145,7 +145,7 @@ static void test_points_sort(rng *r) {
   mpgm_points P;
   memset(&P, 0, sizeof P);
   const int n = 257, nprobe = 2, ns = 3, nkey = 17;
-  if (mpgm_points_alloc(&ctx, &P, n, nprobe, ns)) {
+  if (mpgm_points_alloc(&ctx, &P, n, nprobe, 0, ns)) {
     mpgm_test(0, "points_sort: allocation");
     return;
   }
