@@ -20,7 +20,6 @@ static const char *const field_names[] = {"displacement", "velocity", "stress", 
                                           "volume", "J", "material", "acceleration", "id", "eps_p",
                                           NULL};
 static const char *const future_methods[] = {NULL}; /* named methods of later issues */
-static const char *const condition_names[] = {"stick", "slip", "contact", NULL}; /* = mpgm_condition - 1 */
 
 const char *mpgm_method_name(int method) {
   return (method >= 0 && method <= MPGM_METHOD_GMM) ? method_names[method] : "?";
@@ -49,7 +48,7 @@ static int get_map(jr_node *o, const char *key, const cJSON **map) {
   return 0;
 }
 
-static int get_array(jr_node *o, const char *key, const cJSON **arr) {
+int mpgm_scene_get_array(jr_node *o, const char *key, const cJSON **arr) {
   const cJSON *v = jr_override_json(o, key);
   if (!v) v = jr_raw(o, key);
   else jr_raw(o, key);
@@ -59,8 +58,8 @@ static int get_array(jr_node *o, const char *key, const cJSON **arr) {
 }
 
 /* Element i of an array as a node with path "key.i". */
-static int array_elem(jr_node *o, const char *key, const cJSON *arr, int i,
-                      cJSON *out_arr, jr_node *e) {
+int mpgm_scene_array_elem(jr_node *o, const char *key, const cJSON *arr, int i,
+                           cJSON *out_arr, jr_node *e) {
   memset(e, 0, sizeof *e);
   e->r = o->r;
   if (snprintf(e->path, sizeof e->path, "%s%s%s.%d", o->path, o->path[0] ? "." : "", key, i) >=
@@ -212,7 +211,7 @@ static int read_geometry(jr_node *b, mpgm_scene_body *body, jr_node *g) {
 
 static int read_bodies(jr_node *root, mpgm_scene *s) {
   const cJSON *arr = NULL;
-  MPGM_CALL(get_array(root, "bodies", &arr));
+  MPGM_CALL(mpgm_scene_get_array(root, "bodies", &arr));
   if (!arr || cJSON_GetArraySize(arr) == 0)
     return jr_fail(root, "bodies", "expected at least one body, found none");
   s->nbody = cJSON_GetArraySize(arr);
@@ -220,7 +219,7 @@ static int read_bodies(jr_node *root, mpgm_scene *s) {
   cJSON *out = cJSON_AddArrayToObject(root->out, "bodies");
   for (int i = 0; i < s->nbody; i++) {
     jr_node b;
-    MPGM_CALL(array_elem(root, "bodies", arr, i, out, &b));
+    MPGM_CALL(mpgm_scene_array_elem(root, "bodies", arr, i, out, &b));
     mpgm_scene_body *body = &s->bodies[i];
     char def[32], mname[MPGM_NAME_LEN];
     snprintf(def, sizeof def, "body%d", i);
@@ -258,238 +257,6 @@ static int read_bodies(jr_node *root, mpgm_scene *s) {
         return jr_fail(&g, NULL, "expected a body inside the domain [%g, %g] x [%g, %g] (mesh.domain), "
                        "found [%g, %g] x [%g, %g]", s->dom_min[0], s->dom_max[0], s->dom_min[1],
                        s->dom_max[1], body->min[0], body->max[0], body->min[1], body->max[1]);
-  }
-  return 0;
-}
-
-static int read_fix(jr_node *o, const char *key, int fix[2]) {
-  const cJSON *v = jr_override_json(o, key);
-  if (!v) v = jr_raw(o, key);
-  else jr_raw(o, key);
-  if (!v)
-    return jr_fail(o, key, "required key is missing (expected \"fix\": [\"x\"], [\"y\"] or [\"x\", \"y\"], "
-                   "or \"condition\": \"stick\" | \"slip\")");
-  fix[0] = fix[1] = 0;
-  if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) < 1 || cJSON_GetArraySize(v) > 2)
-    return jr_fail(o, key, "expected [\"x\"], [\"y\"] or [\"x\", \"y\"], found %s%s", jr_type(v),
-                   cJSON_IsArray(v) ? " of another length" : "");
-  for (const cJSON *c = v->child; c; c = c->next) {
-    int d = cJSON_IsString(c) ? (strcmp(c->valuestring, "x") == 0 ? 0 : strcmp(c->valuestring, "y") == 0 ? 1 : -1) : -1;
-    if (d < 0) return jr_fail(o, key, "expected components \"x\" or \"y\", found %s%s%s%s", jr_type(c),
-                              cJSON_IsString(c) ? " \"" : "", cJSON_IsString(c) ? c->valuestring : "",
-                              cJSON_IsString(c) ? "\"" : "");
-    if (fix[d]) return jr_fail(o, key, "component \"%s\" listed twice", c->valuestring);
-    fix[d] = 1;
-  }
-  cJSON *a = cJSON_AddArrayToObject(o->out, key);
-  if (fix[0]) cJSON_AddItemToArray(a, cJSON_CreateString("x"));
-  if (fix[1]) cJSON_AddItemToArray(a, cJSON_CreateString("y"));
-  return 0;
-}
-
-/* The selector of bc meets body bd within bc->tol: lines against the body's
- * extent across them (exact for any connected body), boxes against the
- * body itself. */
-static int selector_meets_body(const mpgm_scene_boundary *bc, const mpgm_scene_body *bd) {
-  const double t = bc->tol;
-  if (bc->select != MPGM_SELECT_BOX)
-    return bc->value >= bd->min[bc->select] - t && bc->value <= bd->max[bc->select] + t;
-  const double lo[2] = {bc->min[0] - t, bc->min[1] - t}, hi[2] = {bc->max[0] + t, bc->max[1] + t};
-  return mpgm_body_meets_box(bd, lo, hi);
-}
-
-/* "enforce", "penalty", "spacing" of a contact boundary: contact at the
- * grid nodes on the plane (default) or at points on the bodies' surfaces
- * held by a penalty (docs/theory.md, "Contact at surface points"). */
-static int read_contact_points(jr_node *b, const mpgm_scene *s, mpgm_scene_boundary *bc) {
-  static const char *const enforce_names[] = {"nodes", "points", NULL};
-  MPGM_CALL(jr_enum(b, "enforce", enforce_names, MPGM_ENFORCE_NODES, &bc->enforce));
-  if (bc->enforce != MPGM_ENFORCE_POINTS) {
-    if (jr_raw(b, "penalty") || jr_raw(b, "spacing"))
-      return jr_fail(b, jr_raw(b, "penalty") ? "penalty" : "spacing",
-                     "expected no penalty or spacing with \"enforce\": \"nodes\" (they belong to "
-                     "\"enforce\": \"points\")");
-    return 0;
-  }
-  double factor;
-  MPGM_CALL(jr_num(b, "penalty", 2.0, 0.0, 1e12, 1, 0, &factor));
-  MPGM_CALL(jr_num(b, "spacing", 0.5 * s->h, 0.0, INFINITY, 1, 0, &bc->spacing));
-  /* the penalty scales with the stiffest material */
-  double E = 0.0;
-  for (int i = 0; i < s->nmat; i++)
-    for (int k = 0; k < s->mats[i].type->nparam; k++)
-      if (strcmp(s->mats[i].type->params[k].name, "E") == 0) E = fmax(E, s->mats[i].param[k]);
-  if (!(E > 0.0))
-    return jr_fail(b, "penalty", "expected a material with a Young's modulus \"E\" (the penalty is "
-                   "a multiple of the largest), found none");
-  /* the springs, spread over the plane (k / spacing per unit area), are
-   * `factor` times as stiff as a layer of one cell of the body (E / h) */
-  bc->penalty = factor * E * bc->spacing / s->h;
-  return 0;
-}
-
-static int read_boundaries(jr_node *root, mpgm_scene *s) {
-  const cJSON *arr = NULL;
-  MPGM_CALL(get_array(root, "boundaries", &arr));
-  s->nbc = arr ? cJSON_GetArraySize(arr) : 0;
-  MPGM_ALLOC(root->r->ctx, s->bcs, s->nbc);
-  cJSON *out = cJSON_AddArrayToObject(root->out, "boundaries");
-  for (int i = 0; i < s->nbc; i++) {
-    jr_node b;
-    MPGM_CALL(array_elem(root, "boundaries", arr, i, out, &b));
-    mpgm_scene_boundary *bc = &s->bcs[i];
-    char def[32];
-    snprintf(def, sizeof def, "boundary%d", i);
-    MPGM_CALL(jr_str(&b, "name", def, bc->name, sizeof bc->name));
-    const cJSON *hx = jr_raw(&b, "x"), *hy = jr_raw(&b, "y"), *hb = jr_raw(&b, "box");
-    int nsel = !!hx + !!hy + !!hb;
-    if (nsel != 1)
-      return jr_fail(&b, NULL, "expected exactly one node selector: \"x\": value, \"y\": value or "
-                     "\"box\": {\"min\", \"max\"}, found %d", nsel);
-    if (hx || hy) {
-      bc->select = hx ? MPGM_SELECT_X : MPGM_SELECT_Y;
-      MPGM_CALL(jr_num(&b, hx ? "x" : "y", NAN, -INFINITY, INFINITY, 0, 0, &bc->value));
-    } else {
-      jr_node box;
-      bc->select = MPGM_SELECT_BOX;
-      MPGM_CALL(jr_child(&b, "box", 1, &box));
-      MPGM_CALL(jr_vec2(&box, "min", NULL, bc->min));
-      MPGM_CALL(jr_vec2(&box, "max", NULL, bc->max));
-      MPGM_CALL(jr_end(&box));
-      if (bc->max[0] < bc->min[0] || bc->max[1] < bc->min[1])
-        return jr_fail(&box, NULL, "expected max >= min in x and y, found an inverted box");
-    }
-    MPGM_CALL(jr_num(&b, "tol", 1e-6 * s->h, 0, INFINITY, 0, 0, &bc->tol));
-    /* fem nodes lie on the bodies: a selector that misses every body picks no
-     * node (the front end checks the exact node selection when it meshes).
-     * mpm grid nodes cover mesh.domain: the selector must meet the domain. */
-    const char *selkey = bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box";
-    if (s->method != MPGM_METHOD_MPM) { /* fem, gmm: persistent nodes of the bodies */
-      int meets = 0;
-      for (int k = 0; k < s->nbody && !meets; k++)
-        meets = selector_meets_body(bc, &s->bodies[k]);
-      if (!meets)
-        return jr_fail(&b, selkey, "expected a selector that meets a body (only bodies carry nodes), "
-                       "found none within tol = %g of it", bc->tol);
-    } else {
-      mpgm_scene_body dom = {.geometry = MPGM_GEOM_RECTANGLE};
-      memcpy(dom.min, s->dom_min, sizeof dom.min);
-      memcpy(dom.max, s->dom_max, sizeof dom.max);
-      if (!selector_meets_body(bc, &dom))
-        return jr_fail(&b, selkey, "expected a selector that meets mesh.domain (the background grid "
-                       "covers the domain), found none within tol = %g of it", bc->tol);
-    }
-    const cJSON *hf = jr_raw(&b, "fix"), *hc = jr_raw(&b, "condition");
-    if (hf && hc)
-      return jr_fail(&b, NULL, "expected either \"fix\": [...] or \"condition\": \"stick\" | \"slip\", "
-                     "found both");
-    if (hc) {
-      int c;
-      MPGM_CALL(jr_enum(&b, "condition", condition_names, -1, &c));
-      bc->condition = c + 1;
-      if (bc->condition == MPGM_COND_SLIP && bc->select == MPGM_SELECT_BOX)
-        return jr_fail(&b, "condition", "\"slip\" fixes the normal component of a plane selector "
-                       "(\"x\" or \"y\"); a box selector has no normal (use \"stick\" or \"fix\")");
-      if (bc->condition == MPGM_COND_CONTACT) {
-        if (bc->select == MPGM_SELECT_BOX)
-          return jr_fail(&b, "condition", "\"contact\" needs a plane selector (\"x\" or \"y\"), "
-                         "found a box");
-        MPGM_CALL(read_contact_points(&b, s, bc));
-        if (s->method == MPGM_METHOD_FEM ||
-            (s->method == MPGM_METHOD_GMM && bc->enforce != MPGM_ENFORCE_POINTS))
-          return jr_fail(&b, "condition", "\"contact\" at grid nodes is a condition of method mpm "
-                         "(grid nodes stay on the plane); found method %s%s", mpgm_method_name(s->method),
-                         s->method == MPGM_METHOD_GMM ? " (method gmm: \"enforce\": \"points\", or a "
-                         "rigid obstacle, top-level \"obstacles\", as in cases/rolling_disk_gmm.json)" : "");
-        const int ax = bc->select == MPGM_SELECT_X ? 0 : 1;
-        const double tol = 1e-9 * (s->dom_max[ax] - s->dom_min[ax]) + bc->tol;
-        if (fabs(bc->value - s->dom_min[ax]) <= tol) bc->side = 1;
-        else if (fabs(bc->value - s->dom_max[ax]) <= tol) bc->side = -1;
-        else if (bc->enforce == MPGM_ENFORCE_POINTS) {
-          /* a plane inside the grid (room for the material to dip into
-           * it by the springs' give): the bodies say which side */
-          int above = 1, below = 1;
-          for (int k = 0; k < s->nbody; k++) {
-            above &= s->bodies[k].min[ax] >= bc->value - tol;
-            below &= s->bodies[k].max[ax] <= bc->value + tol;
-          }
-          if (above == below)
-            return jr_fail(&b, ax ? "y" : "x", "expected every body on one side of the contact plane "
-                           "%c = %g, found bodies on both sides", "xy"[ax], bc->value);
-          bc->side = above ? 1 : -1;
-        } else
-          return jr_fail(&b, ax ? "y" : "x", "expected a contact plane on the boundary of mesh.domain "
-                         "(%c = %g or %g, so the body is on one side; a plane inside the domain needs "
-                         "\"enforce\": \"points\"), found %g", "xy"[ax],
-                         s->dom_min[ax], s->dom_max[ax], bc->value);
-      }
-      /* the resolved scene keeps "condition" only, so it loads again as is */
-      bc->fix[0] = bc->condition != MPGM_COND_SLIP || bc->select == MPGM_SELECT_X;
-      bc->fix[1] = bc->condition != MPGM_COND_SLIP || bc->select == MPGM_SELECT_Y;
-    } else {
-      bc->condition = MPGM_COND_FIX;
-      MPGM_CALL(read_fix(&b, "fix", bc->fix));
-    }
-    const double zero[2] = {0, 0};
-    MPGM_CALL(jr_vec2(&b, "displacement", zero, bc->displacement));
-    if (s->method == MPGM_METHOD_MPM && (bc->displacement[0] != 0.0 || bc->displacement[1] != 0.0))
-      return jr_fail(&b, "displacement", "expected [0, 0] with method mpm (the background grid is reset "
-                     "every step; prescribed displacements need persistent nodes: method fem), found "
-                     "[%g, %g]", bc->displacement[0], bc->displacement[1]);
-    MPGM_CALL(jr_end(&b));
-  }
-  return 0;
-}
-
-/* "obstacles": rigid node layers of method gmm (docs/scene-format.md). */
-static int read_obstacles(jr_node *root, mpgm_scene *s) {
-  const cJSON *arr = NULL;
-  MPGM_CALL(get_array(root, "obstacles", &arr));
-  s->nobstacle = arr ? cJSON_GetArraySize(arr) : 0;
-  if (!arr) return 0;
-  if (s->method != MPGM_METHOD_GMM)
-    return jr_fail(root, "obstacles", "obstacles are layers of fixed nodes of method gmm; found method "
-                   "%s (method mpm: a \"contact\" boundary on the grid)", mpgm_method_name(s->method));
-  if (s->nobstacle > 16) return jr_fail(root, "obstacles", "expected at most 16 obstacles, found %d", s->nobstacle);
-  MPGM_ALLOC(root->r->ctx, s->obstacles, s->nobstacle);
-  cJSON *out = cJSON_AddArrayToObject(root->out, "obstacles");
-  static const char *const sides[2][3] = {{"left", "right", NULL}, {"below", "above", NULL}};
-  for (int i = 0; i < s->nobstacle; i++) {
-    jr_node o;
-    MPGM_CALL(array_elem(root, "obstacles", arr, i, out, &o));
-    mpgm_scene_obstacle *ob = &s->obstacles[i];
-    char def[32];
-    snprintf(def, sizeof def, "obstacle%d", i);
-    MPGM_CALL(jr_str(&o, "name", def, ob->name, sizeof ob->name));
-    const cJSON *hx = jr_raw(&o, "x"), *hy = jr_raw(&o, "y");
-    if (!!hx + !!hy != 1)
-      return jr_fail(&o, NULL, "expected exactly one plane: \"x\": value or \"y\": value, found %d",
-                     !!hx + !!hy);
-    const int ax = hy ? 1 : 0;
-    const char *key = ax ? "y" : "x";
-    ob->axis = ax;
-    MPGM_CALL(jr_num(&o, key, NAN, -INFINITY, INFINITY, 0, 0, &ob->value));
-    int sd;
-    MPGM_CALL(jr_enum(&o, "side", sides[ax], -1, &sd));
-    ob->side = sd ? 1 : -1;
-    MPGM_CALL(jr_int(&o, "gap", 1, 1, 16, &ob->gap));
-    MPGM_CALL(jr_int(&o, "layers", 2, 1, 16, &ob->layers));
-    MPGM_CALL(jr_end(&o));
-    /* on a grid line: the layers are aligned with the grid of mesh.domain */
-    const double k = (ob->value - s->dom_min[ax]) / s->h;
-    if (fabs(k - nearbyint(k)) > 1e-6)
-      return jr_fail(&o, key, "expected a plane on a grid line (%c = %g + k h, h = mesh.h = %g), "
-                     "found %g", "xy"[ax], s->dom_min[ax], s->h, ob->value);
-    /* every body on the free side of the plane (touching it is allowed) */
-    const double tol = 1e-9 * s->h;
-    for (int b = 0; b < s->nbody; b++) {
-      const mpgm_scene_body *bd = &s->bodies[b];
-      if (ob->side < 0 ? bd->min[ax] < ob->value - tol : bd->max[ax] > ob->value + tol)
-        return jr_fail(&o, key, "expected every body on the free side of the plane (%s %c = %g), "
-                       "found body \"%s\" reaching %c = %g", ob->side < 0 ? (ax ? "above" : "right of")
-                       : (ax ? "below" : "left of"), "xy"[ax], ob->value, bd->name, "xy"[ax],
-                       ob->side < 0 ? bd->min[ax] : bd->max[ax]);
-    }
   }
   return 0;
 }
@@ -581,7 +348,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
     if (s->fields & (1u << i)) cJSON_AddItemToArray(a, cJSON_CreateString(field_names[i]));
   /* times: steps end on them and VTK is written there */
   const cJSON *t = NULL;
-  MPGM_CALL(get_array(&o, "times", &t));
+  MPGM_CALL(mpgm_scene_get_array(&o, "times", &t));
   s->ntimes = 0;
   if (t && cJSON_GetArraySize(t) > 64)
     return jr_fail(&o, "times", "expected at most 64 times, found %d", cJSON_GetArraySize(t));
@@ -740,8 +507,8 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
                      "symmetric matrix (use \"umfpack\" or \"auto\")", s->solver->name);
   }
   MPGM_CALL(read_bodies(root, s));
-  MPGM_CALL(read_boundaries(root, s));
-  MPGM_CALL(read_obstacles(root, s));
+  MPGM_CALL(mpgm_scene_read_boundaries(root, s));
+  MPGM_CALL(mpgm_scene_read_obstacles(root, s));
   const double g0[2] = {0, 0};
   MPGM_CALL(jr_vec2(root, "gravity", g0, s->gravity));
   MPGM_CALL(read_probes(root, s));
