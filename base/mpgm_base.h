@@ -87,6 +87,8 @@ typedef struct mpgm_ctx {
                               radius that held fewer than min_nodes   */
   long n_cloud_enlargements; /**< meshfree clouds: next-nearest nodes
                               added after a failed evaluation          */
+  long n_nodes_merged;   /**< GMM: node-steps left out for being closer
+                              than mesh.min_node_distance to another  */
   long n_cold_restarts;  /**< meshfree: failed warm-started evaluations
                               (LME multiplier) retried from zero       */
 } mpgm_ctx;

@@ -149,6 +149,9 @@ typedef struct mpgm_scene {
   double min_node_mass;     /**< MPM: grid nodes lighter than this fraction
                                  of the step's heaviest node get no
                                  equations (default 1e-2)               */
+  double min_node_distance; /**< GMM on the grid: a free node closer than
+                                 this times h to a lower-numbered free
+                                 node is left out of the step (0: off)  */
   double dom_min[2], dom_max[2]; /**< domain box [m]                   */
   /* kinematics and time */
   int kinematics;           /**< mpgm_kinematics                       */

@@ -88,6 +88,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "radius_growths", (double)ctx->n_radius_growths);
   cJSON_AddNumberToObject(c, "cloud_enlargements", (double)ctx->n_cloud_enlargements);
   cJSON_AddNumberToObject(c, "shape_cold_restarts", (double)ctx->n_cold_restarts);
+  cJSON_AddNumberToObject(c, "nodes_merged", (double)ctx->n_nodes_merged);
   cJSON_AddNumberToObject(c, "step_cuts", (double)pb->step_cuts);
   cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
   cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)pb->lu_steps);

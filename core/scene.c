@@ -427,6 +427,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_enum(&mesh, "cell", cell_names, MPGM_CELL_Q4, &s->cell));
   MPGM_CALL(jr_int(&mesh, "ppc", s->cell == MPGM_CELL_Q4 ? 4 : 3, 1, 9, &s->ppc));
   MPGM_CALL(jr_num(&mesh, "min_node_mass", 1e-2, 0.0, 0.5, 0, 1, &s->min_node_mass));
+  MPGM_CALL(jr_num(&mesh, "min_node_distance", 0.0, 0.0, 1.0, 0, 1, &s->min_node_distance));
   {
     double xi[18], w[9];
     if (mpgm_fe_gauss(s->cell, s->ppc, xi, w))

@@ -55,6 +55,9 @@ typedef struct gmm_data {
   double r0;             /**< support radius of the kind [m]                  */
   int min_nodes;         /**< smallest cloud                                  */
   double *lambda;        /**< LME multiplier per point (warm start), 2 each   */
+  unsigned char *merged; /**< per node: left out of this step's clouds for
+                              being close to another node (grid-filled)     */
+  double dmin;           /**< that distance [m] (0: off)                      */
   double *rad;           /**< search radius of every point this step [m]      */
   int *cptr;             /**< clouds of the search: CSR over the points       */
   int *cidx;
@@ -72,6 +75,7 @@ static void gmm_destroy(mpgm_problem *pb) {
   mpgm_gmm_grid_destroy(&d->grid);
   mpgm_kdtree_destroy(&d->tree);
   free(d->lambda);
+  free(d->merged);
   free(d->rad);
   free(d->cptr);
   free(d->cidx);
@@ -107,6 +111,10 @@ static int gmm_setup(mpgm_problem *pb) {
     d->fem = pb->fe_data;
     pb->fe_data = d;
     MPGM_CALL(err);
+  }
+  if (d->grid && s->min_node_distance > 0.0) {
+    d->dmin = s->min_node_distance * s->h;
+    MPGM_ALLOC(ctx, d->merged, pb->nodes.n);
   }
   d->min_nodes = s->min_nodes > 0 ? s->min_nodes : d->par.order == 2 ? 12 : 6;
   const int m = pb->pts.n + pb->pts.nprobe + pb->pts.nsurf;
@@ -146,10 +154,69 @@ static int grow_out(mpgm_ctx *ctx, gmm_data *d, int need) {
   return 0;
 }
 
-/* Nodes within r of x into idx (at most cap); returns the count (which may
- * exceed cap: then idx holds the cap nearest). */
+/* Drop the merged nodes from a search result of n (of which min(n, cap)
+ * are in idx, d2); returns the new count. */
+static int drop_merged(const gmm_data *d, int n, int cap, int *idx, double *d2) {
+  if (!d->merged) return n;
+  const int have = n < cap ? n : cap;
+  int k = 0;
+  for (int a = 0; a < have; a++) {
+    if (d->merged[idx[a]]) continue;
+    idx[k] = idx[a];
+    d2[k++] = d2[a];
+  }
+  return n - (have - k);
+}
+
+/* Nodes within r of x into idx (at most cap), merged nodes left out;
+ * returns the count (which may exceed cap: then idx holds the cap
+ * nearest). */
 static int cloud(const gmm_data *d, const double x[2], double r, int cap, int *idx, double *d2) {
-  return mpgm_kdtree_radius(d->tree, x, r, cap, idx, d2);
+  return drop_merged(d, mpgm_kdtree_radius(d->tree, x, r, cap, idx, d2), cap, idx, d2);
+}
+
+/* The squared distance of the (n+1)-th nearest node that is not merged
+ * (the nearest outside a cloud of n) into *dn2; 0 when there is none. */
+static int next_nearest(const gmm_data *d, const double x[2], int n, double *dn2) {
+  enum { CAP = 2 * MPGM_SHAPE_MAXNODE + 2 };
+  int ib[CAP];
+  double db[CAP];
+  for (int kq = n + 1;; kq = kq * 2 < CAP ? kq * 2 : CAP) {
+    const int kk = mpgm_kdtree_knn(d->tree, x, kq, ib, db);
+    for (int a = 0, cnt = 0; a < kk; a++) {
+      if (d->merged && d->merged[ib[a]]) continue;
+      if (cnt++ == n) {
+        *dn2 = db[a];
+        return 1;
+      }
+    }
+    if (kk < kq || kq == CAP) return 0;
+  }
+}
+
+/* Close nodes (mesh.min_node_distance): in node order, a free body node
+ * not merged itself merges every free body node of higher number within
+ * dmin of it. Two nodes that close carry nearly the same shape function at
+ * every point (N_a / w_a depends on x_a continuously), so the difference
+ * of their coefficients is a nearly singular mode of K and M; a merged
+ * node is left out of every cloud for the step, parked by the light-node
+ * rule (it has no mass) and carried along with its neighbours. */
+static void merge_close(mpgm_problem *pb, gmm_data *d) {
+  const mpgm_nodes *nd = &pb->nodes;
+  const gmm_grid *g = d->grid;
+  memset(d->merged, 0, (size_t)nd->n);
+  int idx[64];
+  double d2[64];
+  for (int i = 0; i < nd->n; i++) {
+    if (d->merged[i] || g->obst[i] || g->fix0[2 * i] || g->fix0[2 * i + 1]) continue;
+    const int k = mpgm_kdtree_radius(d->tree, nd->x + 2 * i, d->dmin, 64, idx, d2);
+    for (int a = 0; a < k && a < 64; a++) {
+      const int j = idx[a];
+      if (j <= i || d->merged[j] || g->obst[j] || g->fix0[2 * j] || g->fix0[2 * j + 1]) continue;
+      d->merged[j] = 1;
+      pb->ctx->n_nodes_merged++;
+    }
+  }
 }
 
 static void sort_by_node(int n, int *idx) {
@@ -172,6 +239,7 @@ static int search_clouds(mpgm_problem *pb, gmm_data *d) {
   const int m = P->n + P->nprobe + P->nsurf, nnode = pb->nodes.n;
   const int want = d->min_nodes < nnode ? d->min_nodes : nnode;
   MPGM_CALL(mpgm_kdtree_rebuild(ctx, d->tree, pb->nodes.x, nnode));
+  if (d->merged) merge_close(pb, d);
   size_t cap = (size_t)d->ccap;
   int idx[MPGM_SHAPE_MAXNODE];
   double d2[MPGM_SHAPE_MAXNODE];
@@ -243,15 +311,16 @@ static int shape_point(mpgm_problem *pb, gmm_data *d, int p, int *k, double *t_s
     if (err != MPGM_ERR_SHAPE || enl >= s->max_enlarge) break;
     /* enlarge: the next-nearest node outside the cloud */
     const double t0 = mpgm_wtime();
-    int kk = mpgm_kdtree_knn(d->tree, x, n + 1, idx, d2);
+    double dn2;
+    const int more = next_nearest(d, x, n, &dn2);
     int nn = n;
-    if (kk == n + 1) {
-      r = fmax(r * (1.0 + 1e-9), MPGM_SHAPE_ENLARGE * sqrt(d2[n]));
+    if (more) {
+      r = fmax(r * (1.0 + 1e-9), MPGM_SHAPE_ENLARGE * sqrt(dn2));
       nn = cloud(d, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
     }
     *t_search += mpgm_wtime() - t0;
-    if (kk < n + 1 || nn > MPGM_SHAPE_MAXNODE) { /* no node left, or the cloud is full */
-      info.msg = kk < n + 1 ? "every node is in the cloud already"
+    if (!more || nn > MPGM_SHAPE_MAXNODE) { /* no node left, or the cloud is full */
+      info.msg = !more ? "every node is in the cloud already"
                             : "the enlarged cloud would exceed MPGM_SHAPE_MAXNODE nodes";
       break;
     }

@@ -3,7 +3,8 @@
  * radius (MLS, LME), the connectivity reproduces constants and linear
  * fields with their gradients, radius growth reaches shape.min_nodes,
  * cloud enlargement rescues a quadratic MLS basis on a too-small support,
- * and a point that cannot be rescued fails with a recoverable error.
+ * a point that cannot be rescued fails with a recoverable error, and a
+ * node too close to another (mesh.min_node_distance) leaves the clouds.
  *
  * Tolerances: linear reproduction of LME holds to its Newton tolerance,
  * |sum N_a x_a - x| < tol_newton h = 1e-10 h; gradients (centred form) and
@@ -258,6 +259,73 @@ static void run_enlarge(const char *path) {
   destroy(&s, &pb);
 }
 
+/* mesh.min_node_distance (grid-filled GMM): a node moved to 0.2 h from a
+ * lower-numbered neighbour is left out of every cloud and parked (fixed)
+ * for the step; the other points' functions are evaluated without it, so
+ * they still reproduce linear fields exactly; with the rule off (0) the
+ * node stays in the clouds. */
+static void run_merge(const char *path) {
+  for (int on = 0; on < 2; on++) {
+    const char *sets[] = {"obstacles=[{\"y\": 0.0201, \"side\": \"below\"}]", "boundaries=[]",
+                          on ? "mesh.min_node_distance=0.3" : "mesh.min_node_distance=0"};
+    const char *label = on ? "min_node_distance 0.3" : "min_node_distance 0";
+    mpgm_ctx ctx;
+    mpgm_scene *s;
+    mpgm_problem *pb;
+    int err = make(path, 3, sets, &ctx, &s, &pb);
+    if (!err) err = pb->fe->begin_step(pb);
+    mpgm_test(err == 0 && ctx.n_nodes_merged == 0,
+              "%s: grid-filled body, first step: no node merged (%ld) (%s)", label,
+              ctx.n_nodes_merged, err ? ctx.msg : "ok");
+    if (err) {
+      destroy(&s, &pb);
+      continue;
+    }
+    /* the body node nearest the body's centre, and its nearest higher-numbered free neighbour */
+    const double *X = pb->nodes.x, h = s->h;
+    int i = -1, j = -1;
+    double best = INFINITY;
+    for (int a = 0; a < pb->nodes.n; a++) {
+      const double dx = X[2 * a] - 1.5, dy = X[2 * a + 1] - 0.55, d = dx * dx + dy * dy;
+      if (!pb->nodes.fix[2 * a] && d < best) best = d, i = a;
+    }
+    best = INFINITY;
+    for (int a = i + 1; a < pb->nodes.n; a++) {
+      const double dx = X[2 * a] - X[2 * i], dy = X[2 * a + 1] - X[2 * i + 1], d = dx * dx + dy * dy;
+      if (!pb->nodes.fix[2 * a] && d < best) best = d, j = a;
+    }
+    mpgm_test(i >= 0 && j > i && fabs(sqrt(best) - h) < 1e-9 * h,
+              "%s: neighbours %d and %d, h apart", label, i, j);
+    if (i < 0 || j <= i) {
+      destroy(&s, &pb);
+      continue;
+    }
+    pb->nodes.x[2 * j] = X[2 * i] + 0.2 * (X[2 * j] - X[2 * i]);
+    pb->nodes.x[2 * j + 1] = X[2 * i + 1] + 0.2 * (X[2 * j + 1] - X[2 * i + 1]);
+    err = pb->fe->begin_step(pb);
+    int uses = 0;
+    for (int k = 0; !err && k < pb->conn.ptr[pb->pts.n + pb->pts.nprobe]; k++) uses += pb->conn.node[k] == j;
+    double worst = 0.0;
+    const int bad = err ? -1 : check_reproduction(pb, 0, &worst);
+    if (on) {
+      mpgm_test(err == 0 && ctx.n_nodes_merged == 1 && uses == 0 && pb->nodes.fix[2 * j] &&
+                    pb->nodes.fix[2 * j + 1] && !pb->nodes.fix[2 * i],
+                "%s: node %d at 0.2 h from node %d: merged (%ld), in no cloud (%d uses), parked "
+                "(fixed) for the step, node %d free (%s)",
+                label, j, i, ctx.n_nodes_merged, uses, i, err ? ctx.msg : "ok");
+      mpgm_test(bad == 0,
+                "%s: functions evaluated without the merged node reproduce linear fields at every "
+                "point (worst %.2e <= %.0e; %d bad)",
+                label, worst, TOL_REPRO, bad);
+    } else {
+      mpgm_test(err == 0 && ctx.n_nodes_merged == 0 && uses > 0 && !pb->nodes.fix[2 * j],
+                "%s: node %d at 0.2 h from node %d stays in %d clouds, free (%s)", label, j, i,
+                uses, err ? ctx.msg : "ok");
+    }
+    destroy(&s, &pb);
+  }
+}
+
 int main(void) {
   char dir[] = "/tmp/mpgm_test_gmm_XXXXXX";
   if (!mkdtemp(dir)) {
@@ -273,6 +341,7 @@ int main(void) {
     run_kind(path, "lme");
     run_growth(path);
     run_enlarge(path);
+    run_merge(path);
   }
   remove(path);
   rmdir(dir);
