@@ -10,15 +10,7 @@ set -uo pipefail
 exe="$(realpath "$1")"; src="$(realpath "$2")"; work="$3"
 rm -rf "$work"; mkdir -p "$work"; work="$(realpath "$work")"
 cd "$work" || exit 1
-npass=0; nfail=0
-ok() { echo "PASS: $1"; npass=$((npass + 1)); }
-ko() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
-expect() { # code, needle, description, command...
-  local code="$1" needle="$2" what="$3"; shift 3
-  "$@" > out.txt 2> err.txt; local rc=$?
-  if [ $rc -eq "$code" ] && grep -qF -- "$needle" err.txt; then ok "$what (exit $rc)"
-  else ko "$what: exit $rc (expected $code), stderr: $(head -c 400 err.txt)"; fi
-}
+source "$src/tests/tools/checks.bash"
 "$exe" run "$src/cases/column_collapse.json" --quiet --set mesh.h=0.1 --set time.dt=0.01 --set time.end=0.2 \
   --set 'output.times=[0.1]' --set output.every=1000 --out cc > cc.log 2>&1 || { ko "column collapse run"; cat cc.log; }
 "$exe" run "$src/cases/cantilever.json" --quiet --set mesh.h=0.5 --set output.vtk=ascii --out cl > cl.log 2>&1 \
