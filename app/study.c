@@ -191,6 +191,44 @@ static void log_message(const mpgm_study *st, const study_run *r, char *buf, siz
   fclose(f);
 }
 
+/* Drop the empty objects of a saved scene: mpgm before 2026-11 wrote an
+ * absent optional object (a body's "geostatic") as {}, which does not load. */
+static void prune_empty(cJSON *j) {
+  cJSON *c = j->child;
+  while (c) {
+    cJSON *next = c->next;
+    if (cJSON_IsObject(c) || cJSON_IsArray(c)) prune_empty(c);
+    if (cJSON_IsObject(c) && !c->child) cJSON_Delete(cJSON_DetachItemViaPointer(j, c));
+    c = next;
+  }
+}
+
+/* Does the scene an earlier run wrote (saved, made comparable) describe
+ * run r? Equal trees do. Otherwise the saved scene is read again by this
+ * mpgm: a key added to the scene format since that run fills in with its
+ * default, which is what that run used (a new key's default keeps the old
+ * behaviour), so the run stays valid unless a value really differs. */
+static int same_scene(const mpgm_study *st, const study_run *r, const cJSON *saved) {
+  if (cJSON_Compare(saved, r->resolved, 1)) return 1;
+  char name[STUDY_PATH + STUDY_NAME + 32];
+  mpgm_study_run_dir(st, r, name, sizeof name);
+  strncat(name, "/summary.json: scene", sizeof name - strlen(name) - 1);
+  mpgm_ctx c;
+  mpgm_ctx_init(&c);
+  mpgm_scene *s = NULL;
+  cJSON *old = cJSON_Duplicate(saved, 1);
+  if (!old) return 0;
+  prune_empty(old);
+  const int err = mpgm_scene_load_json(&c, name, old, &s);
+  cJSON_Delete(old);
+  if (err) return 0; /* not a scene this mpgm reads: stale */
+  cJSON *now = (cJSON *)s->resolved;
+  comparable(now);
+  const int same = cJSON_Compare(now, r->resolved, 1);
+  mpgm_scene_destroy(&s);
+  return same;
+}
+
 /* Is run r complete from an earlier session? Fills status and message. */
 static int complete_earlier(const mpgm_study *st, study_run *r, int rerun_failed, int *stale) {
   *stale = 0;
@@ -201,7 +239,7 @@ static int complete_earlier(const mpgm_study *st, study_run *r, int rerun_failed
   const char *status = cJSON_GetObjectItemCaseSensitive(s, "status")->valuestring;
   const cJSON *msg = cJSON_GetObjectItemCaseSensitive(s, "message");
   int done = 0;
-  if (!r->resolved || !cJSON_Compare(scene, r->resolved, 1)) *stale = 1;
+  if (!r->resolved || !same_scene(st, r, scene)) *stale = 1;
   else if (!rerun_failed || strcmp(status, "completed") == 0) done = 1;
   if (done) {
     snprintf(r->status, sizeof r->status, "%s", status);

@@ -230,6 +230,11 @@ typedef struct mpgm_scene {
  *  read) with the message in ctx; *out is NULL then. */
 int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
                     const char *const *sets, mpgm_scene **out);
+/** Load and validate a scene given as a cJSON object (borrowed, not
+ *  changed), e.g. the resolved scene an earlier run wrote into its
+ *  summary.json; name stands for the file in messages. Errors as
+ *  mpgm_scene_load. */
+int mpgm_scene_load_json(mpgm_ctx *ctx, const char *name, const void *json, mpgm_scene **out);
 /** Read one material as a scene's "materials" entry describes it (type,
  *  density, the type's parameters; then its setup) from the cJSON object
  *  json (borrowed); file and path (e.g. "material") name it in messages.

@@ -249,6 +249,8 @@ static int read_bodies(jr_node *root, mpgm_scene *s) {
       MPGM_CALL(jr_num(&geo, "surface", NAN, -INFINITY, INFINITY, 0, 0, &body->surface));
       MPGM_CALL(jr_num(&geo, "k0", NAN, 0.0, 10.0, 0, 0, &body->k0));
       MPGM_CALL(jr_end(&geo));
+    } else if (b.out) { /* absent: no empty object in the resolved scene, which must load again */
+      cJSON_DeleteItemFromObjectCaseSensitive(b.out, "geostatic");
     }
     MPGM_CALL(jr_end(&b));
     const double tol[2] = {1e-12 * (s->dom_max[0] - s->dom_min[0]), 1e-12 * (s->dom_max[1] - s->dom_min[1])};
@@ -537,11 +539,9 @@ static int parse_sets(mpgm_ctx *ctx, const char *file, int nset, const char *con
   return 0;
 }
 
-int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
-                    const char *const *sets, mpgm_scene **out) {
-  *out = NULL;
-  cJSON *doc = NULL;
-  MPGM_CALL(jr_parse_file(ctx, file, &doc));
+/* Read the scene doc (owned, freed here) named file, with overrides. */
+static int scene_read(mpgm_ctx *ctx, const char *file, cJSON *doc, int nset,
+                      const char *const *sets, mpgm_scene **out) {
   mpgm_scene *s = calloc(1, sizeof *s);
   jr_override *ov = calloc(nset ? nset : 1, sizeof *ov);
   int err = (!s || !ov) ? mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory") : 0;
@@ -569,6 +569,22 @@ int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
   }
   *out = s;
   return 0;
+}
+
+int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
+                    const char *const *sets, mpgm_scene **out) {
+  *out = NULL;
+  cJSON *doc = NULL;
+  MPGM_CALL(jr_parse_file(ctx, file, &doc));
+  return scene_read(ctx, file, doc, nset, sets, out);
+}
+
+int mpgm_scene_load_json(mpgm_ctx *ctx, const char *name, const void *json, mpgm_scene **out) {
+  *out = NULL;
+  MPGM_CHECK(ctx, cJSON_IsObject((const cJSON *)json), MPGM_ERR_INPUT, "%s: expected a JSON object (a scene)", name);
+  cJSON *doc = cJSON_Duplicate((const cJSON *)json, 1);
+  MPGM_CHECK(ctx, doc, MPGM_ERR_NOMEM, "out of memory (scene %s)", name);
+  return scene_read(ctx, name, doc, 0, NULL, out);
 }
 
 void mpgm_scene_destroy(mpgm_scene **sp) {
