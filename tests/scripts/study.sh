@@ -4,7 +4,8 @@
 # run, the run keys, status and the summaries' metrics, the same numbers as
 # `mpgm run`, and PNG + SVG plots; a second call skips every run; a study
 # killed (SIGTERM, SIGKILL) and called again completes, re-running only what
-# had no summary; a changed scene makes its runs stale; a run that fails at
+# had no summary; a changed scene makes its runs stale, a summary from
+# before a new scene key (at its default) does not; a run that fails at
 # a step and one with bad input found at mesh time are rows, not the end of
 # the study; bad study files stop with exit 2 and the JSON path; `mpgm plot`
 # without gnuplot on PATH says so and exits 3.
@@ -88,6 +89,29 @@ sed -i 's/"E": 90.0e6/"E": 95.0e6/' mine.json
 "$exe" study stale.json --no-plot > /dev/null 2> stale.err; rc=$?
 [ $rc -eq 0 ] && grep -q "stale" stale.err && grep -q "completed" stale.err \
   && ok "a run of a changed scene is stale and runs again" || ko "stale (exit $rc): $(cat stale.err)"
+# a summary written before a scene key existed (the key absent; an absent
+# optional object written as {}) is of the same scene when the key's default
+# is the old behaviour: not stale; a value that differs still is
+sum="results/stale/runs/mesh.h=0.5/summary.json"
+python3 - "$sum" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+del s["scene"]["mesh"]["min_node_distance"]
+s["scene"]["bodies"][0]["geostatic"] = {}
+json.dump(s, open(sys.argv[1], "w"))
+PY
+"$exe" study stale.json --no-plot > /dev/null 2> old.err; rc=$?
+[ $rc -eq 0 ] && grep -q "\] skip " old.err && ! grep -q "\] running" old.err \
+  && ok "a summary from before a new scene key (default = old behaviour) is not stale" || ko "old summary (exit $rc): $(cat old.err)"
+python3 - "$sum" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+s["scene"]["mesh"]["min_node_distance"] = 0.3
+json.dump(s, open(sys.argv[1], "w"))
+PY
+"$exe" study stale.json --no-plot > /dev/null 2> old2.err; rc=$?
+[ $rc -eq 0 ] && grep -q "\] stale " old2.err \
+  && ok "a summary with another value of the new key is stale" || ko "new key changed (exit $rc): $(cat old2.err)"
 
 # --- failed and bad-input runs are rows ------------------------------------
 cat > fail.json <<EOF
