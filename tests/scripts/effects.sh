@@ -27,6 +27,9 @@ check('"inertia":\tfalse' in txt and '"gravity":\ttrue' in txt and '"geometric_s
 S = {k: json.load(open(f"{w}/{k}/summary.json")) for k in ("static", "small", "nograv", "dyn")}
 for k, s in S.items():
     check(s["status"] == "completed", f"{k}: run completed ({s['message']})")
+for k, s in S.items():  # processor time of the run beside its wall time
+    check(0 < s["cpu_s"] < 10 * s["time_s"]["total"] * s["threads"] + 1,
+          f"{k}: cpu_s {s['cpu_s']:.3g} s beside wall {s['time_s']['total']:.3g} s")
 s = S["static"]
 check(s["effects"]["inertia"] is False and s["counts"]["inertia_loops"] == 0 and s["time_s"]["mass"] == 0,
       "static: no inertia loop ran, mass timer is zero")
