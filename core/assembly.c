@@ -181,18 +181,22 @@ static void newmark_correct(mpgm_problem *pb) {
   }
 }
 
-/* Add a local matrix kl (4 nk^2, blocks (a, b) of 2 x 2) into K without a
- * stored map: for every column node, one merge of its sorted neighbour list
- * with the nodes sorted gives each row node's place (the work of building
- * a map, done at each assembly). Node clouds (one point per group, 20-40
- * nodes) would need maps of hundreds of MB (47 000 points x 4 x 24^2 ints
- * for LME-MPM on the rolling disk), each used once or twice. */
-static void flush_merge(mpgm_problem *pb, const int *nodes, int nk, const double *kl) {
+/* Add the summed matrix of a batch (blocks (a, b) of 2 x 2 at kb + 4 (a B
+ * + b), B = MPGM_ASM_BATCH, over the union nodes[0..nk)) into K without a
+ * stored map, and zero it: for every column node, one merge of its sorted
+ * neighbour list with the nodes sorted gives each row node's place (the
+ * work of building a map, done at each assembly). Node clouds (one point
+ * per group, 20-60 nodes) would need maps of hundreds of MB (47 000 points
+ * x 4 x 24^2 ints for LME-MPM on the rolling disk), each used once or
+ * twice. Only the nonzero entries are added: a pair of the union that no
+ * point of the batch couples has a zero block, and may be missing from the
+ * pattern or belong to another task running at the same time. */
+static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb) {
   const mpgm_nodes *nd = &pb->nodes;
   const int *dof = nd->dof;
   const unsigned char *fix = nd->fix;
   double *val = pb->K.val;
-  int srt[MPGM_SHAPE_MAXNODE], tl[MPGM_SHAPE_MAXNODE];
+  int srt[MPGM_ASM_BATCH], tl[MPGM_ASM_BATCH];
   for (int a = 0; a < nk; a++) {
     int w = a;
     while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
@@ -207,18 +211,21 @@ static void flush_merge(mpgm_problem *pb, const int *nodes, int nk, const double
     for (int q = 0; q < nk; q++) {
       const int a = srt[q];
       while (t < tend && pb->nbr[t] < nodes[a]) t++;
-      tl[a] = t; /* the pattern holds every pair of a group (pattern_build) */
+      tl[a] = t < tend && pb->nbr[t] == nodes[a] ? t : -1; /* -1: not coupled */
     }
-    for (int j = 0; j < 2; j++) {
-      const int col = dof[2 * J + j];
-      if (col < 0 || fix[2 * J + j]) continue;
-      const int base = pb->K.colptr[col];
-      for (int a = 0; a < nk; a++) {
-        const int I = nodes[a], pos0 = base + pb->nbr_off[tl[a]];
-        const double *e = kl + 4 * (a * nk + b);
-        if (dof[2 * I] >= 0 && !fix[2 * I]) val[pos0] += e[j];
-        if (dof[2 * I + 1] >= 0 && !fix[2 * I + 1]) val[pos0 + (dof[2 * I] >= 0)] += e[2 + j];
+    for (int a = 0; a < nk; a++) {
+      double *e = kb + 4 * (a * MPGM_ASM_BATCH + b);
+      if (tl[a] < 0 || (e[0] == 0.0 && e[1] == 0.0 && e[2] == 0.0 && e[3] == 0.0)) continue;
+      const int I = nodes[a];
+      const int rx = dof[2 * I] >= 0 && !fix[2 * I], ry = dof[2 * I + 1] >= 0 && !fix[2 * I + 1];
+      for (int j = 0; j < 2; j++) {
+        const int col = dof[2 * J + j];
+        if (col < 0 || fix[2 * J + j]) continue;
+        const int pos0 = pb->K.colptr[col] + pb->nbr_off[tl[a]];
+        if (rx) val[pos0] += e[j];
+        if (ry) val[pos0 + (dof[2 * I] >= 0)] += e[2 + j];
       }
+      e[0] = e[1] = e[2] = e[3] = 0.0;
     }
   }
 }
@@ -319,21 +326,69 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
         const double *up = kl + 4 * (b * nkg + a);
         lo[0] = up[0]; lo[1] = up[2]; lo[2] = up[1]; lo[3] = up[3];
       }
-  if (pb->nomap) {
-    flush_merge(pb, C->node + C->ptr[pb->order[t0]], nkg, kl);
-    return;
-  }
+  if (pb->nomap) return; /* summed into the batch by assemble_batch */
   const int *sc = pb->scatter + pb->scatter_ptr[g];
   double *val = pb->K.val;
   for (int q = 0; q < 4 * nkg * nkg; q++)
     if (sc[q] >= 0) val[sc[q]] += kl[q];
 }
 
+_Static_assert(MPGM_ASM_BATCH >= MPGM_SHAPE_MAXNODE, "a batch holds at least one cloud");
+
+/* Node clouds: the groups of task t in batches of consecutive groups
+ * (near one another: the group order is by first node) whose clouds' union
+ * has at most MPGM_ASM_BATCH nodes. Each group's local matrix is summed
+ * into the batch's, and the batch is merged into K once: points of one
+ * neighbourhood share most of their nodes, so K's entries (the cache
+ * misses of the merge) are written once per batch, not once per point. */
+static void assemble_batch(const asm_job *j, int t, int tid) {
+  mpgm_problem *pb = j->pb;
+  const mpgm_conn *C = &pb->conn;
+  const int B = MPGM_ASM_BATCH;
+  double *kl = pb->kloc + (size_t)tid * (size_t)pb->kloc_size;
+  double *kb = pb->kbatch + (size_t)tid * 4 * B * B;
+  int *slot = pb->kslot + (size_t)tid * (size_t)pb->kslot_n;
+  int bn[MPGM_ASM_BATCH], loc[MPGM_SHAPE_MAXNODE], nb = 0;
+  for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++) {
+    const int g = pb->task_grp[i], p = pb->order[pb->grp_ptr[g]];
+    const int *nodes = C->node + C->ptr[p], nk = C->ptr[p + 1] - C->ptr[p];
+    int fresh = 0;
+    for (int a = 0; a < nk; a++) fresh += slot[nodes[a]] < 0;
+    if (nb + fresh > B) {
+      flush_batch(pb, bn, nb, kb);
+      for (int q = 0; q < nb; q++) slot[bn[q]] = -1;
+      nb = 0;
+    }
+    for (int a = 0; a < nk; a++) {
+      if (slot[nodes[a]] < 0) {
+        slot[nodes[a]] = nb;
+        bn[nb++] = nodes[a];
+      }
+      loc[a] = slot[nodes[a]];
+    }
+    assemble_group(j, g, kl);
+    for (int a = 0; a < nk; a++)
+      for (int b = 0; b < nk; b++) {
+        const double *e = kl + 4 * (a * nk + b);
+        double *f = kb + 4 * (loc[a] * B + loc[b]);
+        f[0] += e[0];
+        f[1] += e[1];
+        f[2] += e[2];
+        f[3] += e[3];
+      }
+  }
+  if (nb == 0) return;
+  flush_batch(pb, bn, nb, kb);
+  for (int q = 0; q < nb; q++) slot[bn[q]] = -1;
+}
+
 static void assemble_task(void *arg, int task, int tid) {
   const asm_job *j = arg;
   const mpgm_problem *pb = j->pb;
   const int t = j->t0 + task;
-  if (j->want_K) {
+  if (j->want_K && pb->nomap) {
+    assemble_batch(j, t, tid);
+  } else if (j->want_K) {
     double *kl = pb->kloc + (size_t)tid * (size_t)pb->kloc_size;
     for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++) assemble_group(j, pb->task_grp[i], kl);
   } else { /* residual only: the task's points as one flat list, in the

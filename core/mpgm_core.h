@@ -172,6 +172,10 @@ typedef struct mpgm_newton_info {
 /** Chunks of the threaded assembly; a constant, so that the order of the
  *  sums does not depend on the number of threads. */
 #define MPGM_ASM_CHUNKS 16
+/* Largest union of node clouds a batch of points may have in the
+ * clouds' assembly (assembly.c, assemble_batches); at least the largest
+ * cloud, MPGM_SHAPE_MAXNODE. */
+#define MPGM_ASM_BATCH 128
 
 /** First assembly task of phase ph (0..3; 4 gives the end): chunk
  *  interiors 0..C-1, interfaces between chunks c and c+1 with c even, with
@@ -229,6 +233,13 @@ struct mpgm_problem {
   double *kloc;      /**< local matrices of the groups, one per thread
                           (kloc_size doubles each)                      */
   int kloc_size;     /**< 4 max n_p^2                                    */
+  double *kbatch;    /**< node clouds: per thread, the summed local matrix
+                          of a batch of nearby points over the union of
+                          their clouds (4 MPGM_ASM_BATCH^2 doubles, zero
+                          between batches), merged into K once (assembly.c) */
+  int *kslot;        /**< node clouds: per thread and node, its place in
+                          the batch's union (-1: none); kslot_n each     */
+  int kslot_n;       /**< nodes kslot has room for, per thread           */
   /* threads (docs/architecture.md, "Threads"): the groups are cut into
    * MPGM_ASM_CHUNKS chunks along the group order; the assembly runs as
    * tasks over groups that share no node with another task of the same

@@ -333,8 +333,21 @@ static int scatter_maps(mpgm_problem *pb) {
   }
   MPGM_CHECK(ctx, ns <= INT32_MAX, MPGM_ERR_NOMEM, "scatter map of %zu entries", ns);
   /* node clouds (meshfree kinds): no stored maps, see flush_merge */
-  pb->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE;
-  if (pb->nomap) ns = 0;
+  pb->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE && maxk <= MPGM_ASM_BATCH;
+  if (pb->nomap) {
+    ns = 0;
+    /* the batches' buffers, kept from step to step (zero between batches) */
+    const size_t nt = (size_t)mpgm_pool_size(pb->pool);
+    if (!pb->kbatch) pb->kbatch = calloc(nt * 4 * MPGM_ASM_BATCH * MPGM_ASM_BATCH, sizeof(double));
+    if (pb->kslot_n < nd->n) {
+      free(pb->kslot);
+      pb->kslot = malloc(nt * (size_t)nd->n * sizeof(int));
+      pb->kslot_n = pb->kslot ? nd->n : 0;
+      if (pb->kslot)
+        for (size_t i = 0; i < nt * (size_t)nd->n; i++) pb->kslot[i] = -1;
+    }
+    MPGM_CHECK(ctx, pb->kbatch && pb->kslot, MPGM_ERR_NOMEM, "out of memory (assembly batches)");
+  }
   /* the map is rebuilt every step by MPM and GMM: keep its memory and grow
    * it, rather than fault in fresh pages each time */
   if (ns > pb->scatter_cap || !pb->scatter) {

@@ -372,6 +372,8 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->node_order);
   free(pb->perm);
   free(pb->kloc);
+  free(pb->kbatch);
+  free(pb->kslot);
   free(pb->task_grp);
   free(pb->task_pts);
   mpgm_pool_destroy(&pb->pool);

@@ -83,20 +83,24 @@ static const mpgm_frontend_ops mesh_frontend = {
 
 /* ---- scene files ----------------------------------------------------------- */
 
+/* shape: NULL for method fem with FE functions (h = 0.6), else method gmm
+ * with that shape object (h = 0.15: 221 nodes, clouds of up to ~50) */
 static int write_scene(const char *dir, const char *name, int cell, const char *kin,
-                       const char *mat, int dynamic, int clamp, char *path, size_t len) {
+                       const char *mat, int dynamic, int clamp, const char *shape, char *path,
+                       size_t len) {
   snprintf(path, len, "%s/%s.json", dir, name);
   FILE *f = fopen(path, "w");
   if (!f) return -1;
   fprintf(f,
           "{\n"
           "  \"description\": \"assembly test %s\",\n"
-          "  \"method\": \"fem\",\n"
-          "  \"shape\": {\"kind\": \"fe\"},\n"
-          "  \"mesh\": {\"h\": 0.6, \"cell\": \"%s\", \"ppc\": %d,\n"
+          "  \"method\": \"%s\",\n"
+          "  \"shape\": %s,\n"
+          "  \"mesh\": {\"h\": %g, \"cell\": \"%s\", \"ppc\": %d,\n"
           "           \"domain\": {\"min\": [0.0, 0.0], \"max\": [%.17g, %.17g]}},\n"
           "  \"kinematics\": \"%s\",\n",
-          name, cell == MPGM_CELL_Q4 ? "quad" : "tri", cell == MPGM_CELL_Q4 ? 4 : 3, LX, LY, kin);
+          name, shape ? "gmm" : "fem", shape ? shape : "{\"kind\": \"fe\"}", shape ? 0.15 : 0.6,
+          cell == MPGM_CELL_Q4 ? "quad" : "tri", cell == MPGM_CELL_Q4 ? 4 : 3, LX, LY, kin);
   if (dynamic)
     fprintf(f, "  \"time\": {\"analysis\": \"dynamic\", \"dt\": %.17g, \"end\": %.17g},\n", DT,
             T_END);
@@ -186,14 +190,18 @@ typedef struct asm_case {
   const char *name;
   const char *kin, *mat;
   int dynamic;
-  int fem; /* 1: mpgm_frontend_fem with a clamp boundary; 0: this file's mesh */
+  int fem; /* 1: mpgm_frontend_fem (or gmm) with a clamp boundary; 0: this file's mesh */
+  const char *shape; /* NULL: FE; else the GMM front end with this shape object
+                      * (node clouds: K merged in batches of nearby points,
+                      * assembly.c, exercised across several batches) */
 } asm_case;
 
 static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
   const char *cn = cell == MPGM_CELL_Q4 ? "Q4" : "T3";
   char name[80], path[512];
   snprintf(name, sizeof name, "%s_%s", ac->name, cn);
-  int err = write_scene(dir, name, cell, ac->kin, ac->mat, ac->dynamic, ac->fem, path, sizeof path);
+  int err = write_scene(dir, name, cell, ac->kin, ac->mat, ac->dynamic, ac->fem, ac->shape, path,
+                        sizeof path);
   mpgm_test(err == 0, "%s: scene written", name);
   if (err) return;
   cfg.nx = 4;
@@ -211,7 +219,9 @@ static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
   err = mpgm_scene_load(&ctx, path, 0, NULL, &sc);
   mpgm_test(err == 0, "%s: scene loads (%d: %s)", name, err, ctx.msg);
   if (!err)
-    err = mpgm_problem_create(&ctx, sc, ac->fem ? &mpgm_frontend_fem : &mesh_frontend, &pb);
+    err = mpgm_problem_create(&ctx, sc,
+                              ac->shape ? &mpgm_frontend_gmm : ac->fem ? &mpgm_frontend_fem : &mesh_frontend,
+                              &pb);
   mpgm_test(err == 0, "%s: problem created (%d: %s)", name, err, ctx.msg);
   if (err) goto done;
   pb->dt = sc->dt;
@@ -360,15 +370,21 @@ int main(void) {
     return mpgm_test_summary();
   }
   const asm_case cases[] = {
-      {"mesh_small_linear_elastic_static", "small", "linear_elastic", 0, 0},
-      {"mesh_finite_neo_hookean_static", "finite", "neo_hookean", 0, 0},
-      {"mesh_finite_neo_hookean_dynamic", "finite", "neo_hookean", 1, 0},
-      {"fem_finite_neo_hookean_static", "finite", "neo_hookean", 0, 1},
-      {"fem_finite_neo_hookean_dynamic", "finite", "neo_hookean", 1, 1},
+      {"mesh_small_linear_elastic_static", "small", "linear_elastic", 0, 0, NULL},
+      {"mesh_finite_neo_hookean_static", "finite", "neo_hookean", 0, 0, NULL},
+      {"mesh_finite_neo_hookean_dynamic", "finite", "neo_hookean", 1, 0, NULL},
+      {"fem_finite_neo_hookean_static", "finite", "neo_hookean", 0, 1, NULL},
+      {"fem_finite_neo_hookean_dynamic", "finite", "neo_hookean", 1, 1, NULL},
+  };
+  const asm_case clouds[] = {
+      {"gmm_lme_finite_neo_hookean_dynamic", "finite", "neo_hookean", 1, 1,
+       "{\"kind\": \"lme\", \"gamma\": 0.8}"},
+      {"gmm_mls_finite_neo_hookean_static", "finite", "neo_hookean", 0, 1, "{\"kind\": \"mls\"}"},
   };
   rng r = {0xDA942042E4DD58B5ULL};
   for (int cell = MPGM_CELL_T3; cell <= MPGM_CELL_Q4; cell++)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) run_case(dir, &cases[i], cell, &r);
+  for (size_t i = 0; i < sizeof clouds / sizeof clouds[0]; i++) run_case(dir, &clouds[i], MPGM_CELL_T3, &r);
   mpgm_test(rmdir(dir) == 0, "temporary directory %s removed", dir);
   return mpgm_test_summary();
 }
