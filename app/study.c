@@ -174,8 +174,7 @@ static int validate(mpgm_ctx *ctx, mpgm_study *st) {
 /* Last "mpgm: " line of the run's log (its error message). */
 static void log_message(const mpgm_study *st, const study_run *r, char *buf, size_t cap) {
   char path[STUDY_PATH + STUDY_NAME + 32], line[1024];
-  mpgm_study_run_dir(st, r, path, sizeof path);
-  strncat(path, "/log.txt", sizeof path - strlen(path) - 1);
+  mpgm_study_run_dir(st, r, "log.txt", path, sizeof path);
   buf[0] = '\0';
   FILE *f = fopen(path, "r");
   if (!f) return;
@@ -211,8 +210,7 @@ static void prune_empty(cJSON *j) {
 static int same_scene(const mpgm_study *st, const study_run *r, const cJSON *saved) {
   if (cJSON_Compare(saved, r->resolved, 1)) return 1;
   char name[STUDY_PATH + STUDY_NAME + 32];
-  mpgm_study_run_dir(st, r, name, sizeof name);
-  strncat(name, "/summary.json: scene", sizeof name - strlen(name) - 1);
+  mpgm_study_run_dir(st, r, "summary.json: scene", name, sizeof name);
   mpgm_ctx c;
   mpgm_ctx_init(&c);
   mpgm_scene *s = NULL;
@@ -305,7 +303,7 @@ static void start_run(session *ss, int i) {
   mpgm_study *st = ss->st;
   study_run *r = &st->runs[i];
   char dir[STUDY_PATH + STUDY_NAME + 16], path[STUDY_PATH + STUDY_NAME + 32];
-  mpgm_study_run_dir(st, r, dir, sizeof dir);
+  mpgm_study_run_dir(st, r, NULL, dir, sizeof dir);
   mpgm_ctx c;
   mpgm_ctx_init(&c);
   r->state = RUN_DONE;
@@ -526,7 +524,7 @@ static void mark_done(session *ss, int rerun_failed, int dry) {
       const int n = run_sets(ss->st, r, ss->threads, sets);
       progress(ss, i, "to run", ":");
       char dir[STUDY_PATH + STUDY_NAME + 16];
-      mpgm_study_run_dir(ss->st, r, dir, sizeof dir);
+      mpgm_study_run_dir(ss->st, r, NULL, dir, sizeof dir);
       fprintf(stderr, "        mpgm run %s", r->scene);
       for (int k = 0; k < n; k++) fprintf(stderr, " --set '%s'", sets[k]);
       fprintf(stderr, " --out '%s' --quiet\n", dir);

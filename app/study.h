@@ -88,8 +88,9 @@ int mpgm_study_write_csv(mpgm_ctx *ctx, const mpgm_study *st);
 cJSON *mpgm_study_summary(const mpgm_study *st, const study_run *r);
 /** The study's error metric of a summary (NAN when absent). */
 double mpgm_study_metric(const mpgm_study *st, const cJSON *summary);
-/** Folder of run r: OUT/runs/NAME. */
-void mpgm_study_run_dir(const mpgm_study *st, const study_run *r, char *buf, size_t cap);
+/** Folder of run r, OUT/runs/NAME, or with leaf a path in it: OUT/runs/NAME/LEAF. */
+void mpgm_study_run_dir(const mpgm_study *st, const study_run *r, const char *leaf, char *buf,
+                        size_t cap);
 
 /** Plot options (NULL / 0: from OUT/study.json beside the CSV, else the
  *  defaults). */

@@ -8,14 +8,14 @@
 #include "json_reader.h"
 #include "study.h"
 
-void mpgm_study_run_dir(const mpgm_study *st, const study_run *r, char *buf, size_t cap) {
-  snprintf(buf, cap, "%s/runs/%s", st->out, r->name);
+void mpgm_study_run_dir(const mpgm_study *st, const study_run *r, const char *leaf, char *buf,
+                        size_t cap) {
+  snprintf(buf, cap, "%s/runs/%s%s%s", st->out, r->name, leaf ? "/" : "", leaf ? leaf : "");
 }
 
 cJSON *mpgm_study_summary(const mpgm_study *st, const study_run *r) {
   char path[STUDY_PATH + STUDY_NAME + 32];
-  mpgm_study_run_dir(st, r, path, sizeof path);
-  strncat(path, "/summary.json", sizeof path - strlen(path) - 1);
+  mpgm_study_run_dir(st, r, "summary.json", path, sizeof path);
   mpgm_ctx quiet;
   mpgm_ctx_init(&quiet);
   cJSON *doc = NULL;
