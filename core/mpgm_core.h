@@ -173,7 +173,7 @@ typedef struct mpgm_newton_info {
  *  sums does not depend on the number of threads. */
 #define MPGM_ASM_CHUNKS 16
 /* Largest union of node clouds a batch of points may have in the
- * clouds' assembly (assembly.c, assemble_batches); at least the largest
+ * clouds' assembly (assembly.c, assemble_batch); at least the largest
  * cloud, MPGM_SHAPE_MAXNODE. */
 #define MPGM_ASM_BATCH 128
 

@@ -332,8 +332,9 @@ static int scatter_maps(mpgm_problem *pb) {
     ns += 4 * (size_t)k * k;
   }
   MPGM_CHECK(ctx, ns <= INT32_MAX, MPGM_ERR_NOMEM, "scatter map of %zu entries", ns);
-  /* node clouds (meshfree kinds): no stored maps, see flush_merge */
-  pb->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE && maxk <= MPGM_ASM_BATCH;
+  /* node clouds (meshfree kinds): no stored maps; K is merged in batches
+   * (assembly.c, assemble_batch; MPGM_ASM_BATCH >= MPGM_SHAPE_MAXNODE) */
+  pb->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE;
   if (pb->nomap) {
     ns = 0;
     /* the batches' buffers, kept from step to step (zero between batches) */
