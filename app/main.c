@@ -125,6 +125,29 @@ static int parse_args(int argc, char **argv, args *a) {
   return EXIT_OK;
 }
 
+/* What reaches the terminal: warnings (step cuts) and errors on stderr as
+ * "mpgm: ...", information (a step's time split) on stdout, progress as
+ * one line on stderr rewritten in place. */
+typedef struct term_log {
+  int open_line; /* a progress line is on the terminal, not ended */
+} term_log;
+
+static void term_logger(void *user, int level, const char *msg) {
+  term_log *t = user;
+  if (level == MPGM_LOG_PROGRESS) {
+    fprintf(stderr, "\r\033[K%s", msg);
+    fflush(stderr);
+    t->open_line = 1;
+    return;
+  }
+  if (t->open_line && level != MPGM_LOG_INFO) {
+    fputc('\n', stderr);
+    t->open_line = 0;
+  }
+  if (level == MPGM_LOG_INFO) printf("%s\n", msg);
+  else fprintf(stderr, "mpgm: %s\n", msg);
+}
+
 static int report_error(const mpgm_ctx *ctx, int code) {
   fprintf(stderr, "mpgm: %s\n", ctx->msg[0] ? ctx->msg : mpgm_code_str(code));
   return mpgm_exit_code(code);
@@ -194,8 +217,11 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
     return EXIT_INPUT;
   }
   const char *dir = a->out ? a->out : s->out_dir;
-  mpgm_run_opts opts = {.out_dir = dir, .progress = a->progress, .per_iteration = a->per_iteration};
+  mpgm_run_opts opts = {.out_dir = dir, .per_iteration = a->per_iteration};
+  term_log tl = {0};
+  mpgm_ctx_set_logger(ctx, term_logger, &tl, a->progress ? MPGM_LOG_PROGRESS : MPGM_LOG_INFO);
   err = mpgm_run(ctx, s, fe, &opts);
+  if (tl.open_line) fputc('\n', stderr);
   int rc;
   if (err) {
     rc = report_error(ctx, err);

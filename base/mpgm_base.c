@@ -40,7 +40,32 @@ const char *mpgm_timer_name(int id) {
   return (id >= 0 && id < MPGM_T_COUNT) ? timer_names[id] : "?";
 }
 
+static const char *const counter_names[MPGM_C_COUNT] = {
+    "analyses", "factorizations", "solves", "linear_iterations", "material_updates",
+    "body_force_loops", "inertia_loops", "point_sorts", "radius_growths", "cloud_enlargements",
+    "shape_cold_restarts", "nodes_merged"};
+
+const char *mpgm_counter_name(int id) {
+  return (id >= 0 && id < MPGM_C_COUNT) ? counter_names[id] : "?";
+}
+
 void mpgm_ctx_init(mpgm_ctx *ctx) { memset(ctx, 0, sizeof(*ctx)); }
+
+void mpgm_ctx_set_logger(mpgm_ctx *ctx, mpgm_log_fn fn, void *user, int level) {
+  ctx->log = fn;
+  ctx->log_user = user;
+  ctx->log_level = level;
+}
+
+void mpgm_log(mpgm_ctx *ctx, int level, const char *fmt, ...) {
+  if (!ctx || !mpgm_log_wanted(ctx, level)) return;
+  char msg[2048];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(msg, sizeof msg, fmt, ap);
+  va_end(ap);
+  ctx->log(ctx->log_user, level, msg);
+}
 
 int mpgm_err_set(mpgm_ctx *ctx, int code, const char *file, int line,
                  const char *fmt, ...) {

@@ -67,7 +67,46 @@ typedef enum {
 /** Name of a timer as written in summary.json ("assembly", ...). */
 const char *mpgm_timer_name(int id);
 
-/** The run context: first error, timers, counters. One per run. */
+/** Counters of the work a run did, reported in summary.json's "counts"
+ *  under the names of mpgm_counter_name. */
+typedef enum {
+  MPGM_C_ANALYSES = 0,      /**< symbolic analyses                        */
+  MPGM_C_FACTORIZATIONS,    /**< numeric factorisations                   */
+  MPGM_C_SOLVES,            /**< solves                                   */
+  MPGM_C_LINEAR_ITERATIONS, /**< iterations of iterative linear solvers   */
+  MPGM_C_MATERIAL_CALLS,    /**< constitutive updates (per point)         */
+  MPGM_C_BODY_FORCE,        /**< body-force loops                         */
+  MPGM_C_MASS,              /**< inertia loops                            */
+  MPGM_C_POINT_SORTS,       /**< reorderings of the points in memory      */
+  MPGM_C_RADIUS_GROWTHS,    /**< node clouds: x1.25 growths of a search
+                                 radius that held fewer than min_nodes   */
+  MPGM_C_CLOUD_ENLARGEMENTS,/**< node clouds: next-nearest nodes added
+                                 after a failed evaluation               */
+  MPGM_C_COLD_RESTARTS,     /**< meshfree: failed warm-started evaluations
+                                 (LME multiplier) retried from zero      */
+  MPGM_C_NODES_MERGED,      /**< GMM: node-steps left out for being closer
+                                 than mesh.min_node_distance to another  */
+  MPGM_C_COUNT
+} mpgm_counter_id;
+
+/** Name of a counter as written in summary.json ("analyses", ...). */
+const char *mpgm_counter_name(int id);
+
+/** Messages of the library, by importance: the logger (mpgm_ctx_set_logger)
+ *  decides what reaches the user; the library itself never prints. */
+typedef enum {
+  MPGM_LOG_ERROR = 0, /**< a failure (also recorded as the context's error) */
+  MPGM_LOG_WARNING,   /**< a recovered problem: a step cut, a fallback      */
+  MPGM_LOG_INFO,      /**< results worth a line: a step's time split        */
+  MPGM_LOG_PROGRESS,  /**< the state of a running job, once per step        */
+  MPGM_LOG_DEBUG      /**< details for developers                          */
+} mpgm_log_level;
+
+/** A logger: receives every message at or below the context's level, one
+ *  whole message without a trailing newline. */
+typedef void (*mpgm_log_fn)(void *user, int level, const char *msg);
+
+/** The run context: first error, timers, counters, logger. One per run. */
 typedef struct mpgm_ctx {
   int code;           /**< first recorded error code, 0 if none   */
   char msg[1024];     /**< its message                            */
@@ -75,22 +114,10 @@ typedef struct mpgm_ctx {
   int line;           /**< source line                            */
   double t[MPGM_T_COUNT];     /**< accumulated wall time per timer [s] */
   double t_start[MPGM_T_COUNT]; /**< start stamp of a running timer   */
-  long n_analyses;       /**< symbolic analyses                      */
-  long n_factorizations; /**< numeric factorisations                 */
-  long n_solves;         /**< solves                                 */
-  long n_linear_iterations; /**< iterations of iterative linear solvers */
-  long n_material_calls; /**< constitutive updates (per point)       */
-  long n_body_force;     /**< body-force loops                       */
-  long n_mass;           /**< inertia loops                          */
-  long n_point_sorts;    /**< reorderings of the points in memory    */
-  long n_radius_growths; /**< meshfree clouds: x1.25 growths of a search
-                              radius that held fewer than min_nodes   */
-  long n_cloud_enlargements; /**< meshfree clouds: next-nearest nodes
-                              added after a failed evaluation          */
-  long n_nodes_merged;   /**< GMM: node-steps left out for being closer
-                              than mesh.min_node_distance to another  */
-  long n_cold_restarts;  /**< meshfree: failed warm-started evaluations
-                              (LME multiplier) retried from zero       */
+  long count[MPGM_C_COUNT];   /**< work counters (mpgm_counter_id)     */
+  mpgm_log_fn log;    /**< logger (NULL: messages are dropped)     */
+  void *log_user;     /**< its first argument                      */
+  int log_level;      /**< most detailed level passed on            */
 } mpgm_ctx;
 
 /** Reset a context to "no error", zero timers and counters. */
@@ -126,6 +153,30 @@ static inline void mpgm_timer_start(mpgm_ctx *ctx, int id) {
 static inline void mpgm_timer_stop(mpgm_ctx *ctx, int id) {
   ctx->t[id] += mpgm_wtime() - ctx->t_start[id];
 }
+/** Move s seconds from timer `from` to timer `to` (work measured inside
+ *  another timer's span, e.g. the searches of a front end's begin_step,
+ *  which the core times as "shape"). */
+static inline void mpgm_timer_move(mpgm_ctx *ctx, int from, int to, double s) {
+  ctx->t[from] -= s;
+  ctx->t[to] += s;
+}
+/** Add n to counter id. */
+static inline void mpgm_count(mpgm_ctx *ctx, int id, long n) { ctx->count[id] += n; }
+
+/** Pass messages up to `level` (mpgm_log_level) to fn(user, level, msg). */
+void mpgm_ctx_set_logger(mpgm_ctx *ctx, mpgm_log_fn fn, void *user, int level);
+/** 1 when a message of this level would reach the logger (to skip
+ *  composing one nobody reads). */
+static inline int mpgm_log_wanted(const mpgm_ctx *ctx, int level) {
+  return ctx->log && level <= ctx->log_level;
+}
+/** Send a printf-style message to the context's logger (nothing when it
+ *  has none, or the level is above its level). */
+void mpgm_log(mpgm_ctx *ctx, int level, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
 
 /** Propagate a non-zero code. */
 #define MPGM_CALL(expr)                                                        \

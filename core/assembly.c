@@ -124,7 +124,7 @@ int mpgm_eval_points(mpgm_problem *pb) {
   if (j.ntask > EVAL_TASKS) j.ntask = EVAL_TASKS;
   if (j.ntask < 1) j.ntask = 1;
   mpgm_pool_run(pb->pool, j.ntask, eval_task, &j);
-  ctx->n_material_calls += P->n;
+  mpgm_count(ctx, MPGM_C_MATERIAL_CALLS, P->n);
   mpgm_timer_stop(ctx, MPGM_T_MATERIAL);
   /* the failure of the lowest point: the one a serial loop stops at */
   for (int t = 0; t < j.ntask; t++) {
@@ -163,7 +163,7 @@ int mpgm_body_force(mpgm_problem *pb) {
       if (dof[2 * I + 1] >= 0) pb->fext[dof[2 * I + 1]] += w * gy;
     }
   }
-  ctx->n_body_force++;
+  mpgm_count(ctx, MPGM_C_BODY_FORCE, 1);
   mpgm_timer_stop(ctx, MPGM_T_BODYFORCE);
   return 0;
 }
@@ -413,7 +413,7 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
     mpgm_timer_start(ctx, MPGM_T_MASS);
     newmark_correct(pb);
     j.kdyn = 1.0 / (pb->scene->beta * pb->dt * pb->dt);
-    ctx->n_mass++;
+    mpgm_count(ctx, MPGM_C_MASS, 1);
     mpgm_timer_stop(ctx, MPGM_T_MASS);
   }
   mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);

@@ -10,15 +10,17 @@ extern "C" {
 
 typedef struct mpgm_run_opts {
   const char *out_dir; /**< results folder (overrides output.dir if set)  */
-  int progress;        /**< 1: one-line progress display on stderr        */
-  int per_iteration;   /**< 1: print the time split of every step (bench) */
+  int per_iteration;   /**< 1: log the time split of every step (level INFO,
+                            for benchmarks)                              */
 } mpgm_run_opts;
 
 /** Run a loaded scene with its front end. Writes DIR/summary.json (also on
  *  failure, with status "failed" and where it stopped), DIR/probes.csv,
  *  VTK files and .pvd collections. Returns 0 or the error code (message in
  *  ctx): negative fatal / positive recoverable codes of the failing step,
- *  MPGM_ERR_IO when output cannot be written. */
+ *  MPGM_ERR_IO when output cannot be written. Messages go to the context's
+ *  logger: a line per step (MPGM_LOG_PROGRESS), step cuts (WARNING), the
+ *  time split (INFO, opts->per_iteration). */
 int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *scene, const mpgm_frontend_ops *fe,
              const mpgm_run_opts *opts);
 

@@ -143,7 +143,7 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *
   mpgm_pool_run(pool, NARR, gather_task, &g);
   if (!perm_out) free(perm);
   free(cnt);
-  ctx->n_point_sorts++;
+  mpgm_count(ctx, MPGM_C_POINT_SORTS, 1);
   return 0;
 }
 

@@ -88,17 +88,17 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "nnz", pb->K.nnz);
   cJSON_AddNumberToObject(c, "steps", (double)pb->step);
   cJSON_AddNumberToObject(c, "newton_iterations", (double)pb->newton_total);
-  cJSON_AddNumberToObject(c, "analyses", (double)ctx->n_analyses);
-  cJSON_AddNumberToObject(c, "factorizations", (double)ctx->n_factorizations);
-  cJSON_AddNumberToObject(c, "solves", (double)ctx->n_solves);
-  cJSON_AddNumberToObject(c, "material_updates", (double)ctx->n_material_calls);
-  cJSON_AddNumberToObject(c, "body_force_loops", (double)ctx->n_body_force);
-  cJSON_AddNumberToObject(c, "inertia_loops", (double)ctx->n_mass);
-  cJSON_AddNumberToObject(c, "point_sorts", (double)ctx->n_point_sorts);
-  cJSON_AddNumberToObject(c, "radius_growths", (double)ctx->n_radius_growths);
-  cJSON_AddNumberToObject(c, "cloud_enlargements", (double)ctx->n_cloud_enlargements);
-  cJSON_AddNumberToObject(c, "shape_cold_restarts", (double)ctx->n_cold_restarts);
-  cJSON_AddNumberToObject(c, "nodes_merged", (double)ctx->n_nodes_merged);
+  cJSON_AddNumberToObject(c, "analyses", (double)ctx->count[MPGM_C_ANALYSES]);
+  cJSON_AddNumberToObject(c, "factorizations", (double)ctx->count[MPGM_C_FACTORIZATIONS]);
+  cJSON_AddNumberToObject(c, "solves", (double)ctx->count[MPGM_C_SOLVES]);
+  cJSON_AddNumberToObject(c, "material_updates", (double)ctx->count[MPGM_C_MATERIAL_CALLS]);
+  cJSON_AddNumberToObject(c, "body_force_loops", (double)ctx->count[MPGM_C_BODY_FORCE]);
+  cJSON_AddNumberToObject(c, "inertia_loops", (double)ctx->count[MPGM_C_MASS]);
+  cJSON_AddNumberToObject(c, "point_sorts", (double)ctx->count[MPGM_C_POINT_SORTS]);
+  cJSON_AddNumberToObject(c, "radius_growths", (double)ctx->count[MPGM_C_RADIUS_GROWTHS]);
+  cJSON_AddNumberToObject(c, "cloud_enlargements", (double)ctx->count[MPGM_C_CLOUD_ENLARGEMENTS]);
+  cJSON_AddNumberToObject(c, "shape_cold_restarts", (double)ctx->count[MPGM_C_COLD_RESTARTS]);
+  cJSON_AddNumberToObject(c, "nodes_merged", (double)ctx->count[MPGM_C_NODES_MERGED]);
   cJSON_AddNumberToObject(c, "step_cuts", (double)pb->step_cuts);
   cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
   cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)pb->lu_steps);
@@ -113,13 +113,13 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "vtk_files", o->files);
   cJSON_AddNumberToObject(c, "clock_reads", (double)mpgm_wtime_reads());
   mpgm_solver_stats st = {0};
-  if (pb->solver && ctx->n_factorizations && mpgm_solver_get_stats(pb->solver, &st) == 0) {
+  if (pb->solver && ctx->count[MPGM_C_FACTORIZATIONS] && mpgm_solver_get_stats(pb->solver, &st) == 0) {
     cJSON_AddNumberToObject(c, "nnz_factor", st.nnz_factor);
     if (st.flops > 0) cJSON_AddNumberToObject(c, "factor_flops", st.flops);
     if (st.mem_peak > 0) cJSON_AddNumberToObject(c, "solver_memory_peak", st.mem_peak);
   }
   if (pb->solver && pb->solver->type->iterative)
-    cJSON_AddNumberToObject(c, "linear_iterations", (double)ctx->n_linear_iterations);
+    cJSON_AddNumberToObject(c, "linear_iterations", (double)ctx->count[MPGM_C_LINEAR_ITERATIONS]);
   if (pb->matrices_dir) cJSON_AddNumberToObject(c, "matrices_written", pb->matrices_written);
   cJSON *t = cJSON_AddObjectToObject(j, "time_s");
   for (int i = 0; i < MPGM_T_COUNT; i++)
@@ -179,24 +179,28 @@ static int write_summary(mpgm_problem *pb, mpgm_output *o, const run_state *rs) 
   return err;
 }
 
+/* One line on the state of the run (mpgm_log level PROGRESS). */
 static void progress(const mpgm_problem *pb, double end, double t0) {
+  if (!mpgm_log_wanted(pb->ctx, MPGM_LOG_PROGRESS)) return;
   const double el = mpgm_wtime() - t0, done = pb->t / end;
   const double eta = done > 0.0 ? el / done * (1.0 - done) : 0.0;
   const int st = pb->scene->analysis == MPGM_ANALYSIS_STATIC;
-  fprintf(stderr, "\r\033[Kstep %ld  %s = %.6g of %g  newton %d  |R|/ref = %.2e  cuts %ld  elapsed %.1fs  "
-          "ETA %.1fs", pb->step, st ? "load" : "t", pb->t, end, pb->last.iterations,
-          pb->last.res_rel, pb->step_cuts, el, eta);
-  fflush(stderr);
+  mpgm_log(pb->ctx, MPGM_LOG_PROGRESS, "step %ld  %s = %.6g of %g  newton %d  |R|/ref = %.2e  cuts %ld  "
+           "elapsed %.1fs  ETA %.1fs", pb->step, st ? "load" : "t", pb->t, end, pb->last.iterations,
+           pb->last.res_rel, pb->step_cuts, el, eta);
 }
 
-/* Time split of the last step, for benchmarks. */
-static void print_split(const mpgm_problem *pb, const double *before) {
-  const mpgm_ctx *ctx = pb->ctx;
+/* Time split of the last step, for benchmarks (level INFO). */
+static void log_split(const mpgm_problem *pb, const double *before) {
+  mpgm_ctx *ctx = pb->ctx;
   const int it = pb->last.iterations > 0 ? pb->last.iterations : 1;
-  printf("step %ld: %d Newton iterations; per iteration [ms]:", pb->step, pb->last.iterations);
-  for (int i = 0; i < MPGM_T_TOTAL; i++)
-    printf(" %s %.3f", mpgm_timer_name(i), 1e3 * (ctx->t[i] - before[i]) / it);
-  printf("\n");
+  char line[1024];
+  int n = snprintf(line, sizeof line, "step %ld: %d Newton iterations; per iteration [ms]:", pb->step,
+                   pb->last.iterations);
+  for (int i = 0; i < MPGM_T_TOTAL && n > 0 && (size_t)n < sizeof line; i++)
+    n += snprintf(line + n, sizeof line - (size_t)n, " %s %.3f", mpgm_timer_name(i),
+                  1e3 * (ctx->t[i] - before[i]) / it);
+  mpgm_log(ctx, MPGM_LOG_INFO, "%s", line);
 }
 
 int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
@@ -242,8 +246,8 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
     if (err > 0 && level < s->max_cuts) {
       /* step control: a recoverable failure rejects the step (nothing was
        * committed) and retries it with half the step */
-      fprintf(stderr, "mpgm: step %ld (%s %.9g, %s %.3g) rejected: %s; retrying with %.3g (halving %d "
-              "of at most %d, time.max_cuts)\n", k, dyn ? "t =" : "load factor", pb->t + pb->dt,
+      mpgm_log(ctx, MPGM_LOG_WARNING, "step %ld (%s %.9g, %s %.3g) rejected: %s; retrying with %.3g "
+               "(halving %d of at most %d, time.max_cuts)", k, dyn ? "t =" : "load factor", pb->t + pb->dt,
               dyn ? "dt" : "increment", pb->dt, ctx->msg, 0.5 * pb->dt, level + 1, s->max_cuts);
       cut_record(&rs, k, pb->t + pb->dt, pb->dt, err, ctx->msg);
       mpgm_err_clear(ctx);
@@ -272,7 +276,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
       level--;
       easy = 0;
     }
-    if (opts && opts->per_iteration) print_split(pb, before);
+    if (opts && opts->per_iteration) log_split(pb, before);
     mpgm_timer_start(ctx, MPGM_T_OUTPUT);
     err = mpgm_output_probes_record(ctx, &o, pb);
     if (!err) err = mpgm_output_step_record(ctx, &o, pb, mpgm_wtime() - ts);
@@ -282,9 +286,8 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
       if (!err) err = mpgm_output_steps_write(ctx, &o, pb);
     }
     mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
-    if (opts && opts->progress) progress(pb, end, t0);
+    progress(pb, end, t0);
   }
-  if (opts && opts->progress) fputc('\n', stderr);
   /* on failure keep the message of the failing step; still write what we have */
   mpgm_ctx keep = *ctx;
   mpgm_err_clear(ctx);

@@ -214,7 +214,7 @@ static void merge_close(mpgm_problem *pb, gmm_data *d) {
       const int j = idx[a];
       if (j <= i || d->merged[j] || g->obst[j] || g->fix0[2 * j] || g->fix0[2 * j + 1]) continue;
       d->merged[j] = 1;
-      pb->ctx->n_nodes_merged++;
+      mpgm_count(pb->ctx, MPGM_C_NODES_MERGED, 1);
     }
   }
 }
@@ -250,7 +250,7 @@ static int search_clouds(mpgm_problem *pb, gmm_data *d) {
     int n = cloud(d, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
     for (int g = 0; n < want && g < GMM_MAX_GROWTH; g++) {
       r *= GMM_GROWTH;
-      ctx->n_radius_growths++;
+      mpgm_count(ctx, MPGM_C_RADIUS_GROWTHS, 1);
       n = cloud(d, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
     }
     MPGM_CHECK(ctx, n <= MPGM_SHAPE_MAXNODE, MPGM_ERR_INPUT,
@@ -306,7 +306,7 @@ static int shape_point(mpgm_problem *pb, gmm_data *d, int p, int *k, double *t_s
                                 .info = &info};
     /* an LME warm start that stalls is retried once from lambda = 0
      * before the cloud is enlarged */
-    err = n > 0 ? mpgm_shape_eval_retry(s->shape, &q, N, dN, &ctx->n_cold_restarts) : MPGM_ERR_SHAPE;
+    err = n > 0 ? mpgm_shape_eval_retry(s->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS]) : MPGM_ERR_SHAPE;
     if (n == 0) info.msg = "no node within the support radius";
     if (err != MPGM_ERR_SHAPE || enl >= s->max_enlarge) break;
     /* enlarge: the next-nearest node outside the cloud */
@@ -324,7 +324,7 @@ static int shape_point(mpgm_problem *pb, gmm_data *d, int p, int *k, double *t_s
                             : "the enlarged cloud would exceed MPGM_SHAPE_MAXNODE nodes";
       break;
     }
-    ctx->n_cloud_enlargements++;
+    mpgm_count(ctx, MPGM_C_CLOUD_ENLARGEMENTS, 1);
     n = nn;
   }
   const int surf = p - (P->n + P->nprobe); /* >= 0: a surface point */
@@ -381,14 +381,12 @@ static int gmm_begin_step(mpgm_problem *pb) {
     d->optr[p] = k;
     const int err = shape_point(pb, d, p, &k, &ts);
     if (err) {
-      ctx->t[MPGM_T_SEARCH] += ts;
-      ctx->t[MPGM_T_SHAPE] -= ts;
+      mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
       return err;
     }
   }
   d->optr[m] = k;
-  ctx->t[MPGM_T_SEARCH] += ts;
-  ctx->t[MPGM_T_SHAPE] -= ts;
+  mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
   /* grid-filled bodies: nodes with little mass are parked for the step */
   if (d->grid) {
     MPGM_CALL(mpgm_gmm_grid_park(pb, d->grid, d->tree, d->r0, m, d->optr, d->onode, d->oN, d->odN));

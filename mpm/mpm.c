@@ -324,7 +324,7 @@ static int cloud_shape(mpgm_problem *pb, mpm_data *d) {
         break;
       }
       R *= MPGM_SHAPE_GROWTH; /* too few nodes: a wider search */
-      ctx->n_radius_growths++;
+      mpgm_count(ctx, MPGM_C_RADIUS_GROWTHS, 1);
     }
   }
   d->cl_ptr[m] = nc;
@@ -348,7 +348,7 @@ static int cloud_shape(mpgm_problem *pb, mpm_data *d) {
       if (p >= np) par.max_cond = 1e300;
       mpgm_shape_query q = {.n = n, .xn = xn, .xp = {P->x[2 * p], P->x[2 * p + 1]}, .cell = -1,
                             .par = &par, .lambda = d->lambda + 2 * p, .info = &info};
-      e = mpgm_shape_eval_retry(s->shape, &q, N, dN, &ctx->n_cold_restarts);
+      e = mpgm_shape_eval_retry(s->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS]);
       if (e != MPGM_ERR_SHAPE || n == ncand || enl == s->max_enlarge) break;
       /* enlarge: the next-nearest candidate and every one within the new
        * radius join the cloud */
@@ -360,7 +360,7 @@ static int cloud_shape(mpgm_problem *pb, mpm_data *d) {
         n++;
       }
       enl++;
-      ctx->n_cloud_enlargements++;
+      mpgm_count(ctx, MPGM_C_CLOUD_ENLARGEMENTS, 1);
     }
     if (e)
       MPGM_ERROR(ctx, e, "step %ld: %s %d at (%g, %g): %s shape functions over %d grid nodes: %s "

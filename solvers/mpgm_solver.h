@@ -96,7 +96,7 @@ int mpgm_solver_create(mpgm_ctx *ctx, const mpgm_solver_type *type,
 void mpgm_solver_destroy(mpgm_solver **s);
 /** Generic wrappers: time into ctx (MPGM_T_ANALYSE/FACTOR/SOLVE) and count
  *  analyses, factorisations and solves in ctx (and, for iterative
- *  backends, their iterations in ctx->n_linear_iterations). */
+ *  backends, their iterations in ctx->count[MPGM_C_LINEAR_ITERATIONS]). */
 int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A, const int *perm);
 int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A);
 int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,

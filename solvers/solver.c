@@ -97,7 +97,7 @@ static int check_csc(mpgm_ctx *ctx, const mpgm_solver *s, const mpgm_csc *A) {
 }
 
 /** Symbolic analysis of A's pattern (call again when the pattern changes).
- *  Times MPGM_T_ANALYSE, counts ctx->n_analyses (every call that reaches
+ *  Times MPGM_T_ANALYSE, counts ctx->count[MPGM_C_ANALYSES] (every call that reaches
  *  the backend). Errors: MPGM_ERR_INPUT, MPGM_ERR_UNSUPPORTED, backend's. */
 int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A, const int *perm) {
   MPGM_CHECK(ctx, s != NULL, MPGM_ERR_INPUT, "mpgm_solver_analyse: NULL solver");
@@ -109,14 +109,14 @@ int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A, const 
   mpgm_timer_start(ctx, MPGM_T_ANALYSE);
   int ierr = s->type->analyse(s->data, ctx, A, perm);
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
-  ctx->n_analyses++;
+  mpgm_count(ctx, MPGM_C_ANALYSES, 1);
   if (ierr) return ierr;
   s->analysed = 1;
   return MPGM_OK;
 }
 
 /** Numeric factorisation of A (pattern as analysed). Times MPGM_T_FACTOR,
- *  counts ctx->n_factorizations. Errors: MPGM_ERR_SINGULAR (recoverable:
+ *  counts ctx->count[MPGM_C_FACTORIZATIONS]. Errors: MPGM_ERR_SINGULAR (recoverable:
  *  singular / not positive definite), MPGM_ERR_INTERNAL (not analysed),
  *  MPGM_ERR_UNSUPPORTED, backend's. */
 int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A) {
@@ -130,13 +130,13 @@ int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A) {
   mpgm_timer_start(ctx, MPGM_T_FACTOR);
   int ierr = s->type->factor(s->data, ctx, A);
   mpgm_timer_stop(ctx, MPGM_T_FACTOR);
-  ctx->n_factorizations++;
+  mpgm_count(ctx, MPGM_C_FACTORIZATIONS, 1);
   return ierr;
 }
 
 /** x = A^-1 b with the last factorisation (b and x of length n, may
- *  alias). Times MPGM_T_SOLVE, counts ctx->n_solves (and the iterations
- *  of an iterative backend in ctx->n_linear_iterations, also when it did
+ *  alias). Times MPGM_T_SOLVE, counts ctx->count[MPGM_C_SOLVES] (and the iterations
+ *  of an iterative backend in ctx->count[MPGM_C_LINEAR_ITERATIONS], also when it did
  *  not converge). Errors: MPGM_ERR_INPUT, MPGM_ERR_UNSUPPORTED,
  *  MPGM_ERR_LINEAR (iterative, recoverable), backend's. */
 int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
@@ -149,10 +149,10 @@ int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
   mpgm_timer_start(ctx, MPGM_T_SOLVE);
   int ierr = s->type->solve(s->data, ctx, b, x);
   mpgm_timer_stop(ctx, MPGM_T_SOLVE);
-  ctx->n_solves++;
+  mpgm_count(ctx, MPGM_C_SOLVES, 1);
   mpgm_solver_stats st;
   if (s->type->iterative && mpgm_solver_get_stats(s, &st) == 0)
-    ctx->n_linear_iterations += st.iterations;
+    mpgm_count(ctx, MPGM_C_LINEAR_ITERATIONS, st.iterations);
   return ierr;
 }
 

@@ -169,9 +169,9 @@ static void run_kind(const char *path, const char *kind) {
       "%s: sorted lists; sum N = 1 and linear reproduction at every point and "
       "probe, sum grad N = 0 and sum x (x) grad N = I at every point (worst %.2e <= %.0e; %d bad)",
       label, worst, TOL_REPRO, bad);
-  mpgm_test(ctx.n_radius_growths == 0 && ctx.n_cloud_enlargements == 0,
+  mpgm_test(ctx.count[MPGM_C_RADIUS_GROWTHS] == 0 && ctx.count[MPGM_C_CLOUD_ENLARGEMENTS] == 0,
             "%s: default parameters: no radius growth (%ld), no enlargement (%ld)", label,
-            ctx.n_radius_growths, ctx.n_cloud_enlargements);
+            ctx.count[MPGM_C_RADIUS_GROWTHS], ctx.count[MPGM_C_CLOUD_ENLARGEMENTS]);
   /* the same node positions again: same lists, no new pattern */
   const int v1 = pb->conn.version;
   err = pb->fe->begin_step(pb);
@@ -214,9 +214,9 @@ static void run_growth(const char *path) {
     int small = 0;
     const int m = pb->pts.n + pb->pts.nprobe;
     for (int p = 0; p < m; p++) small += pb->conn.ptr[p + 1] - pb->conn.ptr[p] < 40;
-    mpgm_test(ctx.n_radius_growths > 0 && small == 0,
+    mpgm_test(ctx.count[MPGM_C_RADIUS_GROWTHS] > 0 && small == 0,
               "mls, min_nodes = 40: %ld radius growths; every cloud has >= 40 nodes (%d smaller)",
-              ctx.n_radius_growths, small);
+              ctx.count[MPGM_C_RADIUS_GROWTHS], small);
     double worst;
     const int bad = check_reproduction(pb, 0, &worst);
     mpgm_test(bad == 0, "mls, min_nodes = 40: reproduction (worst %.2e; %d bad)", worst, bad);
@@ -238,10 +238,10 @@ static void run_enlarge(const char *path) {
   if (!err) {
     double worst;
     const int bad = check_reproduction(pb, 1, &worst);
-    mpgm_test(ctx.n_cloud_enlargements > 0 && bad == 0,
+    mpgm_test(ctx.count[MPGM_C_CLOUD_ENLARGEMENTS] > 0 && bad == 0,
               "enlargement: %ld enlargements rescue every point; quadratic reproduction (worst "
               "%.2e; %d bad)",
-              ctx.n_cloud_enlargements, worst, bad);
+              ctx.count[MPGM_C_CLOUD_ENLARGEMENTS], worst, bad);
   }
   destroy(&s, &pb);
   /* the same with no enlargement allowed: a recoverable failure naming the
@@ -274,9 +274,9 @@ static void run_merge(const char *path) {
     mpgm_problem *pb;
     int err = make(path, 3, sets, &ctx, &s, &pb);
     if (!err) err = pb->fe->begin_step(pb);
-    mpgm_test(err == 0 && ctx.n_nodes_merged == 0,
+    mpgm_test(err == 0 && ctx.count[MPGM_C_NODES_MERGED] == 0,
               "%s: grid-filled body, first step: no node merged (%ld) (%s)", label,
-              ctx.n_nodes_merged, err ? ctx.msg : "ok");
+              ctx.count[MPGM_C_NODES_MERGED], err ? ctx.msg : "ok");
     if (err) {
       destroy(&s, &pb);
       continue;
@@ -308,17 +308,17 @@ static void run_merge(const char *path) {
     double worst = 0.0;
     const int bad = err ? -1 : check_reproduction(pb, 0, &worst);
     if (on) {
-      mpgm_test(err == 0 && ctx.n_nodes_merged == 1 && uses == 0 && pb->nodes.fix[2 * j] &&
+      mpgm_test(err == 0 && ctx.count[MPGM_C_NODES_MERGED] == 1 && uses == 0 && pb->nodes.fix[2 * j] &&
                     pb->nodes.fix[2 * j + 1] && !pb->nodes.fix[2 * i],
                 "%s: node %d at 0.2 h from node %d: merged (%ld), in no cloud (%d uses), parked "
                 "(fixed) for the step, node %d free (%s)",
-                label, j, i, ctx.n_nodes_merged, uses, i, err ? ctx.msg : "ok");
+                label, j, i, ctx.count[MPGM_C_NODES_MERGED], uses, i, err ? ctx.msg : "ok");
       mpgm_test(bad == 0,
                 "%s: functions evaluated without the merged node reproduce linear fields at every "
                 "point (worst %.2e <= %.0e; %d bad)",
                 label, worst, TOL_REPRO, bad);
     } else {
-      mpgm_test(err == 0 && ctx.n_nodes_merged == 0 && uses > 0 && !pb->nodes.fix[2 * j],
+      mpgm_test(err == 0 && ctx.count[MPGM_C_NODES_MERGED] == 0 && uses > 0 && !pb->nodes.fix[2 * j],
                 "%s: node %d at 0.2 h from node %d stays in %d clouds, free (%s)", label, j, i,
                 uses, err ? ctx.msg : "ok");
     }

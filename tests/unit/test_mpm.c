@@ -164,7 +164,7 @@ static void test_points_sort(rng *r) {
     if (i < n) key[i] = (int)uniform(r, 0, nkey);
   }
   int err = mpgm_points_sort(&ctx, NULL, &P, key, nkey, perm);
-  int ok = !err && ctx.n_point_sorts == 1, sorted = 1, stable = 1, moved = 1, probes = 1;
+  int ok = !err && ctx.count[MPGM_C_POINT_SORTS] == 1, sorted = 1, stable = 1, moved = 1, probes = 1;
   for (int q = 0; q < n; q++) {
     const int i = P.id[q];
     if (i != perm[q]) ok = 0;

@@ -195,10 +195,10 @@ static void check_spd(const mpgm_solver_type *t) {
   /* at least the factors' values (8 bytes per entry) */
   mpgm_test(st.mem_peak >= 8.0 * st.nnz_factor && st.mem_peak < 1e9,
             "%s: stats: peak memory %g bytes >= 8 nnz(factor)", nm, st.mem_peak);
-  mpgm_test(t->iterative ? st.iterations > 0 && ctx.n_linear_iterations == st.iterations
-                         : st.iterations == 0 && ctx.n_linear_iterations == 0,
+  mpgm_test(t->iterative ? st.iterations > 0 && ctx.count[MPGM_C_LINEAR_ITERATIONS] == st.iterations
+                         : st.iterations == 0 && ctx.count[MPGM_C_LINEAR_ITERATIONS] == 0,
             "%s: stats: %d iterations, %ld counted in ctx (%s)", nm, st.iterations,
-            ctx.n_linear_iterations, t->iterative ? "iterative" : "direct: none");
+            ctx.count[MPGM_C_LINEAR_ITERATIONS], t->iterative ? "iterative" : "direct: none");
 
   /* new values, same pattern: factor again without a new analysis */
   if (build(17, 13, -1, 1.713, 0.0, 1.37 * SCALE, &B)) {
@@ -211,11 +211,11 @@ static void check_spd(const mpgm_solver_type *t) {
   e3 = mpgm_solver_solve(s, &ctx, w.b, w.x);
   mpgm_test(e2 == 0 && e3 == 0, "%s: refactor, solve return %d %d", nm, e2, e3);
   check_solution(t, "SPD refactored", &A, &w, 1e-12);
-  mpgm_test(ctx.n_analyses == 1 && ctx.n_factorizations == 2 &&
-                ctx.n_solves == 2,
+  mpgm_test(ctx.count[MPGM_C_ANALYSES] == 1 && ctx.count[MPGM_C_FACTORIZATIONS] == 2 &&
+                ctx.count[MPGM_C_SOLVES] == 2,
             "%s: counters: %ld analyses (1), %ld factorizations (2), %ld "
-            "solves (2)", nm, ctx.n_analyses, ctx.n_factorizations,
-            ctx.n_solves);
+            "solves (2)", nm, ctx.count[MPGM_C_ANALYSES], ctx.count[MPGM_C_FACTORIZATIONS],
+            ctx.count[MPGM_C_SOLVES]);
   mpgm_test(ctx.t[MPGM_T_ANALYSE] >= 0.0 && ctx.t[MPGM_T_FACTOR] > 0.0 &&
                 ctx.t[MPGM_T_SOLVE] > 0.0,
             "%s: timers analyse %g, factor %g, solve %g s", nm,
@@ -239,9 +239,9 @@ static void check_spd(const mpgm_solver_type *t) {
   e1 = mpgm_solver_analyse(s, &ctx, &B, NULL);
   e2 = mpgm_solver_factor(s, &ctx, &B);
   e3 = mpgm_solver_solve(s, &ctx, w.b, w.x);
-  mpgm_test(e1 == 0 && e2 == 0 && e3 == 0 && ctx.n_analyses == 2,
+  mpgm_test(e1 == 0 && e2 == 0 && e3 == 0 && ctx.count[MPGM_C_ANALYSES] == 2,
             "%s: new pattern 11x19: analyse, factor, solve return %d %d %d, "
-            "%ld analyses (2)", nm, e1, e2, e3, ctx.n_analyses);
+            "%ld analyses (2)", nm, e1, e2, e3, ctx.count[MPGM_C_ANALYSES]);
   check_solution(t, "new pattern 11x19", &B, &w, 1e-12);
   mpgm_test(ctx.code == 0, "%s: no error recorded (%s)", nm, ctx.msg);
 
@@ -445,9 +445,9 @@ static void check_iterative(const mpgm_solver_type *t) {
   int finite = 1;
   for (int i = 0; i < A.n; i++) finite &= isfinite(v.x[i]) != 0;
   mpgm_test(e == MPGM_ERR_LINEAR && ctx.code == MPGM_ERR_LINEAR && strstr(ctx.msg, "3 iterations") &&
-                st.iterations == 3 && ctx.n_linear_iterations == 3 && finite,
+                st.iterations == 3 && ctx.count[MPGM_C_LINEAR_ITERATIONS] == 3 && finite,
             "%s: max_iter 3: MPGM_ERR_LINEAR (%d) after %d iterations (%ld counted), last iterate "
-            "in x: %s", nm, e, st.iterations, ctx.n_linear_iterations, ctx.msg);
+            "in x: %s", nm, e, st.iterations, ctx.count[MPGM_C_LINEAR_ITERATIONS], ctx.msg);
   mpgm_solver_destroy(&s);
 
   o = mpgm_solver_opts_default();
