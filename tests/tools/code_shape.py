@@ -12,7 +12,8 @@ Reports
     FILE:LINE: function NAME: N lines (limit 120)
 
 for each file / function over its limit, then one line
-"N files, M functions checked; K over the limits", and exits 1 when K > 0.
+"N files, M functions checked; K over the limits", and exits 1 when K > 0
+(2 on a usage error or a missing path).
 
 A function's length runs from the line where its name appears through the
 line of its closing brace, inclusive.  A function definition is a brace at
@@ -21,7 +22,9 @@ stand between), outside struct/union/enum bodies and initialisers ('= {').
 Comments, string and character literals and preprocessor lines (including
 backslash-continued ones, so a do { } while (0) macro is not counted) are
 blanked before scanning; newlines are kept so line numbers stay right.
-Modern C only: K&R parameter declarations are not recognised.
+extern "C" { ... } blocks add no depth.  Modern C only: K&R parameter
+declarations are not recognised, and #if branches are not evaluated (a file
+whose braces then do not balance gets a warning on stderr).
 """
 import argparse
 import os
@@ -29,6 +32,14 @@ import re
 import sys
 
 ATTRIBUTE_WORDS = {"__attribute__", "__attribute", "__declspec"}
+C_KEYWORDS = set("""
+    auto break case char const continue default do double else enum extern
+    float for goto if inline int long register restrict return short signed
+    sizeof static struct switch typedef union unsigned void volatile while
+    _Alignas _Alignof _Atomic _Bool _Complex _Generic _Imaginary _Noreturn
+    _Static_assert _Thread_local typeof __typeof__ __inline __inline__
+    __restrict __restrict__ __extension__ __asm__ asm
+    """.split())
 TOKEN_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|\d[\w.]*|\S")
 
 
@@ -150,12 +161,28 @@ def function_name(toks, close, start):
     if o - 1 >= start and re.match(r"[A-Za-z_]", toks[o - 1][0]) \
             and toks[o - 1][0] not in ATTRIBUTE_WORDS:
         return o - 1
-    # e.g. a function returning a function pointer: void (*f(int))(double)
-    for k in range(start, close):
-        if re.match(r"[A-Za-z_]", toks[k][0]) and toks[k + 1][0] == "(" \
-                and toks[k][0] not in ATTRIBUTE_WORDS:
-            return k
-    return -1
+    # A function returning a function pointer, void (*f(int))(double): the
+    # name is the innermost identifier (not a keyword) followed by '('.
+    best, best_depth, depth, k = -1, -1, 0, start
+    while k < close:
+        t = toks[k][0]
+        if t in ATTRIBUTE_WORDS and toks[k + 1][0] == "(":
+            depth_here = 0              # skip __attribute__((...)) whole
+            k += 1
+            while k < close:
+                depth_here += {"(": 1, ")": -1}.get(toks[k][0], 0)
+                if depth_here == 0:
+                    break
+                k += 1
+        elif re.match(r"[A-Za-z_]", t) and toks[k + 1][0] == "(" \
+                and t not in C_KEYWORDS and depth > best_depth:
+            best, best_depth = k, depth
+        if t == "(":
+            depth += 1
+        elif t == ")":
+            depth -= 1
+        k += 1
+    return best
 
 
 def is_initialiser(toks, start, end):
@@ -231,7 +258,9 @@ def source_files(paths):
             files.append(p)
             continue
         if not os.path.isdir(p):
-            sys.exit(f"code_shape.py: {p}: no such file or directory")
+            print(f"code_shape.py: {p}: no such file or directory",
+                  file=sys.stderr)
+            sys.exit(2)
         for root, dirs, names in os.walk(p):
             dirs[:] = sorted(d for d in dirs
                              if not d.startswith("build") and d != ".git")
