@@ -264,16 +264,6 @@ struct mpgm_problem {
   int matrices_step; /**< systems written in the current step            */
   long matrices_written; /**< systems written in the run                 */
   int symmetric;     /**< all tangents symmetric (static or dynamic)    */
-  int solver_auto;   /**< solver chosen by "auto": may fall back to LU   */
-  mpgm_solver *solver_alt; /**< "auto": the backend not in use (LU after
-                            the first fallback, then the two alternate) */
-  int solver_switches; /**< times "auto" fell back from CHOLMOD to UMFPACK
-                            (tangent not positive definite)             */
-  int lu_hold;       /**< "auto" on LU: steps left before Cholesky is tried
-                          again                                         */
-  int lu_hold_len;   /**< length of the last hold; doubles while Cholesky
-                          keeps failing, 0 after it succeeds             */
-  long lu_steps;     /**< steps solved with the LU fallback              */
   double *react;     /**< 2 per node: support force on the body at fixed
                           components (mpgm_reactions)                   */
   long contact_rounds; /**< extra solves of steps whose contact set changed */

@@ -173,7 +173,8 @@ typedef struct mpgm_scene {
   int predictor_velocity;   /**< dynamic: Newton starts from du = dt v
                                  (free components) instead of du = 0  */
   /* solver */
-  const mpgm_solver_type *solver; /**< NULL: auto (by tangent symmetry) */
+  const mpgm_solver_type *solver; /**< solver.linear ("auto": the composite
+                                 Cholesky / LU backend)               */
   double rtol, atol, dtol;  /**< Newton: relative and absolute residual,
                                  relative displacement increment       */
   int max_iter;             /**< Newton iteration limit                */

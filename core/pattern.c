@@ -297,7 +297,6 @@ numbering:
   pb->nbr_off = off;
   pb->pattern_version = C->version;
   pb->solver->analysed = 0;
-  if (pb->solver_alt) pb->solver_alt->analysed = 0;
   pb->factor_valid = 0;
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   return scatter_maps(pb);

@@ -290,11 +290,11 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
     free(pb);
     return ctx->code;
   }
-  const mpgm_solver_type *st = scene->solver;
-  pb->solver_auto = !st;
-  if (!st) st = mpgm_solver_type_find(pb->symmetric ? "cholmod" : "umfpack");
-  int err = st ? mpgm_solver_create(ctx, st, &scene->solver_opts, &pb->solver)
-               : mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "no solver backend");
+  /* "auto" takes Cholesky for symmetric tangents (LU when one is not
+   * positive definite), LU for unsymmetric ones */
+  mpgm_solver_opts so = scene->solver_opts;
+  so.symmetric = pb->symmetric;
+  int err = mpgm_solver_create(ctx, scene->solver, &so, &pb->solver);
   mpgm_timer_start(ctx, MPGM_T_SHAPE);
   if (!err) err = fe->setup(pb);
   mpgm_timer_stop(ctx, MPGM_T_SHAPE);
@@ -386,7 +386,6 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   free(pb->fix_factored);
   mpgm_cpoints_free(&pb->cp);
   mpgm_solver_destroy(&pb->solver);
-  mpgm_solver_destroy(&pb->solver_alt);
   free(pb);
   *pp = NULL;
 }

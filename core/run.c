@@ -71,8 +71,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddStringToObject(j, "method", mpgm_method_name(s->method));
   cJSON_AddStringToObject(j, "shape", s->shape->name);
   /* "auto" on its LU fallback still reports the backend it chose */
-  const mpgm_solver *used = pb->solver_alt && pb->solver_alt->type->needs_spd ? pb->solver_alt : pb->solver;
-  cJSON_AddStringToObject(j, "solver", used->type->name);
+  cJSON_AddStringToObject(j, "solver", mpgm_solver_name(pb->solver));
   cJSON_AddNumberToObject(j, "solver_threads", s->threads);
   cJSON_AddNumberToObject(j, "threads", mpgm_pool_size(pb->pool));
   cJSON_AddItemToObject(j, "effects", (cJSON *)mpgm_effects_json(&pb->fx));
@@ -100,8 +99,10 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(c, "shape_cold_restarts", (double)ctx->count[MPGM_C_COLD_RESTARTS]);
   cJSON_AddNumberToObject(c, "nodes_merged", (double)ctx->count[MPGM_C_NODES_MERGED]);
   cJSON_AddNumberToObject(c, "step_cuts", (double)pb->step_cuts);
-  cJSON_AddNumberToObject(c, "solver_switches", pb->solver_switches);
-  cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)pb->lu_steps);
+  mpgm_solver_stats st = {0};
+  const int have_stats = mpgm_solver_get_stats(pb->solver, &st) == 0;
+  cJSON_AddNumberToObject(c, "solver_switches", (double)st.switches);
+  cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)st.fallback_steps);
   cJSON_AddNumberToObject(c, "contact_resolves", (double)pb->contact_rounds);
   if (pb->fx.contact_points) {
     cJSON_AddNumberToObject(c, "contact_points", pb->cp.n);
@@ -112,8 +113,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   }
   cJSON_AddNumberToObject(c, "vtk_files", o->files);
   cJSON_AddNumberToObject(c, "clock_reads", (double)mpgm_wtime_reads());
-  mpgm_solver_stats st = {0};
-  if (pb->solver && ctx->count[MPGM_C_FACTORIZATIONS] && mpgm_solver_get_stats(pb->solver, &st) == 0) {
+  if (have_stats && ctx->count[MPGM_C_FACTORIZATIONS]) {
     cJSON_AddNumberToObject(c, "nnz_factor", st.nnz_factor);
     if (st.flops > 0) cJSON_AddNumberToObject(c, "factor_flops", st.flops);
     if (st.mem_peak > 0) cJSON_AddNumberToObject(c, "solver_memory_peak", st.mem_peak);

@@ -471,13 +471,13 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   jr_node so;
   MPGM_CALL(jr_child(root, "solver", 0, &so));
   const mpgm_solver_type *const *svt = mpgm_solver_types();
-  const char *svn[16] = {"auto"};
-  int nsv = 1;
-  for (; svt[nsv - 1] && nsv < 15; nsv++) svn[nsv] = svt[nsv - 1]->name;
+  const char *svn[16];
+  int nsv = 0;
+  for (; svt[nsv] && nsv < 15; nsv++) svn[nsv] = svt[nsv]->name;
   svn[nsv] = NULL;
-  int si;
+  int si; /* the first backend of the list, "auto", is the default */
   MPGM_CALL(jr_enum(&so, "linear", svn, 0, &si));
-  s->solver = si ? svt[si - 1] : NULL;
+  s->solver = svt[si];
   MPGM_CALL(jr_num(&so, "rtol", 1e-9, 0, 1, 1, 1, &s->rtol));
   MPGM_CALL(jr_num(&so, "atol", 1e-10, 0, INFINITY, 0, 0, &s->atol));
   MPGM_CALL(jr_num(&so, "dtol", 1e-10, 0, 1, 1, 1, &s->dtol));

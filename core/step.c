@@ -90,53 +90,6 @@ static void commit(mpgm_problem *pb) {
   mpgm_timer_stop(ctx, MPGM_T_UPDATE);
 }
 
-/* "auto" fallback: longest run of steps on LU before Cholesky is tried
- * again (a failed Cholesky costs one factorisation) */
-#define LU_HOLD_MAX 64
-
-static void swap_solvers(mpgm_problem *pb) {
-  mpgm_solver *t = pb->solver;
-  pb->solver = pb->solver_alt;
-  pb->solver_alt = t;
-  pb->factor_valid = 0;
-}
-
-/* At the start of a step on the LU fallback: count the step, and go back
- * to Cholesky when the hold has run out. A tangent that is indefinite for a
- * few steps (a light node under compression) then costs LU only on those
- * steps; one that stays indefinite costs a failed Cholesky every 64 steps. */
-static void lu_resume(mpgm_problem *pb) {
-  if (!pb->solver_auto || !pb->solver_alt || pb->solver->type->needs_spd) return;
-  if (--pb->lu_hold <= 0) swap_solvers(pb);
-  else pb->lu_steps++;
-}
-
-/* "auto" chose Cholesky for a symmetric tangent, but it is not positive
- * definite (geometric stiffness under compression, a light node in a
- * compressed region): LU factorises K for this step and lu_hold_len - 1
- * more, then Cholesky is tried again (lu_resume); counted in summary.json.
- * Returns the LU factorisation's code. */
-static int lu_fallback(mpgm_problem *pb) {
-  mpgm_ctx *ctx = pb->ctx;
-  if (!pb->solver_alt) {
-    const mpgm_solver_type *lu = mpgm_solver_type_find("umfpack");
-    MPGM_CHECK(ctx, lu, MPGM_ERR_SOLVER, "%s (and no LU backend to fall back to)", ctx->msg);
-    MPGM_CALL(mpgm_solver_create(ctx, lu, &pb->scene->solver_opts, &pb->solver_alt));
-  }
-  mpgm_err_clear(ctx);
-  swap_solvers(pb);
-  pb->solver_switches++;
-  pb->lu_steps++;
-  pb->lu_hold_len = pb->lu_hold_len ? 2 * pb->lu_hold_len : 1;
-  if (pb->lu_hold_len > LU_HOLD_MAX) pb->lu_hold_len = LU_HOLD_MAX;
-  pb->lu_hold = pb->lu_hold_len;
-  if (!pb->solver->analysed) {
-    MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));
-    pb->solver->analysed = 1;
-  }
-  return mpgm_solver_factor(pb->solver, ctx, &pb->K);
-}
-
 static int contact_update(mpgm_problem *pb);
 
 /* output.matrices: the system K delta = R about to be solved, as
@@ -251,10 +204,6 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
     if (pb->matrices_on) MPGM_CALL(write_system(pb));
     err = reuse ? 0 : mpgm_solver_factor(pb->solver, ctx, &pb->K);
     factored = 1;
-    if (pb->solver_auto && pb->solver->type->needs_spd) {
-      if (err == MPGM_ERR_SINGULAR) err = lu_fallback(pb);
-      else if (!err && !reuse) pb->lu_hold_len = 0; /* Cholesky works again */
-    }
     pb->factor_valid = !err;
     MPGM_CALL(err);
     /* the held contact components the factorisation was made with */
@@ -332,9 +281,12 @@ static int initial_acceleration(mpgm_problem *pb) {
     pb->solver->analysed = 1;
   }
   pb->factor_valid = 0; /* the factorisation is M's, not the tangent's */
-  int err = mpgm_solver_factor(pb->solver, ctx, &pb->K);
+  /* a composite's part in use, without its fallback: Cholesky refusing M
+   * means M is singular, and the lumped mass is used */
+  mpgm_solver *ms = mpgm_solver_part(pb->solver);
+  int err = mpgm_solver_factor(ms, ctx, &pb->K);
   if (!err) {
-    MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
+    MPGM_CALL(mpgm_solver_solve(ms, ctx, pb->R, pb->delta));
   } else if (err == MPGM_ERR_SINGULAR) {
     mpgm_err_clear(ctx);
     double *mI = pb->react; /* scratch, 2 per node */
@@ -380,7 +332,9 @@ int mpgm_step(mpgm_problem *pb) {
   if (pb->fx.contact) memset(pb->cflip, 0, (size_t)nd->n);
   if (pb->fx.contact_points) memset(pb->cp.flip, 0, (size_t)pb->cp.n);
   int ndof_step = nd->ndof;
-  lu_resume(pb);
+  int kept; /* a composite solver may change its part at a new step */
+  MPGM_CALL(mpgm_solver_step(pb->solver, ctx, &kept));
+  if (!kept) pb->factor_valid = 0;
   /* output.matrices: a retried (cut) step writes its systems afresh */
   pb->matrices_on = 0;
   pb->matrices_step = 0;

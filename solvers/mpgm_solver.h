@@ -37,6 +37,8 @@ typedef struct mpgm_solver_stats {
                           the copies the backend keeps (0 if unknown)    */
   int iterations;    /**< iterative backends: iterations of the last
                           solve (0 for direct backends)                  */
+  long switches;     /**< composite "auto": falls from Cholesky to LU    */
+  long fallback_steps; /**< composite "auto": steps solved with LU       */
 } mpgm_solver_stats;
 
 /** Options of the backends (the scene's solver block). A backend reads
@@ -48,9 +50,12 @@ typedef struct mpgm_solver_opts {
   int restart;  /**< gmres: Krylov vectors per cycle (default 100)       */
   int max_iter; /**< iterative: iterations per solve before it fails with
                      MPGM_ERR_LINEAR (default 5000)                      */
+  int symmetric; /**< "auto": 1 when the matrices will be symmetric
+                     (Cholesky first), 0 when not (LU); default 1        */
 } mpgm_solver_opts;
 
-/** The default options (tol 1e-10, restart 100, max_iter 5000). */
+/** The default options (tol 1e-10, restart 100, max_iter 5000,
+ *  symmetric 1). */
 mpgm_solver_opts mpgm_solver_opts_default(void);
 
 typedef struct mpgm_solver_type {
@@ -59,6 +64,8 @@ typedef struct mpgm_solver_type {
   int needs_spd;     /**< 1: only for symmetric positive definite matrices */
   int iterative;     /**< 1: the solution meets opts.tol only (solve may
                           fail with MPGM_ERR_LINEAR); 0: a direct solver  */
+  int composite;     /**< 1: made of other instances, which the wrappers
+                          time and count; the composite itself is not   */
   /** Allocate the instance with options opts (never NULL; copied). */
   int (*create)(mpgm_ctx *ctx, const mpgm_solver_opts *opts, void **data);
   void (*destroy)(void *data); /**< accepts NULL and half-built data       */
@@ -75,6 +82,16 @@ typedef struct mpgm_solver_type {
   int (*solve)(void *data, mpgm_ctx *ctx, const double *b, double *x);
   /** Optional (may be NULL). */
   int (*stats)(void *data, mpgm_solver_stats *st);
+  /** Optional: a new time (or load) step begins; *kept = 0 when the
+   *  factorisation held is no longer the one solve would use. */
+  int (*step)(void *data, mpgm_ctx *ctx, int *kept);
+  /** Optional: the backend that stands for the instance in reports (a
+   *  composite's first choice); NULL op: the type's name. */
+  const char *(*backend)(const void *data);
+  /** Optional: the instance that factorises now (a composite's part in
+   *  use), for a matrix that must not go through its fallback; NULL op:
+   *  the instance itself. */
+  struct mpgm_solver *(*part)(void *data);
 } mpgm_solver_type;
 
 /** A solver instance. */
@@ -109,6 +126,17 @@ int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
  *  time (dlsym), so any BLAS and OpenMP runtime works; returns a bit set of
  *  what was applied: 1 BLAS threads, 2 OpenMP. */
 int mpgm_solver_threads(int n);
+/** A new time (or load) step begins (composites count their holds in
+ *  steps); *kept = 0 when a factorisation held before is no longer valid.
+ *  Backends without the operation: *kept = 1. */
+int mpgm_solver_step(mpgm_solver *s, mpgm_ctx *ctx, int *kept);
+/** The name of the backend a report should name (a composite's first
+ *  choice: "cholmod" for "auto" on symmetric matrices). */
+const char *mpgm_solver_name(const mpgm_solver *s);
+/** The instance that factorises now: a composite's part in use, else s
+ *  itself. Analyse s first. For a matrix whose failure means something
+ *  (a singular mass matrix) rather than a reason to fall back. */
+mpgm_solver *mpgm_solver_part(mpgm_solver *s);
 /** Statistics of the last factorisation. (Named _get_ because
  *  mpgm_solver_stats is the struct's typedef.) */
 int mpgm_solver_get_stats(mpgm_solver *s, mpgm_solver_stats *st);

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #define MPGM_SOLVER_LIST(X)                                                    \
+  X(mpgm_solver_auto)                                                          \
   X(mpgm_solver_cholmod)                                                       \
   X(mpgm_solver_cholmod_simplicial)                                            \
   X(mpgm_solver_cholmod_supernodal)                                            \
@@ -37,7 +38,7 @@ const mpgm_solver_type *mpgm_solver_type_find(const char *name) {
 }
 
 mpgm_solver_opts mpgm_solver_opts_default(void) {
-  return (mpgm_solver_opts){.tol = 1e-10, .restart = 100, .max_iter = 5000};
+  return (mpgm_solver_opts){.tol = 1e-10, .restart = 100, .max_iter = 5000, .symmetric = 1};
 }
 
 /** Create an instance of `type` with options opts (NULL: the defaults)
@@ -106,6 +107,11 @@ int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A, const 
                s->type->name);
   MPGM_CALL(check_csc(ctx, s, A));
   s->analysed = 0;
+  if (s->type->composite) { /* its parts time and count themselves */
+    MPGM_CALL(s->type->analyse(s->data, ctx, A, perm));
+    s->analysed = 1;
+    return MPGM_OK;
+  }
   mpgm_timer_start(ctx, MPGM_T_ANALYSE);
   int ierr = s->type->analyse(s->data, ctx, A, perm);
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
@@ -127,6 +133,7 @@ int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A) {
   MPGM_CALL(check_csc(ctx, s, A));
   MPGM_CHECK(ctx, s->analysed, MPGM_ERR_INTERNAL,
              "solver %s: factor called before analyse", s->type->name);
+  if (s->type->composite) return s->type->factor(s->data, ctx, A);
   mpgm_timer_start(ctx, MPGM_T_FACTOR);
   int ierr = s->type->factor(s->data, ctx, A);
   mpgm_timer_stop(ctx, MPGM_T_FACTOR);
@@ -146,6 +153,7 @@ int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
   if (!s->type->solve)
     MPGM_ERROR(ctx, MPGM_ERR_UNSUPPORTED, "solver %s: no solve operation",
                s->type->name);
+  if (s->type->composite) return s->type->solve(s->data, ctx, b, x);
   mpgm_timer_start(ctx, MPGM_T_SOLVE);
   int ierr = s->type->solve(s->data, ctx, b, x);
   mpgm_timer_stop(ctx, MPGM_T_SOLVE);
@@ -164,6 +172,19 @@ int mpgm_solver_get_stats(mpgm_solver *s, mpgm_solver_stats *st) {
   memset(st, 0, sizeof(*st));
   if (!s->type->stats) return MPGM_ERR_UNSUPPORTED;
   return s->type->stats(s->data, st);
+}
+
+int mpgm_solver_step(mpgm_solver *s, mpgm_ctx *ctx, int *kept) {
+  *kept = 1;
+  return s && s->type->step ? s->type->step(s->data, ctx, kept) : MPGM_OK;
+}
+
+const char *mpgm_solver_name(const mpgm_solver *s) {
+  return s->type->backend ? s->type->backend(s->data) : s->type->name;
+}
+
+mpgm_solver *mpgm_solver_part(mpgm_solver *s) {
+  return s->type->part ? s->type->part(s->data) : s;
 }
 
 int mpgm_solver_threads(int n) {

@@ -84,7 +84,7 @@ check(set(n3) == {"step0003"}, f"output.matrices=3 into the same folder: only st
 check(rc("bench") == 0, f"bench-solvers exits 0 ({rc('bench')})" +
       ("" if rc("bench") == 0 else ": " + open(f"{w}/bench.err").read()[-300:]))
 rows = list(csv.DictReader(open(f"{w}/bench.csv")))
-backends = ["cholmod", "cholmod_simplicial", "cholmod_supernodal", "umfpack", "klu", "gmres"]
+backends = ["auto", "cholmod", "cholmod_simplicial", "cholmod_supernodal", "umfpack", "klu", "gmres"]
 systems = sorted({r["matrix"] for r in rows})
 check(systems == [f"step0001_it{i:02d}" for i in range(its)], f"CSV: the {its} systems ({systems})")
 check(len(rows) == its * len(backends) and all(sorted(r["backend"] for r in rows if r["matrix"] == m) ==

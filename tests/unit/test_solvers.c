@@ -557,6 +557,70 @@ static void check_wrappers(void) {
   release(&A);
 }
 
+/* The composite "auto" on symmetric matrices: a matrix Cholesky refuses is
+ * factorised by LU, which is then held for 1, 2, 4, ... steps; Cholesky is
+ * tried again when a hold runs out (the factorisation held is then not the
+ * one solve would use), and a success resets the hold. */
+static void check_auto_holds(void) {
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_csc A = {0}, S = {0};
+  mpgm_solver *s = NULL;
+  mpgm_solver_stats st;
+  vecs v = {0};
+  int kept[6], e[8];
+  const mpgm_solver_type *t = mpgm_solver_type_find("auto");
+  if (!t || build(9, 7, -1, -3.1, 0.0, SCALE, &A) || build(9, 7, -1, 0.3817, 0.0, SCALE, &S) ||
+      vecs_alloc(S.n, &v) || mpgm_solver_create(&ctx, t, NULL, &s) ||
+      mpgm_solver_analyse(s, &ctx, &A, NULL)) {
+    mpgm_test(0, "auto holds: set-up (%s)", ctx.msg);
+    goto done;
+  }
+  mpgm_test(strcmp(mpgm_solver_name(s), "cholmod") == 0, "auto: reports as %s (cholmod)",
+            mpgm_solver_name(s));
+  /* step 1: Cholesky refuses A, LU solves it (hold 1) */
+  e[0] = mpgm_solver_step(s, &ctx, &kept[0]);
+  e[1] = mpgm_solver_factor(s, &ctx, &A);
+  known_rhs(&A, &v);
+  e[2] = mpgm_solver_solve(s, &ctx, v.b, v.x);
+  mpgm_solver_get_stats(s, &st);
+  mpgm_test(!e[0] && kept[0] && !e[1] && !e[2] && ctx.code == 0 && st.switches == 1 &&
+                st.fallback_steps == 1 && mpgm_solver_part(s)->type == mpgm_solver_type_find("umfpack"),
+            "auto: indefinite A on LU after Cholesky refused it (%d %d %d, switches %ld, LU steps "
+            "%ld, no error left: %s)", e[0], e[1], e[2], st.switches, st.fallback_steps, ctx.msg);
+  check_solution(t, "indefinite on LU", &A, &v, 1e-12);
+  /* step 2: the hold of 1 has run out: Cholesky again, refuses, hold 2 */
+  mpgm_solver_step(s, &ctx, &kept[1]);
+  mpgm_solver_factor(s, &ctx, &A);
+  /* steps 3 and 4: the first stays on LU (counted), the second tries
+   * Cholesky on the SPD S, which resets the hold */
+  mpgm_solver_step(s, &ctx, &kept[2]);
+  mpgm_solver_get_stats(s, &st);
+  const long sw3 = st.switches, lu3 = st.fallback_steps;
+  mpgm_solver_step(s, &ctx, &kept[3]);
+  e[3] = mpgm_solver_factor(s, &ctx, &S);
+  /* step 5: A again: a hold of 1, not 4 */
+  mpgm_solver_step(s, &ctx, &kept[4]);
+  e[4] = mpgm_solver_factor(s, &ctx, &A);
+  mpgm_solver_step(s, &ctx, &kept[5]);
+  mpgm_solver_get_stats(s, &st);
+  mpgm_test(!kept[1] && kept[2] && sw3 == 2 && lu3 == 3 && !kept[3] && !e[3] && kept[4] && !e[4] &&
+                !kept[5] && st.switches == 3 && st.fallback_steps == 4,
+            "auto: holds of 1 and 2 steps, reset by a Cholesky success (kept %d %d %d %d %d, "
+            "switches %ld then %ld, LU steps %ld then %ld)", kept[1], kept[2], kept[3], kept[4],
+            kept[5], sw3, st.switches, lu3, st.fallback_steps);
+  mpgm_test(ctx.count[MPGM_C_ANALYSES] == 2 && ctx.count[MPGM_C_FACTORIZATIONS] == 7,
+            "auto: the parts count, the composite does not: 2 analyses (Cholesky at the start, "
+            "LU when first used; one pattern), 7 factorisations (3 refused by Cholesky) (got "
+            "%ld, %ld)",
+            ctx.count[MPGM_C_ANALYSES], ctx.count[MPGM_C_FACTORIZATIONS]);
+done:
+  mpgm_solver_destroy(&s);
+  vecs_free(&v);
+  release(&S);
+  release(&A);
+}
+
 int main(void) {
   const mpgm_solver_type *const *types = mpgm_solver_types();
   int ntypes = 0;
@@ -566,6 +630,7 @@ int main(void) {
                 mpgm_solver_type_find(NULL) == NULL,
             "unknown names are not found");
   check_wrappers();
+  check_auto_holds();
   for (int i = 0; types[i]; i++) {
     const mpgm_solver_type *t = types[i];
     mpgm_test(mpgm_solver_type_find(t->name) == t, "%s: found by name",
