@@ -15,6 +15,7 @@
 #include <math.h>
 
 #include "mpgm_base.h"
+#include "mpgm_integrator.h"
 #include "mpgm_pool.h"
 #include "mpgm_material.h"
 #include "mpgm_scene.h"
@@ -169,6 +170,20 @@ typedef struct mpgm_newton_info {
                          (the first 64), for the convergence rate        */
 } mpgm_newton_info;
 
+/** Something that watches a problem's steps (output.matrices writes the
+ *  linear systems). Either operation may be NULL; a non-zero return stops
+ *  the step with that code. */
+typedef struct mpgm_observer {
+  void *user; /**< first argument of the operations                      */
+  /** A step (step = steps done + 1) begins, also when it is retried. */
+  int (*step_begin)(void *user, mpgm_ctx *ctx, long step);
+  /** Newton is about to solve K delta = R of this step (K as it is, or
+   *  was, factorised). */
+  int (*system)(void *user, mpgm_ctx *ctx, long step, const mpgm_csc *K, const double *R);
+} mpgm_observer;
+
+#define MPGM_OBSERVERS_MAX 4
+
 /** Chunks of the threaded assembly; a constant, so that the order of the
  *  sums does not depend on the number of threads. */
 #define MPGM_ASM_CHUNKS 16
@@ -194,6 +209,10 @@ struct mpgm_problem {
   mpgm_conn conn;
   const mpgm_frontend_ops *fe;
   void *fe_data;
+  const mpgm_integrator_type *integ; /**< the scene's time integrator  */
+  void *integ_data;  /**< its data (create), or NULL                    */
+  mpgm_observer obs[MPGM_OBSERVERS_MAX]; /**< observers of the steps     */
+  int nobs;
   /* step */
   double t;          /**< time (dynamic) or load factor (static) at step start */
   double dt;         /**< time step [s] (dynamic) or load increment     */
@@ -258,11 +277,6 @@ struct mpgm_problem {
                            enters Newton linearly, not as a jump of the
                            boundary nodes alone                           */
   mpgm_solver *solver;
-  const char *matrices_dir; /**< output.matrices: the folder the systems go
-                          to (borrowed from the run's output); NULL: none */
-  int matrices_on;   /**< output.matrices lists the current step         */
-  int matrices_step; /**< systems written in the current step            */
-  long matrices_written; /**< systems written in the run                 */
   int symmetric;     /**< all tangents symmetric (static or dynamic)    */
   double *react;     /**< 2 per node: support force on the body at fixed
                           components (mpgm_reactions)                   */
@@ -323,10 +337,12 @@ int mpgm_conn_grow(mpgm_ctx *ctx, mpgm_conn *c, int keep, int nnz);
 /** Number equations of free components (node-major); sets nodes->ndof. */
 void mpgm_nodes_number(mpgm_nodes *nd);
 
-/** Solve one step to load factor / time pb->t + pb->dt (Newton);
- *  commits points and calls the front end's end_step. On a recoverable
- *  failure nothing is committed. */
+/** One step to load factor / time pb->t + pb->dt: the front end's
+ *  begin_step, the scene's integrator (solve and commit), the front end's
+ *  end_step. On a recoverable failure nothing is committed. */
 int mpgm_step(mpgm_problem *pb);
+/** Add an observer of the steps (copied; at most MPGM_OBSERVERS_MAX). */
+int mpgm_problem_observe(mpgm_problem *pb, const mpgm_observer *obs);
 
 /** Evaluate trial state at the current increment nodes.du: F, stress,
  *  tangent and current gradients (exposed for tests). */

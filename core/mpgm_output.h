@@ -9,6 +9,10 @@ typedef struct mpgm_output {
   char dir[MPGM_PATH_LEN];
   char matrices_dir[MPGM_PATH_LEN + 16]; /**< output.matrices: DIR/matrices
                      (emptied of earlier systems when opened); "" if none */
+  const mpgm_scene *scene; /**< the run's scene (borrowed)         */
+  int mtx_on;     /**< output.matrices lists the current step      */
+  int mtx_system; /**< systems written in the current step          */
+  long mtx_written; /**< systems written in the run                */
   struct mpgm_pvd *pvd_points, *pvd_mesh;
   int nvtk;       /**< VTK outputs written (index of the next one) */
   int files;      /**< VTK files written                          */
@@ -27,6 +31,11 @@ int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir);
 int mpgm_remove_files(mpgm_ctx *ctx, const char *dir, const char *prefix, const char *suffix);
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir);
 void mpgm_output_close(mpgm_output *o);
+/** output.matrices: make the output an observer of pb that writes the
+ *  systems of the listed steps (Matrix Market, DIR/matrices/stepSSSS_itII_
+ *  K.mtx and _b.mtx, II counting the systems of the step from 0; a retried
+ *  step writes afresh). Nothing when the scene lists no step. */
+int mpgm_output_observe(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb);
 int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb);
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
 int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);

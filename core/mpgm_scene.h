@@ -9,6 +9,7 @@
 #define MPGM_SCENE_H
 
 #include "mpgm_base.h"
+#include "mpgm_integrator.h"
 #include "mpgm_material.h"
 #include "mpgm_reference.h"
 #include "mpgm_shapefn.h"
@@ -172,6 +173,9 @@ typedef struct mpgm_scene {
                                  0: a_0 = 0                          */
   int predictor_velocity;   /**< dynamic: Newton starts from du = dt v
                                  (free components) instead of du = 0  */
+  const mpgm_integrator_type *integrator; /**< how a step is solved: from
+                                 time.analysis (static, dynamic: the
+                                 implicit Newmark integrator)          */
   /* solver */
   const mpgm_solver_type *solver; /**< solver.linear ("auto": the composite
                                  Cholesky / LU backend)               */

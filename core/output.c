@@ -10,6 +10,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "mpgm_mtx.h"
 #include "mpgm_vtk.h"
 
 enum { STEP_COLS = 9 };
@@ -101,7 +102,53 @@ int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, cons
     MPGM_CALL(mpgm_remove_files(ctx, o->matrices_dir, "step", ".mtx"));
   }
   o->ncol = 2 * pb->pts.nprobe;
+  o->scene = pb->scene;
   return 0;
+}
+
+/* A step begins: is it listed (remove what a retried step wrote)? */
+static int mtx_step_begin(void *user, mpgm_ctx *ctx, long step) {
+  mpgm_output *o = user;
+  o->mtx_on = 0;
+  o->mtx_system = 0;
+  for (int i = 0; i < o->scene->nmatrices; i++) o->mtx_on |= o->scene->matrices[i] == step;
+  if (!o->mtx_on) return 0;
+  char prefix[32];
+  snprintf(prefix, sizeof prefix, "step%04ld_", step);
+  return mpgm_remove_files(ctx, o->matrices_dir, prefix, ".mtx");
+}
+
+/* The system K delta = R about to be solved, as DIR/matrices/stepSSSS_
+ * itII_K.mtx and _b.mtx (II counts the Newton iterations of the step from
+ * 0, across contact re-solves). */
+static int mtx_system(void *user, mpgm_ctx *ctx, long step, const mpgm_csc *K, const double *R) {
+  mpgm_output *o = user;
+  if (!o->mtx_on) return 0;
+  char path[MPGM_PATH_LEN + 64], what[MPGM_PATH_LEN + 128];
+  const int len = snprintf(path, sizeof path, "%s/step%04ld_it%02d_", o->matrices_dir, step, o->mtx_system);
+  MPGM_CHECK(ctx, len > 0 && (size_t)len + 6 < sizeof path, MPGM_ERR_IO, "%s: path too long",
+             o->matrices_dir);
+  mpgm_timer_start(ctx, MPGM_T_OUTPUT);
+  snprintf(what, sizeof what, "mpgm: tangent K of step %ld, system %d (K delta = b), scene %s", step,
+           o->mtx_system, o->scene->file);
+  strcat(path, "K.mtx");
+  int err = mpgm_mtx_write_csc(ctx, path, K, what);
+  snprintf(what, sizeof what, "mpgm: right-hand side b (residual R) of step %ld, system %d, scene %s",
+           step, o->mtx_system, o->scene->file);
+  strcpy(path + len, "b.mtx");
+  if (!err) err = mpgm_mtx_write_vec(ctx, path, R, K->n, what);
+  mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
+  MPGM_CALL(err);
+  o->mtx_system++;
+  o->mtx_written++;
+  return MPGM_OK;
+}
+
+int mpgm_output_observe(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
+  (void)ctx;
+  if (!o->matrices_dir[0]) return 0;
+  const mpgm_observer obs = {.user = o, .step_begin = mtx_step_begin, .system = mtx_system};
+  return mpgm_problem_observe(pb, &obs);
 }
 
 void mpgm_output_close(mpgm_output *o) {

@@ -278,6 +278,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
    * increment in static analysis (t then counts the load factor) */
   pb->dt = scene->analysis == MPGM_ANALYSIS_DYNAMIC ? scene->dt : 1.0 / scene->load_steps;
   pb->fe = fe;
+  pb->integ = scene->integrator;
   pb->pattern_version = -1;
   pb->graph_version = -1;
   /* effects: decided once, when the scene loads */
@@ -340,6 +341,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
       err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
   }
   if (!err && pb->fx.contact_points) err = mpgm_cpoints_setup(pb);
+  if (!err && pb->integ->create) err = pb->integ->create(pb, &pb->integ_data);
   if (!err && pb->nodes.n > 0 && pb->nodes.ndof == 0)
     err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
                        "%s: boundaries: every degree of freedom is fixed; nothing to solve",
@@ -355,6 +357,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene,
 void mpgm_problem_destroy(mpgm_problem **pp) {
   if (!pp || !*pp) return;
   mpgm_problem *pb = *pp;
+  if (pb->integ && pb->integ->destroy) pb->integ->destroy(pb->integ_data);
   if (pb->fe && pb->fe->destroy) pb->fe->destroy(pb);
   points_free(&pb->pts);
   nodes_free(&pb->nodes);

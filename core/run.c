@@ -120,7 +120,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   }
   if (pb->solver && pb->solver->type->iterative)
     cJSON_AddNumberToObject(c, "linear_iterations", (double)ctx->count[MPGM_C_LINEAR_ITERATIONS]);
-  if (pb->matrices_dir) cJSON_AddNumberToObject(c, "matrices_written", pb->matrices_written);
+  if (o->matrices_dir[0]) cJSON_AddNumberToObject(c, "matrices_written", (double)o->mtx_written);
   cJSON *t = cJSON_AddObjectToObject(j, "time_s");
   for (int i = 0; i < MPGM_T_COUNT; i++)
     cJSON_AddNumberToObject(t, mpgm_timer_name(i), i == MPGM_T_TOTAL ? rs->wall : ctx->t[i]);
@@ -210,7 +210,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_frontend_ops *fe,
   MPGM_CALL(mpgm_problem_create(ctx, s, fe, &pb));
   mpgm_output o;
   int err = mpgm_output_open(ctx, &o, pb, opts && opts->out_dir ? opts->out_dir : s->out_dir);
-  if (!err && o.matrices_dir[0]) pb->matrices_dir = o.matrices_dir;
+  if (!err) err = mpgm_output_observe(ctx, &o, pb);
   if (err) {
     mpgm_output_close(&o);
     mpgm_problem_destroy(&pb);

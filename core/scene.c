@@ -468,6 +468,10 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   if (dyn && s->t_end / s->dt > 1e8)
     return jr_fail(&tm, "dt", "expected at most 1e8 steps, found end/dt = %g", s->t_end / s->dt);
 
+  /* static and dynamic analyses: the implicit Newmark integrator */
+  s->integrator = mpgm_integrator_type_find("implicit");
+  MPGM_CHECK(root->r->ctx, s->integrator, MPGM_ERR_INTERNAL, "no implicit integrator in this build");
+
   jr_node so;
   MPGM_CALL(jr_child(root, "solver", 0, &so));
   const mpgm_solver_type *const *svt = mpgm_solver_types();

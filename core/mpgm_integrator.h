@@ -1,0 +1,39 @@
+/* mpgm_integrator.h -- the time-integrator family: how a step is solved
+ * and committed once the front end has begun it (nodes, connectivity,
+ * nodal history). One .c per integrator exports a const type record; the
+ * list is core/integrator_list.c. Integrators are members of the core:
+ * they work on the core's problem, which no one else sees. */
+#ifndef MPGM_INTEGRATOR_H
+#define MPGM_INTEGRATOR_H
+
+#include "mpgm_base.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct mpgm_problem;
+
+typedef struct mpgm_integrator_type {
+  const char *name; /**< "implicit", ...                                   */
+  const char *doc;  /**< one line for docs                                 */
+  int implicit;     /**< 1: assembles and factorises a tangent             */
+  /** Optional: the integrator's own data for a problem (*self). */
+  int (*create)(struct mpgm_problem *pb, void **self);
+  /** Optional: release it (accepts NULL). */
+  void (*destroy)(void *self);
+  /** Solve the step from pb's time t to t + dt and commit points and
+   *  nodes. On a recoverable failure (> 0) nothing is committed and the
+   *  run loop may cut the step. */
+  int (*step)(void *self, struct mpgm_problem *pb);
+} mpgm_integrator_type;
+
+/** The integrator named `name`; NULL if none. */
+const mpgm_integrator_type *mpgm_integrator_type_find(const char *name);
+/** All integrators, NULL-terminated. */
+const mpgm_integrator_type *const *mpgm_integrator_types(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,161 @@
+/* newton.c -- Newton's method on the equations of one step, split as GSL
+ * splits its iterative solvers: init (predictor, reference norms),
+ * residual (R and, when the next correction needs it, K at the current
+ * iterate), test (converged, diverged, out of iterations) and iterate (one
+ * correction: factorise or reuse, solve, update). The integrator runs the
+ * loop and may act between the calls (the contact active set). */
+#include <math.h>
+#include <string.h>
+
+#include "mpgm_core_impl.h"
+
+static double norm2(const double *x, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; i++) s += x[i] * x[i];
+  return sqrt(s);
+}
+
+/* Predictor (42): du = 0. Fixed components get the increment of their
+ * (ramped) prescribed value through the first Newton iteration: it solves
+ * K_ff delta = R(0) - K_fc dubar, so the whole body follows the boundary
+ * linearly instead of the boundary nodes jumping alone (which can invert
+ * the cells next to them). Returns 1 when some increment is non-zero. */
+static int predictor(mpgm_problem *pb, int warm) {
+  mpgm_nodes *nd = &pb->nodes;
+  int any = 0;
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
+    if (!warm || nd->fix[i]) nd->du[i] = 0.0;
+    /* time.predictor = velocity: start from the motion at the nodal
+     * velocity (the converged step is the same; on the rolling disk it
+     * saves a tenth of the Newton iterations) */
+    if (!warm && !nd->fix[i] && pb->fx.inertia && pb->scene->predictor_velocity)
+      nd->du[i] = pb->dt * nd->v[i];
+    if (warm) continue; /* a re-solve keeps the free increments it had */
+    pb->dubar[i] = nd->fix[i] ? pb->lambda * nd->ubar[i] - nd->u[i] : 0.0;
+    any |= pb->dubar[i] != 0.0;
+  }
+  return any;
+}
+
+int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
+  const mpgm_nodes *nd = &pb->nodes;
+  memset(nt, 0, sizeof *nt);
+  memset(&pb->last, 0, sizeof pb->last);
+  nt->warm = warm;
+  nt->res_prev = INFINITY;
+  if (!warm) MPGM_CALL(mpgm_body_force(pb));
+  pb->lift = predictor(pb, warm) ? pb->dubar : NULL;
+  /* |f_ext| over the free equations (held contact components have
+   * numbered, constrained equations) */
+  double fnorm = 0.0;
+  for (int i = 0; i < MPGM_DIM * nd->n; i++)
+    if (nd->dof[i] >= 0 && !nd->fix[i]) fnorm += pb->fext[nd->dof[i]] * pb->fext[nd->dof[i]];
+  nt->fnorm = sqrt(fnorm);
+  /* a factorisation of this pattern exists (modified Newton may start from
+   * the one of an earlier step) */
+  nt->factored = pb->scene->newton_modified && pb->factor_valid &&
+                 memcmp(pb->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n) == 0;
+  return 0;
+}
+
+int mpgm_newton_residual(mpgm_problem *pb, mpgm_newton *nt) {
+  mpgm_newton_info *info = &pb->last;
+  MPGM_CALL(mpgm_eval_points(pb));
+  /* modified Newton assembles K only when it refactorises */
+  nt->want_K = !pb->scene->newton_modified || !nt->factored || pb->lift;
+  MPGM_CALL(mpgm_assemble(pb, nt->want_K));
+  const double res = norm2(pb->R, pb->nodes.ndof);
+  if (!isfinite(res))
+    MPGM_ERROR(pb->ctx, MPGM_ERR_NAN, "Newton iteration %d: residual is not finite", nt->it);
+  if (nt->it == 0) {
+    info->res0 = res;
+    nt->ref = fmax(res, nt->fnorm);
+  }
+  nt->res = res;
+  info->res = res;
+  info->res_rel = nt->ref > 0.0 ? res / nt->ref : 0.0;
+  if (nt->it < 64) info->hist[info->nhist++] = res;
+  return 0;
+}
+
+int mpgm_newton_test(mpgm_problem *pb, const mpgm_newton *nt, int *done) {
+  const mpgm_scene *sc = pb->scene;
+  const mpgm_newton_info *info = &pb->last;
+  const int it = nt->it;
+  const double res = nt->res;
+  /* converged: residual small (absolute or relative to the step's load),
+   * or the last correction negligible against the step's increment (the
+   * residual then sits at its round-off floor, which grows with the
+   * problem's size and stiffness) */
+  const int res_ok = res <= sc->atol || res <= sc->rtol * nt->ref;
+  *done = !pb->lift && (res_ok || (it > 0 && info->du_rel <= sc->dtol));
+  if (*done) return 0;
+  if (it == sc->max_iter)
+    MPGM_ERROR(pb->ctx, MPGM_ERR_NOT_CONVERGED,
+               "Newton did not converge in %d iterations (|R| = %.3e, |R|/ref = %.3e, "
+               "|du|/|Du| = %.3e)", it, res, info->res_rel, info->du_rel);
+  if (it > 2 && res > 1e8 * nt->ref)
+    MPGM_ERROR(pb->ctx, MPGM_ERR_DIVERGED, "Newton diverged at iteration %d (|R|/ref = %.3e)", it,
+               info->res_rel);
+  return 0;
+}
+
+/* The system K delta = R about to be solved, to every observer. */
+static int observe_system(mpgm_problem *pb) {
+  for (int i = 0; i < pb->nobs; i++)
+    if (pb->obs[i].system)
+      MPGM_CALL(pb->obs[i].system(pb->obs[i].user, pb->ctx, pb->step + 1, &pb->K, pb->R));
+  return 0;
+}
+
+/* du += delta (free components); with a lift, the fixed components take
+ * their prescribed increments. Returns |delta|^2 + |lift|^2 in *dd and
+ * |du|^2 in *uu. */
+static void update_increments(mpgm_problem *pb, double *dd, double *uu) {
+  mpgm_nodes *nd = &pb->nodes;
+  *dd = *uu = 0.0;
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
+    if (pb->lift && nd->dof[i] < 0) {
+      nd->du[i] = pb->dubar[i];
+      *dd += nd->du[i] * nd->du[i];
+    }
+    if (nd->dof[i] >= 0) {
+      const double d = pb->delta[nd->dof[i]];
+      nd->du[i] += d;
+      *dd += d * d;
+    }
+    *uu += nd->du[i] * nd->du[i];
+  }
+}
+
+int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *sc = pb->scene;
+  mpgm_nodes *nd = &pb->nodes;
+  /* modified Newton: keep the last factorisation while the residual
+   * drops by reuse_ratio per iteration; else refactorise */
+  const int reuse = sc->newton_modified && nt->factored && !pb->lift &&
+                    (nt->it == 0 || nt->res <= sc->reuse_ratio * nt->res_prev);
+  nt->res_prev = nt->res;
+  if (!reuse && !nt->want_K) MPGM_CALL(mpgm_assemble(pb, 1));
+  if (!pb->solver->analysed) MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));
+  /* observers (output.matrices): the system this iteration solves
+   * (modified Newton reusing a factorisation: K holds the factorised
+   * values still, as K is assembled only to be factorised) */
+  MPGM_CALL(observe_system(pb));
+  const int err = reuse ? 0 : mpgm_solver_factor(pb->solver, ctx, &pb->K);
+  nt->factored = 1;
+  pb->factor_valid = !err;
+  MPGM_CALL(err);
+  /* the held contact components the factorisation was made with */
+  if (!reuse) memcpy(pb->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n);
+  MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
+  double dd, uu;
+  update_increments(pb, &dd, &uu);
+  if (!isfinite(dd))
+    MPGM_ERROR(ctx, MPGM_ERR_NAN, "Newton iteration %d: solution is not finite", nt->it);
+  pb->last.du_rel = uu > 0.0 ? sqrt(dd / uu) : 0.0;
+  pb->lift = NULL;
+  pb->last.iterations = ++nt->it;
+  return 0;
+}
