@@ -14,7 +14,10 @@
 
 #include "bench_solvers.h"
 #include "material_driver.h"
-#include "mpgm_frontends.h"
+#include "mpgm_discretisation.h"
+#include "mpgm_scene_io.h"
+#include "mpgm_fem.h"
+#include "mpgm_gmm.h"
 #include "mpgm_mpm.h"
 #include "mpgm_run.h"
 #include "mpgm_scene.h"

@@ -21,7 +21,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "json_reader.h"
+#include "mpgm_json_reader.h"
+#include "mpgm_scene_io.h"
 #include "mpgm_scene.h"
 
 #define MAX_SEGMENTS 256

@@ -16,7 +16,7 @@
 #include <string.h>
 
 #include "gnuplot.h"
-#include "json_reader.h"
+#include "mpgm_json_reader.h"
 #include "mpgm_output.h"
 #include "mpgm_vtk.h"
 #include "study.h"

@@ -26,6 +26,7 @@
 #endif
 
 #include "mpgm_output.h"
+#include "mpgm_scene_io.h"
 #include "mpgm_scene.h"
 #include "mpgm_vtk.h"
 #include "study.h"

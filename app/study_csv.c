@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "json_reader.h"
+#include "mpgm_json_reader.h"
 #include "study.h"
 
 void mpgm_study_run_dir(const mpgm_study *st, const study_run *r, const char *leaf, char *buf,

@@ -18,7 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "json_reader.h"
+#include "mpgm_json_reader.h"
 #include "study.h"
 
 /* A value as --set takes it: strings as they are, numbers in their

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mpgm_vtk.h"
+#include "mpgm_file.h"
 
 void mpgm_format_double(double v, char *buf, size_t cap) {
   if (v == floor(v) && fabs(v) < 1e15) { /* whole numbers as such: 640, not 6.4e+02 */

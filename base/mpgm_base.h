@@ -18,6 +18,9 @@
 extern "C" {
 #endif
 
+#define MPGM_NAME_LEN 64   /**< names of scene items (materials, bodies) */
+#define MPGM_PATH_LEN 1024 /**< file and folder paths                    */
+
 /** Spatial dimension of the data layouts (2-D plane strain today). */
 #define MPGM_DIM 2
 
@@ -43,6 +46,18 @@ typedef enum {
   MPGM_ERR_LINEAR = 8        /**< iterative linear solver did not reach its
                                   tolerance                               */
 } mpgm_code;
+
+/** One scalar parameter of a plug-in (a material, a reference solution),
+ *  as the scene declares it. */
+typedef struct mpgm_param_spec {
+  const char *name; /**< JSON key, e.g. "E"                              */
+  const char *unit; /**< unit for docs and messages, e.g. "Pa"           */
+  double def;       /**< default value; NAN when the key is required      */
+  double lo, hi;    /**< admissible range                                */
+  int lo_open;      /**< 1: value must be > lo; 0: >= lo                 */
+  int hi_open;      /**< 1: value must be < hi; 0: <= hi                 */
+  const char *doc;  /**< one line for docs/scene-format.md               */
+} mpgm_param_spec;
 
 /** Short fixed description of a code ("bad input", "det F <= 0", ...). */
 const char *mpgm_code_str(int code);

@@ -4,7 +4,7 @@
 #include <stdio.h>
 
 #include "mpgm_scene.h"
-#include "scene_impl.h"
+#include "mpgm_scene.h"
 
 /* Relative tolerance of "on the boundary" (of the body's size). */
 #define GEOM_REL_TOL 1e-12
@@ -189,39 +189,5 @@ int mpgm_polygon_check(const double *p, int n, char *msg, size_t len) {
       }
     }
   }
-  return 0;
-}
-
-int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
-                     void (*xy)(const void *grid, int c, double *xn), const void *grid,
-                     int *owner, double *x, int *count) {
-  double gxi[18], gw[9];
-  *count = 0;
-  if (mpgm_fe_gauss(cell, s->ppc, gxi, gw)) return MPGM_ERR_INPUT;
-  const int nn = mpgm_fe_nnode(cell);
-  double N[MPGM_FE_MAXNODE * 9];
-  for (int q = 0; q < s->ppc; q++) mpgm_fe_ref(cell, gxi + 2 * q, N + nn * q, NULL);
-  int n = 0;
-  for (int c = 0; c < ncell; c++) {
-    double xn[2 * MPGM_FE_MAXNODE];
-    xy(grid, c, xn);
-    for (int q = 0; q < s->ppc; q++) {
-      double p[2] = {0, 0};
-      for (int a = 0; a < nn; a++) {
-        p[0] += N[nn * q + a] * xn[2 * a];
-        p[1] += N[nn * q + a] * xn[2 * a + 1];
-      }
-      int b = 0;
-      while (b < s->nbody && !mpgm_body_contains(&s->bodies[b], p)) b++;
-      const size_t k = (size_t)c * s->ppc + q;
-      if (owner) owner[k] = b < s->nbody ? b : -1;
-      if (x) {
-        x[2 * k] = p[0];
-        x[2 * k + 1] = p[1];
-      }
-      n += b < s->nbody;
-    }
-  }
-  *count = n;
   return 0;
 }

@@ -356,8 +356,6 @@ int mpgm_assemble(mpgm_problem *pb, int want_K);
 int mpgm_assemble_mass(mpgm_problem *pb);
 /** (Re)build the sparsity pattern and scatter map from the connectivity. */
 int mpgm_pattern_build(mpgm_problem *pb);
-/** 1 when a scene boundary selects the node at X (plane within tol, or box). */
-int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[2]);
 
 /** Support forces at the fixed components of the current iterate:
  *  r = f_int + f_inertia - f_ext there (0 at free components); r has 2
@@ -386,18 +384,6 @@ void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only);
  *  spring pulls; at most one change per tracer and step. Returns 1 when
  *  the set changed. */
 int mpgm_cpoints_update(mpgm_problem *pb);
-/** Surface tracers of the scene's bodies (contact at points; 0 without):
- *  how many, and their positions, bodies and initial velocities into the
- *  last P->nsurf points of P (after the probes). The front ends call both
- *  (mpm.c, gmm_grid.c). */
-int mpgm_surface_tracers_count(const mpgm_scene *s);
-void mpgm_surface_tracers_fill(mpgm_points *P, const mpgm_scene *s);
-/** Points on the boundary of body b at most `spacing` apart (a disk: from
- *  its lowest point, counter-clockwise; rectangles and polygons: every
- *  vertex and equal divisions of every edge). x == NULL: only count.
- *  Returns the number of points. */
-int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x);
-
 /** External force (gravity times load factor) into pb->fext. */
 int mpgm_body_force(mpgm_problem *pb);
 

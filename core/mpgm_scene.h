@@ -19,8 +19,6 @@
 extern "C" {
 #endif
 
-#define MPGM_NAME_LEN 64
-#define MPGM_PATH_LEN 1024
 #define MPGM_POLYGON_MAX 256 /**< most vertices of a polygon body */
 #define MPGM_MATRICES_MAX 64 /**< most steps in output.matrices */
 
@@ -230,27 +228,6 @@ typedef struct mpgm_scene {
   void *resolved;           /**< cJSON tree of every resolved value     */
 } mpgm_scene;
 
-/** Load and validate a scene file with overrides ("dotted.path=value").
- *  On error returns MPGM_ERR_INPUT (or MPGM_ERR_IO when the file cannot be
- *  read) with the message in ctx; *out is NULL then. */
-int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
-                    const char *const *sets, mpgm_scene **out);
-/** Load and validate a scene given as a cJSON object (borrowed, not
- *  changed), e.g. the resolved scene an earlier run wrote into its
- *  summary.json; name stands for the file in messages. Errors as
- *  mpgm_scene_load. */
-int mpgm_scene_load_json(mpgm_ctx *ctx, const char *name, const void *json, mpgm_scene **out);
-/** Read one material as a scene's "materials" entry describes it (type,
- *  density, the type's parameters; then its setup) from the cJSON object
- *  json (borrowed); file and path (e.g. "material") name it in messages.
- *  mat->name is left as it is. Returns 0 or MPGM_ERR_INPUT with
- *  "FILE: path.key: expected ..., found ..." in ctx. */
-int mpgm_material_load(mpgm_ctx *ctx, const char *file, const char *path, const void *json,
-                       mpgm_material *mat);
-/** Free a scene (accepts NULL, nulls the pointer). */
-void mpgm_scene_destroy(mpgm_scene **s);
-/** The resolved scene as indented JSON (caller frees with free()). */
-char *mpgm_scene_resolved_json(const mpgm_scene *s);
 /** Name of the method ("fem", "mpm", "gmm"; "?" if out of range). */
 const char *mpgm_method_name(int method);
 
@@ -266,19 +243,23 @@ int mpgm_body_contains(const mpgm_scene_body *b, const double x[2]);
  *  corners, disk centre and radius, polygon vertices). */
 void mpgm_body_bbox(const mpgm_scene_body *b, double min[2], double max[2]);
 
-/** Material points of bodies filled on a grid: the rule of method mpm's
- *  particles and of method gmm's grid-filled bodies (one function, so both
- *  put their points at the same places). For each of ncell cells of kind
- *  `cell` (mpgm_cell_kind), whose node coordinates (counter-clockwise) the
- *  caller's xy(grid, c, xn) gives, the Gauss points of the rule of s->ppc
- *  are taken in order; a point belongs to the first body of s that contains
- *  it (mpgm_body_contains), or to none. Outputs, entry k = c * s->ppc + q:
- *  owner (may be NULL) the body or -1; x (may be NULL) the position, 2 per
- *  entry [m]; *count the entries that belong to a body. Returns 0, or
- *  MPGM_ERR_INPUT when the cell kind has no rule of s->ppc points. */
-int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
-                     void (*xy)(const void *grid, int c, double *xn), const void *grid,
-                     int *owner, double *x, int *count);
+/** Signed area of the polygon p (n points x0, y0, x1, y1, ...) [m^2];
+ *  > 0 when counter-clockwise. */
+double mpgm_polygon_area(const double *p, int n);
+
+/** 0 when p (n points) is an admissible polygon body: 3 to
+ *  MPGM_POLYGON_MAX points, no two consecutive points equal (the last one
+ *  is joined to the first), non-zero area, no two edges that cross, touch
+ *  or overlap. Otherwise 1, with what is wrong in msg. Tolerances are
+ *  1e-12 of the bounding box (width + height). */
+int mpgm_polygon_check(const double *p, int n, char *msg, size_t len);
+
+/** 1 when body b (bounding box in b->min/max) meets the closed box
+ *  [lo, hi] (touching counts), else 0. */
+int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[2], const double hi[2]);
+
+/** 1 when a scene boundary selects the node at X (plane within tol, or box). */
+int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[2]);
 
 #ifdef __cplusplus
 }

@@ -38,7 +38,8 @@
 #include <string.h>
 
 #include "gmm_impl.h"
-#include "mpgm_frontends.h"
+#include "mpgm_discretisation.h"
+#include "mpgm_gmm.h"
 #include "mpgm_kdtree.h"
 
 /* Radius growth factor while a cloud holds fewer than min_nodes nodes, and
@@ -107,7 +108,7 @@ static int gmm_setup(mpgm_problem *pb) {
   } else {
     /* rectangles: nodes, points, probes, boundaries exactly those of UL-FEM */
     pb->fe_data = NULL;
-    const int err = mpgm_frontend_fem.setup(pb);
+    const int err = mpgm_mesh_rectangles(pb);
     d->fem = pb->fe_data;
     pb->fe_data = d;
     MPGM_CALL(err);

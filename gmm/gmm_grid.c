@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "gmm_impl.h"
+#include "mpgm_discretisation.h"
 #include "mpgm_kdtree.h"
 
 /* The grid over mesh.domain, numbered as method mpm's (mpm/mpgm_grid.h):

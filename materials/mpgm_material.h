@@ -31,16 +31,6 @@ typedef enum {
   MPGM_KIN_SMALL = 1   /**< linear small-strain analysis           */
 } mpgm_kinematics;
 
-/** One scalar parameter of a material, as the scene declares it. */
-typedef struct mpgm_param_spec {
-  const char *name; /**< JSON key, e.g. "E"                              */
-  const char *unit; /**< unit for docs and messages, e.g. "Pa"           */
-  double def;       /**< default value; NAN when the key is required      */
-  double lo, hi;    /**< admissible range                                */
-  int lo_open;      /**< 1: value must be > lo; 0: >= lo                 */
-  int hi_open;      /**< 1: value must be < hi; 0: <= hi                 */
-  const char *doc;  /**< one line for docs/scene-format.md               */
-} mpgm_param_spec;
 
 #define MPGM_MAT_MAXPARAM 8
 #define MPGM_MAT_MAXCONST 8

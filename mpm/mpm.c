@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mpgm_discretisation.h"
 #include "mpgm_grid.h"
 
 typedef struct mpm_data {

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "mpgm_test.h"
+#include "mpgm_scene_io.h"
 
 /* Strictly convex, counter-clockwise polygon. */
 static int convex(int nn, const double *xn) {

@@ -5,7 +5,9 @@
 
 #include <stdint.h>
 
-#include "mpgm_frontends.h"
+#include "mpgm_discretisation.h"
+#include "mpgm_fem.h"
+#include "mpgm_gmm.h"
 
 /** In a front end's setup: nx x ny cells (Q4, or two T3 per square with
  *  alternating diagonals, as pb->scene->cell says) on [0, lx] x [0, ly],

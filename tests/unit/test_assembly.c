@@ -25,7 +25,10 @@
  */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include "mpgm_core.h"
-#include "mpgm_frontends.h"
+#include "mpgm_scene_io.h"
+#include "mpgm_discretisation.h"
+#include "mpgm_fem.h"
+#include "mpgm_gmm.h"
 #include "mpgm_test.h"
 #include "support_mesh.h"
 

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "mpgm_scene.h"
+#include "mpgm_scene_io.h"
 #include "mpgm_test.h"
 #include "scene_impl.h"
 

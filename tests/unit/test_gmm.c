@@ -14,7 +14,10 @@
  * N is zero to round-off and may be dropped or kept. */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include "mpgm_core.h"
-#include "mpgm_frontends.h"
+#include "mpgm_scene_io.h"
+#include "mpgm_discretisation.h"
+#include "mpgm_fem.h"
+#include "mpgm_gmm.h"
 #include "mpgm_test.h"
 
 #include <math.h>

@@ -6,6 +6,7 @@
  * relative; TEST_TOL4 (~3.6e-12) leaves a margin of ~30. */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include "mpgm_core.h"
+#include "mpgm_scene_io.h"
 #include "mpgm_grid.h"
 #include "mpgm_mpm.h"
 #include "mpgm_test.h"

@@ -20,6 +20,7 @@
  */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include "mpgm_core.h"
+#include "mpgm_scene_io.h"
 #include "mpgm_test.h"
 #include "support_mesh.h"
 

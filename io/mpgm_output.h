@@ -1,9 +1,10 @@
-/* mpgm_output.h -- the results folder of a run (core); app/ uses its
- * mpgm_mkdir_p and mpgm_write_json for a study's folder. */
+/* mpgm_output.h -- the results folder of a run: VTK and .pvd files, the
+ * probe and step histories (CSV), the linear systems (output.matrices). */
 #ifndef MPGM_OUTPUT_H
 #define MPGM_OUTPUT_H
 
 #include "mpgm_core.h"
+#include "mpgm_file.h"
 
 typedef struct mpgm_output {
   char dir[MPGM_PATH_LEN];
@@ -23,12 +24,6 @@ typedef struct mpgm_output {
   double *steps;  /**< per converged step: STEP_COLS values         */
 } mpgm_output;
 
-/** mkdir -p (MPGM_ERR_IO naming the part that failed). */
-int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir);
-/** Remove the files of folder dir whose names start with prefix and end
- *  with suffix (a folder that does not exist holds none). Errors:
- *  MPGM_ERR_IO (a file that cannot be removed). */
-int mpgm_remove_files(mpgm_ctx *ctx, const char *dir, const char *prefix, const char *suffix);
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir);
 void mpgm_output_close(mpgm_output *o);
 /** output.matrices: make the output an observer of pb that writes the
@@ -43,7 +38,5 @@ int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *
 int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, double wall);
 /** DIR/steps.csv: one row per converged step with its Newton norms. */
 int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
-/** Write a cJSON tree atomically. */
-int mpgm_write_json(mpgm_ctx *ctx, const char *path, const void *json);
 
 #endif

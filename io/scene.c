@@ -1,5 +1,5 @@
 /* scene.c -- load and validate a scene file (docs/scene-format.md). */
-#include "mpgm_scene.h"
+#include "mpgm_scene_io.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "json_reader.h"
+#include "mpgm_json_reader.h"
 #include "scene_impl.h"
 
 static const char *const method_names[] = {"fem", "mpm", "gmm", NULL}; /* = mpgm_method */

@@ -4,6 +4,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_mtx.h"
 
+#include "mpgm_file.h"
+
 #include <errno.h>
 #include <limits.h>
 #include <math.h>

@@ -1,5 +1,5 @@
 /* vtk.c -- VTK legacy unstructured-grid writer and .pvd collections, both
- * written atomically ("PATH.tmp", then rename). See mpgm_vtk.h.
+ * written atomically (mpgm_file.h). See mpgm_vtk.h.
  *
  * Binary legacy files hold big-endian 8-byte doubles and 4-byte ints; the
  * bytes are produced by shifts, so the output does not depend on the host's
@@ -9,6 +9,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_vtk.h"
 
+#include "mpgm_file.h"
+
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -16,65 +18,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* ------------------------------------------------------------------------ */
-/* Atomic files                                                             */
-/* ------------------------------------------------------------------------ */
-
-enum { TMPNAME_CAP = 4096 + 8 };
-
-/* "path.tmp" into out[TMPNAME_CAP]; 0 if the name is too long. */
-static int tmp_name(const char *path, char *out) {
-  size_t n = strlen(path);
-  if (n + 5 > TMPNAME_CAP) return 0;
-  memcpy(out, path, n);
-  memcpy(out + n, ".tmp", 5);
-  return 1;
-}
-
-/* Close and delete the temporary after a failure; errors are ignored (the
- * first one has been recorded already). */
-static void atomic_discard(const char *path, FILE *fp) {
-  char t[TMPNAME_CAP];
-  if (fp) fclose(fp);
-  if (tmp_name(path, t)) remove(t);
-}
-
-/* Open "path.tmp" for binary writing; *fp_out receives the FILE *. */
-int mpgm_atomic_open(mpgm_ctx *ctx, const char *path, void **fp_out) {
-  MPGM_CHECK(ctx, path && *path && fp_out, MPGM_ERR_INPUT,
-             "mpgm_atomic_open: empty path or NULL output");
-  *fp_out = NULL;
-  char t[TMPNAME_CAP];
-  MPGM_CHECK(ctx, tmp_name(path, t), MPGM_ERR_IO, "%s: %s", path,
-             strerror(ENAMETOOLONG));
-  FILE *fp = fopen(t, "wb");
-  MPGM_CHECK(ctx, fp != NULL, MPGM_ERR_IO, "%s: %s", path, strerror(errno));
-  *fp_out = fp;
-  return MPGM_OK;
-}
-
-/* Flush and close the temporary, then rename it to path. On any failure the
- * temporary is removed, path is left as it was, and MPGM_ERR_IO returned. */
-int mpgm_atomic_close(mpgm_ctx *ctx, const char *path, void *fp_) {
-  FILE *fp = fp_;
-  char t[TMPNAME_CAP];
-  if (!path || !tmp_name(path, t)) {
-    if (fp) fclose(fp);
-    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "mpgm_atomic_close: bad path");
-  }
-  MPGM_CHECK(ctx, fp != NULL, MPGM_ERR_INPUT, "%s: no file to close", path);
-  int err = 0;
-  errno = 0;
-  if (fflush(fp) != 0) err = errno ? errno : EIO;
-  if (!err && ferror(fp)) err = EIO; /* an earlier write failed */
-  errno = 0;
-  if (fclose(fp) != 0 && !err) err = errno ? errno : EIO;
-  if (!err && rename(t, path) != 0) err = errno ? errno : EIO;
-  if (err) remove(t);
-  MPGM_CHECK(ctx, !err, MPGM_ERR_IO, "%s: %s", path, strerror(err));
-  return MPGM_OK;
-}
 
 /* ------------------------------------------------------------------------ */
 /* Buffered number output                                                   */
@@ -307,7 +250,7 @@ int mpgm_vtk_write(mpgm_ctx *ctx, const char *path, int binary,
   int err = w->err;
   free(w);
   if (err) {
-    atomic_discard(path, fp);
+    mpgm_atomic_discard(path, fp);
     MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: %s", path, strerror(err));
   }
   return mpgm_atomic_close(ctx, path, fp);

@@ -101,12 +101,6 @@ int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out);
 /** Free the entries (accepts an empty list). */
 void mpgm_pvd_list_free(mpgm_pvd_list *l);
 
-/** Open a temporary file next to path for writing ("path.tmp"). */
-int mpgm_atomic_open(mpgm_ctx *ctx, const char *path, void **fp_out);
-/** Close the temporary and rename it to path (fp is a FILE *). On error the
- *  temporary is removed and MPGM_ERR_IO returned. */
-int mpgm_atomic_close(mpgm_ctx *ctx, const char *path, void *fp);
-
 #ifdef __cplusplus
 }
 #endif

@@ -1,5 +1,5 @@
 /* json_reader.c -- typed, validated reads of a cJSON tree (json_reader.h). */
-#include "json_reader.h"
+#include "mpgm_json_reader.h"
 
 #include <errno.h>
 #include <math.h>

@@ -17,13 +17,11 @@
 #ifndef MPGM_REFERENCE_H
 #define MPGM_REFERENCE_H
 
-#include "mpgm_material.h" /* mpgm_param_spec */
+#include "mpgm_base.h" /* mpgm_param_spec */
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-typedef struct mpgm_scene mpgm_scene;
 
 #define MPGM_REF_MAXPARAM 4   /**< numeric parameters of a kind      */
 #define MPGM_REF_MAXMETRIC 8  /**< metrics a kind may produce        */
@@ -62,14 +60,6 @@ struct mpgm_reference_type {
 const mpgm_reference_type *const *mpgm_reference_types(void);
 /** The kind with scene name `name`; NULL if none (or name NULL). */
 const mpgm_reference_type *mpgm_reference_type_find(const char *name);
-
-/** Metrics of the scene's reference (none when s has no reference block).
- *  nrow, ncol, hist: the probe history (layout above; ncol = 2 + 2 nprobe).
- *  metrics_cjson: the cJSON object the metrics are added to.
- *  Returns 0; MPGM_ERR_INPUT (nothing added) when the history is empty or
- *  narrower than the reference's probe columns. */
-int mpgm_reference_metrics(const mpgm_scene *s, int nrow, int ncol, const double *hist,
-                           void *metrics_cjson);
 
 #ifdef __cplusplus
 }

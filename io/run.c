@@ -1,6 +1,7 @@
 /* run.c -- the load/time loop of a scene, its output and summary.json. */
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_run.h"
+#include "mpgm_scene_io.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "mpgm_file.h"
 #include "mpgm_mtx.h"
 #include "mpgm_vtk.h"
 
@@ -26,44 +27,6 @@ static int table_push(mpgm_ctx *ctx, double **buf, int *n, int *cap, int width, 
   }
   *row = *buf + (size_t)width * (*n)++;
   return 0;
-}
-
-int mpgm_mkdir_p(mpgm_ctx *ctx, const char *dir) {
-  char buf[MPGM_PATH_LEN + 32];
-  snprintf(buf, sizeof buf, "%s", dir);
-  for (char *p = buf + 1;; p++) {
-    if (*p == '/' || *p == '\0') {
-      const char c = *p;
-      *p = '\0';
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: cannot create folder: %s", buf, strerror(errno));
-      struct stat st;
-      if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
-        MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: exists and is not a folder", buf);
-      *p = c;
-      if (c == '\0') break;
-    }
-  }
-  return 0;
-}
-
-int mpgm_remove_files(mpgm_ctx *ctx, const char *dir, const char *prefix, const char *suffix) {
-  DIR *dd = opendir(dir);
-  if (!dd) return 0;
-  const size_t lp = strlen(prefix), ls = strlen(suffix);
-  struct dirent *e;
-  int err = 0;
-  while (!err && (e = readdir(dd))) {
-    const size_t l = strlen(e->d_name);
-    if (l < lp + ls || strncmp(e->d_name, prefix, lp) != 0 || strcmp(e->d_name + l - ls, suffix) != 0)
-      continue;
-    char f[MPGM_PATH_LEN + 512];
-    snprintf(f, sizeof f, "%s/%s", dir, e->d_name);
-    if (remove(f) != 0)
-      err = mpgm_err_set(ctx, MPGM_ERR_IO, __FILE__, __LINE__, "%s: cannot remove: %s", f, strerror(errno));
-  }
-  closedir(dd);
-  return err;
 }
 
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
@@ -297,18 +260,4 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
   }
   o->nvtk++;
   return 0;
-}
-
-int mpgm_write_json(mpgm_ctx *ctx, const char *path, const void *json) {
-  char *text = cJSON_Print((const cJSON *)json);
-  MPGM_CHECK(ctx, text, MPGM_ERR_NOMEM, "out of memory (JSON)");
-  void *fv;
-  int err = mpgm_atomic_open(ctx, path, &fv);
-  if (!err) {
-    fputs(text, (FILE *)fv);
-    fputc('\n', (FILE *)fv);
-    err = mpgm_atomic_close(ctx, path, fv);
-  }
-  free(text);
-  return err;
 }

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "json_reader.h"
+#include "mpgm_json_reader.h"
 #include "scene_impl.h"
 
 static const char *const condition_names[] = {"stick", "slip", "contact", NULL}; /* = mpgm_condition - 1 */

@@ -1,35 +1,10 @@
-/* reference_list.c -- the compile-time list of reference kinds, reading the
- * scene's "reference" block, and the metrics of summary.json.
- * Adding a kind: write its .c, add one line to MPGM_REFERENCE_LIST. */
+/* scene_reference.c -- the scene's "reference" block (a kind of the
+ * reference family, references/) and the metrics it adds to summary.json. */
 #include <cjson/cJSON.h>
-#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "mpgm_reference.h"
-#include "mpgm_scene.h"
 #include "scene_impl.h"
-
-#define MPGM_REFERENCE_LIST(X)                                                 \
-  X(mpgm_reference_probe_value)                                                \
-  X(mpgm_reference_rolling_disk)
-
-#define MPGM_DECLARE(t) extern const mpgm_reference_type t;
-MPGM_REFERENCE_LIST(MPGM_DECLARE)
-#undef MPGM_DECLARE
-
-#define MPGM_ADDR(t) &t,
-static const mpgm_reference_type *const all_types[] = {MPGM_REFERENCE_LIST(MPGM_ADDR) NULL};
-#undef MPGM_ADDR
-
-const mpgm_reference_type *const *mpgm_reference_types(void) { return all_types; }
-
-const mpgm_reference_type *mpgm_reference_type_find(const char *name) {
-  if (!name) return NULL;
-  for (int i = 0; all_types[i]; i++)
-    if (strcmp(all_types[i]->name, name) == 0) return all_types[i];
-  return NULL;
-}
 
 int mpgm_reference_read(jr_node *root, mpgm_scene *s) {
   mpgm_reference *ref = &s->reference;
@@ -40,6 +15,7 @@ int mpgm_reference_read(jr_node *root, mpgm_scene *s) {
   if (!v) return 0;
   jr_node r;
   MPGM_CALL(jr_child(root, "reference", 1, &r));
+  const mpgm_reference_type *const *all_types = mpgm_reference_types();
   const char *names[16];
   int nk = 0;
   for (; all_types[nk] && nk < 15; nk++) names[nk] = all_types[nk]->name;

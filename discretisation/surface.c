@@ -1,0 +1,79 @@
+/* surface.c -- points on the bodies' boundaries: the surface tracers of
+ * contact at points (core/contact_points.c), made in one place for every
+ * front end. */
+#include <math.h>
+#include <string.h>
+
+#include "mpgm_discretisation.h"
+
+static const double PI = 3.14159265358979323846;
+
+int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x) {
+  int n = 0;
+  if (b->geometry == MPGM_GEOM_DISK) {
+    const double c = 2.0 * PI * b->radius;
+    n = (int)ceil(c / spacing);
+    if (n < 8) n = 8;
+    for (int k = 0; k < n && x; k++) {
+      const double th = -0.5 * PI + 2.0 * PI * k / n;
+      x[2 * k] = b->centre[0] + b->radius * cos(th);
+      x[2 * k + 1] = b->centre[1] + b->radius * sin(th);
+    }
+    /* the lowest point exactly: a disk resting on a floor touches it */
+    if (x) x[1] = b->centre[1] - b->radius;
+    return n;
+  }
+  double v[2 * MPGM_POLYGON_MAX];
+  int nv;
+  if (b->geometry == MPGM_GEOM_RECTANGLE) {
+    const double r[8] = {b->min[0], b->min[1], b->max[0], b->min[1],
+                         b->max[0], b->max[1], b->min[0], b->max[1]};
+    memcpy(v, r, sizeof r);
+    nv = 4;
+  } else {
+    nv = b->npoints;
+    memcpy(v, b->points, sizeof(double) * 2 * (size_t)nv);
+  }
+  for (int e = 0; e < nv; e++) {
+    const double *a = v + 2 * e, *q = v + 2 * ((e + 1) % nv);
+    const int m = (int)fmax(1.0, ceil(hypot(q[0] - a[0], q[1] - a[1]) / spacing));
+    for (int k = 0; k < m; k++, n++)
+      if (x) {
+        const double t = (double)k / m;
+        x[2 * n] = a[0] + t * (q[0] - a[0]);
+        x[2 * n + 1] = a[1] + t * (q[1] - a[1]);
+      }
+  }
+  return n;
+}
+
+/* Spacing of the surface points: the smallest of the contact boundaries
+ * enforced at points. */
+static double surface_spacing(const mpgm_scene *s) {
+  double spacing = INFINITY;
+  for (int i = 0; i < s->nbc; i++)
+    if (mpgm_bc_at_points(&s->bcs[i])) spacing = fmin(spacing, s->bcs[i].spacing);
+  return spacing;
+}
+
+int mpgm_surface_tracers_count(const mpgm_scene *s) {
+  const double spacing = surface_spacing(s);
+  int n = 0;
+  for (int b = 0; b < s->nbody && isfinite(spacing); b++) n += mpgm_body_surface(&s->bodies[b], spacing, NULL);
+  return n;
+}
+
+void mpgm_surface_tracers_fill(mpgm_points *P, const mpgm_scene *s) {
+  const double spacing = surface_spacing(s);
+  for (int b = 0, p = P->n + P->nprobe; b < s->nbody && P->nsurf; b++) {
+    const int k = mpgm_body_surface(&s->bodies[b], spacing, P->x + 2 * p);
+    for (int q = p; q < p + k; q++) {
+      P->x0[2 * q] = P->x[2 * q];
+      P->x0[2 * q + 1] = P->x[2 * q + 1];
+      P->body[q] = b;
+      P->v[2 * q] = s->bodies[b].velocity[0];
+      P->v[2 * q + 1] = s->bodies[b].velocity[1];
+    }
+    p += k;
+  }
+}

@@ -1,0 +1,50 @@
+/* mpgm_scene_io.h -- loading a scene: the scene file (docs/scene-format.md)
+ * read, validated (each family checks its own part) and resolved into an
+ * mpgm_scene (core/mpgm_scene.h), with --set overrides and defaults.
+ *
+ * Loading validates every key: unknown keys, wrong types, out-of-range
+ * values, undefined names and bodies outside the domain are MPGM_ERR_INPUT
+ * with the message "FILE: json.path: what was expected, what was found".
+ */
+#ifndef MPGM_SCENE_IO_H
+#define MPGM_SCENE_IO_H
+
+#include "mpgm_scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Load and validate a scene file with overrides ("dotted.path=value").
+ *  On error returns MPGM_ERR_INPUT (or MPGM_ERR_IO when the file cannot be
+ *  read) with the message in ctx; *out is NULL then. */
+int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
+                    const char *const *sets, mpgm_scene **out);
+/** Load and validate a scene given as a cJSON object (borrowed, not
+ *  changed), e.g. the resolved scene an earlier run wrote into its
+ *  summary.json; name stands for the file in messages. Errors as
+ *  mpgm_scene_load. */
+int mpgm_scene_load_json(mpgm_ctx *ctx, const char *name, const void *json, mpgm_scene **out);
+/** Read one material as a scene's "materials" entry describes it (type,
+ *  density, the type's parameters; then its setup) from the cJSON object
+ *  json (borrowed); file and path (e.g. "material") name it in messages.
+ *  mat->name is left as it is. Returns 0 or MPGM_ERR_INPUT with
+ *  "FILE: path.key: expected ..., found ..." in ctx. */
+int mpgm_material_load(mpgm_ctx *ctx, const char *file, const char *path, const void *json,
+                       mpgm_material *mat);
+/** Free a scene (accepts NULL, nulls the pointer). */
+void mpgm_scene_destroy(mpgm_scene **s);
+/** The resolved scene as indented JSON (caller frees with free()). */
+char *mpgm_scene_resolved_json(const mpgm_scene *s);
+/** Metrics of the scene's reference (none when s has no reference block).
+ *  nrow, ncol, hist: the probe history (layout above; ncol = 2 + 2 nprobe).
+ *  metrics_cjson: the cJSON object the metrics are added to.
+ *  Returns 0; MPGM_ERR_INPUT (nothing added) when the history is empty or
+ *  narrower than the reference's probe columns. */
+int mpgm_reference_metrics(const mpgm_scene *s, int nrow, int ncol, const double *hist,
+                           void *metrics_cjson);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

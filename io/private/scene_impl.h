@@ -1,0 +1,27 @@
+/* scene_impl.h -- private to io/: pieces of scene loading that live in
+ * their own files (scene_boundaries.c, scene_reference.c). */
+#ifndef MPGM_SCENE_IMPL_H
+#define MPGM_SCENE_IMPL_H
+
+#include <stddef.h>
+
+#include "mpgm_json_reader.h"
+#include "mpgm_scene_io.h"
+#include "mpgm_scene.h"
+
+/** Read the optional top-level "reference" block into s->reference
+ *  (after the probes and the time block were read). */
+int mpgm_reference_read(jr_node *root, mpgm_scene *s);
+
+/** The array at key (NULL when absent; an --set override replaces it);
+ *  bad input when it is not an array. */
+int mpgm_scene_get_array(jr_node *o, const char *key, const cJSON **arr);
+/** Element i of array arr (at key) as an object node with path "key.i";
+ *  its resolved copy is appended to out_arr. */
+int mpgm_scene_array_elem(jr_node *o, const char *key, const cJSON *arr, int i, cJSON *out_arr,
+                          jr_node *e);
+/** "boundaries" and "obstacles" (scene_boundaries.c; after the bodies). */
+int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s);
+int mpgm_scene_read_obstacles(jr_node *root, mpgm_scene *s);
+
+#endif
