@@ -14,16 +14,10 @@
 
 #include "bench_solvers.h"
 #include "material_driver.h"
-#include "mpgm_discretisation.h"
-#include "mpgm_scene_io.h"
-#include "mpgm_fem.h"
-#include "mpgm_gmm.h"
-#include "mpgm_mpm.h"
+#include "exit_code.h"
 #include "mpgm_run.h"
-#include "mpgm_scene.h"
+#include "mpgm_scene_io.h"
 #include "study.h"
-
-enum { EXIT_OK = 0, EXIT_SIM = 1, EXIT_INPUT = 2, EXIT_IO = 3 };
 
 static void usage(FILE *f) {
   fprintf(f,
@@ -60,22 +54,6 @@ static void usage(FILE *f) {
           "scene format: docs/scene-format.md\n");
 }
 
-/* The front end of each method (the only place that knows them all). */
-static const mpgm_frontend_ops *frontend_for(int method) {
-  switch (method) {
-  case MPGM_METHOD_FEM: return &mpgm_frontend_fem;
-  case MPGM_METHOD_MPM: return &mpgm_frontend_mpm;
-  case MPGM_METHOD_GMM: return &mpgm_frontend_gmm;
-  default: return NULL;
-  }
-}
-
-int mpgm_exit_code(int code) {
-  if (code == 0) return EXIT_OK;
-  if (code == MPGM_ERR_INPUT) return EXIT_INPUT;
-  if (code == MPGM_ERR_IO) return EXIT_IO;
-  return EXIT_SIM;
-}
 
 typedef struct args {
   const char *cmd, *scene, *out;
@@ -176,7 +154,7 @@ static int cmd_check(const args *a, mpgm_ctx *ctx) {
   printf("effects that will run: %s; absent (cost nothing): %s\n", on[0] ? on : "none", off[0] ? off : "none");
   printf("scene %s is valid: method %s, shape %s, %d material(s), %d body(ies), %d boundary "
          "condition(s), %d probe(s)\n",
-         a->scene, mpgm_method_name(s->method), s->shape->name, s->nmat, s->nbody, s->nbc, s->nprobe);
+         a->scene, s->frontend->name, s->shape->name, s->nmat, s->nbody, s->nbc, s->nprobe);
   free(text);
   free(et);
   cJSON_Delete(e);
@@ -213,17 +191,11 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
   mpgm_scene *s = NULL;
   int err = mpgm_scene_load(ctx, a->scene, a->nset, a->sets, &s);
   if (err) return report_error(ctx, err);
-  const mpgm_frontend_ops *fe = frontend_for(s->method);
-  if (!fe) {
-    fprintf(stderr, "mpgm: %s: method: no front end for \"%s\"\n", a->scene, mpgm_method_name(s->method));
-    mpgm_scene_destroy(&s);
-    return EXIT_INPUT;
-  }
   const char *dir = a->out ? a->out : s->out_dir;
   mpgm_run_opts opts = {.out_dir = dir, .per_iteration = a->per_iteration};
   term_log tl = {0};
   mpgm_ctx_set_logger(ctx, term_logger, &tl, a->progress ? MPGM_LOG_PROGRESS : MPGM_LOG_INFO);
-  err = mpgm_run(ctx, s, fe, &opts);
+  err = mpgm_run(ctx, s, &opts);
   if (tl.open_line) fputc('\n', stderr);
   int rc;
   if (err) {
@@ -234,7 +206,7 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
   } else {
     char abs[4096];
     printf("results: %s (summary.json, probes.csv, steps.csv, points.pvd%s)\n",
-           realpath(dir, abs) ? abs : dir, fe->cells ? ", mesh.pvd" : "");
+           realpath(dir, abs) ? abs : dir, s->frontend->cells ? ", mesh.pvd" : "");
     rc = EXIT_OK;
   }
   mpgm_scene_destroy(&s);

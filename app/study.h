@@ -13,6 +13,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "exit_code.h"
 #include "mpgm_base.h"
 #include "table.h"
 
@@ -111,9 +112,5 @@ int mpgm_plot(mpgm_ctx *ctx, const char *csv, const mpgm_plot_opts *o);
 int mpgm_cmd_study(int argc, char **argv);
 int mpgm_cmd_plot(int argc, char **argv);
 int mpgm_cmd_render(int argc, char **argv);
-
-/** Exit code of an mpgm error code (0, 1 simulation, 2 input, 3 I/O);
- *  defined in main.c, the one table of exit codes. */
-int mpgm_exit_code(int code);
 
 #endif

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mpgm_core.h"
+#include "mpgm_core_impl.h"
 
 /* 2x2 helpers, row major {a00, a01, a10, a11} */
 static inline double det2(const double *a) { return a[0] * a[3] - a[1] * a[2]; }

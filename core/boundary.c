@@ -1,7 +1,7 @@
 /* boundary.c -- geometric node selection of scene boundaries. */
 #include <math.h>
 
-#include "mpgm_core.h"
+#include "mpgm_scene.h"
 
 int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[2]) {
   const double x = X[0], y = X[1], t = bc->tol;

@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mpgm_core.h"
+#include "mpgm_core_impl.h"
 
 
 /* Axis of the plane's normal and the side the body is on. */
@@ -27,6 +27,15 @@ static void plane_of(const mpgm_scene_boundary *bc, int *axis, int *side) {
   *axis = bc->select == MPGM_SELECT_X ? 0 : 1;
   *side = bc->side;
 }
+
+void mpgm_cpoints_enforce_all(mpgm_cpoints *cp) { memset(cp->off, 0, (size_t)cp->n); }
+
+void mpgm_cpoints_unenforce(mpgm_cpoints *cp, int i) {
+  cp->unenforced += !cp->off[i];
+  cp->off[i] = 1;
+}
+
+int mpgm_cpoints_unenforced(const mpgm_cpoints *cp, int i) { return cp->off[i]; }
 
 void mpgm_cpoints_free(mpgm_cpoints *cp) {
   free(cp->plane);

@@ -4,7 +4,6 @@
 #include <stdio.h>
 
 #include "mpgm_scene.h"
-#include "mpgm_scene.h"
 
 /* Relative tolerance of "on the boundary" (of the body's size). */
 #define GEOM_REL_TOL 1e-12

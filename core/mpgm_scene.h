@@ -22,7 +22,6 @@ extern "C" {
 #define MPGM_POLYGON_MAX 256 /**< most vertices of a polygon body */
 #define MPGM_MATRICES_MAX 64 /**< most steps in output.matrices */
 
-typedef enum { MPGM_METHOD_FEM = 0, MPGM_METHOD_MPM = 1, MPGM_METHOD_GMM = 2 } mpgm_method;
 typedef enum { MPGM_ANALYSIS_STATIC = 0, MPGM_ANALYSIS_DYNAMIC = 1 } mpgm_analysis;
 typedef enum { MPGM_VTK_NONE = 0, MPGM_VTK_OUT_ASCII = 1, MPGM_VTK_OUT_BINARY = 2 } mpgm_vtk_mode;
 typedef enum { MPGM_GEOM_RECTANGLE = 0, MPGM_GEOM_DISK = 1, MPGM_GEOM_POLYGON = 2 } mpgm_geometry;
@@ -130,7 +129,8 @@ typedef struct mpgm_scene_probe {
 typedef struct mpgm_scene {
   char file[MPGM_PATH_LEN]; /**< scene file as given                  */
   char stem[MPGM_NAME_LEN]; /**< file name without folder and .json    */
-  int method;               /**< mpgm_method                           */
+  const struct mpgm_frontend_type *frontend; /**< "method": the front end
+                                 (frontends/, resolved by name)         */
   const mpgm_shapefn_type *shape;
   mpgm_shape_params shape_par; /**< meshfree kinds: shape.gamma, radius,
                                  dilation, tol_support, max_cond, order;
@@ -228,8 +228,6 @@ typedef struct mpgm_scene {
   void *resolved;           /**< cJSON tree of every resolved value     */
 } mpgm_scene;
 
-/** Name of the method ("fem", "mpm", "gmm"; "?" if out of range). */
-const char *mpgm_method_name(int method);
 
 /** 1 when the reference position x [m] lies inside body b or on its
  *  boundary within 1e-12 of the body's size (width + height of its bounding

@@ -13,7 +13,7 @@
  * grid), computed in O(n log n) time -- a few percent of what a minimum-
  * degree ordering (AMD) costs on the same matrix, which matters when the
  * pattern changes at every step (MPM). docs/theory.md, "Ordering". */
-#include "mpgm_core.h"
+#include "mpgm_core_impl.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mpgm_core.h"
+#include "mpgm_core_impl.h"
 
 /* ---- sparsity pattern ------------------------------------------------- */
 

@@ -3,18 +3,28 @@
  * commits it, the front end ends it (moves or forgets its nodes). */
 #include "mpgm_core_impl.h"
 
+int mpgm_begin_step(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_fe_view v;
+  mpgm_problem_view(pb, &v);
+  mpgm_timer_start(ctx, MPGM_T_SHAPE);
+  const int err = pb->fe->begin_step(pb->fe_data, &v);
+  mpgm_timer_stop(ctx, MPGM_T_SHAPE);
+  pb->lambda = v.lambda;
+  return err;
+}
+
 int mpgm_step(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
-  mpgm_timer_start(ctx, MPGM_T_SHAPE);
-  int err = pb->fe->begin_step(pb);
-  mpgm_timer_stop(ctx, MPGM_T_SHAPE);
-  MPGM_CALL(err);
-  pb->lambda = mpgm_load_factor(pb);
+  MPGM_CALL(mpgm_begin_step(pb));
   MPGM_CALL(pb->integ->step(pb->integ_data, pb));
   pb->t += pb->dt;
   pb->step++;
+  if (!pb->fe->end_step) return 0;
+  mpgm_fe_view v;
+  mpgm_problem_view(pb, &v);
   mpgm_timer_start(ctx, MPGM_T_SHAPE);
-  err = pb->fe->end_step(pb);
+  const int err = pb->fe->end_step(pb->fe_data, &v);
   mpgm_timer_stop(ctx, MPGM_T_SHAPE);
   return err;
 }

@@ -1,13 +1,14 @@
-/* fem_mesh.c -- persistent-node FE problems over any conforming mesh of T3
- * or Q4 cells: nodes, Gauss points, probes, boundaries, connectivity, and
- * the shape functions of every step (mpgm_frontends.h). */
+/* mesh.c -- persistent-node FE problems over any conforming mesh of T3 or
+ * Q4 cells: nodes, Gauss points, probes, boundaries, connectivity, and the
+ * shape functions of every step (mpgm_discretisation.h); the structured
+ * meshes of rectangle bodies. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "mpgm_discretisation.h"
 
-typedef struct fem_data {
+struct mpgm_fem_cells {
   int cell;        /**< mpgm_cell_kind of every cell                  */
   int nn;          /**< nodes per cell                                */
   int ncell;
@@ -15,10 +16,10 @@ typedef struct fem_data {
   int *cptr, *ctype; /**< CSR offsets and VTK types, for output        */
   int *pcell;      /**< cell of every point (material and tracer)      */
   double *pxi;     /**< local coordinates of every point, 2 each       */
-} fem_data;
+};
+typedef struct mpgm_fem_cells fem_data;
 
-void mpgm_fem_destroy(mpgm_problem *pb) {
-  fem_data *d = pb->fe_data;
+void mpgm_fem_cells_destroy(mpgm_fem_cells *d) {
   if (!d) return;
   free(d->cnode);
   free(d->cptr);
@@ -26,7 +27,6 @@ void mpgm_fem_destroy(mpgm_problem *pb) {
   free(d->pcell);
   free(d->pxi);
   free(d);
-  pb->fe_data = NULL;
 }
 
 static void cell_coords(const fem_data *d, const double *x, int c, double *xn) {
@@ -37,29 +37,29 @@ static void cell_coords(const fem_data *d, const double *x, int c, double *xn) {
   }
 }
 
-int mpgm_fem_setup_mesh(mpgm_problem *pb, const mpgm_fem_mesh *m) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
+int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fem_cells **out) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
   fem_data *d;
   MPGM_ALLOC(ctx, d, 1);
-  pb->fe_data = d;
+  *out = d; /* from here the caller's mpgm_fem_cells_destroy frees it */
   d->cell = m->cell;
   d->nn = mpgm_fe_nnode(m->cell);
   d->ncell = m->ncell;
   const int npts = m->ncell * s->ppc;
-  MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, m->nnode));
+  MPGM_CALL(mpgm_nodes_alloc(ctx, v->nodes, m->nnode));
   int nstate = 0;
   for (int i = 0; i < s->nmat; i++)
     if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
-  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, npts, s->nprobe, 0, nstate));
+  MPGM_CALL(mpgm_points_alloc(ctx, v->pts, npts, s->nprobe, 0, nstate));
   MPGM_ALLOC(ctx, d->cnode, (size_t)d->nn * m->ncell);
   MPGM_ALLOC(ctx, d->cptr, m->ncell + 1);
   MPGM_ALLOC(ctx, d->ctype, m->ncell);
   MPGM_ALLOC(ctx, d->pcell, npts + s->nprobe);
   MPGM_ALLOC(ctx, d->pxi, 2 * (size_t)(npts + s->nprobe));
   memcpy(d->cnode, m->cnode, sizeof(int) * (size_t)d->nn * m->ncell);
-  mpgm_nodes *nd = &pb->nodes;
-  mpgm_points *P = &pb->pts;
+  mpgm_nodes *nd = v->nodes;
+  mpgm_points *P = v->pts;
   memcpy(nd->X, m->X, sizeof(double) * 2 * (size_t)m->nnode);
   memcpy(nd->x, m->X, sizeof(double) * 2 * (size_t)m->nnode);
   double gxi[18], gw[9];
@@ -113,67 +113,39 @@ int mpgm_fem_setup_mesh(mpgm_problem *pb, const mpgm_fem_mesh *m) {
     P->x[2 * p] = P->x0[2 * p] = xp[0];
     P->x[2 * p + 1] = P->x0[2 * p + 1] = xp[1];
   }
-  /* boundaries: nodes selected by a geometric predicate */
-  for (int i = 0; i < s->nbc; i++) {
-    const mpgm_scene_boundary *bc = &s->bcs[i];
-    int hits = 0;
-    for (int k = 0; k < nd->n; k++) {
-      const int in = mpgm_boundary_selects(bc, nd->X + 2 * k);
-      if (!in) continue;
-      hits++;
-      for (int dd = 0; dd < 2; dd++)
-        if (bc->fix[dd]) {
-          nd->fix[2 * k + dd] = 1;
-          nd->ubar[2 * k + dd] = bc->displacement[dd];
-        }
-    }
-    MPGM_CHECK(ctx, hits > 0, MPGM_ERR_INPUT,
-               "%s: boundaries.%d.%s (\"%s\"): expected a selector that picks nodes, found none "
-               "within tol = %g of it", s->file, i,
-               bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box",
-               bc->name, bc->tol);
-  }
+  MPGM_CALL(mpgm_nodes_apply_boundaries(ctx, s, nd));
   /* connectivity pattern: fixed for the whole run */
   const int np = npts + s->nprobe;
-  MPGM_CALL(mpgm_conn_reserve(ctx, &pb->conn, np, np * d->nn));
+  MPGM_CALL(mpgm_conn_reserve(ctx, v->conn, np, np * d->nn));
   for (int q = 0; q < np; q++) {
-    pb->conn.ptr[q + 1] = pb->conn.ptr[q] + d->nn;
-    memcpy(pb->conn.node + pb->conn.ptr[q], d->cnode + (size_t)d->nn * d->pcell[q],
+    v->conn->ptr[q + 1] = v->conn->ptr[q] + d->nn;
+    memcpy(v->conn->node + v->conn->ptr[q], d->cnode + (size_t)d->nn * d->pcell[q],
            sizeof(int) * d->nn);
   }
-  pb->conn.version = 1;
+  v->conn->version = 1;
   return 0;
 }
 
-/* N and grad N at the start-of-step node positions. */
-int mpgm_fem_begin_step(mpgm_problem *pb) {
-  fem_data *d = pb->fe_data;
-  mpgm_conn *C = &pb->conn;
-  const double *x = pb->nodes.x;
-  const int np = pb->pts.n + pb->pts.nprobe;
+int mpgm_fem_cells_shape(const mpgm_fem_cells *d, const mpgm_fe_view *v) {
+  mpgm_conn *C = v->conn;
+  const double *x = v->nodes->x;
+  const int np = v->pts->n + v->pts->nprobe;
   for (int p = 0; p < np; p++) {
     const int k0 = C->ptr[p];
     double xn[2 * MPGM_FE_MAXNODE];
     cell_coords(d, x, d->pcell[p], xn);
     int err = mpgm_fe_eval(d->cell, xn, d->pxi + 2 * p, C->N + k0, C->dN + 2 * k0, NULL);
-    if (err && p < pb->pts.n)
-      MPGM_ERROR(pb->ctx, err, "cell %d of point %d is inverted (det J <= 0)", d->pcell[p], p);
+    if (err && p < v->pts->n)
+      MPGM_ERROR(v->ctx, err, "cell %d of point %d is inverted (det J <= 0)", d->pcell[p], p);
   }
   return 0;
 }
 
-int mpgm_fem_end_step(mpgm_problem *pb) {
-  (void)pb; /* nodes persist: the core has moved them */
-  return 0;
-}
-
-int mpgm_fem_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
-                   const int **type) {
-  fem_data *d = pb->fe_data;
-  *ncells = d->ncell;
-  *ptr = d->cptr;
-  *conn = d->cnode;
-  *type = d->ctype;
+int mpgm_fem_cells_output(const mpgm_fem_cells *d, mpgm_cells *out) {
+  out->n = d->ncell;
+  out->ptr = d->cptr;
+  out->node = d->cnode;
+  out->type = d->ctype;
   return 0;
 }
 
@@ -193,9 +165,9 @@ static void body_grid(const mpgm_scene *s, const mpgm_scene_body *b, int *nx, in
   *ny = fy > 1e9 ? 1000000000 : (int)fy;
 }
 
-int mpgm_mesh_rectangles(mpgm_problem *pb) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
+int mpgm_fem_rectangles(const mpgm_fe_view *v, mpgm_fem_cells **out) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
   const int per_sq = s->cell == MPGM_CELL_Q4 ? 1 : 2, nn = mpgm_fe_nnode(s->cell);
   /* count: in double first, so a tiny h cannot overflow the integers */
   double count[2] = {0.0, 0.0};
@@ -235,7 +207,7 @@ int mpgm_mesh_rectangles(mpgm_problem *pb) {
     n0 += (nx + 1) * (ny + 1);
   }
   const mpgm_fem_mesh mesh = {s->cell, nnode, X, ncell, cnode, cbody};
-  int err = mpgm_fem_setup_mesh(pb, &mesh);
+  int err = mpgm_fem_cells_create(v, &mesh, out);
   free(X);
   free(cnode);
   free(cbody);

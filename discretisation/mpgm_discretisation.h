@@ -1,7 +1,8 @@
 /* mpgm_discretisation.h -- what the front ends share to make nodes and
- * points: bodies filled on a grid, meshes of FE cells, points on the
- * bodies' surfaces. The background grid (mpgm_grid.h) and the kd-tree
- * (mpgm_kdtree.h) have headers of their own. */
+ * points: bodies filled on a grid, meshes of FE cells, boundaries applied
+ * to nodes, points on the bodies' surfaces. The background grid
+ * (mpgm_grid.h) and the kd-tree (mpgm_kdtree.h) have headers of their
+ * own. */
 #ifndef MPGM_DISCRETISATION_H
 #define MPGM_DISCRETISATION_H
 
@@ -48,31 +49,42 @@ typedef struct mpgm_fem_mesh {
   const int *cbody; /**< scene body of every cell (material, velocity)     */
 } mpgm_fem_mesh;
 
-/** The persistent-node FE problem of a mesh (arrays are copied): nodes with
- *  the initial velocity of their body, material points at the Gauss points
- *  of every cell (scene mesh.ppc; volume w det J, mass density * volume),
- *  probes located in the cell holding them, scene boundaries applied to
- *  the nodes, and the connectivity (point -> its cell's nodes). Sets
- *  pb->fe_data; for the setup operation of a front end. Errors:
+/** FE cells of a problem (the mesh of UL-FEM, of GMM for rectangle
+ *  bodies): the cells and every point's cell and local coordinates. */
+typedef struct mpgm_fem_cells mpgm_fem_cells;
+
+/** The persistent-node FE problem of a mesh (arrays are copied) into
+ *  v->nodes, v->pts, v->conn: nodes with the initial velocity of their
+ *  body, material points at the Gauss points of every cell (scene
+ *  mesh.ppc; volume w det J, mass density * volume), probes located in the
+ *  cell holding them, scene boundaries applied to the nodes, and the
+ *  connectivity (point -> its cell's nodes); *out receives the cells (free
+ *  with mpgm_fem_cells_destroy, also after a failure). Errors:
  *  MPGM_ERR_INPUT (probe outside the mesh, boundary selecting no node),
  *  MPGM_ERR_JACOBIAN (inverted cell), MPGM_ERR_NOMEM. */
-int mpgm_fem_setup_mesh(mpgm_problem *pb, const mpgm_fem_mesh *m);
+int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fem_cells **out);
 
 /** Each rectangle body of the scene meshed by a structured grid of Q4
  *  cells (or two T3 per square) of size <= mesh.h, and the problem built
- *  on that mesh by mpgm_fem_setup_mesh (the setup of UL-FEM, and of GMM
- *  for rectangle bodies). Errors: MPGM_ERR_INPUT (mesh too large), those
- *  of mpgm_fem_setup_mesh. */
-int mpgm_mesh_rectangles(mpgm_problem *pb);
+ *  on that mesh by mpgm_fem_cells_create. Errors: MPGM_ERR_INPUT (mesh
+ *  too large), those of mpgm_fem_cells_create. */
+int mpgm_fem_rectangles(const mpgm_fe_view *v, mpgm_fem_cells **out);
 
-/** The operations shared by every front end built on mpgm_fem_setup_mesh
- *  (begin_step: N and grad N at the start-of-step node positions). */
-int mpgm_fem_begin_step(mpgm_problem *pb);
-int mpgm_fem_end_step(mpgm_problem *pb);
-int mpgm_fem_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
-                   const int **type);
-void mpgm_fem_destroy(mpgm_problem *pb);
+/** N and grad N of every point (material and probe) in its cell at the
+ *  start-of-step node positions, into v->conn. Errors: MPGM_ERR_JACOBIAN
+ *  (an inverted cell of a material point). */
+int mpgm_fem_cells_shape(const mpgm_fem_cells *c, const mpgm_fe_view *v);
+/** The cells for output. */
+int mpgm_fem_cells_output(const mpgm_fem_cells *c, mpgm_cells *out);
+/** Free (accepts NULL). */
+void mpgm_fem_cells_destroy(mpgm_fem_cells *c);
 
+/** The scene's boundaries applied to the nodes: every node a boundary
+ *  selects (mpgm_boundary_selects) gets its fixed components and their
+ *  prescribed values (contact at surface points acts on points, not nodes:
+ *  skipped). Errors: MPGM_ERR_INPUT naming a boundary that selects no
+ *  node. */
+int mpgm_nodes_apply_boundaries(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_nodes *nd);
 
 #ifdef __cplusplus
 }

@@ -12,7 +12,7 @@
 extern "C" {
 #endif
 
-extern const mpgm_frontend_ops mpgm_frontend_fem;
+extern const mpgm_frontend_type mpgm_frontend_fem;
 
 #ifdef __cplusplus
 }

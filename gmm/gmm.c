@@ -49,7 +49,7 @@
 #define GMM_MAX_GROWTH 60
 
 typedef struct gmm_data {
-  void *fem;             /**< the FEM front end's data (cells for output)     */
+  mpgm_fem_cells *fem;   /**< rectangle bodies: the FE cells (for output)      */
   gmm_grid *grid;        /**< or, for grid-filled bodies, the output cells    */
   mpgm_kdtree *tree;     /**< over nodes.x (borrowed), rebuilt every step     */
   mpgm_shape_params par; /**< the scene's parameters, h = mesh.h            */
@@ -68,11 +68,10 @@ typedef struct gmm_data {
   int ocap;
 } gmm_data;
 
-static void gmm_destroy(mpgm_problem *pb) {
-  gmm_data *d = pb->fe_data;
+static void gmm_destroy(void *self) {
+  gmm_data *d = self;
   if (!d) return;
-  pb->fe_data = d->fem;
-  mpgm_fem_destroy(pb);
+  mpgm_fem_cells_destroy(d->fem);
   mpgm_gmm_grid_destroy(&d->grid);
   mpgm_kdtree_destroy(&d->tree);
   free(d->lambda);
@@ -85,15 +84,14 @@ static void gmm_destroy(mpgm_problem *pb) {
   free(d->oN);
   free(d->odN);
   free(d);
-  pb->fe_data = NULL;
 }
 
-static int gmm_setup(mpgm_problem *pb) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
+static int gmm_create(const mpgm_fe_view *v, void **self) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
   gmm_data *d;
   MPGM_ALLOC(ctx, d, 1);
-  pb->fe_data = d; /* from here gmm_destroy frees everything */
+  *self = d; /* from here gmm_destroy frees everything */
   MPGM_CHECK(ctx, !s->shape->needs_cell && s->shape->support_radius, MPGM_ERR_INPUT,
              "%s: shape.kind: method gmm needs a meshfree kind, found \"%s\"", s->file,
              s->shape->name);
@@ -104,26 +102,22 @@ static int gmm_setup(mpgm_problem *pb) {
              s->shape->name, s->h);
   if (mpgm_gmm_uses_grid(s)) {
     /* disk and polygon bodies, obstacles: points and nodes on the grid */
-    MPGM_CALL(mpgm_gmm_grid_setup(pb, d->r0, &d->grid));
+    MPGM_CALL(mpgm_gmm_grid_setup(v, d->r0, &d->grid));
   } else {
     /* rectangles: nodes, points, probes, boundaries exactly those of UL-FEM */
-    pb->fe_data = NULL;
-    const int err = mpgm_mesh_rectangles(pb);
-    d->fem = pb->fe_data;
-    pb->fe_data = d;
-    MPGM_CALL(err);
+    MPGM_CALL(mpgm_fem_rectangles(v, &d->fem));
   }
   if (d->grid && s->min_node_distance > 0.0) {
     d->dmin = s->min_node_distance * s->h;
-    MPGM_ALLOC(ctx, d->merged, pb->nodes.n);
+    MPGM_ALLOC(ctx, d->merged, v->nodes->n);
   }
   d->min_nodes = s->min_nodes > 0 ? s->min_nodes : d->par.order == 2 ? 12 : 6;
-  const int m = pb->pts.n + pb->pts.nprobe + pb->pts.nsurf;
+  const int m = v->pts->n + v->pts->nprobe + v->pts->nsurf;
   MPGM_ALLOC(ctx, d->lambda, 2 * (size_t)m);
   MPGM_ALLOC(ctx, d->rad, m);
   MPGM_ALLOC(ctx, d->cptr, m + 1);
   MPGM_ALLOC(ctx, d->optr, m + 1);
-  MPGM_CALL(mpgm_kdtree_create(ctx, pb->nodes.x, pb->nodes.n, 0, &d->tree));
+  MPGM_CALL(mpgm_kdtree_create(ctx, v->nodes->x, v->nodes->n, 0, &d->tree));
   return 0;
 }
 
@@ -202,8 +196,8 @@ static int next_nearest(const gmm_data *d, const double x[2], int n, double *dn2
  * of their coefficients is a nearly singular mode of K and M; a merged
  * node is left out of every cloud for the step, parked by the light-node
  * rule (it has no mass) and carried along with its neighbours. */
-static void merge_close(mpgm_problem *pb, gmm_data *d) {
-  const mpgm_nodes *nd = &pb->nodes;
+static void merge_close(const mpgm_fe_view *v, gmm_data *d) {
+  const mpgm_nodes *nd = v->nodes;
   const gmm_grid *g = d->grid;
   memset(d->merged, 0, (size_t)nd->n);
   int idx[64];
@@ -215,7 +209,7 @@ static void merge_close(mpgm_problem *pb, gmm_data *d) {
       const int j = idx[a];
       if (j <= i || d->merged[j] || g->obst[j] || g->fix0[2 * j] || g->fix0[2 * j + 1]) continue;
       d->merged[j] = 1;
-      mpgm_count(pb->ctx, MPGM_C_NODES_MERGED, 1);
+      mpgm_count(v->ctx, MPGM_C_NODES_MERGED, 1);
     }
   }
 }
@@ -234,13 +228,13 @@ static void sort_by_node(int n, int *idx) {
 
 /* Phase 1: clouds of every point (and probe) from the radius search, with
  * radius growth up to min_nodes nodes. */
-static int search_clouds(mpgm_problem *pb, gmm_data *d) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_points *P = &pb->pts;
-  const int m = P->n + P->nprobe + P->nsurf, nnode = pb->nodes.n;
+static int search_clouds(const mpgm_fe_view *v, gmm_data *d) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_points *P = v->pts;
+  const int m = P->n + P->nprobe + P->nsurf, nnode = v->nodes->n;
   const int want = d->min_nodes < nnode ? d->min_nodes : nnode;
-  MPGM_CALL(mpgm_kdtree_rebuild(ctx, d->tree, pb->nodes.x, nnode));
-  if (d->merged) merge_close(pb, d);
+  MPGM_CALL(mpgm_kdtree_rebuild(ctx, d->tree, v->nodes->x, nnode));
+  if (d->merged) merge_close(v, d);
   size_t cap = (size_t)d->ccap;
   int idx[MPGM_SHAPE_MAXNODE];
   double d2[MPGM_SHAPE_MAXNODE];
@@ -258,7 +252,7 @@ static int search_clouds(mpgm_problem *pb, gmm_data *d) {
                "%s: shape: step %ld: %s %d at (%g, %g) has %d nodes within its support radius "
                "%g m, more than MPGM_SHAPE_MAXNODE = %d: lower shape.radius / shape.dilation "
                "(mls) or raise shape.gamma (lme)",
-               pb->scene->file, pb->step + 1, p < P->n ? "point" : p < P->n + P->nprobe ? "probe" : "surface point",
+               v->scene->file, v->step + 1, p < P->n ? "point" : p < P->n + P->nprobe ? "probe" : "surface point",
                p < P->n ? P->id[p] : p - P->n, x[0], x[1], n, r, MPGM_SHAPE_MAXNODE);
     d->rad[p] = r;
     MPGM_CALL(grow_int(ctx, &d->cidx, (size_t)d->cptr[p] + (size_t)n, &cap));
@@ -272,11 +266,11 @@ static int search_clouds(mpgm_problem *pb, gmm_data *d) {
 /* Phase 2 for one point: N and grad N over its cloud at its position, with
  * enlargements on MPGM_ERR_SHAPE; appends the non-zero entries to the
  * output at *k. *t_search accumulates the time of the extra searches. */
-static int shape_point(mpgm_problem *pb, gmm_data *d, int p, int *k, double *t_search) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
-  const mpgm_points *P = &pb->pts;
-  const double *xn_all = pb->nodes.x, *x = P->x + 2 * p;
+static int shape_point(const mpgm_fe_view *v, gmm_data *d, int p, int *k, double *t_search) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
+  const mpgm_points *P = v->pts;
+  const double *xn_all = v->nodes->x, *x = P->x + 2 * p;
   int idx[MPGM_SHAPE_MAXNODE + 1];
   double d2[MPGM_SHAPE_MAXNODE + 1], xn[2 * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE],
       dN[2 * MPGM_SHAPE_MAXNODE];
@@ -333,8 +327,7 @@ static int shape_point(mpgm_problem *pb, gmm_data *d, int p, int *k, double *t_s
     /* no functions at a surface point: contact is not enforced there in
      * this step (counted), and the point does not move */
     mpgm_err_clear(ctx);
-    pb->cp.off[surf] = 1;
-    pb->cp.unenforced++;
+    mpgm_cpoints_unenforce(v->cp, surf);
     return 0;
   }
   if (err) { /* MPGM_ERR_SHAPE (recoverable), or a fatal MPGM_ERR_INPUT */
@@ -343,13 +336,13 @@ static int shape_point(mpgm_problem *pb, gmm_data *d, int p, int *k, double *t_s
                  "step %ld: %s shape functions failed at point %d (body \"%s\", started at (%g, "
                  "%g)) at (%g, %g) after %d cloud enlargement(s) (cloud of %d nodes within %g "
                  "m; shape.max_enlarge = %d): %s",
-                 pb->step + 1, s->shape->name, P->id[p], s->bodies[P->body[p]].name, P->x0[2 * p],
+                 v->step + 1, s->shape->name, P->id[p], s->bodies[P->body[p]].name, P->x0[2 * p],
                  P->x0[2 * p + 1], x[0], x[1], enl, n, r, s->max_enlarge,
                  info.msg ? info.msg : "?");
     MPGM_ERROR(ctx, err,
                "step %ld: %s shape functions failed at probe \"%s\" at (%g, %g) after %d cloud "
                "enlargement(s) (cloud of %d nodes within %g m): %s",
-               pb->step + 1, s->shape->name, s->probes[p - P->n].name, x[0], x[1], enl, n, r,
+               v->step + 1, s->shape->name, s->probes[p - P->n].name, x[0], x[1], enl, n, r,
                info.msg ? info.msg : "?");
   }
   MPGM_CALL(grow_out(ctx, d, *k + n));
@@ -364,23 +357,23 @@ static int shape_point(mpgm_problem *pb, gmm_data *d, int p, int *k, double *t_s
   return 0;
 }
 
-static int gmm_begin_step(mpgm_problem *pb) {
-  mpgm_ctx *ctx = pb->ctx;
-  gmm_data *d = pb->fe_data;
-  mpgm_conn *C = &pb->conn;
-  const int m = pb->pts.n + pb->pts.nprobe + pb->pts.nsurf;
+static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
+  mpgm_ctx *ctx = v->ctx;
+  gmm_data *d = self;
+  mpgm_conn *C = v->conn;
+  const int m = v->pts->n + v->pts->nprobe + v->pts->nsurf;
   /* the core times begin_step as "shape": the search time is moved from
    * "shape" to "search", so that the two add up to the call */
   double t0 = mpgm_wtime();
-  MPGM_CALL(search_clouds(pb, d));
+  MPGM_CALL(search_clouds(v, d));
   double ts = mpgm_wtime() - t0;
   /* room for every cloud of the search (enlargements may add more) */
   MPGM_CALL(grow_out(ctx, d, d->cptr[m]));
-  if (pb->pts.nsurf) memset(pb->cp.off, 0, (size_t)pb->pts.nsurf);
+  if (v->pts->nsurf) mpgm_cpoints_enforce_all(v->cp);
   int k = 0;
   for (int p = 0; p < m; p++) {
     d->optr[p] = k;
-    const int err = shape_point(pb, d, p, &k, &ts);
+    const int err = shape_point(v, d, p, &k, &ts);
     if (err) {
       mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
       return err;
@@ -390,7 +383,7 @@ static int gmm_begin_step(mpgm_problem *pb) {
   mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
   /* grid-filled bodies: nodes with little mass are parked for the step */
   if (d->grid) {
-    MPGM_CALL(mpgm_gmm_grid_park(pb, d->grid, d->tree, d->r0, m, d->optr, d->onode, d->oN, d->odN));
+    MPGM_CALL(mpgm_gmm_grid_park(v, d->grid, d->tree, d->r0, m, d->optr, d->onode, d->oN, d->odN));
     k = d->optr[m];
   }
   /* a new pattern only when some point's node list changed */
@@ -406,36 +399,37 @@ static int gmm_begin_step(mpgm_problem *pb) {
   return 0;
 }
 
-static int gmm_end_step(mpgm_problem *pb) {
-  gmm_data *d = pb->fe_data;
-  if (d->grid) mpgm_gmm_grid_unpark(pb, d->grid);
+static int gmm_end_step(void *self, const mpgm_fe_view *v) {
+  gmm_data *d = self;
+  if (d->grid) mpgm_gmm_grid_unpark(v, d->grid);
   return 0;
 }
 
 /* The mesh of the setup, for output only (nodes persist, so the cells show
  * the deformed body; they are not the interpolation). */
-static int gmm_cells(mpgm_problem *pb, int *ncells, const int **ptr, const int **conn,
-                     const int **type) {
-  gmm_data *d = pb->fe_data;
-  if (d->grid) {
-    *ncells = d->grid->ncell;
-    *ptr = d->grid->cptr;
-    *conn = d->grid->cnode;
-    *type = d->grid->ctype;
-    return 0;
-  }
-  pb->fe_data = d->fem;
-  const int err = mpgm_fem_cells(pb, ncells, ptr, conn, type);
-  pb->fe_data = d;
-  return err;
+static int gmm_cells(const void *self, mpgm_cells *out) {
+  const gmm_data *d = self;
+  if (!d->grid) return mpgm_fem_cells_output(d->fem, out);
+  out->n = d->grid->ncell;
+  out->ptr = d->grid->cptr;
+  out->node = d->grid->cnode;
+  out->type = d->grid->ctype;
+  return 0;
 }
 
-const mpgm_frontend_ops mpgm_frontend_gmm = {
+const mpgm_frontend_type mpgm_frontend_gmm = {
     .name = "gmm",
+    .doc = "Galerkin Meshfree Method: the nodes of UL-FEM (or of bodies filled on a grid) "
+           "connected to every point by a node cloud searched again each step",
+    .persistent_nodes = 1,
     .point_velocity = MPGM_PV_INTERPOLATE,
-    .setup = gmm_setup,
+    .shapes = MPGM_FE_SHAPE_CLOUD,
+    .geometries = 1u << MPGM_GEOM_RECTANGLE | 1u << MPGM_GEOM_DISK | 1u << MPGM_GEOM_POLYGON,
+    .conditions = MPGM_FE_COND_FIX | MPGM_FE_COND_DISPLACEMENT | MPGM_FE_COND_CONTACT_POINTS,
+    .obstacles = 1,
+    .create = gmm_create,
+    .destroy = gmm_destroy,
     .begin_step = gmm_begin_step,
     .end_step = gmm_end_step,
     .cells = gmm_cells,
-    .destroy = gmm_destroy,
 };

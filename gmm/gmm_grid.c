@@ -103,9 +103,9 @@ static int obstacle_nodes(const mpgm_scene *s, const ggrid *g, int o, double *X,
   return n;
 }
 
-int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
+int mpgm_gmm_grid_setup(const mpgm_fe_view *v, double r0, gmm_grid **out) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
   gmm_grid *gd;
   MPGM_ALLOC(ctx, gd, 1);
   *out = gd;
@@ -184,16 +184,16 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
     }
   }
   const int nnode = nbody_nodes + nnew;
-  if (!err) err = mpgm_nodes_alloc(ctx, &pb->nodes, nnode);
+  if (!err) err = mpgm_nodes_alloc(ctx, v->nodes, nnode);
   int nstate = 0;
   for (int i = 0; i < s->nmat; i++)
     if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
   /* contact at points: tracers on the bodies' boundaries, after the probes */
-  const int nsurf = pb->fx.contact_points ? mpgm_surface_tracers_count(s) : 0;
-  if (!err) err = mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe, nsurf, nstate);
+  const int nsurf = v->fx->contact_points ? mpgm_surface_tracers_count(s) : 0;
+  if (!err) err = mpgm_points_alloc(ctx, v->pts, np, s->nprobe, nsurf, nstate);
   if (!err) {
-    mpgm_nodes *nd = &pb->nodes;
-    mpgm_points *P = &pb->pts;
+    mpgm_nodes *nd = v->nodes;
+    mpgm_points *P = v->pts;
     int n = 0;
     for (int i = 0; i < ngn; i++) {
       if (gmap[i] <= 0) continue;
@@ -260,33 +260,10 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
       gd->ncell = nc;
     }
     /* boundaries: nodes selected by a geometric predicate */
-    for (int i = 0; i < s->nbc && !err; i++) {
-      const mpgm_scene_boundary *bc = &s->bcs[i];
-      /* contact at points acts on the bodies' surface points, not nodes */
-      if (mpgm_bc_at_points(bc)) continue;
-      int hits = 0;
-      for (int k = 0; k < nd->n; k++) {
-        if (!mpgm_boundary_selects(bc, nd->X + 2 * k)) continue;
-        hits++;
-        for (int dd = 0; dd < 2; dd++)
-          if (bc->fix[dd]) {
-            nd->fix[2 * k + dd] = 1;
-            nd->ubar[2 * k + dd] = bc->displacement[dd];
-          }
-      }
-      if (!hits)
-        err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
-                           "%s: boundaries.%d.%s (\"%s\"): expected a selector that picks nodes, "
-                           "found none within tol = %g of it",
-                           s->file, i,
-                           bc->select == MPGM_SELECT_X   ? "x"
-                           : bc->select == MPGM_SELECT_Y ? "y"
-                                                         : "box",
-                           bc->name, bc->tol);
-    }
+    if (!err) err = mpgm_nodes_apply_boundaries(ctx, s, nd);
   }
   if (!err) {
-    const int n = pb->nodes.n;
+    const int n = v->nodes->n;
     gd->fix0 = malloc(2 * (size_t)n);
     gd->ubar0 = malloc(sizeof(double) * 2 * (size_t)n);
     gd->parked = calloc((size_t)n, 1);
@@ -300,8 +277,8 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
       for (int i = nbody_nodes; i < n; i++) gd->obst[i] = 1;
       for (int i = 0; i < ngn; i++)
         if (gmap[i] >= 0 && ofix[i]) gd->obst[gmap[i]] = 1;
-      memcpy(gd->fix0, pb->nodes.fix, 2 * (size_t)n);
-      memcpy(gd->ubar0, pb->nodes.ubar, sizeof(double) * 2 * (size_t)n);
+      memcpy(gd->fix0, v->nodes->fix, 2 * (size_t)n);
+      memcpy(gd->ubar0, v->nodes->ubar, sizeof(double) * 2 * (size_t)n);
     } else {
       err = MPGM_ERR_NOMEM;
     }
@@ -319,12 +296,12 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out) {
   return err;
 }
 
-int mpgm_gmm_grid_park(mpgm_problem *pb, gmm_grid *g, const mpgm_kdtree *tree, double r0, int m,
+int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tree, double r0, int m,
                        int *ptr, int *node, double *N, double *dN) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
-  const mpgm_points *P = &pb->pts;
-  mpgm_nodes *nd = &pb->nodes;
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
+  const mpgm_points *P = v->pts;
+  mpgm_nodes *nd = v->nodes;
   const int n = nd->n;
   memcpy(nd->fix, g->fix0, 2 * (size_t)n);
   memcpy(nd->ubar, g->ubar0, sizeof(double) * 2 * (size_t)n);
@@ -338,7 +315,7 @@ int mpgm_gmm_grid_park(mpgm_problem *pb, gmm_grid *g, const mpgm_kdtree *tree, d
   const double cut = s->min_node_mass * mmax;
   /* the load factor of the step (as the core sets it): a parked node is
    * held where it is, lambda ubar = u */
-  const double lam = mpgm_load_factor(pb);
+  const double lam = v->lambda;
   for (int i = 0; i < n; i++) {
     if (g->fix0[2 * i] || g->fix0[2 * i + 1]) continue;
     int beyond = 0; /* a body node that moved into an obstacle */
@@ -410,13 +387,12 @@ int mpgm_gmm_grid_park(mpgm_problem *pb, gmm_grid *g, const mpgm_kdtree *tree, d
     }
     if (lost && !(fabs(S) > 1e-12) && p >= P->n + P->nprobe) {
       /* a surface point among parked nodes only: not enforced this step */
-      pb->cp.unenforced += !pb->cp.off[p - P->n - P->nprobe];
-      pb->cp.off[p - P->n - P->nprobe] = 1;
+      mpgm_cpoints_unenforce(v->cp, p - P->n - P->nprobe);
       continue;
     }
     MPGM_CHECK(ctx, !lost || fabs(S) > 1e-12, MPGM_ERR_SHAPE,
                "step %ld: %s %d at (%g, %g) lost every node to mesh.min_node_mass = %g",
-               pb->step + 1, p < P->n ? "point" : "probe", p < P->n ? P->id[p] : p - P->n,
+               v->step + 1, p < P->n ? "point" : "probe", p < P->n ? P->id[p] : p - P->n,
                P->x[2 * p], P->x[2 * p + 1], s->min_node_mass);
     for (int k = k0; k < k1; k++) {
       if (g->parked[node[k]]) continue;
@@ -438,9 +414,9 @@ int mpgm_gmm_grid_park(mpgm_problem *pb, gmm_grid *g, const mpgm_kdtree *tree, d
   return 0;
 }
 
-void mpgm_gmm_grid_unpark(mpgm_problem *pb, gmm_grid *g) {
-  mpgm_nodes *nd = &pb->nodes;
-  const int move = pb->fx.geometric;
+void mpgm_gmm_grid_unpark(const mpgm_fe_view *v, gmm_grid *g) {
+  mpgm_nodes *nd = v->nodes;
+  const int move = v->fx->geometric;
   for (int i = 0; i < nd->n && g->nparked; i++) {
     if (!g->parked[i]) continue;
     double du[2] = {0, 0}, v[2] = {0, 0}, a[2] = {0, 0};

@@ -21,7 +21,7 @@ extern "C" {
  *  failed evaluation up to shape.max_enlarge; counted in mpgm_ctx). The
  *  mesh cells are written for visualisation only. docs/theory.md,
  *  section 13. */
-extern const mpgm_frontend_ops mpgm_frontend_gmm;
+extern const mpgm_frontend_type mpgm_frontend_gmm;
 
 #ifdef __cplusplus
 }

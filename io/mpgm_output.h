@@ -24,6 +24,9 @@ typedef struct mpgm_output {
   double *steps;  /**< per converged step: STEP_COLS values         */
 } mpgm_output;
 
+/** Open the results folder dir of problem pb: DIR/vtk (emptied of earlier
+ *  VTK files), points.pvd (and mesh.pvd when the front end has cells),
+ *  DIR/matrices (output.matrices). Errors: MPGM_ERR_IO. */
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir);
 void mpgm_output_close(mpgm_output *o);
 /** output.matrices: make the output an observer of pb that writes the
@@ -31,12 +34,15 @@ void mpgm_output_close(mpgm_output *o);
  *  K.mtx and _b.mtx, II counting the systems of the step from 0; a retried
  *  step writes afresh). Nothing when the scene lists no step. */
 int mpgm_output_observe(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb);
-int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb);
+/** The points (and the mesh) now as the next VTK files of the series. */
+int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
+/** The probes' displacements now, as a row of the probe history. */
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
-int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
+/** DIR/probes.csv: the probe history so far. */
+int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o);
 /** Newton record of the step just converged (wall: its wall time [s]). */
 int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, double wall);
 /** DIR/steps.csv: one row per converged step with its Newton norms. */
-int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
+int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o);
 
 #endif

@@ -14,15 +14,14 @@ typedef struct mpgm_run_opts {
                             for benchmarks)                              */
 } mpgm_run_opts;
 
-/** Run a loaded scene with its front end. Writes DIR/summary.json (also on
+/** Run a loaded scene with its front end (scene->frontend). Writes DIR/summary.json (also on
  *  failure, with status "failed" and where it stopped), DIR/probes.csv,
  *  VTK files and .pvd collections. Returns 0 or the error code (message in
  *  ctx): negative fatal / positive recoverable codes of the failing step,
  *  MPGM_ERR_IO when output cannot be written. Messages go to the context's
  *  logger: a line per step (MPGM_LOG_PROGRESS), step cuts (WARNING), the
  *  time split (INFO, opts->per_iteration). */
-int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *scene, const mpgm_frontend_ops *fe,
-             const mpgm_run_opts *opts);
+int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *scene, const mpgm_run_opts *opts);
 
 /** Effects of a scene as a cJSON object {"inertia": bool, ...}; used by
  *  `mpgm check` and summary.json. Returns a cJSON * (as void *). */

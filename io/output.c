@@ -30,11 +30,14 @@ static int table_push(mpgm_ctx *ctx, double **buf, int *n, int *cap, int width, 
 }
 
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
+  const mpgm_scene *scene = mpgm_problem_scene(pb);
+  mpgm_cells cells;
+  const int has_cells = mpgm_problem_cells(pb, &cells);
   memset(o, 0, sizeof *o);
   snprintf(o->dir, sizeof o->dir, "%s", dir);
   MPGM_CALL(mpgm_mkdir_p(ctx, dir));
   char path[MPGM_PATH_LEN + 64];
-  if (pb->scene->vtk != MPGM_VTK_NONE) {
+  if (scene->vtk != MPGM_VTK_NONE) {
     snprintf(path, sizeof path, "%s/vtk", dir);
     MPGM_CALL(mpgm_mkdir_p(ctx, path));
     /* stale files of an earlier run in the same folder would mix series */
@@ -53,19 +56,19 @@ int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, cons
     }
     snprintf(path, sizeof path, "%s/points.pvd", dir);
     MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_points));
-    if (pb->fe->cells) {
+    if (has_cells) {
       snprintf(path, sizeof path, "%s/mesh.pvd", dir);
       remove(path);
       MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_mesh));
     }
   }
-  if (pb->scene->nmatrices > 0) { /* output.matrices; no systems of an earlier run */
+  if (scene->nmatrices > 0) { /* output.matrices; no systems of an earlier run */
     snprintf(o->matrices_dir, sizeof o->matrices_dir, "%s/matrices", dir);
     MPGM_CALL(mpgm_mkdir_p(ctx, o->matrices_dir));
     MPGM_CALL(mpgm_remove_files(ctx, o->matrices_dir, "step", ".mtx"));
   }
-  o->ncol = 2 * pb->pts.nprobe;
-  o->scene = pb->scene;
+  o->ncol = 2 * mpgm_problem_points(pb)->nprobe;
+  o->scene = scene;
   return 0;
 }
 
@@ -126,15 +129,17 @@ void mpgm_output_close(mpgm_output *o) {
 int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, double wall) {
   double *row = NULL;
   MPGM_CALL(table_push(ctx, &o->steps, &o->nstep, &o->capstep, STEP_COLS, &row));
-  const mpgm_newton_info *n = &pb->last;
-  row[0] = (double)pb->step;
-  row[1] = pb->scene->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t;
+  mpgm_report r;
+  mpgm_problem_report(pb, &r);
+  const mpgm_newton_info *n = &r.last;
+  row[0] = (double)r.step;
+  row[1] = o->scene->analysis == MPGM_ANALYSIS_STATIC ? r.lambda : r.t;
   row[2] = n->iterations;
   row[3] = n->res0;
   row[4] = n->res;
   row[5] = n->res_rel;
   row[6] = n->du_rel;
-  row[7] = pb->dt;
+  row[7] = r.dt;
   row[8] = wall;
   return 0;
 }
@@ -158,31 +163,34 @@ static int write_table(mpgm_ctx *ctx, const mpgm_output *o, const char *name,
   return mpgm_atomic_close(ctx, path, f);
 }
 
-int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
+int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o) {
   char header[256];
   snprintf(header, sizeof header,
            "step,%s,newton_iterations,residual_initial,residual,residual_relative,"
            "increment_relative,%s,wall_s\n",
-           pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time",
-           pb->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_increment" : "dt");
+           o->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time",
+           o->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_increment" : "dt");
   return write_table(ctx, o, "steps.csv", header, o->steps, o->nstep, STEP_COLS);
 }
 
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
   double *row = NULL;
   MPGM_CALL(table_push(ctx, &o->hist, &o->nrow, &o->caprow, 2 + o->ncol, &row));
-  row[0] = (double)pb->step;
-  row[1] = pb->scene->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t;
-  const int p0 = pb->pts.n;
-  for (int k = 0; k < pb->pts.nprobe; k++) {
-    row[2 + 2 * k] = pb->pts.u[2 * (p0 + k)];
-    row[3 + 2 * k] = pb->pts.u[2 * (p0 + k) + 1];
+  mpgm_report r;
+  mpgm_problem_report(pb, &r);
+  const mpgm_points *P = mpgm_problem_points(pb);
+  row[0] = (double)r.step;
+  row[1] = o->scene->analysis == MPGM_ANALYSIS_STATIC ? r.lambda : r.t;
+  const int p0 = P->n;
+  for (int k = 0; k < P->nprobe; k++) {
+    row[2 + 2 * k] = P->u[2 * (p0 + k)];
+    row[3 + 2 * k] = P->u[2 * (p0 + k) + 1];
   }
   return 0;
 }
 
-int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
-  const mpgm_scene *sc = pb->scene;
+int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o) {
+  const mpgm_scene *sc = o->scene;
   char header[64 + 2 * (MPGM_NAME_LEN + 8) * 32];
   size_t n = (size_t)snprintf(header, sizeof header, "step,%s",
                               sc->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
@@ -193,19 +201,21 @@ int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *
   return write_table(ctx, o, "probes.csv", header, o->hist, o->nrow, 2 + o->ncol);
 }
 
-int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
-  const mpgm_scene *s = pb->scene;
+int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
+  const mpgm_scene *s = o->scene;
+  mpgm_report r;
+  mpgm_problem_report(pb, &r);
   if (s->vtk == MPGM_VTK_NONE) return 0;
   const int binary = s->vtk == MPGM_VTK_OUT_BINARY;
-  const double time = s->analysis == MPGM_ANALYSIS_STATIC ? pb->lambda : pb->t;
-  const mpgm_points *P = &pb->pts;
+  const double time = s->analysis == MPGM_ANALYSIS_STATIC ? r.lambda : r.t;
+  const mpgm_points *P = mpgm_problem_points(pb);
   const int n = P->n;
   /* J = det F per point (scratch in the trial volume's neighbour: own buffer) */
   double *J = malloc(sizeof(double) * (size_t)(n ? n : 1));
   double *matid = malloc(sizeof(double) * (size_t)(n ? n : 1));
   double *id = malloc(sizeof(double) * (size_t)(n ? n : 1));
   /* eps_p: only when a material is plastic (elastic runs keep their files) */
-  const int with_epsp = (s->fields & MPGM_FIELD_EPS_P) && pb->fx.plasticity;
+  const int with_epsp = (s->fields & MPGM_FIELD_EPS_P) && mpgm_problem_effects(pb)->plasticity;
   double *epsp = with_epsp ? malloc(sizeof(double) * (size_t)(n ? n : 1)) : NULL;
   if (!J || !matid || !id || (with_epsp && !epsp)) {
     free(J);
@@ -237,7 +247,7 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
   char rel[64], path[MPGM_PATH_LEN + 128], title[256];
   snprintf(rel, sizeof rel, "vtk/points_%06d.vtk", o->nvtk);
   snprintf(path, sizeof path, "%s/%s", o->dir, rel);
-  snprintf(title, sizeof title, "mpgm %s material points, step %ld, t = %.9g", s->stem, pb->step, time);
+  snprintf(title, sizeof title, "mpgm %s material points, step %ld, t = %.9g", s->stem, r.step, time);
   int err = mpgm_vtk_write(ctx, path, binary, title, n, P->x, 0, NULL, NULL, NULL, nf, f);
   free(J);
   free(matid);
@@ -247,14 +257,14 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
   MPGM_CALL(mpgm_pvd_add(o->pvd_points, ctx, time, rel));
   o->files++;
   if (o->pvd_mesh) {
-    int nc;
-    const int *cp, *cc, *ct;
-    MPGM_CALL(pb->fe->cells(pb, &nc, &cp, &cc, &ct));
-    mpgm_vtk_field nf_u = {"displacement", MPGM_VTK_VECTOR2, pb->nodes.u};
+    mpgm_cells c;
+    mpgm_problem_cells(pb, &c);
+    const mpgm_nodes *nd = mpgm_problem_nodes(pb);
+    mpgm_vtk_field nf_u = {"displacement", MPGM_VTK_VECTOR2, nd->u};
     snprintf(rel, sizeof rel, "vtk/mesh_%06d.vtk", o->nvtk);
     snprintf(path, sizeof path, "%s/%s", o->dir, rel);
-    snprintf(title, sizeof title, "mpgm %s mesh, step %ld, t = %.9g", s->stem, pb->step, time);
-    MPGM_CALL(mpgm_vtk_write(ctx, path, binary, title, pb->nodes.n, pb->nodes.x, nc, cp, cc, ct, 1, &nf_u));
+    snprintf(title, sizeof title, "mpgm %s mesh, step %ld, t = %.9g", s->stem, r.step, time);
+    MPGM_CALL(mpgm_vtk_write(ctx, path, binary, title, nd->n, nd->x, c.n, c.ptr, c.node, c.type, 1, &nf_u));
     MPGM_CALL(mpgm_pvd_add(o->pvd_mesh, ctx, time, rel));
     o->files++;
   }

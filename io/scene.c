@@ -8,10 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mpgm_frontends.h"
 #include "mpgm_json_reader.h"
 #include "scene_impl.h"
 
-static const char *const method_names[] = {"fem", "mpm", "gmm", NULL}; /* = mpgm_method */
 static const char *const cell_names[] = {"tri", "quad", NULL}; /* = mpgm_cell_kind */
 static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", NULL};
@@ -19,11 +19,6 @@ static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
 static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
                                           "volume", "J", "material", "acceleration", "id", "eps_p",
                                           NULL};
-static const char *const future_methods[] = {NULL}; /* named methods of later issues */
-
-const char *mpgm_method_name(int method) {
-  return (method >= 0 && method <= MPGM_METHOD_GMM) ? method_names[method] : "?";
-}
 
 /* Names of materials, bodies, probes: usable in dotted paths. */
 static int check_name(jr_node *o, const char *name) {
@@ -237,9 +232,6 @@ static int read_bodies(jr_node *root, mpgm_scene *s) {
     }
     jr_node g;
     MPGM_CALL(read_geometry(&b, body, &g));
-    if (s->method == MPGM_METHOD_FEM && body->geometry != MPGM_GEOM_RECTANGLE)
-      return jr_fail(&b, NULL, "method fem meshes rectangle bodies only; use method mpm or gmm for "
-                     "disk and polygon bodies");
     const double zero[2] = {0, 0};
     MPGM_CALL(jr_vec2(&b, "velocity", zero, body->velocity));
     jr_node geo;
@@ -376,15 +368,6 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   memset(p, 0, sizeof *p);
   s->min_nodes = 0;
   s->max_enlarge = 0;
-  /* which kinds a method takes: cells for fem, node clouds for gmm, either
-   * for mpm (clouds of grid nodes) */
-  if (s->shape->needs_cell && s->method == MPGM_METHOD_GMM)
-    return jr_fail(sh, "kind", "method gmm needs a meshfree shape kind (\"mls\" or \"lme\"), found "
-                   "\"%s\" (\"fe\" is the default; it needs the cells of method fem or mpm)",
-                   s->shape->name);
-  if (!s->shape->needs_cell && s->method == MPGM_METHOD_FEM)
-    return jr_fail(sh, "kind", "method fem takes shape kind \"fe\" only (its connectivity is the "
-                   "cells), found the meshfree kind \"%s\" (use method gmm)", s->shape->name);
   if (s->shape->needs_cell) return 0;
   MPGM_CALL(jr_num(sh, "gamma", 1.8, 0.0, INFINITY, 1, 0, &p->gamma));
   MPGM_CALL(jr_num(sh, "tol_support", 1e-6, 0.0, 1.0, 1, 1, &p->tol_support));
@@ -400,15 +383,15 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
 static int read_scene(jr_node *root, mpgm_scene *s) {
   char desc[2048];
   MPGM_CALL(jr_str(root, "description", "", desc, sizeof desc));
-  /* method: the front ends of later issues are named, so the message helps */
-  const cJSON *mv = jr_override_json(root, "method");
-  if (!mv) mv = jr_raw(root, "method");
-  for (int i = 0; mv && cJSON_IsString(mv) && future_methods[i]; i++)
-    if (strcmp(mv->valuestring, future_methods[i]) == 0)
-      return jr_fail(root, "method", "method \"%s\" is not available in this build yet (expected \"fem\", \"mpm\" or \"gmm\")",
-                     mv->valuestring);
-  /* re-read through the typed path (consumes the override again: harmless) */
-  MPGM_CALL(jr_enum(root, "method", method_names, MPGM_METHOD_FEM, &s->method));
+  /* method: a front end of the list (the first is the default) */
+  const mpgm_frontend_type *const *ft = mpgm_frontend_types();
+  const char *fnames[16];
+  int nf = 0;
+  for (; ft[nf] && nf < 15; nf++) fnames[nf] = ft[nf]->name;
+  fnames[nf] = NULL;
+  int fi;
+  MPGM_CALL(jr_enum(root, "method", fnames, 0, &fi));
+  s->frontend = ft[fi];
 
   jr_node sh;
   MPGM_CALL(jr_child(root, "shape", 0, &sh));
@@ -562,6 +545,9 @@ static int scene_read(mpgm_ctx *ctx, const char *file, cJSON *doc, int nset,
     jr_node root = {.r = &r, .j = doc, .out = resolved};
     err = read_scene(&root, s);
   }
+  /* the scene against its front end's traits; then what depends on them */
+  if (!err) err = mpgm_frontend_check(ctx, s);
+  if (!err) err = mpgm_scene_contact_sides(ctx, s);
   if (!err) err = jr_unused_overrides(&r);
   cJSON_Delete(r.tmp);
   cJSON_Delete(doc);

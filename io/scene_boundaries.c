@@ -40,14 +40,6 @@ static int read_fix(jr_node *o, const char *key, int fix[2]) {
 /* The selector of bc meets body bd within bc->tol: lines against the body's
  * extent across them (exact for any connected body), boxes against the
  * body itself. */
-static int selector_meets_body(const mpgm_scene_boundary *bc, const mpgm_scene_body *bd) {
-  const double t = bc->tol;
-  if (bc->select != MPGM_SELECT_BOX)
-    return bc->value >= bd->min[bc->select] - t && bc->value <= bd->max[bc->select] + t;
-  const double lo[2] = {bc->min[0] - t, bc->min[1] - t}, hi[2] = {bc->max[0] + t, bc->max[1] + t};
-  return mpgm_body_meets_box(bd, lo, hi);
-}
-
 /* "enforce", "penalty", "spacing" of a contact boundary: contact at the
  * grid nodes on the plane (default) or at points on the bodies' surfaces
  * held by a penalty (docs/theory.md, "Contact at surface points"). */
@@ -110,25 +102,6 @@ int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s) {
         return jr_fail(&box, NULL, "expected max >= min in x and y, found an inverted box");
     }
     MPGM_CALL(jr_num(&b, "tol", 1e-6 * s->h, 0, INFINITY, 0, 0, &bc->tol));
-    /* fem nodes lie on the bodies: a selector that misses every body picks no
-     * node (the front end checks the exact node selection when it meshes).
-     * mpm grid nodes cover mesh.domain: the selector must meet the domain. */
-    const char *selkey = bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box";
-    if (s->method != MPGM_METHOD_MPM) { /* fem, gmm: persistent nodes of the bodies */
-      int meets = 0;
-      for (int k = 0; k < s->nbody && !meets; k++)
-        meets = selector_meets_body(bc, &s->bodies[k]);
-      if (!meets)
-        return jr_fail(&b, selkey, "expected a selector that meets a body (only bodies carry nodes), "
-                       "found none within tol = %g of it", bc->tol);
-    } else {
-      mpgm_scene_body dom = {.geometry = MPGM_GEOM_RECTANGLE};
-      memcpy(dom.min, s->dom_min, sizeof dom.min);
-      memcpy(dom.max, s->dom_max, sizeof dom.max);
-      if (!selector_meets_body(bc, &dom))
-        return jr_fail(&b, selkey, "expected a selector that meets mesh.domain (the background grid "
-                       "covers the domain), found none within tol = %g of it", bc->tol);
-    }
     const cJSON *hf = jr_raw(&b, "fix"), *hc = jr_raw(&b, "condition");
     if (hf && hc)
       return jr_fail(&b, NULL, "expected either \"fix\": [...] or \"condition\": \"stick\" | \"slip\", "
@@ -145,33 +118,6 @@ int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s) {
           return jr_fail(&b, "condition", "\"contact\" needs a plane selector (\"x\" or \"y\"), "
                          "found a box");
         MPGM_CALL(read_contact_points(&b, s, bc));
-        if (s->method == MPGM_METHOD_FEM ||
-            (s->method == MPGM_METHOD_GMM && bc->enforce != MPGM_ENFORCE_POINTS))
-          return jr_fail(&b, "condition", "\"contact\" at grid nodes is a condition of method mpm "
-                         "(grid nodes stay on the plane); found method %s%s", mpgm_method_name(s->method),
-                         s->method == MPGM_METHOD_GMM ? " (method gmm: \"enforce\": \"points\", or a "
-                         "rigid obstacle, top-level \"obstacles\", as in cases/rolling_disk_gmm.json)" : "");
-        const int ax = bc->select == MPGM_SELECT_X ? 0 : 1;
-        const double tol = 1e-9 * (s->dom_max[ax] - s->dom_min[ax]) + bc->tol;
-        if (fabs(bc->value - s->dom_min[ax]) <= tol) bc->side = 1;
-        else if (fabs(bc->value - s->dom_max[ax]) <= tol) bc->side = -1;
-        else if (bc->enforce == MPGM_ENFORCE_POINTS) {
-          /* a plane inside the grid (room for the material to dip into
-           * it by the springs' give): the bodies say which side */
-          int above = 1, below = 1;
-          for (int k = 0; k < s->nbody; k++) {
-            above &= s->bodies[k].min[ax] >= bc->value - tol;
-            below &= s->bodies[k].max[ax] <= bc->value + tol;
-          }
-          if (above == below)
-            return jr_fail(&b, ax ? "y" : "x", "expected every body on one side of the contact plane "
-                           "%c = %g, found bodies on both sides", "xy"[ax], bc->value);
-          bc->side = above ? 1 : -1;
-        } else
-          return jr_fail(&b, ax ? "y" : "x", "expected a contact plane on the boundary of mesh.domain "
-                         "(%c = %g or %g, so the body is on one side; a plane inside the domain needs "
-                         "\"enforce\": \"points\"), found %g", "xy"[ax],
-                         s->dom_min[ax], s->dom_max[ax], bc->value);
       }
       /* the resolved scene keeps "condition" only, so it loads again as is */
       bc->fix[0] = bc->condition != MPGM_COND_SLIP || bc->select == MPGM_SELECT_X;
@@ -182,24 +128,50 @@ int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s) {
     }
     const double zero[2] = {0, 0};
     MPGM_CALL(jr_vec2(&b, "displacement", zero, bc->displacement));
-    if (s->method == MPGM_METHOD_MPM && (bc->displacement[0] != 0.0 || bc->displacement[1] != 0.0))
-      return jr_fail(&b, "displacement", "expected [0, 0] with method mpm (the background grid is reset "
-                     "every step; prescribed displacements need persistent nodes: method fem), found "
-                     "[%g, %g]", bc->displacement[0], bc->displacement[1]);
     MPGM_CALL(jr_end(&b));
   }
   return 0;
 }
 
-/* "obstacles": rigid node layers of method gmm (docs/scene-format.md). */
+int mpgm_scene_contact_sides(mpgm_ctx *ctx, mpgm_scene *s) {
+  for (int i = 0; i < s->nbc; i++) {
+    mpgm_scene_boundary *bc = &s->bcs[i];
+    if (bc->condition != MPGM_COND_CONTACT) continue;
+    const int ax = bc->select == MPGM_SELECT_X ? 0 : 1;
+    const double tol = 1e-9 * (s->dom_max[ax] - s->dom_min[ax]) + bc->tol;
+    if (fabs(bc->value - s->dom_min[ax]) <= tol) {
+      bc->side = 1;
+    } else if (fabs(bc->value - s->dom_max[ax]) <= tol) {
+      bc->side = -1;
+    } else if (bc->enforce == MPGM_ENFORCE_POINTS) {
+      /* a plane inside the grid (room for the material to dip into it by
+       * the springs' give): the bodies say which side */
+      int above = 1, below = 1;
+      for (int k = 0; k < s->nbody; k++) {
+        above &= s->bodies[k].min[ax] >= bc->value - tol;
+        below &= s->bodies[k].max[ax] <= bc->value + tol;
+      }
+      MPGM_CHECK(ctx, above != below, MPGM_ERR_INPUT, "%s: boundaries.%d.%c: expected every body on "
+                 "one side of the contact plane %c = %g, found bodies on both sides", s->file, i,
+                 "xy"[ax], "xy"[ax], bc->value);
+      bc->side = above ? 1 : -1;
+    } else {
+      MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: boundaries.%d.%c: expected a contact plane on the "
+                 "boundary of mesh.domain (%c = %g or %g, so the body is on one side; a plane inside "
+                 "the domain needs \"enforce\": \"points\"), found %g", s->file, i, "xy"[ax],
+                 "xy"[ax], s->dom_min[ax], s->dom_max[ax], bc->value);
+    }
+  }
+  return 0;
+}
+
+/* "obstacles": rigid node layers (the front ends that take them:
+ * mpgm_frontend_type.obstacles; docs/scene-format.md). */
 int mpgm_scene_read_obstacles(jr_node *root, mpgm_scene *s) {
   const cJSON *arr = NULL;
   MPGM_CALL(mpgm_scene_get_array(root, "obstacles", &arr));
   s->nobstacle = arr ? cJSON_GetArraySize(arr) : 0;
   if (!arr) return 0;
-  if (s->method != MPGM_METHOD_GMM)
-    return jr_fail(root, "obstacles", "obstacles are layers of fixed nodes of method gmm; found method "
-                   "%s (method mpm: a \"contact\" boundary on the grid)", mpgm_method_name(s->method));
   if (s->nobstacle > 16) return jr_fail(root, "obstacles", "expected at most 16 obstacles, found %d", s->nobstacle);
   MPGM_ALLOC(root->r->ctx, s->obstacles, s->nobstacle);
   cJSON *out = cJSON_AddArrayToObject(root->out, "obstacles");

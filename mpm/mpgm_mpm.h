@@ -19,7 +19,7 @@
 extern "C" {
 #endif
 
-extern const mpgm_frontend_ops mpgm_frontend_mpm;
+extern const mpgm_frontend_type mpgm_frontend_mpm;
 
 #ifdef __cplusplus
 }

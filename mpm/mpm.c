@@ -36,8 +36,8 @@ typedef struct mpm_data {
   long step;           /**< steps begun (for messages)                     */
 } mpm_data;
 
-static void mpm_destroy(mpgm_problem *pb) {
-  mpm_data *d = pb->fe_data;
+static void mpm_destroy(void *self) {
+  mpm_data *d = self;
   if (!d) return;
   free(d->pcell);
   free(d->pxi);
@@ -61,7 +61,6 @@ static void mpm_destroy(mpgm_problem *pb) {
   free(d->cl_n);
   free(d->cl_r);
   free(d);
-  pb->fe_data = NULL;
 }
 
 /* Grid cell coordinates for mpgm_bodies_fill. */
@@ -74,9 +73,9 @@ static void grid_cell_xy(const void *grid, int c, double *xn) {
  * (count only when P is NULL). The first body containing a point owns it
  * (mpgm_bodies_fill: the rule method gmm shares for its grid-filled
  * bodies). */
-static int fill_bodies(mpgm_problem *pb, mpm_data *d, mpgm_points *P, int *count) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
+static int fill_bodies(const mpgm_fe_view *v, mpm_data *d, mpgm_points *P, int *count) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
   const mpgm_grid *g = &d->g;
   double gxi[18], gw[9];
   MPGM_CALL(mpgm_fe_gauss(g->cell, s->ppc, gxi, gw));
@@ -105,16 +104,16 @@ static int fill_bodies(mpgm_problem *pb, mpm_data *d, mpgm_points *P, int *count
   return 0;
 }
 
-static int mpm_setup(mpgm_problem *pb) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
+static int mpm_create(const mpgm_fe_view *v, void **self) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
   mpm_data *d;
   MPGM_ALLOC(ctx, d, 1);
-  pb->fe_data = d;
+  *self = d;
   MPGM_CALL(mpgm_grid_init(ctx, &d->g, s));
   const mpgm_grid *g = &d->g;
   int np = 0;
-  MPGM_CALL(fill_bodies(pb, d, NULL, &np));
+  MPGM_CALL(fill_bodies(v, d, NULL, &np));
   MPGM_CHECK(ctx, np > 0, MPGM_ERR_INPUT,
              "%s: bodies: no grid Gauss point lies inside any body (h = %g, ppc = %d): expected "
              "bodies larger than a grid cell", s->file, g->h, s->ppc);
@@ -122,18 +121,18 @@ static int mpm_setup(mpgm_problem *pb) {
   for (int i = 0; i < s->nmat; i++)
     if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
   /* contact at points: tracers on the bodies' boundaries, after the probes */
-  const int nsurf = pb->fx.contact_points ? mpgm_surface_tracers_count(s) : 0;
-  MPGM_CALL(mpgm_points_alloc(ctx, &pb->pts, np, s->nprobe, nsurf, nstate));
-  MPGM_CALL(fill_bodies(pb, d, &pb->pts, &np));
+  const int nsurf = v->fx->contact_points ? mpgm_surface_tracers_count(s) : 0;
+  MPGM_CALL(mpgm_points_alloc(ctx, v->pts, np, s->nprobe, nsurf, nstate));
+  MPGM_CALL(fill_bodies(v, d, v->pts, &np));
   for (int k = 0; k < s->nprobe; k++) {
     const int p = np + k;
-    pb->pts.x[2 * p] = pb->pts.x0[2 * p] = s->probes[k].x[0];
-    pb->pts.x[2 * p + 1] = pb->pts.x0[2 * p + 1] = s->probes[k].x[1];
+    v->pts->x[2 * p] = v->pts->x0[2 * p] = s->probes[k].x[0];
+    v->pts->x[2 * p + 1] = v->pts->x0[2 * p + 1] = s->probes[k].x[1];
   }
-  mpgm_surface_tracers_fill(&pb->pts, s);
+  mpgm_surface_tracers_fill(v->pts, s);
   /* nodes: room for the whole grid; the step uses those of active cells */
-  MPGM_CALL(mpgm_nodes_alloc(ctx, &pb->nodes, g->nnode));
-  pb->nodes.n = 0;
+  MPGM_CALL(mpgm_nodes_alloc(ctx, v->nodes, g->nnode));
+  v->nodes->n = 0;
   const int m = np + s->nprobe + nsurf;
   MPGM_ALLOC(ctx, d->pcell, m);
   MPGM_ALLOC(ctx, d->pxi, 2 * (size_t)m);
@@ -150,7 +149,7 @@ static int mpm_setup(mpgm_problem *pb) {
   MPGM_ALLOC(ctx, d->gm, g->nnode);
   MPGM_ALLOC(ctx, d->gq, 2 * (size_t)g->nnode);
   MPGM_ALLOC(ctx, d->gf, 2 * (size_t)g->nnode);
-  MPGM_CALL(mpgm_conn_reserve(ctx, &pb->conn, m, m * g->nn));
+  MPGM_CALL(mpgm_conn_reserve(ctx, v->conn, m, m * g->nn));
   MPGM_ALLOC(ctx, d->perm, m);
   MPGM_ALLOC(ctx, d->pscr, 2 * (size_t)m);
   d->meshfree = !s->shape->needs_cell;
@@ -261,12 +260,12 @@ static void permute(double *a, double *scr, const int *perm, int n, int w) {
  * multiplier) adds the next-nearest candidate after a recoverable failure,
  * up to shape.max_enlarge times. Fills C with grid node ids, N, grad N (at
  * the undeformed grid) and d->gm with the particles' mass. */
-static int cloud_shape(mpgm_problem *pb, mpm_data *d) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
+static int cloud_shape(const mpgm_fe_view *v, mpm_data *d) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
   const mpgm_grid *g = &d->g;
-  mpgm_points *P = &pb->pts;
-  mpgm_conn *C = &pb->conn;
+  mpgm_points *P = v->pts;
+  mpgm_conn *C = v->conn;
   const int np = P->n, m = P->n + P->nprobe + P->nsurf;
   double R0;
   MPGM_CALL(mpgm_shape_support_radius(s->shape, &s->shape_par, &R0) ? MPGM_ERR_INPUT : 0);
@@ -386,17 +385,17 @@ static int cloud_shape(mpgm_problem *pb, mpm_data *d) {
 
 /* Reset the grid; locate the points; activate cells and nodes; project
  * mass, momentum and inertia; fill the connectivity (eqs 38-41). */
-static int mpm_begin_step(mpgm_problem *pb) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_scene *s = pb->scene;
-  mpm_data *d = pb->fe_data;
+static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
+  mpm_data *d = self;
   const mpgm_grid *g = &d->g;
-  mpgm_points *P = &pb->pts;
-  mpgm_nodes *nd = &pb->nodes;
-  mpgm_conn *C = &pb->conn;
+  mpgm_points *P = v->pts;
+  mpgm_nodes *nd = v->nodes;
+  mpgm_conn *C = v->conn;
   const int np = P->n, m = P->n + P->nprobe + P->nsurf, nn = g->nn;
   const int ms = P->n + P->nprobe; /* the surface tracers follow */
-  const int inertia = pb->fx.inertia;
+  const int inertia = v->fx->inertia;
   d->step++;
   memset(d->cact, 0, (size_t)g->ncell);
   for (int p = 0; p < ms; p++) {
@@ -421,7 +420,7 @@ static int mpm_begin_step(mpgm_problem *pb) {
   long descents = 0;
   for (int p = 1; p < np; p++) descents += d->pcell[p] < d->pcell[p - 1];
   if (descents > np / 32) {
-    MPGM_CALL(mpgm_points_sort(ctx, pb->pool, P, d->pcell, g->ncell, d->perm));
+    MPGM_CALL(mpgm_points_sort(ctx, v->pool, P, d->pcell, g->ncell, d->perm));
     /* the front end's own per-particle data moves along */
     permute(d->pxi, d->pscr, d->perm, np, 2);
     if (d->meshfree) permute(d->lambda, d->pscr, d->perm, np, 2); /* LME warm starts */
@@ -434,20 +433,19 @@ static int mpm_begin_step(mpgm_problem *pb) {
                "step %ld: probe \"%s\" at (%g, %g) is in no cell holding material", d->step,
                s->probes[k].name, P->x[2 * p], P->x[2 * p + 1]);
   }
-  for (int p = ms; p < m; p++) {
-    pb->cp.off[p - ms] = (unsigned char)surface_cell(d, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p);
-    pb->cp.unenforced += pb->cp.off[p - ms];
-  }
+  if (m > ms) mpgm_cpoints_enforce_all(v->cp);
+  for (int p = ms; p < m; p++)
+    if (surface_cell(d, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p)) mpgm_cpoints_unenforce(v->cp, p - ms);
   /* shape functions at the undeformed grid; the raw nodal masses decide
    * which nodes get equations */
   memset(d->gm, 0, sizeof(double) * (size_t)g->nnode);
   int k = 0;
-  if (d->meshfree) MPGM_CALL(cloud_shape(pb, d));
+  if (d->meshfree) MPGM_CALL(cloud_shape(v, d));
   for (int p = 0; p < m && !d->meshfree; p++) {
     int nodes[MPGM_FE_MAXNODE];
     double xn[2 * MPGM_FE_MAXNODE];
     C->ptr[p] = k;
-    if (p >= ms && pb->cp.off[p - ms]) continue; /* no shape functions */
+    if (p >= ms && mpgm_cpoints_unenforced(v->cp, p - ms)) continue; /* no shape functions */
     mpgm_grid_cell(g, d->pcell[p], nodes, xn);
     mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[2 * p], P->x[2 * p + 1]},
                           .cell = g->cell, .xi = {d->pxi[2 * p], d->pxi[2 * p + 1]}};
@@ -502,10 +500,9 @@ static int mpm_begin_step(mpgm_problem *pb) {
     }
     /* Shepard renormalisation over the kept nodes: sum N = 1 and
      * sum grad N = 0 still hold, so rigid motions cause no strain */
-    if (p >= ms && (pb->cp.off[p - ms] || !(S > 1e-12))) {
+    if (p >= ms && (mpgm_cpoints_unenforced(v->cp, p - ms) || !(S > 1e-12))) {
       /* a surface tracer with no cell, or among light nodes only */
-      pb->cp.unenforced += !pb->cp.off[p - ms];
-      pb->cp.off[p - ms] = 1;
+      mpgm_cpoints_unenforce(v->cp, p - ms);
       continue;
     }
     MPGM_CHECK(ctx, S > 1e-12, MPGM_ERR_SHAPE,
@@ -566,9 +563,9 @@ static int mpm_begin_step(mpgm_problem *pb) {
 
 /* The grid is reset when the next step begins; only the contact state of
  * the grid nodes is kept, as the next step's first guess. */
-static int mpm_end_step(mpgm_problem *pb) {
-  mpm_data *d = pb->fe_data;
-  const mpgm_nodes *nd = &pb->nodes;
+static int mpm_end_step(void *self, const mpgm_fe_view *v) {
+  mpm_data *d = self;
+  const mpgm_nodes *nd = v->nodes;
   memset(d->gfree, 0, (size_t)d->g.nnode);
   for (int i = 0; i < nd->n; i++)
     if (nd->contact[i]) d->gfree[d->lglob[i]] = !nd->fix[2 * i] && !nd->fix[2 * i + 1];
@@ -580,12 +577,18 @@ static int mpm_end_step(mpgm_problem *pb) {
 }
 
 
-const mpgm_frontend_ops mpgm_frontend_mpm = {
+const mpgm_frontend_type mpgm_frontend_mpm = {
     .name = "mpm",
+    .doc = "Material Point Method: a background grid emptied and projected on every step, "
+           "points carried through it",
+    .persistent_nodes = 0,
     .point_velocity = MPGM_PV_NEWMARK,
-    .setup = mpm_setup,
+    .shapes = MPGM_FE_SHAPE_CELL | MPGM_FE_SHAPE_CLOUD,
+    .geometries = 1u << MPGM_GEOM_RECTANGLE | 1u << MPGM_GEOM_DISK | 1u << MPGM_GEOM_POLYGON,
+    .conditions = MPGM_FE_COND_FIX | MPGM_FE_COND_CONTACT_NODES | MPGM_FE_COND_CONTACT_POINTS,
+    .obstacles = 0,
+    .create = mpm_create,
+    .destroy = mpm_destroy,
     .begin_step = mpm_begin_step,
     .end_step = mpm_end_step,
-    .cells = NULL,
-    .destroy = mpm_destroy,
 };

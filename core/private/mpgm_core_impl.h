@@ -1,9 +1,203 @@
-/* mpgm_core_impl.h -- private to core/: the pieces the step is made of
- * (Newton, contact at nodes). */
+/* mpgm_core_impl.h -- private to core/ (and the white-box unit tests): the
+ * problem and the pieces the step is made of (points' update, assembly,
+ * pattern, Newton, contact). */
 #ifndef MPGM_CORE_IMPL_H
 #define MPGM_CORE_IMPL_H
 
+#include <math.h>
+
 #include "mpgm_core.h"
+
+/** Unilateral contact without slip at surface points (core/contact_points.c,
+ *  docs/theory.md "Contact at surface points"): the pts.nsurf surface
+ *  tracers (after the probes) move with the body like material points; one
+ *  that reaches a contact plane is held at the place it reached by a
+ *  penalty spring (both components: no slip) and let go where the spring
+ *  would pull it back onto the plane. The grid nodes stay free. */
+struct mpgm_cpoints {
+  int first;          /**< index in pts of the first surface tracer     */
+  int n;              /**< surface tracers                               */
+  signed char *plane; /**< per tracer: scene boundary it is held on, -1  */
+  unsigned char *flip;/**< per tracer: state changed in this step        */
+  unsigned char *off; /**< per tracer: no shape functions this step (no
+                           active cell near it): not enforced          */
+  double *anchor;     /**< 2 per tracer: where it is held [m]            */
+  int held;           /**< tracers held now                              */
+  long holds, releases; /**< changes of state over the run               */
+  long unenforced;    /**< tracer-steps without shape functions          */
+};
+
+/** Chunks of the threaded assembly; a constant, so that the order of the
+ *  sums does not depend on the number of threads. */
+#define MPGM_ASM_CHUNKS 16
+/* Largest union of node clouds a batch of points may have in the
+ * clouds' assembly (assembly.c, assemble_batch); at least the largest
+ * cloud, MPGM_SHAPE_MAXNODE. */
+#define MPGM_ASM_BATCH 128
+
+/** First assembly task of phase ph (0..3; 4 gives the end): chunk
+ *  interiors 0..C-1, interfaces between chunks c and c+1 with c even, with
+ *  c odd, and the rest (one serial task), C = MPGM_ASM_CHUNKS. */
+static inline int mpgm_asm_phase(int ph) {
+  const int C = MPGM_ASM_CHUNKS, first[5] = {0, C, C + C / 2, 2 * C - 1, 2 * C};
+  return first[ph];
+}
+
+struct mpgm_problem {
+  mpgm_ctx *ctx;
+  const mpgm_scene *scene;
+  mpgm_effects fx;
+  mpgm_points pts;
+  mpgm_nodes nodes;
+  mpgm_conn conn;
+  const mpgm_frontend_type *fe;
+  void *fe_data;
+  const mpgm_integrator_type *integ; /**< the scene's time integrator  */
+  void *integ_data;  /**< its data (create), or NULL                    */
+  mpgm_observer obs[MPGM_OBSERVERS_MAX]; /**< observers of the steps     */
+  int nobs;
+  /* step */
+  double t;          /**< time (dynamic) or load factor (static) at step start */
+  double dt;         /**< time step [s] (dynamic) or load increment     */
+  double lambda;     /**< load factor at the end of the step            */
+  long step;         /**< steps completed                               */
+  long newton_total; /**< Newton iterations over the run                */
+  mpgm_newton_info last;
+  /* linear system */
+  mpgm_csc K;
+  int pattern_version; /**< conn.version the pattern was built for      */
+  int graph_version; /**< conn.version the groups and node graph are of */
+  int map_version;   /**< conn.map_version the scatter maps were built for */
+  int factor_valid;  /**< the solver holds a factorisation of this pattern
+                          (modified Newton may reuse it across steps)    */
+  unsigned char *fix_factored; /**< nodes.fix when it was factorised: held
+                          contact components have identity rows, so
+                          a different held set is a different matrix    */
+  /* points grouped by node list: the points of a group have identical
+   * lists (the particles in one grid cell, the Gauss points of one
+   * element), so they share a scatter map and one local matrix */
+  int ngroups;
+  int *order;        /**< material points, group after group            */
+  int *grp_ptr;      /**< ngroups + 1 offsets into order                 */
+  int *scatter;      /**< per group: 4 n_p^2 positions in K.val (-1: fixed
+                          component)                                    */
+  int *scatter_ptr;  /**< ngroups + 1 offsets of the groups' maps        */
+  size_t scatter_cap; /**< allocated entries of scatter                 */
+  int nomap;         /**< node clouds: K assembled by merging each column's
+                          node list, no stored maps (assembly.c)        */
+  int *nbr_ptr, *nbr; /**< node graph of the pattern: sorted neighbours  */
+  int *nbr_off;      /**< per neighbour entry: offset of its rows in the
+                          owner's columns                               */
+  int *node_order;   /**< solver.ordering geometric: nodes in nested-
+                          dissection order (of the graph version)       */
+  int *perm;         /**< the equations in that order (K.n), handed to
+                          the solver's analysis; NULL: its own order    */
+  double *kloc;      /**< local matrices of the groups, one per thread
+                          (kloc_size doubles each)                      */
+  int kloc_size;     /**< 4 max n_p^2                                    */
+  double *kbatch;    /**< node clouds: per thread, the summed local matrix
+                          of a batch of nearby points over the union of
+                          their clouds (4 MPGM_ASM_BATCH^2 doubles, zero
+                          between batches), merged into K once (assembly.c) */
+  int *kslot;        /**< node clouds: per thread and node, its place in
+                          the batch's union (-1: none); kslot_n each     */
+  int kslot_n;       /**< nodes kslot has room for, per thread           */
+  /* threads (docs/architecture.md, "Threads"): the groups are cut into
+   * MPGM_ASM_CHUNKS chunks along the group order; the assembly runs as
+   * tasks over groups that share no node with another task of the same
+   * phase, so tasks of a phase may run at once and every entry of R and K
+   * receives its terms in one fixed order, whatever the number of
+   * threads */
+  mpgm_pool *pool;   /**< worker threads (scene "threads")               */
+  int task_ptr[2 * MPGM_ASM_CHUNKS + 1]; /**< offsets into task_grp       */
+  int *task_grp;     /**< groups, task after task, ascending in a task   */
+  int tpt_ptr[2 * MPGM_ASM_CHUNKS + 1]; /**< offsets into task_pts        */
+  int *task_pts;     /**< the tasks' points (their groups' points)       */
+  double *R, *fext, *delta;
+  double *dubar;     /**< 2 per node: prescribed increment of the step   */
+  const double *lift; /**< when set (first iteration), assembly adds
+                           -K_free,fixed * lift to R: the prescribed increment
+                           enters Newton linearly, not as a jump of the
+                           boundary nodes alone                           */
+  mpgm_solver *solver;
+  int symmetric;     /**< all tangents symmetric (static or dynamic)    */
+  double *react;     /**< 2 per node: support force on the body at fixed
+                          components (mpgm_reactions)                   */
+  long contact_rounds; /**< extra solves of steps whose contact set changed */
+  long step_cuts;    /**< steps rejected and retried with half the step
+                          (time.max_cuts; run.c)                        */
+  unsigned char *cflip; /**< per node: contact state changed in this step */
+  mpgm_cpoints cp;   /**< contact at surface points (fx.contact_points)  */
+};
+
+/** Load factor at the end of the step being solved: static, the load
+ *  factor t + dt itself (t counts load from 0 to 1); dynamic, the ramp of
+ *  prescribed displacements, (t + dt) / end. At most 1. */
+static inline double mpgm_load_factor(const mpgm_problem *pb) {
+  const double end = pb->scene->analysis == MPGM_ANALYSIS_STATIC ? 1.0 : pb->scene->t_end;
+  return fmin(1.0, (pb->t + pb->dt) / end);
+}
+
+/** Nested-dissection order of the n nodes of a graph (CSR ptr/adj) with
+ *  coordinates x (2 per node): perm[k] = the node numbered k
+ *  (core/ordering.c). Errors: MPGM_ERR_NOMEM. */
+int mpgm_order_nodes(mpgm_ctx *ctx, int n, const int *ptr, const int *adj, const double *x,
+                     int *perm);
+/** Number equations of free components (node-major); sets nodes->ndof. */
+void mpgm_nodes_number(mpgm_nodes *nd);
+
+/** Evaluate trial state at the current increment nodes.du: F, stress,
+ *  tangent and current gradients (exposed for tests). */
+int mpgm_eval_points(mpgm_problem *pb);
+/** Assemble R = f_ext - f_int (- f_inertia) and, if want_K, the tangent
+ *  into pb->K (pattern must exist). Exposed for tests. */
+int mpgm_assemble(mpgm_problem *pb, int want_K);
+/** Assemble R = f_ext - f_int (no inertia term) and K = M, the consistent
+ *  mass matrix, with the same pattern (held contact components: identity
+ *  rows). For the initial acceleration (step.c). */
+int mpgm_assemble_mass(mpgm_problem *pb);
+/** (Re)build the sparsity pattern and scatter map from the connectivity. */
+int mpgm_pattern_build(mpgm_problem *pb);
+
+/** Support forces at the fixed components of the current iterate:
+ *  r = f_int + f_inertia - f_ext there (0 at free components); r has 2
+ *  doubles per node. Uses the trial state of the last mpgm_eval_points. */
+int mpgm_reactions(mpgm_problem *pb, double *r);
+
+/** Regroup the points by node list and rebuild the scatter maps (points ->
+ *  matrix entries) for the current pattern; called when conn.map_version
+ *  changed. */
+int mpgm_scatter_build(mpgm_problem *pb);
+/** Rebuild the scatter maps only (same groups and pattern): after the fixity
+ *  of numbered components changed (contact nodes held or released). */
+int mpgm_scatter_maps(mpgm_problem *pb);
+
+/** Contact at surface points (core/contact_points.c). setup: after the
+ *  front end created the surface tracers; tracers on a plane (within
+ *  1e-6 h) start held where they are. */
+int mpgm_cpoints_setup(mpgm_problem *pb);
+void mpgm_cpoints_free(mpgm_cpoints *cp);
+/** Add the springs of the held tracers to R (at the current increments)
+ *  and, if want_K, to K; mass_only: the acceleration form of the springs
+ *  (beta dt^2 k N N^T) for the initial acceleration, R unchanged. */
+void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only);
+/** Active-set update at the current increments: hold the free tracers
+ *  that crossed a plane (at the crossing), release the held ones the
+ *  spring pulls; at most one change per tracer and step. Returns 1 when
+ *  the set changed. */
+int mpgm_cpoints_update(mpgm_problem *pb);
+/** External force (gravity times load factor) into pb->fext. */
+int mpgm_body_force(mpgm_problem *pb);
+
+
+/** The view of the problem a front end gets (mpgm_frontend.h). */
+void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v);
+/** The front end's begin_step (timed as "shape"); sets pb->lambda. */
+int mpgm_begin_step(mpgm_problem *pb);
+/** Release the arrays of points, nodes, connectivity (data.c). */
+void mpgm_points_free(mpgm_points *p);
+void mpgm_nodes_free(mpgm_nodes *nd);
+void mpgm_conn_free(mpgm_conn *c);
 
 /** State of Newton's method on one step (newton.c). */
 typedef struct mpgm_newton {

@@ -42,7 +42,7 @@ int mpgm_gmm_uses_grid(const mpgm_scene *s);
  *  is that obstacle's node: fixed). *out receives the output cells.
  *  Errors: MPGM_ERR_INPUT (grid too large, no point in any body, boundary
  *  selecting no node), MPGM_ERR_NOMEM. */
-int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out);
+int mpgm_gmm_grid_setup(const mpgm_fe_view *v, double r0, gmm_grid **out);
 
 /** Light nodes (docs/theory.md, section 13): a free node whose mass
  *  sum_p N_Ip m_p over the connectivity (m points; CSR ptr, node, N, dN,
@@ -51,14 +51,14 @@ int mpgm_gmm_grid_setup(mpgm_problem *pb, double r0, gmm_grid **out);
  * out of every list, and the functions of the points that used it are renormalised over their other
  * nodes (Shepard). Restores the fixity of the last step first. Errors: MPGM_ERR_SHAPE (a point lost
  * every node). */
-int mpgm_gmm_grid_park(mpgm_problem *pb, gmm_grid *g, const mpgm_kdtree *tree, double r0, int m,
+int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tree, double r0, int m,
                        int *ptr, int *node, double *N, double *dN);
 /** After the step: a parked node moves with the body, by the
  *  inverse-distance average of the increments (and takes the average
  *  velocity and acceleration) of the free body nodes within r0 of it
  *  (tree: over the start-of-step node positions; chosen in
  *  mpgm_gmm_grid_park). */
-void mpgm_gmm_grid_unpark(mpgm_problem *pb, gmm_grid *g);
+void mpgm_gmm_grid_unpark(const mpgm_fe_view *v, gmm_grid *g);
 
 /** Free (accepts NULL, nulls the pointer). */
 void mpgm_gmm_grid_destroy(gmm_grid **g);

@@ -23,5 +23,10 @@ int mpgm_scene_array_elem(jr_node *o, const char *key, const cJSON *arr, int i, 
 /** "boundaries" and "obstacles" (scene_boundaries.c; after the bodies). */
 int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s);
 int mpgm_scene_read_obstacles(jr_node *root, mpgm_scene *s);
+/** The side of every contact plane the bodies are on (after the front end
+ *  accepted the contact boundaries): +1 for a plane on the lower end of
+ *  mesh.domain, -1 on the upper end; a plane inside the domain (contact at
+ *  points) by where the bodies are. Errors: MPGM_ERR_INPUT. */
+int mpgm_scene_contact_sides(mpgm_ctx *ctx, mpgm_scene *s);
 
 #endif

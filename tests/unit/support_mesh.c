@@ -18,10 +18,10 @@ static int convex(int nn, const double *xn) {
   return 1;
 }
 
-int support_distorted_mesh(mpgm_problem *pb, int nx, int ny, double lx, double ly,
-                           double jitter, uint64_t seed) {
-  mpgm_ctx *ctx = pb->ctx;
-  const int cell = pb->scene->cell, per = cell == MPGM_CELL_Q4 ? 1 : 2, nn = mpgm_fe_nnode(cell);
+int support_distorted_mesh(const mpgm_fe_view *v, int nx, int ny, double lx, double ly,
+                           double jitter, uint64_t seed, mpgm_fem_cells **out) {
+  mpgm_ctx *ctx = v->ctx;
+  const int cell = v->scene->cell, per = cell == MPGM_CELL_Q4 ? 1 : 2, nn = mpgm_fe_nnode(cell);
   const int nnode = (nx + 1) * (ny + 1), ncell = nx * ny * per;
   double *X = calloc(2 * (size_t)nnode, sizeof(double));
   int *cnode = calloc((size_t)nn * ncell, sizeof(int)), *cbody = calloc(ncell, sizeof(int));
@@ -60,10 +60,16 @@ int support_distorted_mesh(mpgm_problem *pb, int nx, int ny, double lx, double l
     }
   if (!err) {
     const mpgm_fem_mesh m = {cell, nnode, X, ncell, cnode, cbody};
-    err = mpgm_fem_setup_mesh(pb, &m);
+    err = mpgm_fem_cells_create(v, &m, out);
   }
   free(X);
   free(cnode);
   free(cbody);
   return err;
 }
+
+void support_fem_destroy(void *self) { mpgm_fem_cells_destroy(self); }
+
+int support_fem_begin_step(void *self, const mpgm_fe_view *v) { return mpgm_fem_cells_shape(self, v); }
+
+int support_fem_cells(const void *self, mpgm_cells *out) { return mpgm_fem_cells_output(self, out); }

@@ -16,8 +16,10 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "mpgm_core_impl.h"
 #include "mpgm_scene.h"
 #include "mpgm_scene_io.h"
+#include "mpgm_mpm.h"
 #include "mpgm_test.h"
 #include "scene_impl.h"
 
@@ -423,7 +425,7 @@ static void test_loader(const char *dir) {
   mpgm_test(err == 0 && s, "loader: mpm scene with a disk and a polygon loads %s", ctx.msg);
   if (s) {
     const mpgm_scene_body *d = &s->bodies[0], *p = &s->bodies[1];
-    mpgm_test(s->method == MPGM_METHOD_MPM && strcmp(mpgm_method_name(s->method), "mpm") == 0,
+    mpgm_test(s->frontend == &mpgm_frontend_mpm && strcmp(s->frontend->name, "mpm") == 0,
               "loader: method mpm");
     mpgm_test(d->geometry == MPGM_GEOM_DISK && d->radius == 0.5 && d->centre[0] == 0.6,
               "loader: disk geometry");

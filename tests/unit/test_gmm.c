@@ -13,6 +13,7 @@
  * comparison is exact except for nodes within 1e-9 r of the radius, whose
  * N is zero to round-off and may be dropped or kept. */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
+#include "mpgm_core_impl.h"
 #include "mpgm_core.h"
 #include "mpgm_scene_io.h"
 #include "mpgm_discretisation.h"
@@ -155,7 +156,7 @@ static void run_kind(const char *path, const char *kind) {
     return;
   }
   const int v0 = pb->conn.version;
-  err = pb->fe->begin_step(pb);
+  err = mpgm_begin_step(pb);
   mpgm_test(err == 0, "%s: begin_step (%s)", label, ctx.msg);
   if (err) {
     destroy(&s, &pb);
@@ -177,7 +178,7 @@ static void run_kind(const char *path, const char *kind) {
             ctx.count[MPGM_C_RADIUS_GROWTHS], ctx.count[MPGM_C_CLOUD_ENLARGEMENTS]);
   /* the same node positions again: same lists, no new pattern */
   const int v1 = pb->conn.version;
-  err = pb->fe->begin_step(pb);
+  err = mpgm_begin_step(pb);
   mpgm_test(err == 0 && pb->conn.version == v1, "%s: unchanged clouds keep conn.version (%d, %d)",
             label, v1, pb->conn.version);
   /* nodes moved by a smooth displacement that keeps the lines x = const
@@ -194,7 +195,7 @@ static void run_kind(const char *path, const char *kind) {
     pb->pts.x[2 * p] = X + 0.0731 * X * Y + 0.021 * X;
     pb->pts.x[2 * p + 1] = Y - 0.0853 * X * X / 7.3;
   }
-  err = pb->fe->begin_step(pb);
+  err = mpgm_begin_step(pb);
   mpgm_test(err == 0, "%s: begin_step on moved nodes (%s)", label, ctx.msg);
   if (!err) {
     snprintf(label, sizeof label, "%s, moved nodes", kind);
@@ -211,7 +212,7 @@ static void run_growth(const char *path) {
   mpgm_scene *s;
   mpgm_problem *pb;
   int err = make(path, 1, sets, &ctx, &s, &pb);
-  if (!err) err = pb->fe->begin_step(pb);
+  if (!err) err = mpgm_begin_step(pb);
   mpgm_test(err == 0, "mls, min_nodes = 40: begin_step (%s)", ctx.msg);
   if (!err) {
     int small = 0;
@@ -236,7 +237,7 @@ static void run_enlarge(const char *path) {
   mpgm_scene *s;
   mpgm_problem *pb;
   int err = make(path, 3, sets, &ctx, &s, &pb);
-  if (!err) err = pb->fe->begin_step(pb);
+  if (!err) err = mpgm_begin_step(pb);
   mpgm_test(err == 0, "mls quadratic, R = 0.9 h, min_nodes = 1: begin_step (%s)", ctx.msg);
   if (!err) {
     double worst;
@@ -254,7 +255,7 @@ static void run_enlarge(const char *path) {
   err = make(path, 4, sets0, &ctx, &s, &pb);
   mpgm_test(err == 0, "max_enlarge = 0: problem (%s)", ctx.msg);
   if (!err) {
-    err = pb->fe->begin_step(pb);
+    err = mpgm_begin_step(pb);
     mpgm_test(
         err == MPGM_ERR_SHAPE && strstr(ctx.msg, "point 0") && strstr(ctx.msg, "too few nodes"),
         "max_enlarge = 0: MPGM_ERR_SHAPE (%d) naming the point and the reason: %s", err, ctx.msg);
@@ -276,7 +277,7 @@ static void run_merge(const char *path) {
     mpgm_scene *s;
     mpgm_problem *pb;
     int err = make(path, 3, sets, &ctx, &s, &pb);
-    if (!err) err = pb->fe->begin_step(pb);
+    if (!err) err = mpgm_begin_step(pb);
     mpgm_test(err == 0 && ctx.count[MPGM_C_NODES_MERGED] == 0,
               "%s: grid-filled body, first step: no node merged (%ld) (%s)", label,
               ctx.count[MPGM_C_NODES_MERGED], err ? ctx.msg : "ok");
@@ -305,7 +306,7 @@ static void run_merge(const char *path) {
     }
     pb->nodes.x[2 * j] = X[2 * i] + 0.2 * (X[2 * j] - X[2 * i]);
     pb->nodes.x[2 * j + 1] = X[2 * i + 1] + 0.2 * (X[2 * j + 1] - X[2 * i + 1]);
-    err = pb->fe->begin_step(pb);
+    err = mpgm_begin_step(pb);
     int uses = 0;
     for (int k = 0; !err && k < pb->conn.ptr[pb->pts.n + pb->pts.nprobe]; k++) uses += pb->conn.node[k] == j;
     double worst = 0.0;

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mpgm_core_impl.h"
 #include "mpgm_core.h"
 #include "mpgm_solver.h"
 #include "mpgm_test.h"

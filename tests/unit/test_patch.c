@@ -19,6 +19,7 @@
  * volumes det(I + G) vol0.
  */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
+#include "mpgm_core_impl.h"
 #include "mpgm_core.h"
 #include "mpgm_scene_io.h"
 #include "mpgm_test.h"
@@ -53,10 +54,10 @@ static mesh_cfg cfg;
 
 /* The distorted mesh goes through mpgm_fem_setup_mesh, the same path as the
  * UL-FEM front end; only the fixity is the test's own. */
-static int mesh_setup(mpgm_problem *pb) {
-  MPGM_CALL(support_distorted_mesh(pb, cfg.nx, cfg.ny, LX, LY, cfg.jitter, cfg.seed));
+static int mesh_create(const mpgm_fe_view *v, void **self) {
+  MPGM_CALL(support_distorted_mesh(v, cfg.nx, cfg.ny, LX, LY, cfg.jitter, cfg.seed, (mpgm_fem_cells **)self));
   /* fixity: every boundary node, both components, ubar = c + G X */
-  mpgm_nodes *nd = &pb->nodes;
+  mpgm_nodes *nd = v->nodes;
   const int nx = cfg.nx, ny = cfg.ny;
   for (int j = 0; j <= ny; j++)
     for (int i = 0; i <= nx; i++) {
@@ -71,13 +72,15 @@ static int mesh_setup(mpgm_problem *pb) {
   return 0;
 }
 
-static const mpgm_frontend_ops mesh_frontend = {
+static const mpgm_frontend_type mesh_frontend = {
     .name = "test-distorted-mesh",
-    .setup = mesh_setup,
-    .begin_step = mpgm_fem_begin_step,
-    .end_step = mpgm_fem_end_step,
-    .cells = mpgm_fem_cells,
-    .destroy = mpgm_fem_destroy,
+    .persistent_nodes = 1,
+    .point_velocity = MPGM_PV_INTERPOLATE,
+    .shapes = MPGM_FE_SHAPE_CELL,
+    .create = mesh_create,
+    .destroy = support_fem_destroy,
+    .begin_step = support_fem_begin_step,
+    .cells = support_fem_cells,
 };
 
 /* ---- scene files ----------------------------------------------------------- */

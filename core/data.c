@@ -1,0 +1,269 @@
+/* data.c -- the data model: allocation of points, nodes and connectivity,
+ * their reordering, and the effects of a scene (mpgm_data.h). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_data.h"
+
+int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsurf, int nstate) {
+  const int m = n + nprobe + nsurf;
+  p->n = n;
+  p->nprobe = nprobe;
+  p->nsurf = nsurf;
+  p->nstate = nstate;
+  MPGM_ALLOC(ctx, p->x, 2 * m);
+  MPGM_ALLOC(ctx, p->x0, 2 * m);
+  MPGM_ALLOC(ctx, p->u, 2 * m);
+  MPGM_ALLOC(ctx, p->v, 2 * m);
+  MPGM_ALLOC(ctx, p->a, 2 * m);
+  MPGM_ALLOC(ctx, p->mass, m);
+  MPGM_ALLOC(ctx, p->vol0, m);
+  MPGM_ALLOC(ctx, p->vol, m);
+  MPGM_ALLOC(ctx, p->F, 4 * m);
+  MPGM_ALLOC(ctx, p->sigma, 4 * m);
+  MPGM_ALLOC(ctx, p->S0, 4 * m);
+  MPGM_ALLOC(ctx, p->state, (size_t)nstate * m);
+  MPGM_ALLOC(ctx, p->mat, m);
+  MPGM_ALLOC(ctx, p->body, m);
+  MPGM_ALLOC(ctx, p->id, m);
+  for (int i = 0; i < m; i++) p->id[i] = i;
+  MPGM_ALLOC(ctx, p->F_t, 4 * n);
+  MPGM_ALLOC(ctx, p->dF_t, 4 * n);
+  MPGM_ALLOC(ctx, p->sigma_t, 4 * n);
+  MPGM_ALLOC(ctx, p->D_t, 9 * n);
+  MPGM_ALLOC(ctx, p->state_t, (size_t)nstate * n);
+  MPGM_ALLOC(ctx, p->vol_t, n);
+  for (int i = 0; i < m; i++) {
+    p->F[4 * i] = p->F[4 * i + 3] = 1.0;
+  }
+  return 0;
+}
+
+void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double x, double y,
+                    double vol) {
+  const mpgm_scene_body *bd = &s->bodies[body];
+  const mpgm_material *mat = &s->mats[bd->material];
+  P->x[2 * p] = P->x0[2 * p] = x;
+  P->x[2 * p + 1] = P->x0[2 * p + 1] = y;
+  P->vol[p] = P->vol0[p] = vol;
+  P->mass[p] = mat->density * vol;
+  P->v[2 * p] = bd->velocity[0];
+  P->v[2 * p + 1] = bd->velocity[1];
+  P->mat[p] = bd->material;
+  P->body[p] = body;
+  if (mat->type->init_state && P->nstate) mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
+}
+
+double mpgm_points_plastic_strain(const mpgm_points *P, const mpgm_material *mats, double *out) {
+  double mx = 0.0;
+  for (int p = 0; p < P->n; p++) {
+    const mpgm_material *m = &mats[P->mat[p]];
+    const double e = m->type->plastic_strain && P->nstate
+                         ? m->type->plastic_strain(m, P->state + (size_t)P->nstate * p)
+                         : 0.0;
+    if (out) out[p] = e;
+    if (e > mx) mx = e;
+  }
+  return mx;
+}
+
+/* The committed per-point arrays and their record widths (ints: -1). */
+typedef struct {
+  void **a;
+  int w;
+} point_array;
+
+typedef struct {
+  const point_array *arr;
+  void *const *fresh;
+  const int *perm;
+  int n, m;
+} gather_job;
+
+/* Task j: gather array j into its fresh buffer (probes copied as they are)
+ * and swap it in. */
+static void gather_task(void *arg, int j, int tid) {
+  (void)tid;
+  const gather_job *g = arg;
+  const int w = g->arr[j].w, n = g->n, m = g->m;
+  const int *perm = g->perm;
+  if (w < 0) {
+    const int *src = *g->arr[j].a;
+    int *dst = g->fresh[j];
+    for (int i = 0; i < n; i++) dst[i] = src[perm[i]];
+    memcpy(dst + n, src + n, sizeof(int) * (size_t)(m - n));
+  } else if (w > 0) {
+    const double *src = *g->arr[j].a;
+    double *dst = g->fresh[j];
+    for (int i = 0; i < n; i++)
+      memcpy(dst + (size_t)w * i, src + (size_t)w * perm[i], sizeof(double) * (size_t)w);
+    memcpy(dst + (size_t)w * n, src + (size_t)w * n, sizeof(double) * (size_t)w * (size_t)(m - n));
+  }
+  if (w != 0) {
+    free(*g->arr[j].a);
+    *g->arr[j].a = g->fresh[j];
+  } else {
+    free(g->fresh[j]);
+  }
+}
+
+int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *key, int nkey,
+                     int *perm_out) {
+  const int n = p->n, m = p->n + p->nprobe + p->nsurf;
+  if (n <= 1) {
+    if (perm_out && n == 1) perm_out[0] = 0;
+    return 0;
+  }
+  const point_array arr[] = {
+      {(void **)&p->x, 2},     {(void **)&p->x0, 2},    {(void **)&p->u, 2},
+      {(void **)&p->v, 2},     {(void **)&p->a, 2},     {(void **)&p->mass, 1},
+      {(void **)&p->vol0, 1},  {(void **)&p->vol, 1},   {(void **)&p->F, 4},
+      {(void **)&p->sigma, 4}, {(void **)&p->S0, 4},    {(void **)&p->state, p->nstate},
+      {(void **)&p->mat, -1},  {(void **)&p->body, -1}, {(void **)&p->id, -1}};
+  enum { NARR = sizeof arr / sizeof arr[0] };
+  void *fresh[NARR] = {NULL};
+  int *perm = perm_out ? perm_out : malloc(sizeof(int) * (size_t)n);
+  int *cnt = calloc((size_t)nkey + 1, sizeof(int));
+  int ok = perm && cnt;
+  for (int j = 0; j < NARR && ok; j++) {
+    const size_t bytes = arr[j].w < 0 ? sizeof(int) : sizeof(double) * (size_t)arr[j].w;
+    ok = (fresh[j] = malloc(bytes * (size_t)m + 1)) != NULL;
+  }
+  if (!ok) { /* nothing moved yet */
+    for (int j = 0; j < NARR; j++) free(fresh[j]);
+    if (!perm_out) free(perm);
+    free(cnt);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sorting %d points)", n);
+  }
+  for (int i = 0; i < n; i++) cnt[key[i] + 1]++;
+  for (int k = 0; k < nkey; k++) cnt[k + 1] += cnt[k];
+  for (int i = 0; i < n; i++) perm[cnt[key[i]]++] = i;
+  /* one gather pass per array, the arrays on the pool's threads */
+  gather_job g = {arr, fresh, perm, n, m};
+  mpgm_pool_run(pool, NARR, gather_task, &g);
+  if (!perm_out) free(perm);
+  free(cnt);
+  mpgm_count(ctx, MPGM_C_POINT_SORTS, 1);
+  return 0;
+}
+
+void mpgm_points_free(mpgm_points *p) {
+  void *arr[] = {p->x, p->x0, p->u, p->v, p->a, p->mass, p->vol0, p->vol, p->F,
+                 p->sigma, p->S0, p->state, p->mat, p->body, p->id, p->F_t, p->dF_t, p->sigma_t,
+                 p->D_t, p->state_t, p->vol_t};
+  for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
+  memset(p, 0, sizeof *p);
+}
+
+int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n) {
+  nd->n = n;
+  nd->cap = n;
+  MPGM_ALLOC(ctx, nd->mass, n);
+  MPGM_ALLOC(ctx, nd->X, 2 * n);
+  MPGM_ALLOC(ctx, nd->x, 2 * n);
+  MPGM_ALLOC(ctx, nd->u, 2 * n);
+  MPGM_ALLOC(ctx, nd->du, 2 * n);
+  MPGM_ALLOC(ctx, nd->v, 2 * n);
+  MPGM_ALLOC(ctx, nd->a, 2 * n);
+  MPGM_ALLOC(ctx, nd->v_new, 2 * n);
+  MPGM_ALLOC(ctx, nd->a_new, 2 * n);
+  MPGM_ALLOC(ctx, nd->fix, 2 * n);
+  MPGM_ALLOC(ctx, nd->contact, n);
+  MPGM_ALLOC(ctx, nd->ubar, 2 * n);
+  MPGM_ALLOC(ctx, nd->dof, 2 * n);
+  return 0;
+}
+
+void mpgm_nodes_free(mpgm_nodes *nd) {
+  void *arr[] = {nd->contact, nd->mass, nd->X, nd->x, nd->u, nd->du, nd->v, nd->a, nd->v_new, nd->a_new,
+                 nd->fix, nd->ubar, nd->dof};
+  for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
+  memset(nd, 0, sizeof *nd);
+}
+
+int mpgm_conn_grow(mpgm_ctx *ctx, mpgm_conn *c, int keep, int nnz) {
+  if (nnz <= c->cap) return 0;
+  const size_t cap = (size_t)nnz + (size_t)nnz / 2 + 16;
+  MPGM_CHECK(ctx, cap <= INT32_MAX, MPGM_ERR_NOMEM, "connectivity of %zu entries", cap);
+  int *node = malloc(cap * sizeof(int));
+  double *N = malloc(cap * sizeof(double)), *dN = malloc(2 * cap * sizeof(double));
+  double *g = malloc(2 * cap * sizeof(double));
+  if (!node || !N || !dN || !g) {
+    free(node);
+    free(N);
+    free(dN);
+    free(g);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (connectivity of %zu entries)", cap);
+  }
+  if (keep > 0) {
+    memcpy(node, c->node, sizeof(int) * (size_t)keep);
+    memcpy(N, c->N, sizeof(double) * (size_t)keep);
+    memcpy(dN, c->dN, 2 * sizeof(double) * (size_t)keep);
+  }
+  free(c->node);
+  free(c->N);
+  free(c->dN);
+  free(c->g);
+  c->node = node;
+  c->N = N;
+  c->dN = dN;
+  c->g = g;
+  c->cap = (int)cap;
+  return 0;
+}
+
+void mpgm_nodes_number(mpgm_nodes *nd) {
+  int k = 0;
+  /* contact nodes keep their equations while held (held components get
+   * identity rows), so that the matrix pattern does not depend on the
+   * active set */
+  for (int i = 0; i < 2 * nd->n; i++) nd->dof[i] = nd->fix[i] && !nd->contact[i / 2] ? -1 : k++;
+  nd->ndof = k;
+}
+
+int mpgm_conn_reserve(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnz) {
+  if (np + 1 > 0 && (!c->ptr || c->np < np)) {
+    free(c->ptr);
+    MPGM_ALLOC(ctx, c->ptr, np + 1);
+  }
+  c->np = np;
+  if (nnz > c->cap) {
+    free(c->node);
+    free(c->N);
+    free(c->dN);
+    free(c->g);
+    c->node = NULL; c->N = c->dN = c->g = NULL;
+    c->cap = 0;
+    MPGM_ALLOC(ctx, c->node, nnz);
+    MPGM_ALLOC(ctx, c->N, nnz);
+    MPGM_ALLOC(ctx, c->dN, 2 * (size_t)nnz);
+    MPGM_ALLOC(ctx, c->g, 2 * (size_t)nnz);
+    c->cap = nnz;
+  }
+  return 0;
+}
+
+void mpgm_conn_free(mpgm_conn *c) {
+  free(c->ptr);
+  free(c->node);
+  free(c->N);
+  free(c->dN);
+  free(c->g);
+  memset(c, 0, sizeof *c);
+}
+
+void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
+  memset(fx, 0, sizeof *fx);
+  fx->inertia = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  fx->gravity = s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
+  fx->geometric = s->kinematics == MPGM_KIN_FINITE;
+  for (int i = 0; i < s->nmat; i++) fx->plasticity |= s->mats[i].plastic;
+  for (int i = 0; i < s->nbc; i++) {
+    for (int d = 0; d < 2; d++)
+      fx->prescribed |= s->bcs[i].fix[d] && s->bcs[i].displacement[d] != 0.0;
+    fx->contact |= s->bcs[i].condition == MPGM_COND_CONTACT && !mpgm_bc_at_points(&s->bcs[i]);
+    fx->contact_points |= mpgm_bc_at_points(&s->bcs[i]);
+  }
+  for (int i = 0; i < s->nbody; i++) fx->prestress |= s->bodies[i].geostatic;
+}
+

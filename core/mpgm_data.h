@@ -1,0 +1,135 @@
+/* mpgm_data.h -- the data model every layer shares: material points,
+ * nodes, connectivity (the seam between "which method" and "which
+ * physics"), and the effects a scene calls for. Arrays are structures of
+ * arrays with MPGM_DIM components per vector. */
+#ifndef MPGM_DATA_H
+#define MPGM_DATA_H
+
+#include "mpgm_base.h"
+#include "mpgm_material.h"
+#include "mpgm_pool.h"
+#include "mpgm_scene.h"
+#include "mpgm_shapefn.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Material points (integration points) as structure of arrays; the first
+ *  n are material points, the next nprobe are massless tracers (probes)
+ *  that are moved exactly as material points but never assembled. */
+typedef struct mpgm_points {
+  int n;          /**< material points                                 */
+  int nprobe;     /**< probes: tracer points after the material points */
+  int nsurf;      /**< surface tracers after the probes: points on the
+                       bodies' boundaries where contact is enforced
+                       (mpgm_cpoints); 0 without contact at points     */
+  int nstate;     /**< state doubles per point (max over materials)    */
+  double *x;      /**< current position, 2 per point [m]               */
+  double *x0;     /**< initial position, 2 per point [m]               */
+  double *u;      /**< total displacement, 2 per point [m]             */
+  double *v;      /**< velocity, 2 per point [m/s]                     */
+  double *a;      /**< acceleration, 2 per point [m/s^2]               */
+  double *mass;   /**< mass [kg] (per unit thickness)                  */
+  double *vol0;   /**< initial volume [m^3] (per unit thickness)       */
+  double *vol;    /**< current volume [m^3]                            */
+  double *F;      /**< committed deformation gradient, 4 per point     */
+  double *sigma;  /**< committed Cauchy stress {xx, yy, xy, zz} [Pa]   */
+  double *S0;     /**< initial (pre-)stress {xx, yy, xy, zz} [Pa] at the
+                       initial configuration, pushed forward with F    */
+  double *state;  /**< committed material state, nstate per point      */
+  int *mat;       /**< material index                                  */
+  int *body;      /**< body index                                      */
+  int *id;        /**< the point's number at creation: points may be
+                       reordered (mpgm_points_sort), ids stay          */
+  /* trial values of the current Newton iterate (n material points) */
+  double *F_t, *sigma_t, *D_t, *state_t, *vol_t, *dF_t;
+} mpgm_points;
+
+/** Nodes (degrees of freedom carriers). */
+typedef struct mpgm_nodes {
+  int n;          /**< nodes in use                                     */
+  int cap;        /**< allocated nodes (n <= cap; MPM: the whole grid)  */
+  double *mass;   /**< nodal mass projected from the points [kg]
+                       (front ends that project; else 0)              */
+  double *X;      /**< initial position, 2 per node [m]                 */
+  double *x;      /**< position at the start of the step [m]            */
+  double *u;      /**< total displacement at the start of the step [m]  */
+  double *du;     /**< displacement increment of the step [m]           */
+  double *v, *a;  /**< velocity / acceleration at the start of the step */
+  double *v_new, *a_new; /**< Newmark-corrected values of the iterate   */
+  unsigned char *fix;    /**< 2 per node: 1 when the component is fixed */
+  signed char *contact;  /**< per node: 0, or +-(axis + 1) for a node on a
+                              unilateral contact plane whose normal is that
+                              axis, the body on the + or - side         */
+  double *ubar;   /**< 2 per node: prescribed total displacement at the
+                       end of the run (fixed components; ramped)        */
+  int *dof;       /**< 2 per node: equation number, -1 when fixed       */
+  int ndof;       /**< free equations                                   */
+} mpgm_nodes;
+
+/** Connectivity in CSR: point p is connected to node[ptr[p] .. ptr[p+1]). */
+typedef struct mpgm_conn {
+  int np;         /**< points covered (material + tracers)              */
+  int cap;        /**< allocated entries                                */
+  int *ptr;       /**< np + 1 offsets                                   */
+  int *node;      /**< node ids                                         */
+  double *N;      /**< shape function values                            */
+  double *dN;     /**< grad N at the start-of-step configuration, 2 each */
+  double *g;      /**< grad N at the current iterate, 2 each (work)     */
+  int version;    /**< incremented by a front end when the node set,
+                       fixity or matrix pattern changes                  */
+  int map_version;/**< incremented when only the point -> node lists
+                       changed (same nodes, fixity and pattern)          */
+} mpgm_conn;
+
+/** The effects a scene calls for, decided when it loads. */
+typedef struct mpgm_effects {
+  int inertia;        /**< dynamic analysis: mass, Newmark, K_dyn       */
+  int gravity;        /**< non-zero gravity: body-force loop            */
+  int geometric;      /**< finite kinematics: K_geo and config update   */
+  int plasticity;     /**< a plastic material is used                   */
+  int prescribed;     /**< non-zero prescribed displacements            */
+  int contact;        /**< unilateral contact at grid nodes (active set)  */
+  int contact_points; /**< unilateral contact at surface points (penalty,
+                           active set; core/contact_points.c)          */
+  int prestress;      /**< a body has a geostatic initial stress         */
+} mpgm_effects;
+
+/** The effects a scene calls for: the one place they are decided (used by
+ *  mpgm_problem_create and by `mpgm check`). */
+void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx);
+
+/** Allocate points (n material, nprobe probes, nsurf surface tracers) with
+ *  nstate doubles. */
+int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsurf, int nstate);
+/** Material point p of scene body `body` at (x, y) with volume vol [m^3]:
+ *  position, mass (density x volume), the body's initial velocity,
+ *  material, and the material's initial state. */
+void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double x, double y,
+                    double vol);
+/** Equivalent plastic strain of the n material points into out (may be
+ *  NULL; 0 for points whose material has no plastic_strain operation).
+ *  Returns the largest value (0 when there is none). */
+double mpgm_points_plastic_strain(const mpgm_points *P, const mpgm_material *mats, double *out);
+/** Reorder the material points (not the probes) by key[p] in [0, nkey),
+ *  stably (counting sort), so that points that share nodes lie together in
+ *  memory: every committed per-point array moves, ids included; the trial
+ *  arrays are not moved (they are recomputed before use); the arrays move
+ *  on the pool's threads (NULL: the caller's). perm (n ints,
+ *  may be NULL) receives the old index of each new position, for the
+ *  caller's own per-point arrays. */
+int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *key, int nkey,
+                     int *perm);
+/** Allocate nodes. */
+int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n);
+/** Make room for nnz connectivity entries over np points. */
+int mpgm_conn_reserve(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnz);
+/** Make room for at least nnz entries keeping the first `keep` entries of
+ *  node, N and dN (a front end filling lists of unknown length); grows
+ *  geometrically. */
+int mpgm_conn_grow(mpgm_ctx *ctx, mpgm_conn *c, int keep, int nnz);
+#ifdef __cplusplus
+}
+#endif
+#endif

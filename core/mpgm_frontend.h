@@ -1,0 +1,126 @@
+/* mpgm_frontend.h -- the front-end family: how nodes and connectivity come
+ * to be. UL-FEM (persistent nodes, element connectivity), GMM (persistent
+ * nodes, node clouds) and MPM (a background grid reset every step) differ
+ * only here, as Algorithms 1 and 2 of Iaconeta et al. (2017) differ only
+ * in their first and last phases.
+ *
+ * A front end is one type record (const mpgm_frontend_type) with its
+ * traits and operations; the list of all of them is frontends/
+ * frontend_list.c. It sees a narrow view of the problem (mpgm_fe_view):
+ * the data it makes and fills, never the core's problem. It reports its
+ * timers and counters through the context (mpgm_timer_move, mpgm_count)
+ * and marks surface points it cannot serve through mpgm_cpoints_unenforce.
+ */
+#ifndef MPGM_FRONTEND_H
+#define MPGM_FRONTEND_H
+
+#include "mpgm_data.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Contact at surface points (core/contact_points.c): the state the core
+ *  keeps; a front end only says which surface points it gave no shape
+ *  functions in the current step. */
+typedef struct mpgm_cpoints mpgm_cpoints;
+
+/** Every surface point is enforced (a front end's begin_step starts from
+ *  here). */
+void mpgm_cpoints_enforce_all(mpgm_cpoints *cp);
+/** Surface point i (0 .. pts.nsurf - 1) has no shape functions in this
+ *  step: its contact is not enforced (counted once per point and step). */
+void mpgm_cpoints_unenforce(mpgm_cpoints *cp, int i);
+/** 1 when surface point i is not enforced in this step. */
+int mpgm_cpoints_unenforced(const mpgm_cpoints *cp, int i);
+
+/** What a front end sees of the problem. The core makes it for each call;
+ *  a front end keeps none of its pointers beyond the call (the context
+ *  excepted). */
+typedef struct mpgm_fe_view {
+  mpgm_ctx *ctx;            /**< errors, timers, counters, logger        */
+  const mpgm_scene *scene;  /**< the loaded scene                        */
+  const mpgm_effects *fx;   /**< the effects the scene calls for         */
+  mpgm_points *pts;         /**< the points: create allocates them       */
+  mpgm_nodes *nodes;        /**< the nodes: create allocates them        */
+  mpgm_conn *conn;          /**< the connectivity begin_step fills       */
+  mpgm_pool *pool;          /**< worker threads                          */
+  mpgm_cpoints *cp;         /**< contact at surface points; NULL without */
+  long step;                /**< steps completed                         */
+  double t;                 /**< time (dynamic) or load factor (static) at
+                                 the start of the step                   */
+  double dt;                /**< the step                                */
+  double lambda;            /**< load factor at the end of the step (the
+                                 ramp of prescribed displacements)       */
+} mpgm_fe_view;
+
+/** How a front end updates the velocity of its points after a step. */
+typedef enum {
+  MPGM_PV_INTERPOLATE = 0, /**< v_p = sum N_I v_I (persistent nodes)      */
+  MPGM_PV_NEWMARK = 1      /**< v_p += dt/2 (a_p^n + a_p^n+1), a_p^n+1 =
+                                sum N_I a_I (eq 48; grid reset: MPM)     */
+} mpgm_point_velocity;
+
+/** Shape-function kinds a front end accepts (mpgm_frontend_type.shapes). */
+enum {
+  MPGM_FE_SHAPE_CELL = 1 << 0, /**< kinds evaluated on a cell (fe)         */
+  MPGM_FE_SHAPE_CLOUD = 1 << 1 /**< meshfree kinds over node clouds (mls,
+                                    lme)                                 */
+};
+
+/** Boundary conditions a front end supports (mpgm_frontend_type.conditions). */
+enum {
+  MPGM_FE_COND_FIX = 1 << 0,            /**< fixed components: "fix", stick,
+                                             slip                        */
+  MPGM_FE_COND_DISPLACEMENT = 1 << 1,   /**< non-zero prescribed values  */
+  MPGM_FE_COND_CONTACT_NODES = 1 << 2,  /**< "contact" held at the nodes on
+                                             the plane                   */
+  MPGM_FE_COND_CONTACT_POINTS = 1 << 3  /**< "contact" held at surface
+                                             points (penalty)            */
+};
+
+/** Cells for output (borrowed arrays): n cells, node ids node[ptr[c] ..
+ *  ptr[c + 1]), VTK cell type type[c]. */
+typedef struct mpgm_cells {
+  int n;
+  const int *ptr, *node, *type;
+} mpgm_cells;
+
+typedef struct mpgm_frontend_type {
+  const char *name;       /**< the scene's "method": "fem", "mpm", "gmm" */
+  const char *doc;        /**< one line for docs and messages            */
+  /* traits: what the scene loader lets through (frontend_check.c) */
+  int persistent_nodes;   /**< 1: nodes carry the body and persist (their
+                               boundaries must meet a body); 0: a grid
+                               reset every step (must meet mesh.domain)  */
+  int point_velocity;     /**< mpgm_point_velocity                       */
+  unsigned shapes;        /**< MPGM_FE_SHAPE_* bits                      */
+  unsigned geometries;    /**< bit 1 << g for each mpgm_geometry g        */
+  unsigned conditions;    /**< MPGM_FE_COND_* bits                       */
+  int obstacles;          /**< 1: takes rigid obstacles (node layers)     */
+  /** Optional: rules of this front end beyond its traits, as
+   *  MPGM_ERR_INPUT with "FILE: json.path: expected ..., found ...". */
+  int (*check)(mpgm_ctx *ctx, const mpgm_scene *s);
+  /** Make the nodes (with their fixity and initial velocity) and the
+   *  points (material points, probes, surface points) into v->nodes and
+   *  v->pts; *self receives the front end's own data (destroy releases it
+   *  even when create failed half way). */
+  int (*create)(const mpgm_fe_view *v, void **self);
+  void (*destroy)(void *self); /**< accepts NULL and half-built data    */
+  /** Fill v->conn for the step (N, grad N at the start-of-step
+   *  configuration) and the nodal v, a (history or projection); bump
+   *  conn.version when the node set, fixity or pattern changed (the core
+   *  then renumbers the equations and rebuilds the pattern), conn.
+   *  map_version when only the point -> node lists changed. */
+  int (*begin_step)(void *self, const mpgm_fe_view *v);
+  /** After the integrator committed the step: move, keep or forget the
+   *  nodes. */
+  int (*end_step)(void *self, const mpgm_fe_view *v);
+  /** Optional: cells for output (a mesh.pvd next to points.pvd). */
+  int (*cells)(const void *self, mpgm_cells *out);
+} mpgm_frontend_type;
+
+#ifdef __cplusplus
+}
+#endif
+#endif

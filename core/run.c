@@ -1,0 +1,147 @@
+/* run.c -- the load/time loop of a problem with step control: a step that
+ * fails recoverably is cut (retried with half the step), the step grows
+ * back after easy steps, steps end on output.times; a monitor sees every
+ * converged step, the logger hears cuts and progress. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_core_impl.h"
+
+void mpgm_run_result_free(mpgm_run_result *r) {
+  free(r->cuts);
+  r->cuts = NULL;
+  r->ncuts = 0;
+}
+
+/* One rejected step for the record: step, end time (or load factor) and
+ * step size tried, error code and message. */
+static void cut_record(mpgm_run_result *r, long step, double t, double dt, int code, const char *why) {
+  if (r->ncuts >= MPGM_CUTS_MAX) return;
+  if (!r->cuts && !(r->cuts = calloc(MPGM_CUTS_MAX, sizeof *r->cuts))) return;
+  mpgm_cut *c = &r->cuts[r->ncuts++];
+  c->step = step;
+  c->t = t;
+  c->dt = dt;
+  c->code = code;
+  snprintf(c->reason, sizeof c->reason, "%s", why);
+}
+
+/* One line on the state of the run (mpgm_log level PROGRESS). */
+static void progress(const mpgm_problem *pb, double end, double t0) {
+  if (!mpgm_log_wanted(pb->ctx, MPGM_LOG_PROGRESS)) return;
+  const double el = mpgm_wtime() - t0, done = pb->t / end;
+  const double eta = done > 0.0 ? el / done * (1.0 - done) : 0.0;
+  const int st = pb->scene->analysis == MPGM_ANALYSIS_STATIC;
+  mpgm_log(pb->ctx, MPGM_LOG_PROGRESS, "step %ld  %s = %.6g of %g  newton %d  |R|/ref = %.2e  cuts %ld  "
+           "elapsed %.1fs  ETA %.1fs", pb->step, st ? "load" : "t", pb->t, end, pb->last.iterations,
+           pb->last.res_rel, pb->step_cuts, el, eta);
+}
+
+/* Time split of the last step, for benchmarks (level INFO). */
+static void log_split(const mpgm_problem *pb, const double *before) {
+  mpgm_ctx *ctx = pb->ctx;
+  const int it = pb->last.iterations > 0 ? pb->last.iterations : 1;
+  char line[1024];
+  int n = snprintf(line, sizeof line, "step %ld: %d Newton iterations; per iteration [ms]:", pb->step,
+                   pb->last.iterations);
+  for (int i = 0; i < MPGM_T_TOTAL && n > 0 && (size_t)n < sizeof line; i++)
+    n += snprintf(line + n, sizeof line - (size_t)n, " %s %.3f", mpgm_timer_name(i),
+                  1e3 * (ctx->t[i] - before[i]) / it);
+  mpgm_log(ctx, MPGM_LOG_INFO, "%s", line);
+}
+
+/* Step control across the loop. */
+typedef struct stepper {
+  double end, dt0; /* end of the run (time, or load factor 1); the scene's step */
+  double dt_now;   /* the step now: halved by a cut, doubled back after easy steps */
+  int level, easy; /* cuts in force; converged steps in a row since */
+  int nout;        /* output.times passed */
+} stepper;
+
+/* The next step's size; 1 when it ends on an output time. */
+static int next_dt(mpgm_problem *pb, stepper *sp) {
+  const mpgm_scene *s = pb->scene;
+  pb->dt = fmin(sp->dt_now, sp->end - pb->t);
+  /* output.times: the step that reaches the next one ends on it (a step
+   * within 1e-6 of it is stretched to it, not followed by a sliver) */
+  while (sp->nout < s->ntimes && s->times[sp->nout] <= pb->t + 1e-9 * sp->dt0) sp->nout++;
+  if (sp->nout < s->ntimes && s->times[sp->nout] - pb->t <= pb->dt * (1.0 + 1e-6)) {
+    pb->dt = s->times[sp->nout] - pb->t;
+    return 1;
+  }
+  return 0;
+}
+
+/* A recoverable failure of step k rejects it (nothing was committed): cut
+ * the step in half, log and record it. */
+static void cut(mpgm_problem *pb, stepper *sp, long k, int err, mpgm_run_result *res) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  mpgm_log(ctx, MPGM_LOG_WARNING, "step %ld (%s %.9g, %s %.3g) rejected: %s; retrying with %.3g "
+           "(halving %d of at most %d, time.max_cuts)", k, dyn ? "t =" : "load factor", pb->t + pb->dt,
+           dyn ? "dt" : "increment", pb->dt, ctx->msg, 0.5 * pb->dt, sp->level + 1, s->max_cuts);
+  cut_record(res, k, pb->t + pb->dt, pb->dt, err, ctx->msg);
+  mpgm_err_clear(ctx);
+  sp->dt_now = 0.5 * pb->dt;
+  sp->level++;
+  sp->easy = 0;
+  pb->step_cuts++;
+  pb->factor_valid = 0; /* the tangent of another step size */
+}
+
+/* Step k failed for good: the run's failure message. */
+static void failed(mpgm_problem *pb, long k, int err, mpgm_run_result *res) {
+  const mpgm_scene *s = pb->scene;
+  snprintf(res->message, sizeof res->message, "step %ld (%s %.9g) failed: %s%s", k,
+           s->analysis == MPGM_ANALYSIS_DYNAMIC ? "t =" : "load factor", pb->t + pb->dt, pb->ctx->msg,
+           err > 0 && s->max_cuts > 0 ? " (at the smallest step allowed, the scene's halved "
+                                        "time.max_cuts times)" : "");
+  res->failed = 1;
+  res->failed_step = k;
+}
+
+int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_result *res) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  memset(res, 0, sizeof *res);
+  res->failed_step = -1;
+  /* the step: time step, or load increment (t then counts load, 0 to 1) */
+  stepper sp = {.end = dyn ? s->t_end : 1.0, .dt0 = dyn ? s->dt : 1.0 / s->load_steps};
+  sp.dt_now = sp.dt0;
+  pb->dt = sp.dt0;
+  int err = 0;
+  while (!err && pb->t < sp.end - 1e-9 * sp.dt0) {
+    const int on_time = next_dt(pb, &sp);
+    double before[MPGM_T_COUNT];
+    memcpy(before, ctx->t, sizeof before);
+    const long k = pb->step + 1;
+    const double ts = mpgm_wtime();
+    err = mpgm_step(pb);
+    if (err > 0 && sp.level < s->max_cuts) {
+      cut(pb, &sp, k, err, res);
+      err = 0;
+      continue;
+    }
+    if (err) {
+      failed(pb, k, err, res);
+      break;
+    }
+    /* grow_after steps in a row that converged at the cut size double the
+     * step back towards the scene's */
+    if (sp.level > 0 && ++sp.easy >= s->grow_after) {
+      sp.dt_now = fmin(sp.dt0, 2.0 * sp.dt_now);
+      sp.level--;
+      sp.easy = 0;
+    }
+    if (rc->time_split) log_split(pb, before);
+    const int fields = pb->step % s->every == 0 || on_time || pb->t >= sp.end - 1e-9 * sp.dt0;
+    if (rc->monitor && rc->monitor->step)
+      err = rc->monitor->step(rc->monitor->user, pb, fields, mpgm_wtime() - ts);
+    progress(pb, sp.end, rc->t0);
+  }
+  return err;
+}

@@ -1,0 +1,145 @@
+/* frontend_check.c -- a loaded scene against its front end's traits
+ * (mpgm_frontend_type): what a method takes is read from its record, and a
+ * refusal names the methods that would take it. */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "mpgm_frontends.h"
+
+/* "FILE: path: message" as MPGM_ERR_INPUT. */
+static int fail(mpgm_ctx *ctx, const mpgm_scene *s, const char *path, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int fail(mpgm_ctx *ctx, const mpgm_scene *s, const char *path, const char *fmt, ...) {
+  char msg[768];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(msg, sizeof msg, fmt, ap);
+  va_end(ap);
+  return mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: %s: %s", s->file, path, msg);
+}
+
+/* The names of the methods whose trait `field` has every bit of `bits`
+ * ("fem, mpm"; "none"). */
+enum { SHAPES, GEOMETRIES, CONDITIONS, OBSTACLES };
+static const char *takers(int field, unsigned bits, char *buf, size_t len) {
+  const mpgm_frontend_type *const *t = mpgm_frontend_types();
+  buf[0] = '\0';
+  for (int i = 0; t[i]; i++) {
+    const unsigned have = field == SHAPES       ? t[i]->shapes
+                          : field == GEOMETRIES ? t[i]->geometries
+                          : field == CONDITIONS ? t[i]->conditions
+                                                : (unsigned)t[i]->obstacles;
+    if ((have & bits) != bits) continue;
+    const size_t n = strlen(buf);
+    snprintf(buf + n, len - n, "%s%s", n ? ", " : "", t[i]->name);
+  }
+  return buf[0] ? buf : "none";
+}
+
+/* The shape kinds of one class ("mls", "lme"). */
+static const char *kinds(int cell, char *buf, size_t len) {
+  const mpgm_shapefn_type *const *t = mpgm_shapefn_types();
+  buf[0] = '\0';
+  for (int i = 0; t[i]; i++) {
+    if (!!t[i]->needs_cell != cell) continue;
+    const size_t n = strlen(buf);
+    snprintf(buf + n, len - n, "%s\"%s\"", n ? ", " : "", t[i]->name);
+  }
+  return buf;
+}
+
+static int check_shape(mpgm_ctx *ctx, const mpgm_scene *s) {
+  const mpgm_frontend_type *fe = s->frontend;
+  const int cell = s->shape->needs_cell;
+  const unsigned need = cell ? MPGM_FE_SHAPE_CELL : MPGM_FE_SHAPE_CLOUD;
+  if (fe->shapes & need) return 0;
+  char k[128], m[128];
+  return fail(ctx, s, "shape.kind",
+              "method %s takes %s shape kinds (%s), found \"%s\", a %s kind (methods that take "
+              "it: %s)", fe->name, cell ? "meshfree" : "cell-based", kinds(!cell, k, sizeof k),
+              s->shape->name, cell ? "cell-based" : "meshfree", takers(SHAPES, need, m, sizeof m));
+}
+
+static int check_bodies(mpgm_ctx *ctx, const mpgm_scene *s) {
+  static const char *const geo[] = {"rectangle", "disk", "polygon"};
+  for (int b = 0; b < s->nbody; b++) {
+    const unsigned g = 1u << s->bodies[b].geometry;
+    if (s->frontend->geometries & g) continue;
+    char path[32], m[128];
+    snprintf(path, sizeof path, "bodies.%d", b);
+    return fail(ctx, s, path, "method %s does not take %s bodies (methods that take them: %s)",
+                s->frontend->name, geo[s->bodies[b].geometry], takers(GEOMETRIES, g, m, sizeof m));
+  }
+  return 0;
+}
+
+/* 1 when boundary bc's selector meets body b (within its tol). */
+static int selector_meets(const mpgm_scene_boundary *bc, const mpgm_scene_body *b) {
+  const double t = bc->tol;
+  if (bc->select != MPGM_SELECT_BOX)
+    return bc->value >= b->min[bc->select] - t && bc->value <= b->max[bc->select] + t;
+  const double lo[2] = {bc->min[0] - t, bc->min[1] - t}, hi[2] = {bc->max[0] + t, bc->max[1] + t};
+  return mpgm_body_meets_box(b, lo, hi);
+}
+
+/* Persistent nodes lie on the bodies: a selector that misses every body
+ * picks no node (the front end checks the exact node selection when it
+ * makes them). A grid covers mesh.domain: the selector must meet it. */
+static int check_selector(mpgm_ctx *ctx, const mpgm_scene *s, int i) {
+  const mpgm_scene_boundary *bc = &s->bcs[i];
+  char path[48];
+  snprintf(path, sizeof path, "boundaries.%d.%s", i,
+           bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box");
+  if (s->frontend->persistent_nodes) {
+    for (int k = 0; k < s->nbody; k++)
+      if (selector_meets(bc, &s->bodies[k])) return 0;
+    return fail(ctx, s, path, "expected a selector that meets a body (only bodies carry nodes), "
+                "found none within tol = %g of it", bc->tol);
+  }
+  mpgm_scene_body dom = {.geometry = MPGM_GEOM_RECTANGLE};
+  memcpy(dom.min, s->dom_min, sizeof dom.min);
+  memcpy(dom.max, s->dom_max, sizeof dom.max);
+  if (selector_meets(bc, &dom)) return 0;
+  return fail(ctx, s, path, "expected a selector that meets mesh.domain (the background grid "
+              "covers the domain), found none within tol = %g of it", bc->tol);
+}
+
+static int check_boundaries(mpgm_ctx *ctx, const mpgm_scene *s) {
+  const mpgm_frontend_type *fe = s->frontend;
+  for (int i = 0; i < s->nbc; i++) {
+    const mpgm_scene_boundary *bc = &s->bcs[i];
+    MPGM_CALL(check_selector(ctx, s, i));
+    char path[48], m[128];
+    const unsigned cond = bc->condition != MPGM_COND_CONTACT ? MPGM_FE_COND_FIX
+                          : mpgm_bc_at_points(bc)            ? MPGM_FE_COND_CONTACT_POINTS
+                                                             : MPGM_FE_COND_CONTACT_NODES;
+    snprintf(path, sizeof path, "boundaries.%d.condition", i);
+    if (!(fe->conditions & cond))
+      return fail(ctx, s, path, "\"contact\" enforced at %s is not a condition of method %s "
+                  "(methods that take it: %s)", cond == MPGM_FE_COND_CONTACT_POINTS ? "surface "
+                  "points" : "grid nodes", fe->name, takers(CONDITIONS, cond, m, sizeof m));
+    const int moves = bc->displacement[0] != 0.0 || bc->displacement[1] != 0.0;
+    snprintf(path, sizeof path, "boundaries.%d.displacement", i);
+    if (moves && !(fe->conditions & MPGM_FE_COND_DISPLACEMENT))
+      return fail(ctx, s, path, "expected [0, 0] with method %s (%s; methods that take "
+                  "prescribed displacements: %s), found [%g, %g]", fe->name,
+                  fe->persistent_nodes ? "its nodes do not carry them"
+                                       : "its grid is reset every step",
+                  takers(CONDITIONS, MPGM_FE_COND_DISPLACEMENT, m, sizeof m), bc->displacement[0],
+                  bc->displacement[1]);
+  }
+  return 0;
+}
+
+int mpgm_frontend_check(mpgm_ctx *ctx, const mpgm_scene *s) {
+  const mpgm_frontend_type *fe = s->frontend;
+  MPGM_CALL(check_shape(ctx, s));
+  MPGM_CALL(check_bodies(ctx, s));
+  MPGM_CALL(check_boundaries(ctx, s));
+  char m[128];
+  if (s->nobstacle > 0 && !fe->obstacles)
+    return fail(ctx, s, "obstacles", "method %s takes no obstacles (methods that take them: %s)",
+                fe->name, takers(OBSTACLES, 1, m, sizeof m));
+  return fe->check ? fe->check(ctx, s) : 0;
+}
