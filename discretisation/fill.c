@@ -1,6 +1,10 @@
 /* fill.c -- the material points of bodies filled on a grid: the rule of
  * method mpm's particles and of method gmm's grid-filled bodies. */
+#include <stdlib.h>
+#include <string.h>
+
 #include "mpgm_discretisation.h"
+#include "mpgm_grid.h"
 
 int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
                      void (*xy)(const void *grid, int c, double *xn), const void *grid,
@@ -34,4 +38,60 @@ int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
   }
   *count = n;
   return 0;
+}
+
+/* Grid cell coordinates for mpgm_bodies_fill. */
+static void grid_cell_xy(const void *grid, int c, double *xn) {
+  int nodes[MPGM_FE_MAXNODE];
+  mpgm_grid_cell(grid, c, nodes, xn);
+}
+
+int mpgm_grid_fill(mpgm_ctx *ctx, const mpgm_grid *g, const mpgm_scene *s, mpgm_fill *f) {
+  memset(f, 0, sizeof *f);
+  double gxi[18], gw[9];
+  MPGM_CHECK(ctx, mpgm_fe_gauss(g->cell, s->ppc, gxi, gw) == 0, MPGM_ERR_INPUT,
+             "%s: mesh.ppc: no Gauss rule of %d points", s->file, s->ppc);
+  /* a point's volume: cell area x Gauss weight / reference area */
+  const double ref_area = g->cell == MPGM_CELL_Q4 ? 4.0 : 0.5;
+  const double cell_area = g->h * g->h / (g->cell == MPGM_CELL_Q4 ? 1.0 : 2.0);
+  for (int q = 0; q < s->ppc; q++) f->vol[q] = cell_area * gw[q] / ref_area;
+  f->ppc = s->ppc;
+  f->ngauss = (size_t)g->ncell * (size_t)s->ppc;
+  f->owner = malloc(sizeof(int) * f->ngauss);
+  f->x = malloc(sizeof(double) * MPGM_DIM * f->ngauss);
+  MPGM_CHECK(ctx, f->owner && f->x, MPGM_ERR_NOMEM, "out of memory (%zu grid Gauss points)", f->ngauss);
+  MPGM_CALL(mpgm_bodies_fill(s, g->cell, g->ncell, grid_cell_xy, g, f->owner, f->x, &f->count));
+  MPGM_CHECK(ctx, f->count > 0, MPGM_ERR_INPUT,
+             "%s: bodies: no grid Gauss point lies inside any body (h = %g, ppc = %d): expected "
+             "bodies larger than a grid cell", s->file, g->h, s->ppc);
+  return 0;
+}
+
+void mpgm_fill_points(const mpgm_fill *f, const mpgm_scene *s, mpgm_points *P) {
+  int p = 0;
+  for (size_t k = 0; k < f->ngauss; k++) {
+    const int b = f->owner[k];
+    if (b < 0) continue;
+    mpgm_point_set(P, p++, s, b, f->x[MPGM_DIM * k], f->x[MPGM_DIM * k + 1], f->vol[k % (size_t)f->ppc]);
+  }
+}
+
+void mpgm_fill_free(mpgm_fill *f) {
+  free(f->owner);
+  free(f->x);
+  memset(f, 0, sizeof *f);
+}
+
+int mpgm_scene_nstate(const mpgm_scene *s) {
+  int nstate = 0;
+  for (int i = 0; i < s->nmat; i++)
+    if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
+  return nstate;
+}
+
+void mpgm_probes_place(mpgm_points *P, const mpgm_scene *s) {
+  for (int k = 0; k < s->nprobe; k++) {
+    const int p = P->n + k;
+    for (int d = 0; d < MPGM_DIM; d++) P->x[MPGM_DIM * p + d] = P->x0[MPGM_DIM * p + d] = s->probes[k].x[d];
+  }
 }

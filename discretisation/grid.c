@@ -10,9 +10,9 @@ int mpgm_grid_init(mpgm_ctx *ctx, mpgm_grid *g, const mpgm_scene *s) {
   const double fx = ceil((s->dom_max[0] - s->dom_min[0]) / s->h - 1e-9);
   const double fy = ceil((s->dom_max[1] - s->dom_min[1]) / s->h - 1e-9);
   const double per = s->cell == MPGM_CELL_Q4 ? 1.0 : 2.0;
-  MPGM_CHECK(ctx, (fx + 1) * (fy + 1) < 5e7 && fx * fy * per < 1e8, MPGM_ERR_INPUT,
-             "%s: mesh.h: expected a background grid of at most 5e7 nodes over mesh.domain, "
-             "found %.4g nodes (h = %g)", s->file, (fx + 1) * (fy + 1), s->h);
+  MPGM_CHECK(ctx, (fx + 1) * (fy + 1) < 5e7 && fx * fy * per * s->ppc < 1e8, MPGM_ERR_INPUT,
+             "%s: mesh.h: expected a background grid of at most 5e7 nodes and 1e8 Gauss points "
+             "over mesh.domain, found %.4g nodes (h = %g)", s->file, (fx + 1) * (fy + 1), s->h);
   g->nx = fx < 1 ? 1 : (int)fx;
   g->ny = fy < 1 ? 1 : (int)fy;
   for (int d = 0; d < 2; d++) g->min[d] = s->dom_min[d];

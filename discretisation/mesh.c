@@ -48,10 +48,7 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
   d->ncell = m->ncell;
   const int npts = m->ncell * s->ppc;
   MPGM_CALL(mpgm_nodes_alloc(ctx, v->nodes, m->nnode));
-  int nstate = 0;
-  for (int i = 0; i < s->nmat; i++)
-    if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
-  MPGM_CALL(mpgm_points_alloc(ctx, v->pts, npts, s->nprobe, 0, nstate));
+  MPGM_CALL(mpgm_points_alloc(ctx, v->pts, npts, s->nprobe, 0, mpgm_scene_nstate(s)));
   MPGM_ALLOC(ctx, d->cnode, (size_t)d->nn * m->ncell);
   MPGM_ALLOC(ctx, d->cptr, m->ncell + 1);
   MPGM_ALLOC(ctx, d->ctype, m->ncell);

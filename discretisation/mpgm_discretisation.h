@@ -49,6 +49,36 @@ typedef struct mpgm_fem_mesh {
   const int *cbody; /**< scene body of every cell (material, velocity)     */
 } mpgm_fem_mesh;
 
+struct mpgm_grid;
+
+/** The Gauss points of a grid's cells that lie in a body (mpgm_grid_fill):
+ *  entry k = c ppc + q for Gauss point q of cell c. */
+typedef struct mpgm_fill {
+  size_t ngauss;   /**< cells x ppc                                       */
+  int ppc;         /**< Gauss points per cell (mesh.ppc)                   */
+  int count;       /**< of them inside a body: the material points         */
+  int *owner;      /**< per Gauss point: its body, or -1                   */
+  double *x;       /**< per Gauss point: its position, MPGM_DIM each [m]    */
+  double vol[9];   /**< volume of a point at Gauss point q of a cell [m^3]
+                        (cell area x weight / reference area)             */
+} mpgm_fill;
+
+/** The bodies of scene s filled on the grid g (mpgm_bodies_fill): method
+ *  mpm's particles and the points of GMM's grid-filled bodies. Errors:
+ *  MPGM_ERR_INPUT (no Gauss rule of mesh.ppc points; no point in any body),
+ *  MPGM_ERR_NOMEM. Free with mpgm_fill_free (also after a failure). */
+int mpgm_grid_fill(mpgm_ctx *ctx, const struct mpgm_grid *g, const mpgm_scene *s, mpgm_fill *f);
+/** Material points 0 .. f->count - 1 of P from the fill, in Gauss-point
+ *  order (mpgm_point_set: body, material, mass, initial velocity). */
+void mpgm_fill_points(const mpgm_fill *f, const mpgm_scene *s, mpgm_points *P);
+void mpgm_fill_free(mpgm_fill *f);
+
+/** State doubles per point: the most any material of the scene needs. */
+int mpgm_scene_nstate(const mpgm_scene *s);
+/** The probes at their reference positions (points P->n .. P->n +
+ *  nprobe - 1). */
+void mpgm_probes_place(mpgm_points *P, const mpgm_scene *s);
+
 /** FE cells of a problem (the mesh of UL-FEM, of GMM for rectangle
  *  bodies): the cells and every point's cell and local coordinates. */
 typedef struct mpgm_fem_cells mpgm_fem_cells;

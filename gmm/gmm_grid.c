@@ -1,6 +1,6 @@
 /* gmm_grid.c -- method gmm over bodies filled on a grid (disk and polygon
  * bodies, scenes with obstacles): the material points of method mpm (Gauss
- * points of the grid cells inside a body, mpgm_bodies_fill), persistent
+ * points of the grid cells inside a body, mpgm_grid_fill), persistent
  * nodes at the grid nodes of the cells holding them, and the obstacles'
  * layers of fixed nodes (docs/theory.md, section 13; gmm_impl.h). */
 #include <math.h>
@@ -9,43 +9,8 @@
 
 #include "gmm_impl.h"
 #include "mpgm_discretisation.h"
+#include "mpgm_grid.h"
 #include "mpgm_kdtree.h"
-
-/* The grid over mesh.domain, numbered as method mpm's (mpm/mpgm_grid.h):
- * square (i, j) is j nx + i, node (i, j) is j (nx + 1) + i; a Q4 cell is
- * its square, T3 cells 2 sq (q0 q1 q2) and 2 sq + 1 (q0 q2 q3). */
-typedef struct ggrid {
-  int cell, nn, per, nx, ny;
-  double h, min[2];
-} ggrid;
-
-static void gg_nodes(const ggrid *g, int c, int *nodes) {
-  const int sq = c / g->per, i = sq % g->nx, j = sq / g->nx, w = g->nx + 1;
-  const int q[4] = {j * w + i, j * w + i + 1, (j + 1) * w + i + 1, (j + 1) * w + i};
-  if (g->per == 1) {
-    for (int a = 0; a < 4; a++) nodes[a] = q[a];
-  } else if (c % 2 == 0) {
-    nodes[0] = q[0];
-    nodes[1] = q[1];
-    nodes[2] = q[2];
-  } else {
-    nodes[0] = q[0];
-    nodes[1] = q[2];
-    nodes[2] = q[3];
-  }
-}
-
-static void gg_node_x(const ggrid *g, int id, double X[2]) {
-  X[0] = g->min[0] + (id % (g->nx + 1)) * g->h;
-  X[1] = g->min[1] + (id / (g->nx + 1)) * g->h;
-}
-
-static void gg_cell_xy(const void *grid, int c, double *xn) {
-  const ggrid *g = grid;
-  int nodes[MPGM_FE_MAXNODE];
-  gg_nodes(g, c, nodes);
-  for (int a = 0; a < g->nn; a++) gg_node_x(g, nodes[a], xn + 2 * a);
-}
 
 int mpgm_gmm_uses_grid(const mpgm_scene *s) {
   int grid = s->nobstacle > 0;
@@ -57,20 +22,11 @@ int mpgm_gmm_uses_grid(const mpgm_scene *s) {
 
 void mpgm_gmm_grid_destroy(gmm_grid **gp) {
   if (!gp || !*gp) return;
-  free((*gp)->cptr);
-  free((*gp)->cnode);
-  free((*gp)->ctype);
-  free((*gp)->fix0);
-  free((*gp)->ubar0);
-  free((*gp)->parked);
-  free((*gp)->xs);
-  free((*gp)->us);
-  free((*gp)->mass);
-  free((*gp)->obst);
-  free((*gp)->wptr);
-  free((*gp)->widx);
-  free((*gp)->ww);
-  free(*gp);
+  gmm_grid *g = *gp;
+  void *arr[] = {g->cptr, g->cnode, g->ctype, g->fix0, g->ubar0, g->parked, g->xs,
+                 g->us,   g->mass,  g->obst,  g->wptr, g->widx,  g->ww};
+  for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
+  free(g);
   *gp = NULL;
 }
 
@@ -79,7 +35,7 @@ void mpgm_gmm_grid_destroy(gmm_grid **gp) {
  * extent along the plane, into X (2 per node, may be NULL); gid (may be
  * NULL) receives the grid node each coincides with (-1: off the grid).
  * Returns the count. */
-static int obstacle_nodes(const mpgm_scene *s, const ggrid *g, int o, double *X, int *gid) {
+static int obstacle_nodes(const mpgm_scene *s, const mpgm_grid *g, int o, double *X, int *gid) {
   const mpgm_scene_obstacle *ob = &s->obstacles[o];
   const int ax = ob->axis, along = 1 - ax, nal = along == 0 ? g->nx : g->ny;
   const long k0 = lround((ob->value - g->min[ax]) / g->h);
@@ -103,196 +59,207 @@ static int obstacle_nodes(const mpgm_scene *s, const ggrid *g, int o, double *X,
   return n;
 }
 
-int mpgm_gmm_grid_setup(const mpgm_fe_view *v, double r0, gmm_grid **out) {
-  mpgm_ctx *ctx = v->ctx;
-  const mpgm_scene *s = v->scene;
-  gmm_grid *gd;
-  MPGM_ALLOC(ctx, gd, 1);
-  *out = gd;
-  ggrid g = {.cell = s->cell,
-             .nn = mpgm_fe_nnode(s->cell),
-             .per = s->cell == MPGM_CELL_Q4 ? 1 : 2,
-             .h = s->h,
-             .min = {s->dom_min[0], s->dom_min[1]}};
-  const double fx = ceil((s->dom_max[0] - s->dom_min[0]) / s->h - 1e-9);
-  const double fy = ceil((s->dom_max[1] - s->dom_min[1]) / s->h - 1e-9);
-  MPGM_CHECK(ctx, (fx + 1) * (fy + 1) < 5e7 && fx * fy * g.per * s->ppc < 1e8, MPGM_ERR_INPUT,
-             "%s: mesh.h: expected a grid of at most 5e7 nodes and 1e8 Gauss points over "
-             "mesh.domain, found %.4g nodes (h = %g)",
-             s->file, (fx + 1) * (fy + 1), s->h);
-  g.nx = fx < 1 ? 1 : (int)fx;
-  g.ny = fy < 1 ? 1 : (int)fy;
-  const int ncell = g.nx * g.ny * g.per, ngn = (g.nx + 1) * (g.ny + 1);
-  const size_t ngp = (size_t)ncell * (size_t)s->ppc;
-  int nobs = 0;
-  for (int o = 0; o < s->nobstacle; o++) nobs += obstacle_nodes(s, &g, o, NULL, NULL);
-  int *owner = malloc(sizeof(int) * ngp), *gmap = malloc(sizeof(int) * (size_t)ngn);
-  int *ogid = malloc(sizeof(int) * (size_t)(nobs + 1));
-  double *xg = malloc(sizeof(double) * 2 * ngp), *xp = NULL,
-         *Xo = malloc(sizeof(double) * 2 * (nobs + 1));
-  unsigned char *ofix = calloc((size_t)ngn, 1);
+/* What the setup works with. */
+typedef struct build {
+  mpgm_grid g;
+  mpgm_fill f;        /* the bodies' Gauss points                         */
+  int *gmap;          /* per grid node: -1 not a node; else its node      */
+  unsigned char *ofix;/* per grid node: a body node on an obstacle layer   */
+  int nobs;           /* obstacle layer nodes                             */
+  int *ogid;          /* their grid nodes (-1: off the grid, -2: a body node) */
+  double *Xo;         /* their positions, 2 each                          */
+  int nbody_nodes;    /* nodes at grid nodes                              */
+} build;
+
+static void build_free(build *b) {
+  mpgm_fill_free(&b->f);
+  free(b->gmap);
+  free(b->ofix);
+  free(b->ogid);
+  free(b->Xo);
+}
+
+/* 1 when cell c holds a material point. */
+static int holds_points(const build *b, int c) {
+  for (int q = 0; q < b->f.ppc; q++)
+    if (b->f.owner[(size_t)c * b->f.ppc + q] >= 0) return 1;
+  return 0;
+}
+
+/* The body nodes: the grid nodes of the cells holding points that some
+ * material point has within r0 (gmap 1; others -1). */
+static int body_nodes(mpgm_ctx *ctx, build *b, double r0) {
+  const mpgm_grid *g = &b->g;
+  double *xp = malloc(sizeof(double) * 2 * (size_t)b->f.count);
+  MPGM_CHECK(ctx, xp, MPGM_ERR_NOMEM, "out of memory (%d points)", b->f.count);
+  for (size_t k = 0, p = 0; k < b->f.ngauss; k++)
+    if (b->f.owner[k] >= 0) {
+      xp[2 * p] = b->f.x[2 * k];
+      xp[2 * p + 1] = b->f.x[2 * k + 1];
+      p++;
+    }
   mpgm_kdtree *tree = NULL;
-  int err = owner && gmap && xg && ogid && Xo && ofix ? 0 : MPGM_ERR_NOMEM, np = 0;
-  if (err) mpgm_err_set(ctx, err, __FILE__, __LINE__, "out of memory (grid of %d cells)", ncell);
-  if (!err) err = mpgm_bodies_fill(s, g.cell, ncell, gg_cell_xy, &g, owner, xg, &np);
-  if (!err && np == 0)
-    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
-                       "%s: bodies: no grid Gauss point lies inside any body (h = %g, ppc = %d): "
-                       "expected bodies larger than a grid cell",
-                       s->file, s->h, s->ppc);
-  /* the material points, compacted, for the reach test */
-  if (!err && !(xp = malloc(sizeof(double) * 2 * (size_t)np))) err = MPGM_ERR_NOMEM;
-  for (size_t k = 0, p = 0; !err && k < ngp; k++)
-    if (owner[k] >= 0) {
-      xp[2 * p] = xg[2 * k];
-      xp[2 * p + 1] = xg[2 * k + 1];
-      p++;
-    }
-  if (!err) err = mpgm_kdtree_create(ctx, xp, np, 0, &tree);
-  /* candidate nodes: the nodes of the cells holding points (gmap 0); kept
-   * when a material point lies within r0 (gmap 1) */
-  if (!err) {
-    for (int i = 0; i < ngn; i++) gmap[i] = -1;
-    for (int c = 0; c < ncell; c++) {
-      int has = 0, nodes[MPGM_FE_MAXNODE];
-      for (int q = 0; q < s->ppc; q++) has |= owner[(size_t)c * s->ppc + q] >= 0;
-      if (!has) continue;
-      gg_nodes(&g, c, nodes);
-      for (int a = 0; a < g.nn; a++) gmap[nodes[a]] = 0;
-    }
-    for (int i = 0; i < ngn; i++) {
-      if (gmap[i] < 0) continue;
-      double X[2], d2;
-      int nb;
-      gg_node_x(&g, i, X);
-      gmap[i] = mpgm_kdtree_knn(tree, X, 1, &nb, &d2) == 1 && d2 <= r0 * r0 ? 1 : -1;
-    }
+  const int err = mpgm_kdtree_create(ctx, xp, b->f.count, 0, &tree);
+  for (int i = 0; i < g->nnode; i++) b->gmap[i] = -1;
+  for (int c = 0; c < g->ncell && !err; c++) {
+    if (!holds_points(b, c)) continue;
+    int nodes[MPGM_FE_MAXNODE];
+    mpgm_grid_cell(g, c, nodes, NULL);
+    for (int a = 0; a < g->nn; a++) b->gmap[nodes[a]] = 0;
   }
-  /* obstacle nodes; those on a kept body node are that node, fixed */
-  int nbody_nodes = 0, nnew = 0;
-  if (!err) {
-    for (int i = 0; i < ngn; i++) nbody_nodes += gmap[i] > 0;
-    int k = 0;
-    for (int o = 0; o < s->nobstacle; o++) k += obstacle_nodes(s, &g, o, Xo + 2 * k, ogid + k);
-    for (int k2 = 0; k2 < nobs; k2++) {
-      if (ogid[k2] >= 0 && gmap[ogid[k2]] > 0) {
-        ofix[ogid[k2]] = 1;
-        ogid[k2] = -2; /* merged */
-      } else {
-        nnew++;
-      }
-    }
-  }
-  const int nnode = nbody_nodes + nnew;
-  if (!err) err = mpgm_nodes_alloc(ctx, v->nodes, nnode);
-  int nstate = 0;
-  for (int i = 0; i < s->nmat; i++)
-    if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
-  /* contact at points: tracers on the bodies' boundaries, after the probes */
-  const int nsurf = v->fx->contact_points ? mpgm_surface_tracers_count(s) : 0;
-  if (!err) err = mpgm_points_alloc(ctx, v->pts, np, s->nprobe, nsurf, nstate);
-  if (!err) {
-    mpgm_nodes *nd = v->nodes;
-    mpgm_points *P = v->pts;
-    int n = 0;
-    for (int i = 0; i < ngn; i++) {
-      if (gmap[i] <= 0) continue;
-      gmap[i] = n;
-      gg_node_x(&g, i, nd->X + 2 * n);
-      nd->fix[2 * n] = nd->fix[2 * n + 1] = ofix[i];
-      n++;
-    }
-    for (int k = 0; k < nobs; k++) {
-      if (ogid[k] == -2) continue;
-      nd->X[2 * n] = Xo[2 * k];
-      nd->X[2 * n + 1] = Xo[2 * k + 1];
-      nd->fix[2 * n] = nd->fix[2 * n + 1] = 1;
-      n++;
-    }
-    memcpy(nd->x, nd->X, sizeof(double) * 2 * (size_t)nnode);
-    /* points (volume: cell area x Gauss weight / reference area, as mpm),
-     * and the initial velocity of the nodes of their cells */
-    double gxi[18], gw[9];
-    mpgm_fe_gauss(g.cell, s->ppc, gxi, gw);
-    const double ref_area = g.per == 1 ? 4.0 : 0.5, cell_area = g.h * g.h / g.per;
-    int p = 0;
-    for (size_t k = 0; k < ngp; k++) {
-      const int b = owner[k];
-      if (b < 0) continue;
-      const int q = (int)(k % (size_t)s->ppc), c = (int)(k / (size_t)s->ppc);
-      const mpgm_scene_body *bd = &s->bodies[b];
-      mpgm_point_set(P, p, s, b, xg[2 * k], xg[2 * k + 1], cell_area * gw[q] / ref_area);
-      int nodes[MPGM_FE_MAXNODE];
-      gg_nodes(&g, c, nodes);
-      for (int a = 0; a < g.nn; a++) {
-        const int I = gmap[nodes[a]];
-        if (I < 0 || ofix[nodes[a]]) continue;
-        nd->v[2 * I] = bd->velocity[0];
-        nd->v[2 * I + 1] = bd->velocity[1];
-      }
-      p++;
-    }
-    for (int k = 0; k < s->nprobe; k++, p++) {
-      P->x[2 * p] = P->x0[2 * p] = s->probes[k].x[0];
-      P->x[2 * p + 1] = P->x0[2 * p + 1] = s->probes[k].x[1];
-    }
-    mpgm_surface_tracers_fill(P, s);
-    /* output cells: the cells holding points whose nodes are all kept */
-    int nc = 0;
-    err = (gd->cptr = malloc(sizeof(int) * (size_t)(ncell + 1))) &&
-                  (gd->cnode = malloc(sizeof(int) * (size_t)ncell * g.nn)) &&
-                  (gd->ctype = malloc(sizeof(int) * (size_t)ncell))
-              ? 0
-              : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory (cells)");
-    for (int c = 0; c < ncell && !err; c++) {
-      int has = 0, all = 1, nodes[MPGM_FE_MAXNODE];
-      for (int q = 0; q < s->ppc; q++) has |= owner[(size_t)c * s->ppc + q] >= 0;
-      gg_nodes(&g, c, nodes);
-      for (int a = 0; a < g.nn; a++) all &= gmap[nodes[a]] >= 0;
-      if (!has || !all) continue;
-      gd->cptr[nc] = nc * g.nn;
-      for (int a = 0; a < g.nn; a++) gd->cnode[nc * g.nn + a] = gmap[nodes[a]];
-      gd->ctype[nc] = g.per == 1 ? 9 : 5; /* VTK_QUAD, VTK_TRIANGLE */
-      nc++;
-    }
-    if (!err) {
-      gd->cptr[nc] = nc * g.nn;
-      gd->ncell = nc;
-    }
-    /* boundaries: nodes selected by a geometric predicate */
-    if (!err) err = mpgm_nodes_apply_boundaries(ctx, s, nd);
-  }
-  if (!err) {
-    const int n = v->nodes->n;
-    gd->fix0 = malloc(2 * (size_t)n);
-    gd->ubar0 = malloc(sizeof(double) * 2 * (size_t)n);
-    gd->parked = calloc((size_t)n, 1);
-    gd->xs = malloc(sizeof(double) * 2 * (size_t)n);
-    gd->us = malloc(sizeof(double) * 2 * (size_t)n);
-    gd->mass = malloc(sizeof(double) * (size_t)n);
-    gd->obst = calloc((size_t)n, 1);
-    gd->wptr = malloc(sizeof(int) * (size_t)(n + 1));
-    if (gd->fix0 && gd->ubar0 && gd->parked && gd->xs && gd->us && gd->mass && gd->obst &&
-        gd->wptr) {
-      for (int i = nbody_nodes; i < n; i++) gd->obst[i] = 1;
-      for (int i = 0; i < ngn; i++)
-        if (gmap[i] >= 0 && ofix[i]) gd->obst[gmap[i]] = 1;
-      memcpy(gd->fix0, v->nodes->fix, 2 * (size_t)n);
-      memcpy(gd->ubar0, v->nodes->ubar, sizeof(double) * 2 * (size_t)n);
-    } else {
-      err = MPGM_ERR_NOMEM;
-    }
+  for (int i = 0; i < g->nnode && !err; i++) {
+    if (b->gmap[i] < 0) continue;
+    double X[2], d2;
+    int nb;
+    mpgm_grid_node(g, i, X);
+    b->gmap[i] = mpgm_kdtree_knn(tree, X, 1, &nb, &d2) == 1 && d2 <= r0 * r0 ? 1 : -1;
   }
   mpgm_kdtree_destroy(&tree);
-  free(owner);
-  free(gmap);
-  free(ogid);
-  free(xg);
   free(xp);
-  free(Xo);
-  free(ofix);
-  if (err == MPGM_ERR_NOMEM && !ctx->code)
-    mpgm_err_set(ctx, err, __FILE__, __LINE__, "out of memory (grid-filled bodies)");
+  return err;
+}
+
+/* The obstacles' node layers; a layer node on a body node is that node,
+ * fixed (ofix). Returns the nodes to add in *nnew. */
+static int obstacles(mpgm_ctx *ctx, const mpgm_scene *s, build *b, int *nnew) {
+  const mpgm_grid *g = &b->g;
+  for (int o = 0; o < s->nobstacle; o++) b->nobs += obstacle_nodes(s, g, o, NULL, NULL);
+  b->ogid = malloc(sizeof(int) * (size_t)(b->nobs + 1));
+  b->Xo = malloc(sizeof(double) * 2 * (size_t)(b->nobs + 1));
+  MPGM_CHECK(ctx, b->ogid && b->Xo, MPGM_ERR_NOMEM, "out of memory (obstacle nodes)");
+  for (int o = 0, k = 0; o < s->nobstacle; o++) k += obstacle_nodes(s, g, o, b->Xo + 2 * k, b->ogid + k);
+  *nnew = 0;
+  for (int k = 0; k < b->nobs; k++) {
+    if (b->ogid[k] >= 0 && b->gmap[b->ogid[k]] > 0) {
+      b->ofix[b->ogid[k]] = 1;
+      b->ogid[k] = -2; /* merged */
+    } else {
+      (*nnew)++;
+    }
+  }
+  return 0;
+}
+
+/* Number the nodes: the body nodes in grid order, then the obstacles' new
+ * ones (fixed). */
+static void make_nodes(build *b, mpgm_nodes *nd) {
+  const mpgm_grid *g = &b->g;
+  int n = 0;
+  for (int i = 0; i < g->nnode; i++) {
+    if (b->gmap[i] <= 0) continue;
+    b->gmap[i] = n;
+    mpgm_grid_node(g, i, nd->X + 2 * n);
+    nd->fix[2 * n] = nd->fix[2 * n + 1] = b->ofix[i];
+    n++;
+  }
+  for (int k = 0; k < b->nobs; k++) {
+    if (b->ogid[k] == -2) continue;
+    nd->X[2 * n] = b->Xo[2 * k];
+    nd->X[2 * n + 1] = b->Xo[2 * k + 1];
+    nd->fix[2 * n] = nd->fix[2 * n + 1] = 1;
+    n++;
+  }
+  memcpy(nd->x, nd->X, sizeof(double) * 2 * (size_t)nd->n);
+}
+
+/* The material points (mpm's), probes and surface tracers; the free nodes
+ * of a cell holding points take its body's initial velocity. */
+static int make_points(const mpgm_fe_view *v, build *b) {
+  const mpgm_scene *s = v->scene;
+  const mpgm_grid *g = &b->g;
+  const int nsurf = v->fx->contact_points ? mpgm_surface_tracers_count(s) : 0;
+  MPGM_CALL(mpgm_points_alloc(v->ctx, v->pts, b->f.count, s->nprobe, nsurf, mpgm_scene_nstate(s)));
+  mpgm_fill_points(&b->f, s, v->pts);
+  mpgm_nodes *nd = v->nodes;
+  for (size_t k = 0; k < b->f.ngauss; k++) {
+    const int bd = b->f.owner[k];
+    if (bd < 0) continue;
+    int nodes[MPGM_FE_MAXNODE];
+    mpgm_grid_cell(g, (int)(k / (size_t)b->f.ppc), nodes, NULL);
+    for (int a = 0; a < g->nn; a++) {
+      const int I = b->gmap[nodes[a]];
+      if (I < 0 || b->ofix[nodes[a]]) continue;
+      nd->v[2 * I] = s->bodies[bd].velocity[0];
+      nd->v[2 * I + 1] = s->bodies[bd].velocity[1];
+    }
+  }
+  mpgm_probes_place(v->pts, s);
+  mpgm_surface_tracers_fill(v->pts, s);
+  return 0;
+}
+
+/* Output cells: the cells holding points whose nodes are all kept. */
+static int make_cells(mpgm_ctx *ctx, const build *b, gmm_grid *gd) {
+  const mpgm_grid *g = &b->g;
+  gd->cptr = malloc(sizeof(int) * (size_t)(g->ncell + 1));
+  gd->cnode = malloc(sizeof(int) * (size_t)g->ncell * g->nn);
+  gd->ctype = malloc(sizeof(int) * (size_t)g->ncell);
+  MPGM_CHECK(ctx, gd->cptr && gd->cnode && gd->ctype, MPGM_ERR_NOMEM, "out of memory (cells)");
+  int nc = 0;
+  for (int c = 0; c < g->ncell; c++) {
+    int all = 1, nodes[MPGM_FE_MAXNODE];
+    mpgm_grid_cell(g, c, nodes, NULL);
+    for (int a = 0; a < g->nn; a++) all &= b->gmap[nodes[a]] >= 0;
+    if (!holds_points(b, c) || !all) continue;
+    gd->cptr[nc] = nc * g->nn;
+    for (int a = 0; a < g->nn; a++) gd->cnode[nc * g->nn + a] = b->gmap[nodes[a]];
+    gd->ctype[nc] = g->cell == MPGM_CELL_Q4 ? 9 : 5; /* VTK_QUAD, VTK_TRIANGLE */
+    nc++;
+  }
+  gd->cptr[nc] = nc * g->nn;
+  gd->ncell = nc;
+  return 0;
+}
+
+/* The arrays of the light-node rule, and which nodes are the obstacles'. */
+static int park_arrays(mpgm_ctx *ctx, const build *b, const mpgm_nodes *nd, gmm_grid *gd) {
+  const int n = nd->n;
+  gd->fix0 = malloc(2 * (size_t)n);
+  gd->ubar0 = malloc(sizeof(double) * 2 * (size_t)n);
+  gd->parked = calloc((size_t)n, 1);
+  gd->xs = malloc(sizeof(double) * 2 * (size_t)n);
+  gd->us = malloc(sizeof(double) * 2 * (size_t)n);
+  gd->mass = malloc(sizeof(double) * (size_t)n);
+  gd->obst = calloc((size_t)n, 1);
+  gd->wptr = malloc(sizeof(int) * (size_t)(n + 1));
+  MPGM_CHECK(ctx, gd->fix0 && gd->ubar0 && gd->parked && gd->xs && gd->us && gd->mass && gd->obst &&
+                      gd->wptr, MPGM_ERR_NOMEM, "out of memory (grid-filled bodies)");
+  for (int i = b->nbody_nodes; i < n; i++) gd->obst[i] = 1;
+  for (int i = 0; i < b->g.nnode; i++)
+    if (b->gmap[i] >= 0 && b->ofix[i]) gd->obst[b->gmap[i]] = 1;
+  memcpy(gd->fix0, nd->fix, 2 * (size_t)n);
+  memcpy(gd->ubar0, nd->ubar, sizeof(double) * 2 * (size_t)n);
+  return 0;
+}
+
+static int setup(const mpgm_fe_view *v, double r0, build *b, gmm_grid *gd) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_scene *s = v->scene;
+  MPGM_CALL(mpgm_grid_init(ctx, &b->g, s));
+  MPGM_CALL(mpgm_grid_fill(ctx, &b->g, s, &b->f));
+  b->gmap = malloc(sizeof(int) * (size_t)b->g.nnode);
+  b->ofix = calloc((size_t)b->g.nnode, 1);
+  MPGM_CHECK(ctx, b->gmap && b->ofix, MPGM_ERR_NOMEM, "out of memory (grid of %d nodes)", b->g.nnode);
+  MPGM_CALL(body_nodes(ctx, b, r0));
+  for (int i = 0; i < b->g.nnode; i++) b->nbody_nodes += b->gmap[i] > 0;
+  int nnew = 0;
+  MPGM_CALL(obstacles(ctx, s, b, &nnew));
+  MPGM_CALL(mpgm_nodes_alloc(ctx, v->nodes, b->nbody_nodes + nnew));
+  make_nodes(b, v->nodes);
+  MPGM_CALL(make_points(v, b));
+  MPGM_CALL(make_cells(ctx, b, gd));
+  /* boundaries: nodes selected by a geometric predicate */
+  MPGM_CALL(mpgm_nodes_apply_boundaries(ctx, s, v->nodes));
+  return park_arrays(ctx, b, v->nodes, gd);
+}
+
+int mpgm_gmm_grid_setup(const mpgm_fe_view *v, double r0, gmm_grid **out) {
+  gmm_grid *gd;
+  MPGM_ALLOC(v->ctx, gd, 1);
+  *out = gd;
+  build b = {0};
+  const int err = setup(v, r0, &b, gd);
+  build_free(&b);
   return err;
 }
 

@@ -63,44 +63,21 @@ static void mpm_destroy(void *self) {
   free(d);
 }
 
-/* Grid cell coordinates for mpgm_bodies_fill. */
-static void grid_cell_xy(const void *grid, int c, double *xn) {
-  int nodes[MPGM_FE_MAXNODE];
-  mpgm_grid_cell(grid, c, nodes, xn);
-}
-
 /* Particles of every body at the Gauss points of the cells that lie in it
- * (count only when P is NULL). The first body containing a point owns it
- * (mpgm_bodies_fill: the rule method gmm shares for its grid-filled
- * bodies). */
-static int fill_bodies(const mpgm_fe_view *v, mpm_data *d, mpgm_points *P, int *count) {
-  mpgm_ctx *ctx = v->ctx;
+ * (mpgm_grid_fill: the rule GMM shares for its grid-filled bodies; the
+ * first body containing a point owns it), the probes, and the tracers on
+ * the bodies' boundaries of contact at points (after the probes). */
+static int make_points(const mpgm_fe_view *v, const mpgm_grid *g) {
   const mpgm_scene *s = v->scene;
-  const mpgm_grid *g = &d->g;
-  double gxi[18], gw[9];
-  MPGM_CALL(mpgm_fe_gauss(g->cell, s->ppc, gxi, gw));
-  const double ref_area = g->cell == MPGM_CELL_Q4 ? 4.0 : 0.5;
-  const double cell_area = g->h * g->h / (g->cell == MPGM_CELL_Q4 ? 1.0 : 2.0);
-  const size_t ng = (size_t)g->ncell * (size_t)s->ppc;
-  int *owner = malloc(sizeof(int) * ng);
-  double *xg = P ? malloc(sizeof(double) * 2 * ng) : NULL;
-  if (!owner || (P && !xg)) {
-    free(owner);
-    free(xg);
-    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (%zu grid Gauss points)", ng);
-  }
-  const int err = mpgm_bodies_fill(s, g->cell, g->ncell, grid_cell_xy, g, owner, xg, count);
-  int p = 0;
-  for (size_t k = 0; k < ng && P && !err; k++) {
-    const int b = owner[k];
-    if (b < 0) continue;
-    const int q = (int)(k % (size_t)s->ppc);
-    mpgm_point_set(P, p, s, b, xg[2 * k], xg[2 * k + 1], cell_area * gw[q] / ref_area);
-    p++;
-  }
-  free(owner);
-  free(xg);
-  MPGM_CHECK(ctx, !err, err, "%s: mesh.ppc: no Gauss rule of %d points", s->file, s->ppc);
+  mpgm_fill f;
+  int err = mpgm_grid_fill(v->ctx, g, s, &f);
+  const int nsurf = v->fx->contact_points ? mpgm_surface_tracers_count(s) : 0;
+  if (!err) err = mpgm_points_alloc(v->ctx, v->pts, f.count, s->nprobe, nsurf, mpgm_scene_nstate(s));
+  if (!err) mpgm_fill_points(&f, s, v->pts);
+  mpgm_fill_free(&f);
+  MPGM_CALL(err);
+  mpgm_probes_place(v->pts, s);
+  mpgm_surface_tracers_fill(v->pts, s);
   return 0;
 }
 
@@ -112,24 +89,8 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
   *self = d;
   MPGM_CALL(mpgm_grid_init(ctx, &d->g, s));
   const mpgm_grid *g = &d->g;
-  int np = 0;
-  MPGM_CALL(fill_bodies(v, d, NULL, &np));
-  MPGM_CHECK(ctx, np > 0, MPGM_ERR_INPUT,
-             "%s: bodies: no grid Gauss point lies inside any body (h = %g, ppc = %d): expected "
-             "bodies larger than a grid cell", s->file, g->h, s->ppc);
-  int nstate = 0;
-  for (int i = 0; i < s->nmat; i++)
-    if (s->mats[i].type->nstate > nstate) nstate = s->mats[i].type->nstate;
-  /* contact at points: tracers on the bodies' boundaries, after the probes */
-  const int nsurf = v->fx->contact_points ? mpgm_surface_tracers_count(s) : 0;
-  MPGM_CALL(mpgm_points_alloc(ctx, v->pts, np, s->nprobe, nsurf, nstate));
-  MPGM_CALL(fill_bodies(v, d, v->pts, &np));
-  for (int k = 0; k < s->nprobe; k++) {
-    const int p = np + k;
-    v->pts->x[2 * p] = v->pts->x0[2 * p] = s->probes[k].x[0];
-    v->pts->x[2 * p + 1] = v->pts->x0[2 * p + 1] = s->probes[k].x[1];
-  }
-  mpgm_surface_tracers_fill(v->pts, s);
+  MPGM_CALL(make_points(v, g));
+  const int np = v->pts->n, nsurf = v->pts->nsurf;
   /* nodes: room for the whole grid; the step uses those of active cells */
   MPGM_CALL(mpgm_nodes_alloc(ctx, v->nodes, g->nnode));
   v->nodes->n = 0;
