@@ -454,9 +454,13 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
     const int k0 = C->ptr[p], k1 = C->ptr[p + 1];
     C->ptr[p] = w;
     double S = 0, Sx = 0, Sy = 0;
+    int lost = 0;
     for (int kk = k0; kk < k1; kk++) {
       const int id = d->gmap[C->node[kk]];
-      if (id < 0) continue;
+      if (id < 0) {
+        lost = 1;
+        continue;
+      }
       S += C->N[kk]; Sx += C->dN[2 * kk]; Sy += C->dN[2 * kk + 1];
     }
     /* Shepard renormalisation over the kept nodes: sum N = 1 and
@@ -475,9 +479,11 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
       if (id < 0) continue;
       const double Nk = C->N[kk], gx = C->dN[2 * kk], gy = C->dN[2 * kk + 1];
       C->node[w] = id;
-      C->N[w] = Nk / S;
-      C->dN[2 * w] = gx / S - Nk * Sx / (S * S);
-      C->dN[2 * w + 1] = gy / S - Nk * Sy / (S * S);
+      /* only a point that lost a node is renormalised: the others keep
+       * their functions as evaluated (as GMM's light-node rule does) */
+      C->N[w] = lost ? Nk / S : Nk;
+      C->dN[2 * w] = lost ? gx / S - Nk * Sx / (S * S) : gx;
+      C->dN[2 * w + 1] = lost ? gy / S - Nk * Sy / (S * S) : gy;
       w++;
     }
   }
