@@ -243,7 +243,7 @@ int mpgm_conn_reserve(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnz) {
   return 0;
 }
 
-void mpgm_conn_free(mpgm_conn *c) {
+void mpgm_conn_release(mpgm_conn *c) {
   free(c->ptr);
   free(c->node);
   free(c->N);

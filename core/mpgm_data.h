@@ -129,6 +129,8 @@ int mpgm_conn_reserve(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnz);
  *  node, N and dN (a front end filling lists of unknown length); grows
  *  geometrically. */
 int mpgm_conn_grow(mpgm_ctx *ctx, mpgm_conn *c, int keep, int nnz);
+/** Release the arrays of a connectivity and zero it. */
+void mpgm_conn_release(mpgm_conn *c);
 #ifdef __cplusplus
 }
 #endif

@@ -129,7 +129,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   if (pb->fe && pb->fe->destroy) pb->fe->destroy(pb->fe_data);
   mpgm_points_free(&pb->pts);
   mpgm_nodes_free(&pb->nodes);
-  mpgm_conn_free(&pb->conn);
+  mpgm_conn_release(&pb->conn);
   void *arr[] = {pb->K.colptr, pb->K.rowind, pb->K.val, pb->scatter, pb->scatter_ptr, pb->order,
                  pb->grp_ptr, pb->nbr, pb->nbr_ptr, pb->nbr_off, pb->node_order, pb->perm,
                  pb->kloc, pb->kbatch, pb->kslot, pb->task_grp, pb->task_pts, pb->R, pb->fext,

@@ -79,6 +79,25 @@ int mpgm_scene_nstate(const mpgm_scene *s);
  *  nprobe - 1). */
 void mpgm_probes_place(mpgm_points *P, const mpgm_scene *s);
 
+/** The light-node rule, 1: the mass m_I = sum_p N_Ip m_p of each of the
+ *  nnode nodes from the functions c of the np material points (masses
+ *  pmass) into mass; among the nodes eligible (NULL: all) a node is light
+ *  when m_I <= min_node_mass max_J m_J, or when light[I] is set on entry (a
+ *  node the front end wants out, e.g. beyond an obstacle); light[I] = 0
+ *  for the others. Returns the light nodes. */
+int mpgm_light_nodes(const mpgm_conn *c, int np, const double *pmass, int nnode,
+                     const unsigned char *eligible, double min_node_mass, double *mass,
+                     unsigned char *light);
+/** The light-node rule, 2: the light nodes dropped from the lists of the m
+ *  points of c (compacted in place), and the functions of every point that
+ *  lost one renormalised over its other nodes (Shepard: sum N = 1 and
+ *  sum grad N = 0 still hold, so rigid motions cause no strain). A surface
+ *  point (after the probes) not enforced in this step (cp) keeps no
+ *  functions; one that lost every node is not enforced. Errors:
+ *  MPGM_ERR_SHAPE (recoverable) when another point lost every node. */
+int mpgm_light_drop(mpgm_ctx *ctx, mpgm_conn *c, int m, const unsigned char *light,
+                    const mpgm_points *P, mpgm_cpoints *cp, long step, double min_node_mass);
+
 /** FE cells of a problem (the mesh of UL-FEM, of GMM for rectangle
  *  bodies): the cells and every point's cell and local coordinates. */
 typedef struct mpgm_fem_cells mpgm_fem_cells;

@@ -63,9 +63,7 @@ typedef struct gmm_data {
   int *cptr;             /**< clouds of the search: CSR over the points       */
   int *cidx;
   int ccap;
-  int *optr, *onode; /**< the step's connectivity before it is copied     */
-  double *oN, *odN;
-  int ocap;
+  mpgm_conn out;          /**< the step's connectivity before it is copied    */
 } gmm_data;
 
 static void gmm_destroy(void *self) {
@@ -79,10 +77,7 @@ static void gmm_destroy(void *self) {
   free(d->rad);
   free(d->cptr);
   free(d->cidx);
-  free(d->optr);
-  free(d->onode);
-  free(d->oN);
-  free(d->odN);
+  mpgm_conn_release(&d->out);
   free(d);
 }
 
@@ -116,7 +111,7 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
   MPGM_ALLOC(ctx, d->lambda, 2 * (size_t)m);
   MPGM_ALLOC(ctx, d->rad, m);
   MPGM_ALLOC(ctx, d->cptr, m + 1);
-  MPGM_ALLOC(ctx, d->optr, m + 1);
+  MPGM_CALL(mpgm_conn_reserve(ctx, &d->out, m, 0));
   MPGM_CALL(mpgm_kdtree_create(ctx, v->nodes->x, v->nodes->n, 0, &d->tree));
   return 0;
 }
@@ -134,20 +129,6 @@ static int grow_int(mpgm_ctx *ctx, int **a, size_t need, size_t *cap) {
   return 0;
 }
 
-static int grow_out(mpgm_ctx *ctx, gmm_data *d, int need) {
-  if (need <= d->ocap) return 0;
-  int nc = d->ocap ? d->ocap : 1024;
-  while (nc < need) nc *= 2;
-  int *nn = realloc(d->onode, (size_t)nc * sizeof *nn);
-  if (nn) d->onode = nn;
-  double *N = realloc(d->oN, (size_t)nc * sizeof *N);
-  if (N) d->oN = N;
-  double *dN = realloc(d->odN, 2 * (size_t)nc * sizeof *dN);
-  if (dN) d->odN = dN;
-  MPGM_CHECK(ctx, nn && N && dN, MPGM_ERR_NOMEM, "out of memory (connectivity of %d entries)", nc);
-  d->ocap = nc;
-  return 0;
-}
 
 /* Drop the merged nodes from a search result of n (of which min(n, cap)
  * are in idx, d2); returns the new count. */
@@ -345,13 +326,13 @@ static int shape_point(const mpgm_fe_view *v, gmm_data *d, int p, int *k, double
                v->step + 1, s->shape->name, s->probes[p - P->n].name, x[0], x[1], enl, n, r,
                info.msg ? info.msg : "?");
   }
-  MPGM_CALL(grow_out(ctx, d, *k + n));
+  MPGM_CALL(mpgm_conn_grow(ctx, &d->out, *k, *k + n));
   for (int a = 0; a < n; a++) {
     if (N[a] == 0.0 && dN[2 * a] == 0.0 && dN[2 * a + 1] == 0.0) continue; /* outside the support */
-    d->onode[*k] = idx[a];
-    d->oN[*k] = N[a];
-    d->odN[2 * *k] = dN[2 * a];
-    d->odN[2 * *k + 1] = dN[2 * a + 1];
+    d->out.node[*k] = idx[a];
+    d->out.N[*k] = N[a];
+    d->out.dN[2 * *k] = dN[2 * a];
+    d->out.dN[2 * *k + 1] = dN[2 * a + 1];
     (*k)++;
   }
   return 0;
@@ -368,33 +349,33 @@ static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(search_clouds(v, d));
   double ts = mpgm_wtime() - t0;
   /* room for every cloud of the search (enlargements may add more) */
-  MPGM_CALL(grow_out(ctx, d, d->cptr[m]));
+  MPGM_CALL(mpgm_conn_grow(ctx, &d->out, 0, d->cptr[m]));
   if (v->pts->nsurf) mpgm_cpoints_enforce_all(v->cp);
   int k = 0;
   for (int p = 0; p < m; p++) {
-    d->optr[p] = k;
+    d->out.ptr[p] = k;
     const int err = shape_point(v, d, p, &k, &ts);
     if (err) {
       mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
       return err;
     }
   }
-  d->optr[m] = k;
+  d->out.ptr[m] = k;
   mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
   /* grid-filled bodies: nodes with little mass are parked for the step */
   if (d->grid) {
-    MPGM_CALL(mpgm_gmm_grid_park(v, d->grid, d->tree, d->r0, m, d->optr, d->onode, d->oN, d->odN));
-    k = d->optr[m];
+    MPGM_CALL(mpgm_gmm_grid_park(v, d->grid, d->tree, d->r0, &d->out));
+    k = d->out.ptr[m];
   }
   /* a new pattern only when some point's node list changed */
   int same = C->np == m && C->ptr[m] == k;
-  for (int p = 0; same && p <= m; p++) same = C->ptr[p] == d->optr[p];
-  if (same) same = memcmp(C->node, d->onode, sizeof(int) * (size_t)k) == 0;
+  for (int p = 0; same && p <= m; p++) same = C->ptr[p] == d->out.ptr[p];
+  if (same) same = memcmp(C->node, d->out.node, sizeof(int) * (size_t)k) == 0;
   MPGM_CALL(mpgm_conn_reserve(ctx, C, m, k));
-  memcpy(C->ptr, d->optr, sizeof(int) * (size_t)(m + 1));
-  memcpy(C->node, d->onode, sizeof(int) * (size_t)k);
-  memcpy(C->N, d->oN, sizeof(double) * (size_t)k);
-  memcpy(C->dN, d->odN, 2 * sizeof(double) * (size_t)k);
+  memcpy(C->ptr, d->out.ptr, sizeof(int) * (size_t)(m + 1));
+  memcpy(C->node, d->out.node, sizeof(int) * (size_t)k);
+  memcpy(C->N, d->out.N, sizeof(double) * (size_t)k);
+  memcpy(C->dN, d->out.dN, 2 * sizeof(double) * (size_t)k);
   if (!same) C->version++;
   return 0;
 }

@@ -24,7 +24,7 @@ void mpgm_gmm_grid_destroy(gmm_grid **gp) {
   if (!gp || !*gp) return;
   gmm_grid *g = *gp;
   void *arr[] = {g->cptr, g->cnode, g->ctype, g->fix0, g->ubar0, g->parked, g->xs,
-                 g->us,   g->mass,  g->obst,  g->wptr, g->widx,  g->ww};
+                 g->us,   g->mass,  g->obst,  g->wptr, g->widx,  g->ww,    g->eligible};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   free(g);
   *gp = NULL;
@@ -222,13 +222,16 @@ static int park_arrays(mpgm_ctx *ctx, const build *b, const mpgm_nodes *nd, gmm_
   gd->mass = malloc(sizeof(double) * (size_t)n);
   gd->obst = calloc((size_t)n, 1);
   gd->wptr = malloc(sizeof(int) * (size_t)(n + 1));
+  gd->eligible = malloc((size_t)n + 1);
   MPGM_CHECK(ctx, gd->fix0 && gd->ubar0 && gd->parked && gd->xs && gd->us && gd->mass && gd->obst &&
-                      gd->wptr, MPGM_ERR_NOMEM, "out of memory (grid-filled bodies)");
+                      gd->wptr && gd->eligible, MPGM_ERR_NOMEM, "out of memory (grid-filled bodies)");
   for (int i = b->nbody_nodes; i < n; i++) gd->obst[i] = 1;
   for (int i = 0; i < b->g.nnode; i++)
     if (b->gmap[i] >= 0 && b->ofix[i]) gd->obst[b->gmap[i]] = 1;
   memcpy(gd->fix0, nd->fix, 2 * (size_t)n);
   memcpy(gd->ubar0, nd->ubar, sizeof(double) * 2 * (size_t)n);
+  /* only free nodes may be parked (the light-node rule) */
+  for (int i = 0; i < n; i++) gd->eligible[i] = !gd->fix0[2 * i] && !gd->fix0[2 * i + 1];
   return 0;
 }
 
@@ -263,46 +266,11 @@ int mpgm_gmm_grid_setup(const mpgm_fe_view *v, double r0, gmm_grid **out) {
   return err;
 }
 
-int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tree, double r0, int m,
-                       int *ptr, int *node, double *N, double *dN) {
-  mpgm_ctx *ctx = v->ctx;
-  const mpgm_scene *s = v->scene;
-  const mpgm_points *P = v->pts;
-  mpgm_nodes *nd = v->nodes;
+/* The free body nodes each parked node follows: within r0 (grown x1.25
+ * until there is one), inverse-distance weights. */
+static int follow_weights(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_nodes *nd, gmm_grid *g,
+                          const mpgm_kdtree *tree, double r0) {
   const int n = nd->n;
-  memcpy(nd->fix, g->fix0, 2 * (size_t)n);
-  memcpy(nd->ubar, g->ubar0, sizeof(double) * 2 * (size_t)n);
-  memset(g->parked, 0, (size_t)n);
-  g->nparked = 0;
-  for (int i = 0; i < n; i++) g->mass[i] = 0.0;
-  for (int p = 0; p < P->n; p++)
-    for (int k = ptr[p]; k < ptr[p + 1]; k++) g->mass[node[k]] += N[k] * P->mass[p];
-  double mmax = 0.0;
-  for (int i = 0; i < n; i++) mmax = fmax(mmax, g->mass[i]);
-  const double cut = s->min_node_mass * mmax;
-  /* the load factor of the step (as the core sets it): a parked node is
-   * held where it is, lambda ubar = u */
-  const double lam = v->lambda;
-  for (int i = 0; i < n; i++) {
-    if (g->fix0[2 * i] || g->fix0[2 * i + 1]) continue;
-    int beyond = 0; /* a body node that moved into an obstacle */
-    for (int o = 0; o < s->nobstacle; o++) {
-      const mpgm_scene_obstacle *ob = &s->obstacles[o];
-      beyond |= ob->side * (nd->x[2 * i + ob->axis] - ob->value) > 0.0;
-    }
-    if (!beyond && g->mass[i] > cut) continue;
-    g->parked[i] = 1;
-    g->nparked++;
-    for (int c = 0; c < 2; c++) {
-      g->xs[2 * i + c] = nd->x[2 * i + c];
-      g->us[2 * i + c] = nd->u[2 * i + c];
-      nd->fix[2 * i + c] = 1;
-      nd->ubar[2 * i + c] = lam > 0.0 ? nd->u[2 * i + c] / lam : 0.0;
-    }
-  }
-  if (!g->nparked) return 0;
-  /* the free body nodes each parked node follows: within r0 (grown x1.25
-   * until there is one), inverse-distance weights */
   int nw = 0, idx[MPGM_SHAPE_MAXNODE];
   double d2[MPGM_SHAPE_MAXNODE];
   for (int i = 0; i < n; i++) {
@@ -335,50 +303,43 @@ int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tr
     nw += cnt;
   }
   g->wptr[n] = nw;
-  /* drop the parked nodes from the lists; Shepard renormalisation of the
-   * points that used one (sum N = 1, sum grad N = 0 still hold) */
-  int w = 0;
-  for (int p = 0; p < m; p++) {
-    const int k0 = ptr[p], k1 = ptr[p + 1];
-    ptr[p] = w;
-    double S = 0, Sx = 0, Sy = 0;
-    int lost = 0;
-    for (int k = k0; k < k1; k++) {
-      if (g->parked[node[k]]) {
-        lost = 1;
-        continue;
-      }
-      S += N[k];
-      Sx += dN[2 * k];
-      Sy += dN[2 * k + 1];
-    }
-    if (lost && !(fabs(S) > 1e-12) && p >= P->n + P->nprobe) {
-      /* a surface point among parked nodes only: not enforced this step */
-      mpgm_cpoints_unenforce(v->cp, p - P->n - P->nprobe);
-      continue;
-    }
-    MPGM_CHECK(ctx, !lost || fabs(S) > 1e-12, MPGM_ERR_SHAPE,
-               "step %ld: %s %d at (%g, %g) lost every node to mesh.min_node_mass = %g",
-               v->step + 1, p < P->n ? "point" : "probe", p < P->n ? P->id[p] : p - P->n,
-               P->x[2 * p], P->x[2 * p + 1], s->min_node_mass);
-    for (int k = k0; k < k1; k++) {
-      if (g->parked[node[k]]) continue;
-      const double Nk = N[k], gx = dN[2 * k], gy = dN[2 * k + 1];
-      node[w] = node[k];
-      if (lost) {
-        N[w] = Nk / S;
-        dN[2 * w] = gx / S - Nk * Sx / (S * S);
-        dN[2 * w + 1] = gy / S - Nk * Sy / (S * S);
-      } else {
-        N[w] = Nk;
-        dN[2 * w] = gx;
-        dN[2 * w + 1] = gy;
-      }
-      w++;
+  return 0;
+}
+
+int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tree, double r0,
+                       mpgm_conn *c) {
+  const mpgm_scene *s = v->scene;
+  const mpgm_points *P = v->pts;
+  mpgm_nodes *nd = v->nodes;
+  const int n = nd->n;
+  memcpy(nd->fix, g->fix0, 2 * (size_t)n);
+  memcpy(nd->ubar, g->ubar0, sizeof(double) * 2 * (size_t)n);
+  /* a free body node that moved into an obstacle is parked whatever its
+   * mass */
+  for (int i = 0; i < n; i++) {
+    g->parked[i] = 0;
+    for (int o = 0; o < s->nobstacle && g->eligible[i]; o++) {
+      const mpgm_scene_obstacle *ob = &s->obstacles[o];
+      g->parked[i] |= ob->side * (nd->x[2 * i + ob->axis] - ob->value) > 0.0;
     }
   }
-  ptr[m] = w;
-  return 0;
+  g->nparked = mpgm_light_nodes(c, P->n, P->mass, n, g->eligible, s->min_node_mass, g->mass, g->parked);
+  /* a parked node is held where it is: lambda ubar = u at the step's load
+   * factor */
+  const double lam = v->lambda;
+  for (int i = 0; i < n; i++) {
+    if (!g->parked[i]) continue;
+    for (int k = 0; k < 2; k++) {
+      g->xs[2 * i + k] = nd->x[2 * i + k];
+      g->us[2 * i + k] = nd->u[2 * i + k];
+      nd->fix[2 * i + k] = 1;
+      nd->ubar[2 * i + k] = lam > 0.0 ? nd->u[2 * i + k] / lam : 0.0;
+    }
+  }
+  if (!g->nparked) return 0;
+  MPGM_CALL(follow_weights(v->ctx, s, nd, g, tree, r0));
+  return mpgm_light_drop(v->ctx, c, P->n + P->nprobe + P->nsurf, g->parked, P, v->cp, v->step,
+                         s->min_node_mass);
 }
 
 void mpgm_gmm_grid_unpark(const mpgm_fe_view *v, gmm_grid *g) {

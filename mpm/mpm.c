@@ -25,6 +25,7 @@ typedef struct mpm_data {
   int *plglob;
   unsigned char *pfix, *pact;
   double *gm, *gq, *gf;/**< per grid node: mass, momentum, inertia force    */
+  unsigned char *light;/**< per grid node: light (no equation this step)    */
   /* meshfree shape functions (shape.kind mls / lme): clouds of grid nodes */
   int meshfree;
   double *lambda;      /**< LME multiplier per point (warm start), 2 each   */
@@ -51,6 +52,7 @@ static void mpm_destroy(void *self) {
   free(d->pfix);
   free(d->pact);
   free(d->gm);
+  free(d->light);
   free(d->gq);
   free(d->gf);
   free(d->lambda);
@@ -108,6 +110,7 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
   MPGM_ALLOC(ctx, d->pact, g->ncell);
   d->pn = -1;
   MPGM_ALLOC(ctx, d->gm, g->nnode);
+  MPGM_ALLOC(ctx, d->light, g->nnode);
   MPGM_ALLOC(ctx, d->gq, 2 * (size_t)g->nnode);
   MPGM_ALLOC(ctx, d->gf, 2 * (size_t)g->nnode);
   MPGM_CALL(mpgm_conn_reserve(ctx, v->conn, m, m * g->nn));
@@ -336,7 +339,6 @@ static int cloud_shape(const mpgm_fe_view *v, mpm_data *d) {
       C->N[k] = N[a];
       C->dN[2 * k] = dN[2 * a];
       C->dN[2 * k + 1] = dN[2 * a + 1];
-      if (p < np) d->gm[list[a]] += N[a] * P->mass[p];
       k++;
     }
   }
@@ -344,20 +346,15 @@ static int cloud_shape(const mpgm_fe_view *v, mpm_data *d) {
   return 0;
 }
 
-/* Reset the grid; locate the points; activate cells and nodes; project
- * mass, momentum and inertia; fill the connectivity (eqs 38-41). */
-static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
+/* Locate the points in the grid and activate the cells holding material;
+ * keep the particles in cell order in memory; the cells of the probes and
+ * surface tracers. */
+static int locate(const mpgm_fe_view *v, mpm_data *d) {
   mpgm_ctx *ctx = v->ctx;
   const mpgm_scene *s = v->scene;
-  mpm_data *d = self;
   const mpgm_grid *g = &d->g;
   mpgm_points *P = v->pts;
-  mpgm_nodes *nd = v->nodes;
-  mpgm_conn *C = v->conn;
-  const int np = P->n, m = P->n + P->nprobe + P->nsurf, nn = g->nn;
-  const int ms = P->n + P->nprobe; /* the surface tracers follow */
-  const int inertia = v->fx->inertia;
-  d->step++;
+  const int np = P->n, ms = P->n + P->nprobe, m = ms + P->nsurf;
   memset(d->cact, 0, (size_t)g->ncell);
   for (int p = 0; p < ms; p++) {
     if (mpgm_grid_locate(g, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p)) {
@@ -397,12 +394,18 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   if (m > ms) mpgm_cpoints_enforce_all(v->cp);
   for (int p = ms; p < m; p++)
     if (surface_cell(d, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p)) mpgm_cpoints_unenforce(v->cp, p - ms);
-  /* shape functions at the undeformed grid; the raw nodal masses decide
-   * which nodes get equations */
-  memset(d->gm, 0, sizeof(double) * (size_t)g->nnode);
+  return 0;
+}
+
+/* FE shape functions of every point in its cell of the undeformed grid,
+ * with grid node ids (a surface tracer with no cell near has none). */
+static int cell_shape(const mpgm_fe_view *v, mpm_data *d) {
+  const mpgm_grid *g = &d->g;
+  const mpgm_points *P = v->pts;
+  mpgm_conn *C = v->conn;
+  const int ms = P->n + P->nprobe, m = ms + P->nsurf, nn = g->nn;
   int k = 0;
-  if (d->meshfree) MPGM_CALL(cloud_shape(v, d));
-  for (int p = 0; p < m && !d->meshfree; p++) {
+  for (int p = 0; p < m; p++) {
     int nodes[MPGM_FE_MAXNODE];
     double xn[2 * MPGM_FE_MAXNODE];
     C->ptr[p] = k;
@@ -410,30 +413,25 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
     mpgm_grid_cell(g, d->pcell[p], nodes, xn);
     mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[2 * p], P->x[2 * p + 1]},
                           .cell = g->cell, .xi = {d->pxi[2 * p], d->pxi[2 * p + 1]}};
-    MPGM_CALL(s->shape->eval(&q, C->N + k, C->dN + 2 * k));
+    MPGM_CALL(v->scene->shape->eval(&q, C->N + k, C->dN + 2 * k));
     for (int a = 0; a < nn; a++) C->node[k + a] = nodes[a]; /* grid ids for now */
-    if (p < np)
-      for (int a = 0; a < nn; a++) d->gm[nodes[a]] += C->N[k + a] * P->mass[p];
     k += nn;
   }
-  if (!d->meshfree) C->ptr[m] = k;
-  /* nodes of the step: nodes with mass (nodes of active cells for FE
-   * shape functions, of the particles' clouds for meshfree ones), in grid
-   * order (node-major equation numbers stay banded) */
-  for (int i = 0; i < g->nnode; i++) d->gmap[i] = -1;
-  double mmax = 0.0;
-  for (int i = 0; i < g->nnode; i++) mmax = fmax(mmax, d->gm[i]);
-  /* tiny-mass nodes (docs/theory.md): a node carrying less than
-   * mesh.min_node_mass of the heaviest node's mass is supported by a sliver
-   * of material; its stiffness is nearly singular (cut cell) and Newton
-   * stalls. It gets no equation; the particles' shape functions are
-   * renormalised over their remaining nodes. */
-  const double mcut = s->min_node_mass * mmax;
-  for (int i = 0; i < g->nnode; i++)
-    if (d->gm[i] > mcut) d->gmap[i] = 0;
+  C->ptr[m] = k;
+  return 0;
+}
+
+/* The nodes of the step: the grid nodes that are not light (they carry
+ * mass), in grid order (node-major equation numbers stay banded), with
+ * their fixity; the connectivity in step node ids. */
+static void step_nodes(const mpgm_fe_view *v, mpm_data *d) {
+  const mpgm_grid *g = &d->g;
+  mpgm_nodes *nd = v->nodes;
+  mpgm_conn *C = v->conn;
   int n = 0;
   for (int i = 0; i < g->nnode; i++) {
-    if (d->gmap[i] < 0) continue;
+    d->gmap[i] = -1;
+    if (d->light[i]) continue;
     d->gmap[i] = n;
     mpgm_grid_node(g, i, nd->X + 2 * n);
     nd->x[2 * n] = nd->X[2 * n];
@@ -448,54 +446,23 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
     n++;
   }
   nd->n = n;
-  /* connectivity in step node ids, without zero-mass nodes */
-  int w = 0;
-  for (int p = 0; p < m; p++) {
-    const int k0 = C->ptr[p], k1 = C->ptr[p + 1];
-    C->ptr[p] = w;
-    double S = 0, Sx = 0, Sy = 0;
-    int lost = 0;
-    for (int kk = k0; kk < k1; kk++) {
-      const int id = d->gmap[C->node[kk]];
-      if (id < 0) {
-        lost = 1;
-        continue;
-      }
-      S += C->N[kk]; Sx += C->dN[2 * kk]; Sy += C->dN[2 * kk + 1];
-    }
-    /* Shepard renormalisation over the kept nodes: sum N = 1 and
-     * sum grad N = 0 still hold, so rigid motions cause no strain */
-    if (p >= ms && (mpgm_cpoints_unenforced(v->cp, p - ms) || !(S > 1e-12))) {
-      /* a surface tracer with no cell, or among light nodes only */
-      mpgm_cpoints_unenforce(v->cp, p - ms);
-      continue;
-    }
-    MPGM_CHECK(ctx, S > 1e-12, MPGM_ERR_SHAPE,
-               "step %ld: %s %d at (%g, %g) lost every grid node to mesh.min_node_mass = %g",
-               d->step, p < np ? "particle" : "probe", p, P->x[2 * p], P->x[2 * p + 1],
-               s->min_node_mass);
-    for (int kk = k0; kk < k1; kk++) {
-      const int id = d->gmap[C->node[kk]];
-      if (id < 0) continue;
-      const double Nk = C->N[kk], gx = C->dN[2 * kk], gy = C->dN[2 * kk + 1];
-      C->node[w] = id;
-      /* only a point that lost a node is renormalised: the others keep
-       * their functions as evaluated (as GMM's light-node rule does) */
-      C->N[w] = lost ? Nk / S : Nk;
-      C->dN[2 * w] = lost ? gx / S - Nk * Sx / (S * S) : gx;
-      C->dN[2 * w + 1] = lost ? gy / S - Nk * Sy / (S * S) : gy;
-      w++;
-    }
-  }
-  C->ptr[m] = w;
-  /* projection (38)-(41) with the final shape functions: mass and momentum
-   * of the particles are those of the nodes to round-off */
+  for (int k = 0; k < C->ptr[C->np]; k++) C->node[k] = d->gmap[C->node[k]];
+}
+
+/* Projection (38)-(41) with the final shape functions: mass, momentum and
+ * inertia force of the particles onto the nodes (to round-off), the nodal
+ * velocity and acceleration. */
+static void project(const mpgm_fe_view *v, mpm_data *d) {
+  const mpgm_points *P = v->pts;
+  mpgm_nodes *nd = v->nodes;
+  const mpgm_conn *C = v->conn;
+  const int n = nd->n, inertia = v->fx->inertia;
   memset(nd->mass, 0, sizeof(double) * (size_t)n);
   if (inertia) {
     memset(d->gq, 0, sizeof(double) * 2 * (size_t)n);
     memset(d->gf, 0, sizeof(double) * 2 * (size_t)n);
   }
-  for (int p = 0; p < np; p++)
+  for (int p = 0; p < P->n; p++)
     for (int kk = C->ptr[p]; kk < C->ptr[p + 1]; kk++) {
       const int I = C->node[kk];
       const double wm = C->N[kk] * P->mass[p];
@@ -515,16 +482,41 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
     memset(nd->v, 0, sizeof(double) * 2 * (size_t)n);
     memset(nd->a, 0, sizeof(double) * 2 * (size_t)n);
   }
-  /* FE: the same active cells, nodes and fixity give the same pattern;
-   * clouds change with every particle move */
-  int same = !d->meshfree && n == d->pn && memcmp(d->cact, d->pact, (size_t)g->ncell) == 0 &&
+}
+
+/* FE: the same active cells, nodes and fixity give the same pattern (new
+ * maps only); clouds change with every particle move. */
+static void pattern_version(const mpgm_fe_view *v, const mpm_data *d) {
+  const mpgm_nodes *nd = v->nodes;
+  const int n = nd->n;
+  int same = !d->meshfree && n == d->pn && memcmp(d->cact, d->pact, (size_t)d->g.ncell) == 0 &&
              memcmp(d->lglob, d->plglob, sizeof(int) * (size_t)n) == 0;
   /* the fixity of contact nodes does not change the pattern (they keep
    * their equations), only the maps */
   for (int i = 0; i < 2 * n && same; i++)
     same = nd->contact[i / 2] || nd->fix[i] == d->pfix[i];
-  if (same) C->map_version++; /* same nodes and pattern: new maps only */
-  else C->version++;
+  if (same) v->conn->map_version++;
+  else v->conn->version++;
+}
+
+/* Reset the grid; locate the points; activate cells; shape functions at
+ * the undeformed grid; the light-node rule (mesh.min_node_mass: the raw
+ * nodal masses decide which nodes get equations, and the functions of the
+ * points that lost one are renormalised); project mass, momentum and
+ * inertia (eqs 38-41). */
+static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
+  mpm_data *d = self;
+  const mpgm_points *P = v->pts;
+  const int m = P->n + P->nprobe + P->nsurf;
+  d->step++;
+  MPGM_CALL(locate(v, d));
+  MPGM_CALL(d->meshfree ? cloud_shape(v, d) : cell_shape(v, d));
+  memset(d->light, 0, (size_t)d->g.nnode);
+  mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->min_node_mass, d->gm, d->light);
+  MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));
+  step_nodes(v, d);
+  project(v, d);
+  pattern_version(v, d);
   return 0;
 }
 

@@ -194,10 +194,9 @@ int mpgm_body_force(mpgm_problem *pb);
 void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v);
 /** The front end's begin_step (timed as "shape"); sets pb->lambda. */
 int mpgm_begin_step(mpgm_problem *pb);
-/** Release the arrays of points, nodes, connectivity (data.c). */
+/** Release the arrays of points and nodes (data.c). */
 void mpgm_points_free(mpgm_points *p);
 void mpgm_nodes_free(mpgm_nodes *nd);
-void mpgm_conn_free(mpgm_conn *c);
 
 /** State of Newton's method on one step (newton.c). */
 typedef struct mpgm_newton {

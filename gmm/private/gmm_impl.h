@@ -17,6 +17,8 @@ typedef struct gmm_grid {
   unsigned char *fix0;   /**< 2 per node: fixity of obstacles and boundaries */
   double *ubar0;         /**< 2 per node: their prescribed values [m]        */
   unsigned char *parked; /**< per node: parked in this step                */
+  unsigned char *eligible; /**< per node: free (no fixed component), so it
+                              may be parked                                */
   double *xs, *us;       /**< 2 per node: position, displacement at the start
                               of the step (restored for parked nodes) [m]    */
   double *mass;          /**< per node: sum_p N_Ip m_p of the step [kg]      */
@@ -44,15 +46,16 @@ int mpgm_gmm_uses_grid(const mpgm_scene *s);
  *  selecting no node), MPGM_ERR_NOMEM. */
 int mpgm_gmm_grid_setup(const mpgm_fe_view *v, double r0, gmm_grid **out);
 
-/** Light nodes (docs/theory.md, section 13): a free node whose mass
- *  sum_p N_Ip m_p over the connectivity (m points; CSR ptr, node, N, dN,
+/** Light nodes (docs/theory.md, section 13; mpgm_light_nodes): a free node
+ *  whose mass sum_p N_Ip m_p over the connectivity c (of every point;
  *  compacted in place) is at most mesh.min_node_mass times the heaviest
- *  node's, or that lies beyond an obstacle's plane, is parked for the step: fixed where it is, left
- * out of every list, and the functions of the points that used it are renormalised over their other
- * nodes (Shepard). Restores the fixity of the last step first. Errors: MPGM_ERR_SHAPE (a point lost
- * every node). */
-int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tree, double r0, int m,
-                       int *ptr, int *node, double *N, double *dN);
+ *  node's, or that lies beyond an obstacle's plane, is parked for the step:
+ *  fixed where it is, left out of every list, and the functions of the
+ *  points that used it are renormalised over their other nodes
+ *  (mpgm_light_drop). Restores the fixity of the last step first. Errors:
+ *  MPGM_ERR_SHAPE (a point lost every node). */
+int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tree, double r0,
+                       mpgm_conn *c);
 /** After the step: a parked node moves with the body, by the
  *  inverse-distance average of the increments (and takes the average
  *  velocity and acceleration) of the free body nodes within r0 of it

@@ -1,0 +1,88 @@
+/* light.c -- the light-node rule (mesh.min_node_mass; docs/theory.md): a
+ * node that carries less than a fraction of the heaviest node's mass is
+ * supported by a sliver of material; its stiffness and mass are nearly
+ * singular (a cut cell, a node at the edge of a cloud) and Newton stalls.
+ * It takes no part in the step: MPM gives it no equation, GMM parks it
+ * (fixed, carried along by its neighbours). The points that used it keep
+ * a partition of unity by Shepard renormalisation over their other nodes. */
+#include <math.h>
+#include <string.h>
+
+#include "mpgm_discretisation.h"
+
+int mpgm_light_nodes(const mpgm_conn *c, int np, const double *pmass, int nnode,
+                     const unsigned char *eligible, double min_node_mass, double *mass,
+                     unsigned char *light) {
+  memset(mass, 0, sizeof(double) * (size_t)nnode);
+  for (int p = 0; p < np; p++)
+    for (int k = c->ptr[p]; k < c->ptr[p + 1]; k++) mass[c->node[k]] += c->N[k] * pmass[p];
+  double mmax = 0.0;
+  for (int i = 0; i < nnode; i++) mmax = fmax(mmax, mass[i]);
+  const double cut = min_node_mass * mmax;
+  int n = 0;
+  for (int i = 0; i < nnode; i++) {
+    if (eligible && !eligible[i]) {
+      light[i] = 0;
+      continue;
+    }
+    light[i] = light[i] || !(mass[i] > cut);
+    n += light[i];
+  }
+  return n;
+}
+
+/* What point p is, for messages. */
+static const char *kind_of(const mpgm_points *P, int p) {
+  return p < P->n ? "point" : p < P->n + P->nprobe ? "probe" : "surface point";
+}
+
+int mpgm_light_drop(mpgm_ctx *ctx, mpgm_conn *c, int m, const unsigned char *light,
+                    const mpgm_points *P, mpgm_cpoints *cp, long step, double min_node_mass) {
+  const int first_surface = P->n + P->nprobe;
+  int w = 0;
+  for (int p = 0; p < m; p++) {
+    const int k0 = c->ptr[p], k1 = c->ptr[p + 1];
+    c->ptr[p] = w;
+    const int surface = p >= first_surface;
+    /* a surface point not enforced in this step has no functions */
+    if (surface && mpgm_cpoints_unenforced(cp, p - first_surface)) continue;
+    double S = 0, Sx = 0, Sy = 0;
+    int lost = 0;
+    for (int k = k0; k < k1; k++) {
+      if (light[c->node[k]]) {
+        lost = 1;
+        continue;
+      }
+      S += c->N[k];
+      Sx += c->dN[MPGM_DIM * k];
+      Sy += c->dN[MPGM_DIM * k + 1];
+    }
+    if (lost && !(S > 1e-12)) {
+      /* a surface point among light nodes only: not enforced this step */
+      if (surface) {
+        mpgm_cpoints_unenforce(cp, p - first_surface);
+        continue;
+      }
+      MPGM_ERROR(ctx, MPGM_ERR_SHAPE, "step %ld: %s %d at (%g, %g) lost every node to "
+                 "mesh.min_node_mass = %g", step + 1, kind_of(P, p), p < P->n ? P->id[p] : p - P->n,
+                 P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], min_node_mass);
+    }
+    for (int k = k0; k < k1; k++) {
+      if (light[c->node[k]]) continue;
+      const double Nk = c->N[k], gx = c->dN[MPGM_DIM * k], gy = c->dN[MPGM_DIM * k + 1];
+      c->node[w] = c->node[k];
+      if (lost) { /* Shepard: sum N = 1 and sum grad N = 0 still hold */
+        c->N[w] = Nk / S;
+        c->dN[MPGM_DIM * w] = gx / S - Nk * Sx / (S * S);
+        c->dN[MPGM_DIM * w + 1] = gy / S - Nk * Sy / (S * S);
+      } else {
+        c->N[w] = Nk;
+        c->dN[MPGM_DIM * w] = gx;
+        c->dN[MPGM_DIM * w + 1] = gy;
+      }
+      w++;
+    }
+  }
+  c->ptr[m] = w;
+  return 0;
+}
