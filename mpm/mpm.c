@@ -301,6 +301,8 @@ static int cloud_shape(const mpgm_fe_view *v, mpm_data *d) {
     const int *list = d->cl_node + d->cl_ptr[p], ncand = d->cl_ptr[p + 1] - d->cl_ptr[p];
     double xn[2 * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE], dN[2 * MPGM_SHAPE_MAXNODE];
     for (int a = 0; a < ncand; a++) mpgm_grid_node(g, list[a], xn + 2 * a);
+    int ord[MPGM_SHAPE_MAXNODE];
+    double xs[2 * MPGM_SHAPE_MAXNODE];
     mpgm_shape_info info = {0};
     int n = d->cl_n[p], enl = 0, e;
     double r = d->cl_r[p];
@@ -310,7 +312,20 @@ static int cloud_shape(const mpgm_fe_view *v, mpm_data *d) {
       mpgm_shape_params par;
       mpgm_shape_params_for_radius(&s->shape_par, R0, r, &par);
       if (p >= np) par.max_cond = 1e300;
-      mpgm_shape_query q = {.n = n, .xn = xn, .xp = {P->x[2 * p], P->x[2 * p + 1]}, .cell = -1,
+      /* the cloud by node id (the order node clouds are evaluated in) */
+      for (int a = 0; a < n; a++) {
+        int w = a;
+        while (w > 0 && list[ord[w - 1]] > list[a]) {
+          ord[w] = ord[w - 1];
+          w--;
+        }
+        ord[w] = a;
+      }
+      for (int a = 0; a < n; a++) {
+        xs[2 * a] = xn[2 * ord[a]];
+        xs[2 * a + 1] = xn[2 * ord[a] + 1];
+      }
+      mpgm_shape_query q = {.n = n, .xn = xs, .xp = {P->x[2 * p], P->x[2 * p + 1]}, .cell = -1,
                             .par = &par, .lambda = d->lambda + 2 * p, .info = &info};
       e = mpgm_shape_eval_retry(s->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS]);
       if (e != MPGM_ERR_SHAPE || n == ncand || enl == s->max_enlarge) break;
@@ -335,7 +350,7 @@ static int cloud_shape(const mpgm_fe_view *v, mpm_data *d) {
     C->ptr[p] = k;
     for (int a = 0; a < n; a++) {
       if (N[a] == 0.0 && dN[2 * a] == 0.0 && dN[2 * a + 1] == 0.0) continue; /* cut off */
-      C->node[k] = list[a];
+      C->node[k] = list[ord[a]];
       C->N[k] = N[a];
       C->dN[2 * k] = dN[2 * a];
       C->dN[2 * k + 1] = dN[2 * a + 1];
