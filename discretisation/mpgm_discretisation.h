@@ -98,6 +98,38 @@ int mpgm_light_nodes(const mpgm_conn *c, int np, const double *pmass, int nnode,
 int mpgm_light_drop(mpgm_ctx *ctx, mpgm_conn *c, int m, const unsigned char *light,
                     const mpgm_points *P, mpgm_cpoints *cp, long step, double min_node_mass);
 
+/** Node clouds and their meshfree shape functions (clouds.c; docs/theory.md,
+ *  section 13), for the front ends that connect points to nodes by
+ *  clouds. */
+typedef struct mpgm_clouds mpgm_clouds;
+struct mpgm_kdtree;
+
+/** Clouds of the scene's meshfree kind (warm starts kept per point, sized
+ *  by the first build). Errors: MPGM_ERR_INPUT (a kind without a support
+ *  radius), MPGM_ERR_NOMEM. Free with mpgm_clouds_destroy (also after a
+ *  failure). */
+int mpgm_clouds_create(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_clouds **out);
+void mpgm_clouds_destroy(mpgm_clouds *c);
+/** The kind's support radius r0 [m] (at mesh.h). */
+double mpgm_clouds_radius(const mpgm_clouds *c);
+/** The first n points were reordered (new point i is old perm[i]): their
+ *  warm starts move along (scratch: 2 n doubles). */
+void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch);
+/** The cloud and the shape functions of every point of v->pts (material
+ *  points, probes, surface points) at its position: candidates are the
+ *  points of tree (their coordinates: mpgm_kdtree_points), those with
+ *  skip[i] (NULL: none) left out. The search radius starts at r0 and grows
+ *  x MPGM_SHAPE_GROWTH while the cloud holds fewer than shape.min_nodes
+ *  (counted: radius_growths); a failed evaluation adds the next-nearest
+ *  candidates (MPGM_SHAPE_ENLARGE, up to shape.max_enlarge: cloud_
+ *  enlargements). Into out: a point's entries by increasing node id,
+ *  N = 0 and grad N = 0 left out; a surface point whose evaluation fails
+ *  gets none and is left unenforced (v->cp). Search time moves from the
+ *  "shape" to the "search" timer. Errors: MPGM_ERR_SHAPE (recoverable),
+ *  MPGM_ERR_INPUT (a cloud of more than MPGM_SHAPE_MAXNODE nodes). */
+int mpgm_clouds_build(mpgm_clouds *c, const mpgm_fe_view *v, const struct mpgm_kdtree *tree,
+                      const unsigned char *skip, mpgm_conn *out);
+
 /** FE cells of a problem (the mesh of UL-FEM, of GMM for rectangle
  *  bodies): the cells and every point's cell and local coordinates. */
 typedef struct mpgm_fem_cells mpgm_fem_cells;

@@ -42,28 +42,15 @@
 #include "mpgm_gmm.h"
 #include "mpgm_kdtree.h"
 
-/* Radius growth factor while a cloud holds fewer than min_nodes nodes, and
- * the most growths per point (1.25^60 ~ 6e5: a search this wide that still
- * finds too few nodes means there are not that many) */
-#define GMM_GROWTH     MPGM_SHAPE_GROWTH
-#define GMM_MAX_GROWTH 60
-
 typedef struct gmm_data {
   mpgm_fem_cells *fem;   /**< rectangle bodies: the FE cells (for output)      */
   gmm_grid *grid;        /**< or, for grid-filled bodies, the output cells    */
   mpgm_kdtree *tree;     /**< over nodes.x (borrowed), rebuilt every step     */
-  mpgm_shape_params par; /**< the scene's parameters, h = mesh.h            */
-  double r0;             /**< support radius of the kind [m]                  */
-  int min_nodes;         /**< smallest cloud                                  */
-  double *lambda;        /**< LME multiplier per point (warm start), 2 each   */
+  mpgm_clouds *clouds;   /**< the node clouds and their shape functions       */
   unsigned char *merged; /**< per node: left out of this step's clouds for
                               being close to another node (grid-filled)     */
   double dmin;           /**< that distance [m] (0: off)                      */
-  double *rad;           /**< search radius of every point this step [m]      */
-  int *cptr;             /**< clouds of the search: CSR over the points       */
-  int *cidx;
-  int ccap;
-  mpgm_conn out;          /**< the step's connectivity before it is copied    */
+  mpgm_conn out;         /**< the step's connectivity before it is copied    */
 } gmm_data;
 
 static void gmm_destroy(void *self) {
@@ -72,11 +59,8 @@ static void gmm_destroy(void *self) {
   mpgm_fem_cells_destroy(d->fem);
   mpgm_gmm_grid_destroy(&d->grid);
   mpgm_kdtree_destroy(&d->tree);
-  free(d->lambda);
+  mpgm_clouds_destroy(d->clouds);
   free(d->merged);
-  free(d->rad);
-  free(d->cptr);
-  free(d->cidx);
   mpgm_conn_release(&d->out);
   free(d);
 }
@@ -87,17 +71,11 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
   gmm_data *d;
   MPGM_ALLOC(ctx, d, 1);
   *self = d; /* from here gmm_destroy frees everything */
-  MPGM_CHECK(ctx, !s->shape->needs_cell && s->shape->support_radius, MPGM_ERR_INPUT,
-             "%s: shape.kind: method gmm needs a meshfree kind, found \"%s\"", s->file,
-             s->shape->name);
-  d->par = s->shape_par;
-  d->par.h = s->h;
-  MPGM_CHECK(ctx, mpgm_shape_support_radius(s->shape, &d->par, &d->r0) == 0 && d->r0 > 0.0,
-             MPGM_ERR_INPUT, "%s: shape: no support radius for kind \"%s\" (h = %g)", s->file,
-             s->shape->name, s->h);
+  MPGM_CALL(mpgm_clouds_create(ctx, s, &d->clouds));
+  const double r0 = mpgm_clouds_radius(d->clouds);
   if (mpgm_gmm_uses_grid(s)) {
     /* disk and polygon bodies, obstacles: points and nodes on the grid */
-    MPGM_CALL(mpgm_gmm_grid_setup(v, d->r0, &d->grid));
+    MPGM_CALL(mpgm_gmm_grid_setup(v, r0, &d->grid));
   } else {
     /* rectangles: nodes, points, probes, boundaries exactly those of UL-FEM */
     MPGM_CALL(mpgm_fem_rectangles(v, &d->fem));
@@ -106,68 +84,8 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
     d->dmin = s->min_node_distance * s->h;
     MPGM_ALLOC(ctx, d->merged, v->nodes->n);
   }
-  d->min_nodes = s->min_nodes > 0 ? s->min_nodes : d->par.order == 2 ? 12 : 6;
-  const int m = v->pts->n + v->pts->nprobe + v->pts->nsurf;
-  MPGM_ALLOC(ctx, d->lambda, 2 * (size_t)m);
-  MPGM_ALLOC(ctx, d->rad, m);
-  MPGM_ALLOC(ctx, d->cptr, m + 1);
-  MPGM_CALL(mpgm_conn_reserve(ctx, &d->out, m, 0));
   MPGM_CALL(mpgm_kdtree_create(ctx, v->nodes->x, v->nodes->n, 0, &d->tree));
   return 0;
-}
-
-/* Grow an int / double buffer to hold at least need entries (amortised:
- * doubling; only when a step needs more than any before). */
-static int grow_int(mpgm_ctx *ctx, int **a, size_t need, size_t *cap) {
-  if (need <= *cap) return 0;
-  size_t nc = *cap ? *cap : 1024;
-  while (nc < need) nc *= 2;
-  int *p = realloc(*a, nc * sizeof **a);
-  MPGM_CHECK(ctx, p, MPGM_ERR_NOMEM, "out of memory (node clouds of %zu entries)", nc);
-  *a = p;
-  *cap = nc;
-  return 0;
-}
-
-
-/* Drop the merged nodes from a search result of n (of which min(n, cap)
- * are in idx, d2); returns the new count. */
-static int drop_merged(const gmm_data *d, int n, int cap, int *idx, double *d2) {
-  if (!d->merged) return n;
-  const int have = n < cap ? n : cap;
-  int k = 0;
-  for (int a = 0; a < have; a++) {
-    if (d->merged[idx[a]]) continue;
-    idx[k] = idx[a];
-    d2[k++] = d2[a];
-  }
-  return n - (have - k);
-}
-
-/* Nodes within r of x into idx (at most cap), merged nodes left out;
- * returns the count (which may exceed cap: then idx holds the cap
- * nearest). */
-static int cloud(const gmm_data *d, const double x[2], double r, int cap, int *idx, double *d2) {
-  return drop_merged(d, mpgm_kdtree_radius(d->tree, x, r, cap, idx, d2), cap, idx, d2);
-}
-
-/* The squared distance of the (n+1)-th nearest node that is not merged
- * (the nearest outside a cloud of n) into *dn2; 0 when there is none. */
-static int next_nearest(const gmm_data *d, const double x[2], int n, double *dn2) {
-  enum { CAP = 2 * MPGM_SHAPE_MAXNODE + 2 };
-  int ib[CAP];
-  double db[CAP];
-  for (int kq = n + 1;; kq = kq * 2 < CAP ? kq * 2 : CAP) {
-    const int kk = mpgm_kdtree_knn(d->tree, x, kq, ib, db);
-    for (int a = 0, cnt = 0; a < kk; a++) {
-      if (d->merged && d->merged[ib[a]]) continue;
-      if (cnt++ == n) {
-        *dn2 = db[a];
-        return 1;
-      }
-    }
-    if (kk < kq || kq == CAP) return 0;
-  }
 }
 
 /* Close nodes (mesh.min_node_distance): in node order, a free body node
@@ -195,178 +113,22 @@ static void merge_close(const mpgm_fe_view *v, gmm_data *d) {
   }
 }
 
-static void sort_by_node(int n, int *idx) {
-  for (int i = 1; i < n; i++) {
-    const int v = idx[i];
-    int j = i - 1;
-    while (j >= 0 && idx[j] > v) {
-      idx[j + 1] = idx[j];
-      j--;
-    }
-    idx[j + 1] = v;
-  }
-}
-
-/* Phase 1: clouds of every point (and probe) from the radius search, with
- * radius growth up to min_nodes nodes. */
-static int search_clouds(const mpgm_fe_view *v, gmm_data *d) {
-  mpgm_ctx *ctx = v->ctx;
-  const mpgm_points *P = v->pts;
-  const int m = P->n + P->nprobe + P->nsurf, nnode = v->nodes->n;
-  const int want = d->min_nodes < nnode ? d->min_nodes : nnode;
-  MPGM_CALL(mpgm_kdtree_rebuild(ctx, d->tree, v->nodes->x, nnode));
-  if (d->merged) merge_close(v, d);
-  size_t cap = (size_t)d->ccap;
-  int idx[MPGM_SHAPE_MAXNODE];
-  double d2[MPGM_SHAPE_MAXNODE];
-  d->cptr[0] = 0;
-  for (int p = 0; p < m; p++) {
-    const double *x = P->x + 2 * p;
-    double r = d->r0;
-    int n = cloud(d, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
-    for (int g = 0; n < want && g < GMM_MAX_GROWTH; g++) {
-      r *= GMM_GROWTH;
-      mpgm_count(ctx, MPGM_C_RADIUS_GROWTHS, 1);
-      n = cloud(d, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
-    }
-    MPGM_CHECK(ctx, n <= MPGM_SHAPE_MAXNODE, MPGM_ERR_INPUT,
-               "%s: shape: step %ld: %s %d at (%g, %g) has %d nodes within its support radius "
-               "%g m, more than MPGM_SHAPE_MAXNODE = %d: lower shape.radius / shape.dilation "
-               "(mls) or raise shape.gamma (lme)",
-               v->scene->file, v->step + 1, p < P->n ? "point" : p < P->n + P->nprobe ? "probe" : "surface point",
-               p < P->n ? P->id[p] : p - P->n, x[0], x[1], n, r, MPGM_SHAPE_MAXNODE);
-    d->rad[p] = r;
-    MPGM_CALL(grow_int(ctx, &d->cidx, (size_t)d->cptr[p] + (size_t)n, &cap));
-    memcpy(d->cidx + d->cptr[p], idx, sizeof(int) * (size_t)n);
-    d->cptr[p + 1] = d->cptr[p] + n;
-  }
-  d->ccap = (int)cap;
-  return 0;
-}
-
-/* Phase 2 for one point: N and grad N over its cloud at its position, with
- * enlargements on MPGM_ERR_SHAPE; appends the non-zero entries to the
- * output at *k. *t_search accumulates the time of the extra searches. */
-static int shape_point(const mpgm_fe_view *v, gmm_data *d, int p, int *k, double *t_search) {
-  mpgm_ctx *ctx = v->ctx;
-  const mpgm_scene *s = v->scene;
-  const mpgm_points *P = v->pts;
-  const double *xn_all = v->nodes->x, *x = P->x + 2 * p;
-  int idx[MPGM_SHAPE_MAXNODE + 1];
-  double d2[MPGM_SHAPE_MAXNODE + 1], xn[2 * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE],
-      dN[2 * MPGM_SHAPE_MAXNODE];
-  int n = d->cptr[p + 1] - d->cptr[p];
-  memcpy(idx, d->cidx + d->cptr[p], sizeof(int) * (size_t)n);
-  double r = d->rad[p];
-  mpgm_shape_info info = {0};
-  int err = 0, enl = 0;
-  for (;; enl++) {
-    sort_by_node(n, idx);
-    for (int a = 0; a < n; a++) {
-      xn[2 * a] = xn_all[2 * idx[a]];
-      xn[2 * a + 1] = xn_all[2 * idx[a] + 1];
-    }
-    mpgm_shape_params par;
-    mpgm_shape_params_for_radius(&d->par, d->r0, r, &par);
-    /* a probe uses N only (its grad N is never assembled): the condition
-     * limit, which guards grad N, does not apply. A probe on the boundary
-     * of the body (the cantilever's tip) is on the hull of its cloud, where
-     * cond(J) of LME grows like 1 / (Newton residual) past 1e12 */
-    if (p >= P->n) par.max_cond = 1e300;
-    const mpgm_shape_query q = {.n = n,
-                                .xn = xn,
-                                .xp = {x[0], x[1]},
-                                .cell = -1,
-                                .par = &par,
-                                .lambda = d->lambda + 2 * p,
-                                .info = &info};
-    /* an LME warm start that stalls is retried once from lambda = 0
-     * before the cloud is enlarged */
-    err = n > 0 ? mpgm_shape_eval_retry(s->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS]) : MPGM_ERR_SHAPE;
-    if (n == 0) info.msg = "no node within the support radius";
-    if (err != MPGM_ERR_SHAPE || enl >= s->max_enlarge) break;
-    /* enlarge: the next-nearest node outside the cloud */
-    const double t0 = mpgm_wtime();
-    double dn2;
-    const int more = next_nearest(d, x, n, &dn2);
-    int nn = n;
-    if (more) {
-      r = fmax(r * (1.0 + 1e-9), MPGM_SHAPE_ENLARGE * sqrt(dn2));
-      nn = cloud(d, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
-    }
-    *t_search += mpgm_wtime() - t0;
-    if (!more || nn > MPGM_SHAPE_MAXNODE) { /* no node left, or the cloud is full */
-      info.msg = !more ? "every node is in the cloud already"
-                            : "the enlarged cloud would exceed MPGM_SHAPE_MAXNODE nodes";
-      break;
-    }
-    mpgm_count(ctx, MPGM_C_CLOUD_ENLARGEMENTS, 1);
-    n = nn;
-  }
-  const int surf = p - (P->n + P->nprobe); /* >= 0: a surface point */
-  if (err == MPGM_ERR_SHAPE && surf >= 0) {
-    /* no functions at a surface point: contact is not enforced there in
-     * this step (counted), and the point does not move */
-    mpgm_err_clear(ctx);
-    mpgm_cpoints_unenforce(v->cp, surf);
-    return 0;
-  }
-  if (err) { /* MPGM_ERR_SHAPE (recoverable), or a fatal MPGM_ERR_INPUT */
-    if (p < P->n)
-      MPGM_ERROR(ctx, err,
-                 "step %ld: %s shape functions failed at point %d (body \"%s\", started at (%g, "
-                 "%g)) at (%g, %g) after %d cloud enlargement(s) (cloud of %d nodes within %g "
-                 "m; shape.max_enlarge = %d): %s",
-                 v->step + 1, s->shape->name, P->id[p], s->bodies[P->body[p]].name, P->x0[2 * p],
-                 P->x0[2 * p + 1], x[0], x[1], enl, n, r, s->max_enlarge,
-                 info.msg ? info.msg : "?");
-    MPGM_ERROR(ctx, err,
-               "step %ld: %s shape functions failed at probe \"%s\" at (%g, %g) after %d cloud "
-               "enlargement(s) (cloud of %d nodes within %g m): %s",
-               v->step + 1, s->shape->name, s->probes[p - P->n].name, x[0], x[1], enl, n, r,
-               info.msg ? info.msg : "?");
-  }
-  MPGM_CALL(mpgm_conn_grow(ctx, &d->out, *k, *k + n));
-  for (int a = 0; a < n; a++) {
-    if (N[a] == 0.0 && dN[2 * a] == 0.0 && dN[2 * a + 1] == 0.0) continue; /* outside the support */
-    d->out.node[*k] = idx[a];
-    d->out.N[*k] = N[a];
-    d->out.dN[2 * *k] = dN[2 * a];
-    d->out.dN[2 * *k + 1] = dN[2 * a + 1];
-    (*k)++;
-  }
-  return 0;
-}
-
 static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
   mpgm_ctx *ctx = v->ctx;
   gmm_data *d = self;
   mpgm_conn *C = v->conn;
   const int m = v->pts->n + v->pts->nprobe + v->pts->nsurf;
-  /* the core times begin_step as "shape": the search time is moved from
-   * "shape" to "search", so that the two add up to the call */
-  double t0 = mpgm_wtime();
-  MPGM_CALL(search_clouds(v, d));
-  double ts = mpgm_wtime() - t0;
-  /* room for every cloud of the search (enlargements may add more) */
-  MPGM_CALL(mpgm_conn_grow(ctx, &d->out, 0, d->cptr[m]));
+  /* the search structure over the nodes' start-of-step positions (timed
+   * as "search", with the clouds' searches) */
+  const double t0 = mpgm_wtime();
+  MPGM_CALL(mpgm_kdtree_rebuild(ctx, d->tree, v->nodes->x, v->nodes->n));
+  if (d->merged) merge_close(v, d);
+  mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, mpgm_wtime() - t0);
   if (v->pts->nsurf) mpgm_cpoints_enforce_all(v->cp);
-  int k = 0;
-  for (int p = 0; p < m; p++) {
-    d->out.ptr[p] = k;
-    const int err = shape_point(v, d, p, &k, &ts);
-    if (err) {
-      mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
-      return err;
-    }
-  }
-  d->out.ptr[m] = k;
-  mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
+  MPGM_CALL(mpgm_clouds_build(d->clouds, v, d->tree, d->merged, &d->out));
   /* grid-filled bodies: nodes with little mass are parked for the step */
-  if (d->grid) {
-    MPGM_CALL(mpgm_gmm_grid_park(v, d->grid, d->tree, d->r0, &d->out));
-    k = d->out.ptr[m];
-  }
+  if (d->grid) MPGM_CALL(mpgm_gmm_grid_park(v, d->grid, d->tree, mpgm_clouds_radius(d->clouds), &d->out));
+  const int k = d->out.ptr[m];
   /* a new pattern only when some point's node list changed */
   int same = C->np == m && C->ptr[m] == k;
   for (int p = 0; same && p <= m; p++) same = C->ptr[p] == d->out.ptr[p];

@@ -7,6 +7,7 @@
 
 #include "mpgm_discretisation.h"
 #include "mpgm_grid.h"
+#include "mpgm_kdtree.h"
 
 typedef struct mpm_data {
   mpgm_grid g;
@@ -28,12 +29,11 @@ typedef struct mpm_data {
   unsigned char *light;/**< per grid node: light (no equation this step)    */
   /* meshfree shape functions (shape.kind mls / lme): clouds of grid nodes */
   int meshfree;
-  double *lambda;      /**< LME multiplier per point (warm start), 2 each   */
+  double *gx;          /**< the grid nodes' positions, 2 each [m]           */
+  mpgm_kdtree *tree;   /**< over gx: the candidates of the clouds           */
+  mpgm_clouds *clouds; /**< the clouds and their shape functions            */
   int *perm;           /**< reorder of the particles (mpgm_points_sort)      */
   double *pscr;        /**< scratch, 2 per point                            */
-  int *cl_ptr, *cl_node, cl_cap; /**< per point: candidate nodes by distance */
-  int *cl_n;           /**< per point: cloud size (first cl_n candidates)   */
-  double *cl_r;        /**< per point: search radius (grown to min_nodes)   */
   long step;           /**< steps begun (for messages)                     */
 } mpm_data;
 
@@ -55,13 +55,11 @@ static void mpm_destroy(void *self) {
   free(d->light);
   free(d->gq);
   free(d->gf);
-  free(d->lambda);
+  free(d->gx);
+  mpgm_kdtree_destroy(&d->tree);
+  mpgm_clouds_destroy(d->clouds);
   free(d->perm);
   free(d->pscr);
-  free(d->cl_ptr);
-  free(d->cl_node);
-  free(d->cl_n);
-  free(d->cl_r);
   free(d);
 }
 
@@ -117,14 +115,11 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
   MPGM_ALLOC(ctx, d->perm, m);
   MPGM_ALLOC(ctx, d->pscr, 2 * (size_t)m);
   d->meshfree = !s->shape->needs_cell;
-  if (d->meshfree) {
-    MPGM_ALLOC(ctx, d->lambda, 2 * (size_t)m);
-    MPGM_ALLOC(ctx, d->cl_ptr, (size_t)m + 1);
-    MPGM_ALLOC(ctx, d->cl_n, m);
-    MPGM_ALLOC(ctx, d->cl_r, m);
-    double R;
-    MPGM_CALL(mpgm_shape_support_radius(s->shape, &s->shape_par, &R) ? mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__,
-              __LINE__, "%s: shape: no support radius for kind \"%s\"", s->file, s->shape->name) : 0);
+  if (d->meshfree) { /* clouds of grid nodes: the grid's nodes never move */
+    MPGM_ALLOC(ctx, d->gx, 2 * (size_t)g->nnode);
+    for (int i = 0; i < g->nnode; i++) mpgm_grid_node(g, i, d->gx + 2 * i);
+    MPGM_CALL(mpgm_kdtree_create(ctx, d->gx, g->nnode, 0, &d->tree));
+    MPGM_CALL(mpgm_clouds_create(ctx, s, &d->clouds));
   }
   /* grid boundaries: the grid never moves, so the fixity of every grid
    * node is decided once */
@@ -214,153 +209,6 @@ static void permute(double *a, double *scr, const int *perm, int n, int w) {
   memcpy(a, scr, sizeof(double) * (size_t)w * (size_t)n);
 }
 
-/* Meshfree shape functions on the grid (LME-MPM, MLS-MPM): the cloud of a
- * point is the grid nodes within the kind's support radius R; the grid is
- * structured, so the candidates come from the box of nodes around the
- * point (no tree). Two passes, timed apart: the search lists, for every
- * point, the grid nodes within R + h by distance (ties by node number) and
- * takes those within R, growing R by 1.25 while fewer than shape.min_nodes
- * are in it; the evaluation (LME warm-started from the point's last
- * multiplier) adds the next-nearest candidate after a recoverable failure,
- * up to shape.max_enlarge times. Fills C with grid node ids, N, grad N (at
- * the undeformed grid) and d->gm with the particles' mass. */
-static int cloud_shape(const mpgm_fe_view *v, mpm_data *d) {
-  mpgm_ctx *ctx = v->ctx;
-  const mpgm_scene *s = v->scene;
-  const mpgm_grid *g = &d->g;
-  mpgm_points *P = v->pts;
-  mpgm_conn *C = v->conn;
-  const int np = P->n, m = P->n + P->nprobe + P->nsurf;
-  double R0;
-  MPGM_CALL(mpgm_shape_support_radius(s->shape, &s->shape_par, &R0) ? MPGM_ERR_INPUT : 0);
-  const int need = s->min_nodes > 0 ? s->min_nodes : (s->shape_par.order == 2 ? 12 : 6);
-  /* search */
-  mpgm_timer_stop(ctx, MPGM_T_SHAPE);
-  mpgm_timer_start(ctx, MPGM_T_SEARCH);
-  int nc = 0, err = 0;
-  for (int p = 0; p < m && !err; p++) {
-    const double x = P->x[2 * p], y = P->x[2 * p + 1];
-    double R = R0;
-    d->cl_ptr[p] = nc;
-    for (int tries = 0;; tries++) {
-      const double Rc = R + g->h;
-      const int i0 = (int)floor((x - Rc - g->min[0]) / g->h), i1 = (int)ceil((x + Rc - g->min[0]) / g->h);
-      const int j0 = (int)floor((y - Rc - g->min[1]) / g->h), j1 = (int)ceil((y + Rc - g->min[1]) / g->h);
-      const int box = (i1 - i0 + 1) * (j1 - j0 + 1);
-      if (nc + box > d->cl_cap) {
-        const int cap = 2 * (nc + box) + 1024;
-        int *t = realloc(d->cl_node, sizeof(int) * (size_t)cap);
-        if (!t) { err = MPGM_ERR_NOMEM; break; }
-        d->cl_node = t;
-        d->cl_cap = cap;
-      }
-      int *list = d->cl_node + nc, cnt = 0, in = 0;
-      double d2s[MPGM_SHAPE_MAXNODE * 4];
-      for (int j = j0 > 0 ? j0 : 0; j <= j1 && j <= g->ny; j++)
-        for (int i = i0 > 0 ? i0 : 0; i <= i1 && i <= g->nx; i++) {
-          const double dx = g->min[0] + i * g->h - x, dy = g->min[1] + j * g->h - y;
-          const double d2 = dx * dx + dy * dy;
-          if (d2 > Rc * Rc) continue;
-          /* insertion by (distance, node); a full list drops its farthest */
-          const int id = j * (g->nx + 1) + i;
-          int w;
-          if (cnt < MPGM_SHAPE_MAXNODE * 4) {
-            w = cnt++;
-          } else {
-            w = cnt - 1;
-            if (d2s[w] < d2 || (d2s[w] == d2 && list[w] < id)) continue;
-          }
-          while (w > 0 && (d2s[w - 1] > d2 || (d2s[w - 1] == d2 && list[w - 1] > id))) {
-            d2s[w] = d2s[w - 1];
-            list[w] = list[w - 1];
-            w--;
-          }
-          d2s[w] = d2;
-          list[w] = id;
-        }
-      while (in < cnt && d2s[in] <= R * R) in++;
-      if (in >= need || in == cnt || tries == 32) {
-        if (in > MPGM_SHAPE_MAXNODE) in = MPGM_SHAPE_MAXNODE;
-        if (cnt > MPGM_SHAPE_MAXNODE) cnt = MPGM_SHAPE_MAXNODE;
-        d->cl_n[p] = in;
-        d->cl_r[p] = R;
-        nc += cnt;
-        break;
-      }
-      R *= MPGM_SHAPE_GROWTH; /* too few nodes: a wider search */
-      mpgm_count(ctx, MPGM_C_RADIUS_GROWTHS, 1);
-    }
-  }
-  d->cl_ptr[m] = nc;
-  mpgm_timer_stop(ctx, MPGM_T_SEARCH);
-  mpgm_timer_start(ctx, MPGM_T_SHAPE);
-  MPGM_CHECK(ctx, !err, MPGM_ERR_NOMEM, "out of memory (node clouds of %d points)", m);
-  /* evaluation */
-  int k = 0;
-  for (int p = 0; p < m; p++) {
-    const int *list = d->cl_node + d->cl_ptr[p], ncand = d->cl_ptr[p + 1] - d->cl_ptr[p];
-    double xn[2 * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE], dN[2 * MPGM_SHAPE_MAXNODE];
-    for (int a = 0; a < ncand; a++) mpgm_grid_node(g, list[a], xn + 2 * a);
-    int ord[MPGM_SHAPE_MAXNODE];
-    double xs[2 * MPGM_SHAPE_MAXNODE];
-    mpgm_shape_info info = {0};
-    int n = d->cl_n[p], enl = 0, e;
-    double r = d->cl_r[p];
-    for (;;) {
-      /* the kind's support follows the point's radius; a probe uses N only,
-       * so the condition limit (which guards grad N) does not apply */
-      mpgm_shape_params par;
-      mpgm_shape_params_for_radius(&s->shape_par, R0, r, &par);
-      if (p >= np) par.max_cond = 1e300;
-      /* the cloud by node id (the order node clouds are evaluated in) */
-      for (int a = 0; a < n; a++) {
-        int w = a;
-        while (w > 0 && list[ord[w - 1]] > list[a]) {
-          ord[w] = ord[w - 1];
-          w--;
-        }
-        ord[w] = a;
-      }
-      for (int a = 0; a < n; a++) {
-        xs[2 * a] = xn[2 * ord[a]];
-        xs[2 * a + 1] = xn[2 * ord[a] + 1];
-      }
-      mpgm_shape_query q = {.n = n, .xn = xs, .xp = {P->x[2 * p], P->x[2 * p + 1]}, .cell = -1,
-                            .par = &par, .lambda = d->lambda + 2 * p, .info = &info};
-      e = mpgm_shape_eval_retry(s->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS]);
-      if (e != MPGM_ERR_SHAPE || n == ncand || enl == s->max_enlarge) break;
-      /* enlarge: the next-nearest candidate and every one within the new
-       * radius join the cloud */
-      const double dx = xn[2 * n] - P->x[2 * p], dy = xn[2 * n + 1] - P->x[2 * p + 1];
-      r = fmax(r * (1.0 + 1e-9), MPGM_SHAPE_ENLARGE * sqrt(dx * dx + dy * dy));
-      while (n < ncand) {
-        const double ex = xn[2 * n] - P->x[2 * p], ey = xn[2 * n + 1] - P->x[2 * p + 1];
-        if (ex * ex + ey * ey > r * r) break;
-        n++;
-      }
-      enl++;
-      mpgm_count(ctx, MPGM_C_CLOUD_ENLARGEMENTS, 1);
-    }
-    if (e)
-      MPGM_ERROR(ctx, e, "step %ld: %s %d at (%g, %g): %s shape functions over %d grid nodes: %s "
-                 "(after %d cloud enlargements)", d->step, p < np ? "particle" : "probe",
-                 p < np ? P->id[p] : p - np, P->x[2 * p], P->x[2 * p + 1], s->shape->name, n,
-                 info.msg ? info.msg : mpgm_code_str(e), enl);
-    MPGM_CALL(mpgm_conn_grow(ctx, C, k, k + n));
-    C->ptr[p] = k;
-    for (int a = 0; a < n; a++) {
-      if (N[a] == 0.0 && dN[2 * a] == 0.0 && dN[2 * a + 1] == 0.0) continue; /* cut off */
-      C->node[k] = list[ord[a]];
-      C->N[k] = N[a];
-      C->dN[2 * k] = dN[2 * a];
-      C->dN[2 * k + 1] = dN[2 * a + 1];
-      k++;
-    }
-  }
-  C->ptr[m] = k;
-  return 0;
-}
-
 /* Locate the points in the grid and activate the cells holding material;
  * keep the particles in cell order in memory; the cells of the probes and
  * surface tracers. */
@@ -396,7 +244,7 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
     MPGM_CALL(mpgm_points_sort(ctx, v->pool, P, d->pcell, g->ncell, d->perm));
     /* the front end's own per-particle data moves along */
     permute(d->pxi, d->pscr, d->perm, np, 2);
-    if (d->meshfree) permute(d->lambda, d->pscr, d->perm, np, 2); /* LME warm starts */
+    if (d->meshfree) mpgm_clouds_permute(d->clouds, d->perm, np, d->pscr); /* LME warm starts */
     for (int p = 0; p < np; p++) d->pscr[p] = d->pcell[d->perm[p]];
     for (int p = 0; p < np; p++) d->pcell[p] = (int)d->pscr[p];
   }
@@ -525,7 +373,9 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   const int m = P->n + P->nprobe + P->nsurf;
   d->step++;
   MPGM_CALL(locate(v, d));
-  MPGM_CALL(d->meshfree ? cloud_shape(v, d) : cell_shape(v, d));
+  /* meshfree kinds (LME-MPM, MLS-MPM): the clouds of grid nodes at the
+   * undeformed grid, ids of grid nodes (discretisation/clouds.c) */
+  MPGM_CALL(d->meshfree ? mpgm_clouds_build(d->clouds, v, d->tree, NULL, v->conn) : cell_shape(v, d));
   memset(d->light, 0, (size_t)d->g.nnode);
   mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->min_node_mass, d->gm, d->light);
   MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));

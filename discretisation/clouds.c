@@ -1,0 +1,318 @@
+/* clouds.c -- node clouds and their meshfree shape functions, for every
+ * front end that connects points to nodes by clouds (GMM: the persistent
+ * nodes; MPM with meshfree kinds: the grid nodes). docs/theory.md,
+ * section 13.
+ *
+ *   1. search (timed as "search"): the candidate nodes within the kind's
+ *      support radius r0 of the point (kd-tree); while fewer than
+ *      min_nodes, r *= 1.25 (counted: radius_growths);
+ *   2. shape functions (timed as "shape") at the point's position over its
+ *      cloud sorted by node id, with the kind's support set to the point's
+ *      radius; LME warm-started from the point's last multiplier (a failed
+ *      warm start is retried once from zero: shape_cold_restarts; probes,
+ *      which use N only, are exempt from max_cond). On MPGM_ERR_SHAPE the
+ *      cloud is enlarged: the next-nearest candidate at distance d sets
+ *      r = max(r, 4/3 d), the cloud is searched again and the evaluation
+ *      repeated (counted: cloud_enlargements), at most shape.max_enlarge
+ *      times and never past MPGM_SHAPE_MAXNODE nodes; then the step fails
+ *      with the recoverable MPGM_ERR_SHAPE (a surface point is left
+ *      unenforced instead);
+ *   3. the entries with N = 0 and grad N = 0 are dropped.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_discretisation.h"
+#include "mpgm_kdtree.h"
+
+/* the most growths per point (1.25^60 ~ 6e5: a search this wide that still
+ * finds too few nodes means there are not that many) */
+#define MAX_GROWTH 60
+
+struct mpgm_clouds {
+  const mpgm_shapefn_type *shape;
+  mpgm_shape_params par; /**< the scene's parameters, h = mesh.h            */
+  double r0;             /**< support radius of the kind [m]                */
+  int min_nodes;         /**< smallest cloud                                */
+  int max_enlarge;       /**< enlargements per point and step               */
+  int m;                 /**< points                                        */
+  double *lambda;        /**< LME multiplier per point (warm start), 2 each */
+  double *rad;           /**< search radius of every point this step [m]    */
+  int *cptr, *cidx;      /**< clouds of the search: CSR over the points     */
+  size_t ccap;           /**< entries cidx has room for                     */
+  /* the step's candidates (set by mpgm_clouds_build) */
+  const mpgm_kdtree *tree;
+  const unsigned char *skip;
+};
+
+void mpgm_clouds_destroy(mpgm_clouds *c) {
+  if (!c) return;
+  free(c->lambda);
+  free(c->rad);
+  free(c->cptr);
+  free(c->cidx);
+  free(c);
+}
+
+int mpgm_clouds_create(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_clouds **out) {
+  *out = NULL;
+  MPGM_CHECK(ctx, !s->shape->needs_cell && s->shape->support_radius, MPGM_ERR_INPUT,
+             "%s: shape.kind: node clouds need a meshfree kind, found \"%s\"", s->file, s->shape->name);
+  mpgm_clouds *c;
+  MPGM_ALLOC(ctx, c, 1);
+  *out = c; /* from here the caller's mpgm_clouds_destroy frees it */
+  c->shape = s->shape;
+  c->par = s->shape_par;
+  c->par.h = s->h;
+  MPGM_CHECK(ctx, mpgm_shape_support_radius(s->shape, &c->par, &c->r0) == 0 && c->r0 > 0.0,
+             MPGM_ERR_INPUT, "%s: shape: no support radius for kind \"%s\" (h = %g)", s->file,
+             s->shape->name, s->h);
+  c->min_nodes = s->min_nodes > 0 ? s->min_nodes : c->par.order == 2 ? 12 : 6;
+  c->max_enlarge = s->max_enlarge;
+  return 0;
+}
+
+/* The per-point arrays for m points (made at the first build: the points
+ * exist by then). */
+static int size_for(mpgm_ctx *ctx, mpgm_clouds *c, int m) {
+  if (c->lambda) return 0;
+  c->m = m;
+  MPGM_ALLOC(ctx, c->lambda, 2 * (size_t)m);
+  MPGM_ALLOC(ctx, c->rad, m);
+  MPGM_ALLOC(ctx, c->cptr, m + 1);
+  return 0;
+}
+
+double mpgm_clouds_radius(const mpgm_clouds *c) { return c->r0; }
+
+void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch) {
+  if (!c->lambda) return; /* no warm start yet */
+  for (int i = 0; i < n; i++) {
+    scratch[2 * i] = c->lambda[2 * perm[i]];
+    scratch[2 * i + 1] = c->lambda[2 * perm[i] + 1];
+  }
+  memcpy(c->lambda, scratch, sizeof(double) * 2 * (size_t)n);
+}
+
+/* Drop the skipped nodes from a search result of n (of which min(n, cap)
+ * are in idx, d2); returns the new count. */
+static int drop_skipped(const mpgm_clouds *c, int n, int cap, int *idx, double *d2) {
+  if (!c->skip) return n;
+  const int have = n < cap ? n : cap;
+  int k = 0;
+  for (int a = 0; a < have; a++) {
+    if (c->skip[idx[a]]) continue;
+    idx[k] = idx[a];
+    d2[k++] = d2[a];
+  }
+  return n - (have - k);
+}
+
+/* Nodes within r of x into idx (at most cap), skipped nodes left out;
+ * returns the count (which may exceed cap: then idx holds the cap
+ * nearest). */
+static int cloud(const mpgm_clouds *c, const double x[2], double r, int cap, int *idx, double *d2) {
+  return drop_skipped(c, mpgm_kdtree_radius(c->tree, x, r, cap, idx, d2), cap, idx, d2);
+}
+
+/* The squared distance of the (n+1)-th nearest node that is not skipped
+ * (the nearest outside a cloud of n) into *dn2; 0 when there is none. */
+static int next_nearest(const mpgm_clouds *c, const double x[2], int n, double *dn2) {
+  enum { CAP = 2 * MPGM_SHAPE_MAXNODE + 2 };
+  int ib[CAP];
+  double db[CAP];
+  for (int kq = n + 1;; kq = kq * 2 < CAP ? kq * 2 : CAP) {
+    const int kk = mpgm_kdtree_knn(c->tree, x, kq, ib, db);
+    for (int a = 0, cnt = 0; a < kk; a++) {
+      if (c->skip && c->skip[ib[a]]) continue;
+      if (cnt++ == n) {
+        *dn2 = db[a];
+        return 1;
+      }
+    }
+    if (kk < kq || kq == CAP) return 0;
+  }
+}
+
+static void sort_by_node(int n, int *idx) {
+  for (int i = 1; i < n; i++) {
+    const int v = idx[i];
+    int j = i - 1;
+    while (j >= 0 && idx[j] > v) {
+      idx[j + 1] = idx[j];
+      j--;
+    }
+    idx[j + 1] = v;
+  }
+}
+
+/* What point p is, for messages. */
+static const char *kind_of(const mpgm_points *P, int p) {
+  return p < P->n ? "point" : p < P->n + P->nprobe ? "probe" : "surface point";
+}
+
+/* Phase 1: the clouds of every point from the radius search, with radius
+ * growth up to min_nodes nodes. */
+static int search(mpgm_clouds *c, const mpgm_fe_view *v) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_points *P = v->pts;
+  const int m = c->m, nnode = mpgm_kdtree_size(c->tree);
+  const int want = c->min_nodes < nnode ? c->min_nodes : nnode;
+  int idx[MPGM_SHAPE_MAXNODE];
+  double d2[MPGM_SHAPE_MAXNODE];
+  c->cptr[0] = 0;
+  for (int p = 0; p < m; p++) {
+    const double *x = P->x + 2 * p;
+    double r = c->r0;
+    int n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
+    for (int g = 0; n < want && g < MAX_GROWTH; g++) {
+      r *= MPGM_SHAPE_GROWTH;
+      mpgm_count(ctx, MPGM_C_RADIUS_GROWTHS, 1);
+      n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
+    }
+    MPGM_CHECK(ctx, n <= MPGM_SHAPE_MAXNODE, MPGM_ERR_INPUT,
+               "%s: shape: step %ld: %s %d at (%g, %g) has %d nodes within its support radius "
+               "%g m, more than MPGM_SHAPE_MAXNODE = %d: lower shape.radius / shape.dilation "
+               "(mls) or raise shape.gamma (lme)",
+               v->scene->file, v->step + 1, kind_of(P, p), p < P->n ? P->id[p] : p - P->n, x[0],
+               x[1], n, r, MPGM_SHAPE_MAXNODE);
+    c->rad[p] = r;
+    const size_t need = (size_t)c->cptr[p] + (size_t)n;
+    if (need > c->ccap) {
+      size_t nc = c->ccap ? c->ccap : 1024;
+      while (nc < need) nc *= 2;
+      int *q = realloc(c->cidx, nc * sizeof *q);
+      MPGM_CHECK(ctx, q, MPGM_ERR_NOMEM, "out of memory (node clouds of %zu entries)", nc);
+      c->cidx = q;
+      c->ccap = nc;
+    }
+    memcpy(c->cidx + c->cptr[p], idx, sizeof(int) * (size_t)n);
+    c->cptr[p + 1] = c->cptr[p] + n;
+  }
+  return 0;
+}
+
+/* The failure of point p's functions after enl enlargements (cloud of n
+ * nodes within r): recorded with a message naming the point. */
+static int shape_failed(const mpgm_clouds *c, const mpgm_fe_view *v, int p, int err, int enl, int n,
+                        double r, const char *why) {
+  const mpgm_scene *s = v->scene;
+  const mpgm_points *P = v->pts;
+  const double *x = P->x + 2 * p;
+  if (p < P->n)
+    MPGM_ERROR(v->ctx, err,
+               "step %ld: %s shape functions failed at point %d (body \"%s\", started at (%g, "
+               "%g)) at (%g, %g) after %d cloud enlargement(s) (cloud of %d nodes within %g "
+               "m; shape.max_enlarge = %d): %s",
+               v->step + 1, c->shape->name, P->id[p], s->bodies[P->body[p]].name, P->x0[2 * p],
+               P->x0[2 * p + 1], x[0], x[1], enl, n, r, c->max_enlarge, why ? why : "?");
+  MPGM_ERROR(v->ctx, err,
+             "step %ld: %s shape functions failed at probe \"%s\" at (%g, %g) after %d cloud "
+             "enlargement(s) (cloud of %d nodes within %g m): %s",
+             v->step + 1, c->shape->name, s->probes[p - P->n].name, x[0], x[1], enl, n, r,
+             why ? why : "?");
+}
+
+/* Phase 2 for one point: N and grad N over its cloud at its position, with
+ * enlargements on MPGM_ERR_SHAPE; appends the non-zero entries to out at
+ * *k. *t_search accumulates the time of the extra searches. */
+static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *out, int *k,
+                       double *t_search) {
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_points *P = v->pts;
+  const double *xn_all = mpgm_kdtree_points(c->tree), *x = P->x + 2 * p;
+  int idx[MPGM_SHAPE_MAXNODE + 1];
+  double d2[MPGM_SHAPE_MAXNODE + 1], xn[2 * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE],
+      dN[2 * MPGM_SHAPE_MAXNODE];
+  int n = c->cptr[p + 1] - c->cptr[p];
+  memcpy(idx, c->cidx + c->cptr[p], sizeof(int) * (size_t)n);
+  double r = c->rad[p];
+  mpgm_shape_info info = {0};
+  int err = 0, enl = 0;
+  for (;; enl++) {
+    sort_by_node(n, idx);
+    for (int a = 0; a < n; a++) {
+      xn[2 * a] = xn_all[2 * idx[a]];
+      xn[2 * a + 1] = xn_all[2 * idx[a] + 1];
+    }
+    mpgm_shape_params par;
+    mpgm_shape_params_for_radius(&c->par, c->r0, r, &par);
+    /* a probe uses N only (its grad N is never assembled): the condition
+     * limit, which guards grad N, does not apply. A probe on the boundary
+     * of the body (the cantilever's tip) is on the hull of its cloud, where
+     * cond(J) of LME grows like 1 / (Newton residual) past 1e12 */
+    if (p >= P->n) par.max_cond = 1e300;
+    const mpgm_shape_query q = {.n = n, .xn = xn, .xp = {x[0], x[1]}, .cell = -1, .par = &par,
+                                .lambda = c->lambda + 2 * p, .info = &info};
+    /* an LME warm start that stalls is retried once from lambda = 0
+     * before the cloud is enlarged */
+    err = n > 0 ? mpgm_shape_eval_retry(c->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS])
+                : MPGM_ERR_SHAPE;
+    if (n == 0) info.msg = "no node within the support radius";
+    if (err != MPGM_ERR_SHAPE || enl >= c->max_enlarge) break;
+    /* enlarge: the next-nearest node outside the cloud */
+    const double t0 = mpgm_wtime();
+    double dn2;
+    const int more = next_nearest(c, x, n, &dn2);
+    int nn = n;
+    if (more) {
+      r = fmax(r * (1.0 + 1e-9), MPGM_SHAPE_ENLARGE * sqrt(dn2));
+      nn = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
+    }
+    *t_search += mpgm_wtime() - t0;
+    if (!more || nn > MPGM_SHAPE_MAXNODE) { /* no node left, or the cloud is full */
+      info.msg = !more ? "every node is in the cloud already"
+                       : "the enlarged cloud would exceed MPGM_SHAPE_MAXNODE nodes";
+      break;
+    }
+    mpgm_count(ctx, MPGM_C_CLOUD_ENLARGEMENTS, 1);
+    n = nn;
+  }
+  const int surf = p - (P->n + P->nprobe); /* >= 0: a surface point */
+  if (err == MPGM_ERR_SHAPE && surf >= 0) {
+    /* no functions at a surface point: contact is not enforced there in
+     * this step (counted), and the point does not move */
+    mpgm_err_clear(ctx);
+    mpgm_cpoints_unenforce(v->cp, surf);
+    return 0;
+  }
+  /* MPGM_ERR_SHAPE (recoverable), or a fatal MPGM_ERR_INPUT */
+  if (err) return shape_failed(c, v, p, err, enl, n, r, info.msg);
+  MPGM_CALL(mpgm_conn_grow(ctx, out, *k, *k + n));
+  for (int a = 0; a < n; a++) {
+    if (N[a] == 0.0 && dN[2 * a] == 0.0 && dN[2 * a + 1] == 0.0) continue; /* outside the support */
+    out->node[*k] = idx[a];
+    out->N[*k] = N[a];
+    out->dN[2 * *k] = dN[2 * a];
+    out->dN[2 * *k + 1] = dN[2 * a + 1];
+    (*k)++;
+  }
+  return 0;
+}
+
+int mpgm_clouds_build(mpgm_clouds *c, const mpgm_fe_view *v, const mpgm_kdtree *tree,
+                      const unsigned char *skip, mpgm_conn *out) {
+  mpgm_ctx *ctx = v->ctx;
+  const int m = v->pts->n + v->pts->nprobe + v->pts->nsurf;
+  MPGM_CALL(size_for(ctx, c, m));
+  MPGM_CHECK(ctx, m == c->m, MPGM_ERR_INTERNAL, "node clouds of %d points, asked for %d", c->m, m);
+  c->tree = tree;
+  c->skip = skip;
+  /* the caller times this as "shape": the search time is moved to
+   * "search", so that the two add up to the call */
+  const double t0 = mpgm_wtime();
+  MPGM_CALL(search(c, v));
+  double ts = mpgm_wtime() - t0;
+  /* room for every cloud of the search (enlargements may add more) */
+  MPGM_CALL(mpgm_conn_reserve(ctx, out, m, 0));
+  MPGM_CALL(mpgm_conn_grow(ctx, out, 0, c->cptr[m]));
+  int k = 0, err = 0;
+  for (int p = 0; p < m && !err; p++) {
+    out->ptr[p] = k;
+    err = shape_point(c, v, p, out, &k, &ts);
+  }
+  out->ptr[m] = k;
+  mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
+  return err;
+}
