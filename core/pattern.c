@@ -150,46 +150,32 @@ static int group_points(mpgm_problem *pb) {
 
 static int scatter_maps(mpgm_problem *pb);
 
-int mpgm_pattern_build(mpgm_problem *pb) {
+/* The node graph of the pattern: the neighbours of node J are the nodes of
+ * every group connected to J (one point stands for its group); built
+ * through the node -> groups transpose with a marker per node
+ * (O(entries)), each list sorted (they are short). Into pb->nbr_ptr,
+ * pb->nbr; with solver.ordering geometric, the nodes' nested-dissection
+ * order (it depends on the graph only: a contact node held or released
+ * keeps it). */
+static int node_graph(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_conn *C = &pb->conn;
-  const mpgm_nodes *nd = &pb->nodes;
-  const int np = pb->pts.n, nn = nd->n;
-  mpgm_timer_start(ctx, MPGM_T_ANALYSE); /* symbolic work, once per pattern */
-  int *nptr = NULL, *pair = NULL;
-  if (pb->graph_version == C->version && pb->nbr_ptr) {
-    /* same connectivity, new equation numbers (a contact node held or
-     * released): the groups and the node graph stand */
-    nptr = pb->nbr_ptr;
-    pair = pb->nbr;
-    goto numbering;
-  }
-  int gerr = group_points(pb);
-  if (gerr) {
-    mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
-    return gerr;
-  }
-  /* node graph: the neighbours of node J are the nodes of every group
-   * connected to J (one point stands for its group); built through the
-   * node -> groups transpose with a marker per node (O(entries)), each
-   * list sorted (they are short) */
-  const int ng = pb->ngroups;
+  const int np = pb->pts.n, nn = pb->nodes.n, ng = pb->ngroups;
   int *tptr = calloc((size_t)nn + 2, sizeof(int));
-  nptr = calloc((size_t)nn + 1, sizeof(int));
+  int *nptr = calloc((size_t)nn + 1, sizeof(int)), *pair = NULL;
   int *mark = malloc(((size_t)nn + 1) * sizeof(int));
   int *tpt = malloc(((size_t)C->ptr[np] + 1) * sizeof(int)); /* representative points */
-  /* pair: neighbour lists, CSR over nptr */
-  if (!tptr || !nptr || !mark || !tpt) goto oom;
-  for (int g = 0; g < ng; g++) {
+  int ok = tptr && nptr && mark && tpt;
+  for (int g = 0; g < ng && ok; g++) {
     const int p = pb->order[pb->grp_ptr[g]];
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) tptr[C->node[k] + 2]++;
   }
-  for (int i = 0; i < nn; i++) tptr[i + 2] += tptr[i + 1];
-  for (int g = 0; g < ng; g++) {
+  for (int i = 0; i < nn && ok; i++) tptr[i + 2] += tptr[i + 1];
+  for (int g = 0; g < ng && ok; g++) {
     const int p = pb->order[pb->grp_ptr[g]];
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) tpt[tptr[C->node[k] + 1]++] = p;
   }
-  for (int pass = 0; pass < 2; pass++) {
+  for (int pass = 0; pass < 2 && ok; pass++) {
     for (int i = 0; i < nn; i++) mark[i] = -1;
     for (int J = 0; J < nn; J++) {
       int cnt = 0, *list = pass ? pair + nptr[J] : NULL;
@@ -212,34 +198,38 @@ int mpgm_pattern_build(mpgm_problem *pb) {
     }
     if (!pass) {
       for (int i = 0; i < nn; i++) nptr[i + 1] += nptr[i];
-      pair = malloc(((size_t)nptr[nn] + 1) * sizeof(int));
-      if (!pair) goto oom;
+      ok = (pair = malloc(((size_t)nptr[nn] + 1) * sizeof(int))) != NULL;
     }
   }
   free(tptr);
   free(mark);
   free(tpt);
-  tptr = mark = tpt = NULL;
+  if (!ok) {
+    free(nptr);
+    free(pair);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
+  }
   free(pb->nbr);
   free(pb->nbr_ptr);
   pb->nbr = pair;
   pb->nbr_ptr = nptr;
   pb->graph_version = C->version;
-  if (pb->scene->ordering_nd) {
-    /* the node order depends on the graph only: a contact node held or
-     * released keeps it (the equations are renumbered below) */
-    free(pb->node_order);
-    pb->node_order = malloc(((size_t)nn + 1) * sizeof(int));
-    if (!pb->node_order) goto oom;
-    int oerr = mpgm_order_nodes(ctx, nn, nptr, pair, nd->x, pb->node_order);
-    if (oerr) {
-      mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
-      return oerr;
-    }
-  }
-numbering:
-  /* count entries */
-  const int n = nd->ndof;
+  if (!pb->scene->ordering_nd) return 0;
+  free(pb->node_order);
+  pb->node_order = malloc(((size_t)nn + 1) * sizeof(int));
+  MPGM_CHECK(ctx, pb->node_order, MPGM_ERR_NOMEM, "out of memory (ordering)");
+  return mpgm_order_nodes(ctx, nn, nptr, pair, pb->nodes.x, pb->node_order);
+}
+
+/* K's pattern from the node graph and the equation numbers: every free
+ * component of node J couples with every free component of J's
+ * neighbours; the equations in the nodes' order (solver.ordering
+ * geometric); where node I's rows start in a column of node J
+ * (pb->nbr_off, for the scatter maps). */
+static int matrix_pattern(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_nodes *nd = &pb->nodes;
+  const int nn = nd->n, n = nd->ndof, *nptr = pb->nbr_ptr, *pair = pb->nbr;
   mpgm_csc *K = &pb->K;
   free(K->colptr);
   free(K->rowind);
@@ -256,9 +246,8 @@ numbering:
     }
   K->rowind = malloc((nnz ? nnz : 1) * sizeof(int));
   K->val = calloc(nnz ? nnz : 1, sizeof(double));
-  if (!K->colptr || !K->rowind || !K->val || nnz > INT32_MAX) {
-    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (matrix with %zu entries)", nnz);
-  }
+  MPGM_CHECK(ctx, K->colptr && K->rowind && K->val && nnz <= INT32_MAX, MPGM_ERR_NOMEM,
+             "out of memory (matrix with %zu entries)", nnz);
   size_t e = 0;
   for (int J = 0; J < nn; J++)
     for (int j = 0; j < 2; j++) {
@@ -273,21 +262,21 @@ numbering:
     }
   K->n = n;
   K->nnz = (int)nnz;
+  K->symmetric = pb->symmetric;
   if (pb->node_order) { /* the equations in the nodes' order */
     free(pb->perm);
     pb->perm = malloc(((size_t)n + 1) * sizeof(int));
-    if (!pb->perm) MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (ordering)");
+    MPGM_CHECK(ctx, pb->perm, MPGM_ERR_NOMEM, "out of memory (ordering)");
     int k = 0;
     for (int t = 0; t < nn; t++)
       for (int j = 0; j < 2; j++)
         if (nd->dof[2 * pb->node_order[t] + j] >= 0) pb->perm[k++] = nd->dof[2 * pb->node_order[t] + j];
     MPGM_CHECK(ctx, k == n, MPGM_ERR_INTERNAL, "ordering: %d of %d equations placed", k, n);
   }
-  K->symmetric = pb->symmetric;
-  /* kept for the scatter maps: node I's rows in a column of node J start
-   * nbr_off[t] entries into the column, t the place of I in J's list */
+  /* node I's rows in a column of node J start nbr_off[t] entries into the
+   * column, t the place of I in J's list */
   int *off = malloc(((size_t)nptr[nn] + 1) * sizeof(int));
-  if (!off) MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
+  MPGM_CHECK(ctx, off, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
   for (int J = 0; J < nn; J++)
     for (int t = nptr[J], c = 0; t < nptr[J + 1]; t++) {
       off[t] = c;
@@ -295,29 +284,36 @@ numbering:
     }
   free(pb->nbr_off);
   pb->nbr_off = off;
-  pb->pattern_version = C->version;
-  pb->solver->analysed = 0;
-  pb->factor_valid = 0;
-  mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
-  return scatter_maps(pb);
-oom:
-  free(tptr);
-  free(nptr);
-  free(mark);
-  free(tpt);
-  free(pair);
-  MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
+  return 0;
 }
 
-/* One scatter map per group: the position in K.val of every (a, b, i, j)
- * entry of the group's node list (-1 where a component is fixed). */
-static int scatter_maps(mpgm_problem *pb) {
+int mpgm_pattern_build(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_timer_start(ctx, MPGM_T_ANALYSE); /* symbolic work, once per pattern */
+  int err = 0;
+  /* the same connectivity with new equation numbers (a contact node held
+   * or released): the groups and the node graph stand */
+  if (pb->graph_version != pb->conn.version || !pb->nbr_ptr) {
+    err = group_points(pb);
+    if (!err) err = node_graph(pb);
+  }
+  if (!err) err = matrix_pattern(pb);
+  mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+  MPGM_CALL(err);
+  pb->pattern_version = pb->conn.version;
+  pb->solver->analysed = 0;
+  pb->factor_valid = 0;
+  return scatter_maps(pb);
+}
+
+/* The memory of the scatter maps (ns entries over the groups, the largest
+ * of maxk nodes) and of the local matrices; node clouds (meshfree kinds)
+ * keep no maps: K is merged in batches (assembly.c, assemble_batch;
+ * MPGM_ASM_BATCH >= MPGM_SHAPE_MAXNODE). */
+static int map_buffers(mpgm_problem *pb, int *maxk_out) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_conn *C = &pb->conn;
-  const mpgm_nodes *nd = &pb->nodes;
-  const mpgm_csc *K = &pb->K;
-  const int ng = pb->ngroups;
-  mpgm_timer_start(ctx, MPGM_T_ANALYSE);
+  const int ng = pb->ngroups, nn = pb->nodes.n;
   free(pb->scatter_ptr);
   free(pb->kloc);
   pb->kloc = NULL;
@@ -331,20 +327,18 @@ static int scatter_maps(mpgm_problem *pb) {
     ns += 4 * (size_t)k * k;
   }
   MPGM_CHECK(ctx, ns <= INT32_MAX, MPGM_ERR_NOMEM, "scatter map of %zu entries", ns);
-  /* node clouds (meshfree kinds): no stored maps; K is merged in batches
-   * (assembly.c, assemble_batch; MPGM_ASM_BATCH >= MPGM_SHAPE_MAXNODE) */
   pb->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE;
+  const size_t nt = (size_t)mpgm_pool_size(pb->pool);
   if (pb->nomap) {
     ns = 0;
     /* the batches' buffers, kept from step to step (zero between batches) */
-    const size_t nt = (size_t)mpgm_pool_size(pb->pool);
     if (!pb->kbatch) pb->kbatch = calloc(nt * 4 * MPGM_ASM_BATCH * MPGM_ASM_BATCH, sizeof(double));
-    if (pb->kslot_n < nd->n) {
+    if (pb->kslot_n < nn) {
       free(pb->kslot);
-      pb->kslot = malloc(nt * (size_t)nd->n * sizeof(int));
-      pb->kslot_n = pb->kslot ? nd->n : 0;
+      pb->kslot = malloc(nt * (size_t)nn * sizeof(int));
+      pb->kslot_n = pb->kslot ? nn : 0;
       if (pb->kslot)
-        for (size_t i = 0; i < nt * (size_t)nd->n; i++) pb->kslot[i] = -1;
+        for (size_t i = 0; i < nt * (size_t)nn; i++) pb->kslot[i] = -1;
     }
     MPGM_CHECK(ctx, pb->kbatch && pb->kslot, MPGM_ERR_NOMEM, "out of memory (assembly batches)");
   }
@@ -357,80 +351,90 @@ static int scatter_maps(mpgm_problem *pb) {
     pb->scatter_cap = pb->scatter ? cap : 0;
   }
   pb->kloc_size = 4 * maxk * maxk;
-  pb->kloc = malloc((size_t)mpgm_pool_size(pb->pool) * (size_t)pb->kloc_size * sizeof(double));
+  pb->kloc = malloc(nt * (size_t)pb->kloc_size * sizeof(double));
   MPGM_CHECK(ctx, pb->scatter && pb->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
-  size_t s = 0;
+  *maxk_out = maxk;
+  return 0;
+}
+
+/* Group g's map at pb->scatter + *s: the position in K.val of every
+ * (a, b, i, j) entry of its node list (-1 where a component is fixed or
+ * held). srt, tpos: workspaces of maxk and maxk^2 ints. */
+static int group_map(mpgm_problem *pb, int g, int *srt, int *tpos, size_t *s) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_conn *C = &pb->conn;
+  const mpgm_nodes *nd = &pb->nodes;
+  const mpgm_csc *K = &pb->K;
   const int *dof = nd->dof;
-  /* place of node a of a group in the neighbour list of its node b, found
-   * by one merge of the sorted list with the group's nodes in increasing
-   * order: O(nk + degree) per b (clouds of meshfree kinds are long) */
-  int *srt = malloc(sizeof(int) * (size_t)maxk), *tpos = malloc(sizeof(int) * (size_t)maxk * maxk);
-  if (!srt || !tpos) {
-    free(srt);
-    free(tpos);
-    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (scatter map)");
+  const int p = pb->order[pb->grp_ptr[g]], k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
+  const int *nodes = C->node + k0;
+  /* place of node a of the group in the neighbour list of its node b,
+   * found by one merge of the sorted list with the group's nodes in
+   * increasing order: O(nk + degree) per b (clouds are long) */
+  for (int a = 0; a < nk; a++) { /* local indices by node number */
+    int w = a;
+    while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
+      srt[w] = srt[w - 1];
+      w--;
+    }
+    srt[w] = a;
   }
-  int bad = 0;
-  for (int g = 0; g < ng && !bad; g++) {
-    const int p = pb->order[pb->grp_ptr[g]], k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
-    const int *nodes = C->node + k0;
-    pb->scatter_ptr[g] = (int)s;
-    if (pb->nomap) continue;
-    for (int a = 0; a < nk; a++) { /* local indices by node number */
-      int w = a;
-      while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
-        srt[w] = srt[w - 1];
-        w--;
-      }
-      srt[w] = a;
+  for (int b = 0; b < nk; b++) {
+    const int J = nodes[b], tend = pb->nbr_ptr[J + 1];
+    int t = pb->nbr_ptr[J];
+    for (int q = 0; q < nk; q++) {
+      const int a = srt[q], I = nodes[a];
+      while (t < tend && pb->nbr[t] < I) t++;
+      MPGM_CHECK(ctx, t < tend && pb->nbr[t] == I, MPGM_ERR_INTERNAL,
+                 "pattern misses node %d in the list of node %d", I, J);
+      tpos[a * nk + b] = t;
     }
-    for (int b = 0; b < nk && !bad; b++) {
-      const int J = nodes[b], tend = pb->nbr_ptr[J + 1];
-      int t = pb->nbr_ptr[J];
-      for (int q = 0; q < nk; q++) {
-        const int a = srt[q], I = nodes[a];
-        while (t < tend && pb->nbr[t] < I) t++;
-        if (t == tend || pb->nbr[t] != I) {
-          bad = 1;
-          mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "pattern misses node %d in the list of node %d", I, J);
-          break;
-        }
-        tpos[a * nk + b] = t;
-      }
-    }
-    for (int a = 0; a < nk && !bad; a++) {
-      const int I = nodes[a];
-      for (int b = 0; b < nk && !bad; b++) {
-        const int J = nodes[b], t = tpos[a * nk + b];
-        for (int i = 0; i < 2; i++)
-          for (int j = 0; j < 2; j++) {
-            const int row = dof[2 * I + i], col = dof[2 * J + j];
-            int pos = -1;
-            /* held contact components are numbered but get no terms */
-            if (row >= 0 && col >= 0 && !nd->fix[2 * I + i] && !nd->fix[2 * J + j]) {
-              pos = K->colptr[col] + pb->nbr_off[t] + (i == 1 && dof[2 * I] >= 0);
-              /* a broken invariant, checked on every 16th group: the read
-               * is a cache miss (a third of the maps' cost on clouds) */
-              if ((g & 15) == 0 && K->rowind[pos] != row) {
-                bad = 1;
-                mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "scatter map: entry (%d, %d) misplaced", row, col);
-              }
-            }
-            pb->scatter[s++] = pos;
+  }
+  for (int a = 0; a < nk; a++) {
+    const int I = nodes[a];
+    for (int b = 0; b < nk; b++) {
+      const int J = nodes[b], t = tpos[a * nk + b];
+      for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++) {
+          const int row = dof[2 * I + i], col = dof[2 * J + j];
+          int pos = -1;
+          /* held contact components are numbered but get no terms */
+          if (row >= 0 && col >= 0 && !nd->fix[2 * I + i] && !nd->fix[2 * J + j]) {
+            pos = K->colptr[col] + pb->nbr_off[t] + (i == 1 && dof[2 * I] >= 0);
+            /* a broken invariant, checked on every 16th group: the read is
+             * a cache miss (a third of the maps' cost on clouds) */
+            MPGM_CHECK(ctx, (g & 15) != 0 || K->rowind[pos] == row, MPGM_ERR_INTERNAL,
+                       "scatter map: entry (%d, %d) misplaced", row, col);
           }
-      }
+          pb->scatter[(*s)++] = pos;
+        }
     }
+  }
+  return 0;
+}
+
+/* One scatter map per group (none for node clouds). */
+static int scatter_maps(mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  const int ng = pb->ngroups;
+  mpgm_timer_start(ctx, MPGM_T_ANALYSE);
+  int maxk = 1, err = map_buffers(pb, &maxk);
+  int *srt = malloc(sizeof(int) * (size_t)maxk), *tpos = malloc(sizeof(int) * (size_t)maxk * maxk);
+  if (!err && (!srt || !tpos))
+    err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory (scatter map)");
+  size_t s = 0;
+  for (int g = 0; g < ng && !err; g++) {
+    pb->scatter_ptr[g] = (int)s;
+    if (!pb->nomap) err = group_map(pb, g, srt, tpos, &s);
   }
   free(srt);
   free(tpos);
-  if (bad) {
-    mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
-    return MPGM_ERR_INTERNAL;
+  if (!err) {
+    pb->scatter_ptr[ng] = (int)s;
+    pb->map_version = pb->conn.map_version;
   }
-  pb->scatter_ptr[ng] = (int)s;
-  pb->map_version = C->map_version;
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
-  return 0;
+  return err;
 }
 
 int mpgm_scatter_maps(mpgm_problem *pb) { return scatter_maps(pb); }

@@ -380,32 +380,9 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   return 0;
 }
 
-static int read_scene(jr_node *root, mpgm_scene *s) {
-  char desc[2048];
-  MPGM_CALL(jr_str(root, "description", "", desc, sizeof desc));
-  /* method: a front end of the list (the first is the default) */
-  const mpgm_frontend_type *const *ft = mpgm_frontend_types();
-  const char *fnames[16];
-  int nf = 0;
-  for (; ft[nf] && nf < 15; nf++) fnames[nf] = ft[nf]->name;
-  fnames[nf] = NULL;
-  int fi;
-  MPGM_CALL(jr_enum(root, "method", fnames, 0, &fi));
-  s->frontend = ft[fi];
-
-  jr_node sh;
-  MPGM_CALL(jr_child(root, "shape", 0, &sh));
-  const mpgm_shapefn_type *const *st = mpgm_shapefn_types();
-  const char *snames[16];
-  int ns = 0;
-  for (; st[ns] && ns < 15; ns++) snames[ns] = st[ns]->name;
-  snames[ns] = NULL;
-  int sk;
-  MPGM_CALL(jr_enum(&sh, "kind", snames, 0, &sk));
-  s->shape = st[sk];
-  MPGM_CALL(read_shape_params(&sh, s));
-  MPGM_CALL(jr_end(&sh));
-
+/* "mesh": cell size, cell kind, points per cell, the light-node and
+ * close-node rules, the domain. */
+static int read_mesh(jr_node *root, mpgm_scene *s) {
   jr_node mesh, dom;
   MPGM_CALL(jr_child(root, "mesh", 1, &mesh));
   MPGM_CALL(jr_num(&mesh, "h", NAN, 0, INFINITY, 1, 0, &s->h));
@@ -427,9 +404,12 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
     return jr_fail(&dom, NULL, "expected max > min in x and y, found an empty domain");
   MPGM_CALL(jr_end(&mesh));
 
-  MPGM_CALL(jr_enum(root, "kinematics", kin_names, MPGM_KIN_FINITE, &s->kinematics));
-  MPGM_CALL(jr_int(root, "threads", 0, 0, 256, &s->loop_threads));
+  return 0;
+}
 
+/* "time": analysis, step and end (dynamic) or load steps (static),
+ * Newmark parameters, predictor, step control, initial acceleration. */
+static int read_time(jr_node *root, mpgm_scene *s) {
   jr_node tm;
   MPGM_CALL(jr_child(root, "time", 0, &tm));
   MPGM_CALL(jr_enum(&tm, "analysis", analysis_names, MPGM_ANALYSIS_STATIC, &s->analysis));
@@ -451,10 +431,11 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   if (dyn && s->t_end / s->dt > 1e8)
     return jr_fail(&tm, "dt", "expected at most 1e8 steps, found end/dt = %g", s->t_end / s->dt);
 
-  /* static and dynamic analyses: the implicit Newmark integrator */
-  s->integrator = mpgm_integrator_type_find("implicit");
-  MPGM_CHECK(root->r->ctx, s->integrator, MPGM_ERR_INTERNAL, "no implicit integrator in this build");
+  return 0;
+}
 
+/* "solver": the linear solver backend and Newton's settings. */
+static int read_solver(jr_node *root, mpgm_scene *s) {
   jr_node so;
   MPGM_CALL(jr_child(root, "solver", 0, &so));
   const mpgm_solver_type *const *svt = mpgm_solver_types();
@@ -484,6 +465,45 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
                    &s->solver_opts.max_iter));
   MPGM_CALL(jr_end(&so));
 
+  return 0;
+}
+
+static int read_scene(jr_node *root, mpgm_scene *s) {
+  char desc[2048];
+  MPGM_CALL(jr_str(root, "description", "", desc, sizeof desc));
+  /* method: a front end of the list (the first is the default) */
+  const mpgm_frontend_type *const *ft = mpgm_frontend_types();
+  const char *fnames[16];
+  int nf = 0;
+  for (; ft[nf] && nf < 15; nf++) fnames[nf] = ft[nf]->name;
+  fnames[nf] = NULL;
+  int fi;
+  MPGM_CALL(jr_enum(root, "method", fnames, 0, &fi));
+  s->frontend = ft[fi];
+
+  jr_node sh;
+  MPGM_CALL(jr_child(root, "shape", 0, &sh));
+  const mpgm_shapefn_type *const *st = mpgm_shapefn_types();
+  const char *snames[16];
+  int ns = 0;
+  for (; st[ns] && ns < 15; ns++) snames[ns] = st[ns]->name;
+  snames[ns] = NULL;
+  int sk;
+  MPGM_CALL(jr_enum(&sh, "kind", snames, 0, &sk));
+  s->shape = st[sk];
+  MPGM_CALL(read_shape_params(&sh, s));
+  MPGM_CALL(jr_end(&sh));
+
+  MPGM_CALL(read_mesh(root, s));
+  MPGM_CALL(jr_enum(root, "kinematics", kin_names, MPGM_KIN_FINITE, &s->kinematics));
+  MPGM_CALL(jr_int(root, "threads", 0, 0, 256, &s->loop_threads));
+
+  MPGM_CALL(read_time(root, s));
+  /* static and dynamic analyses: the implicit Newmark integrator */
+  s->integrator = mpgm_integrator_type_find("implicit");
+  MPGM_CHECK(root->r->ctx, s->integrator, MPGM_ERR_INTERNAL, "no implicit integrator in this build");
+
+  MPGM_CALL(read_solver(root, s));
   MPGM_CALL(read_materials(root, s));
   for (int i = 0; i < s->nmat; i++) {
     jr_node m = {.r = root->r};

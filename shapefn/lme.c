@@ -151,6 +151,67 @@ static double cond2(const double J[3]) {
   return lmax > 0.0 && lmin > 0.0 ? lmax / lmin : INFINITY;
 }
 
+/* Condition number of the covariance of the scaled offsets d (ns of
+ * them): infinite for a degenerate (collinear) cloud. */
+static double cloud_cond(int ns, const double *d) {
+  double m0 = 0.0, m1 = 0.0, C[3] = {0.0, 0.0, 0.0};
+  for (int a = 0; a < ns; a++) m0 += d[2 * a], m1 += d[2 * a + 1];
+  m0 /= ns;
+  m1 /= ns;
+  for (int a = 0; a < ns; a++) {
+    const double e0 = d[2 * a] - m0, e1 = d[2 * a + 1] - m1;
+    C[0] += e0 * e0;
+    C[1] += e0 * e1;
+    C[2] += e1 * e1;
+  }
+  return cond2(C);
+}
+
+/* One damped Newton step on the multiplier lam (moments s at lam): the
+ * new lam and its moments *st (p: N at it). Returns 1 when the line
+ * search fails. */
+static int newton_step(int ns, const double *d, const double *f0, double *p, double lam[2],
+                       const lme_moments *s, lme_moments *st) {
+  /* Newton direction dl = -(J + mu I)^-1 r; mu > 0 only when J is
+   * numerically singular at an iterate (far from the solution, when one
+   * node holds almost all the weight) */
+  const double tr = s->J[0] + s->J[2];
+  double J0 = s->J[0], J2 = s->J[2];
+  double det = J0 * J2 - s->J[1] * s->J[1];
+  if (!(det > 1e-24 * tr * tr)) {
+    const double mu = 1e-12 * tr + 1e-300;
+    J0 += mu;
+    J2 += mu;
+    det = J0 * J2 - s->J[1] * s->J[1];
+  }
+  double dl[2] = {-(J2 * s->r[0] - s->J[1] * s->r[1]) / det,
+                  -(-s->J[1] * s->r[0] + J0 * s->r[1]) / det};
+  const double slope = s->r[0] * dl[0] + s->r[1] * dl[1]; /* < 0 */
+  /* step cap: no exponent f_a moves by more than LME_STEP_CAP against
+   * the weighted mean in one step (J nearly singular gives huge steps
+   * that the line search would have to halve ~50 times) */
+  double fch = 0.0;
+  for (int a = 0; a < ns; a++)
+    fch = fmax(fch, fabs(dl[0] * (d[2 * a] - s->r[0]) + dl[1] * (d[2 * a + 1] - s->r[1])));
+  double t = fch > LME_STEP_CAP ? LME_STEP_CAP / fch : 1.0;
+  /* Armijo backtracking; the slack lets a full step through when log Z
+   * changes below its round-off near the solution */
+  const double slack = 8.0 * 2.220446049250313e-16 * (1.0 + fabs(s->logZ));
+  double trial[2];
+  int halvings = 0;
+  for (;; halvings++) {
+    trial[0] = lam[0] + t * dl[0];
+    trial[1] = lam[1] + t * dl[1];
+    moments(ns, d, f0, trial, p, st);
+    if (st->logZ <= s->logZ + 1e-4 * t * slope + slack || halvings == LME_MAX_HALVINGS) break;
+    t *= 0.5;
+  }
+  if (halvings == LME_MAX_HALVINGS || !isfinite(st->logZ)) return 1;
+  lam[0] = trial[0];
+  lam[1] = trial[1];
+  return 0;
+}
+
 static int lme_eval(const mpgm_shape_query *q, double *N, double *dN) {
   int err = mpgm_shape_check_cloud(q, N, dN);
   if (err) return err;
@@ -187,22 +248,10 @@ static int lme_eval(const mpgm_shape_query *q, double *N, double *dN) {
   if (hull == HULL_OUTSIDE) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OUTSIDE_HULL);
   /* a degenerate (collinear) cloud: its own covariance is singular, and so
    * is J at any lambda */
-  {
-    double m0 = 0.0, m1 = 0.0, C[3] = {0.0, 0.0, 0.0};
-    for (int a = 0; a < ns; a++) m0 += d[2 * a], m1 += d[2 * a + 1];
-    m0 /= ns;
-    m1 /= ns;
-    for (int a = 0; a < ns; a++) {
-      const double e0 = d[2 * a] - m0, e1 = d[2 * a + 1] - m1;
-      C[0] += e0 * e0;
-      C[1] += e0 * e1;
-      C[2] += e1 * e1;
-    }
-    const double cc = cond2(C);
-    if (!(cc <= max_cond)) {
-      if (q->info) q->info->cond = cc;
-      return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_ILL_COND);
-    }
+  const double cc = cloud_cond(ns, d);
+  if (!(cc <= max_cond)) {
+    if (q->info) q->info->cond = cc;
+    return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_ILL_COND);
   }
 
   double lam[2] = {0.0, 0.0};
@@ -222,47 +271,11 @@ static int lme_eval(const mpgm_shape_query *q, double *N, double *dN) {
       break;
     }
     if (it >= max_newton) { reason = MPGM_SHAPE_NOT_CONVERGED; break; }
-    /* Newton direction dl = -(J + mu I)^-1 r; mu > 0 only when J is
-     * numerically singular at an iterate (far from the solution, when one
-     * node holds almost all the weight) */
-    const double tr = s.J[0] + s.J[2];
-    double J0 = s.J[0], J2 = s.J[2];
-    double det = J0 * J2 - s.J[1] * s.J[1];
-    if (!(det > 1e-24 * tr * tr)) {
-      const double mu = 1e-12 * tr + 1e-300;
-      J0 += mu;
-      J2 += mu;
-      det = J0 * J2 - s.J[1] * s.J[1];
-    }
-    double dl[2] = {-(J2 * s.r[0] - s.J[1] * s.r[1]) / det,
-                    -(-s.J[1] * s.r[0] + J0 * s.r[1]) / det};
-    const double slope = s.r[0] * dl[0] + s.r[1] * dl[1]; /* < 0 */
-    /* step cap: no exponent f_a moves by more than LME_STEP_CAP against
-     * the weighted mean in one step (J nearly singular gives huge steps
-     * that the line search would have to halve ~50 times) */
-    double fch = 0.0;
-    for (int a = 0; a < ns; a++)
-      fch = fmax(fch, fabs(dl[0] * (d[2 * a] - s.r[0]) + dl[1] * (d[2 * a + 1] - s.r[1])));
-    double t = fch > LME_STEP_CAP ? LME_STEP_CAP / fch : 1.0;
-    /* Armijo backtracking; the slack lets a full step through when log Z
-     * changes below its round-off near the solution */
-    const double slack = 8.0 * 2.220446049250313e-16 * (1.0 + fabs(s.logZ));
     lme_moments st;
-    double trial[2];
-    int halvings = 0;
-    for (;; halvings++) {
-      trial[0] = lam[0] + t * dl[0];
-      trial[1] = lam[1] + t * dl[1];
-      moments(ns, d, f0, trial, p, &st);
-      if (st.logZ <= s.logZ + 1e-4 * t * slope + slack || halvings == LME_MAX_HALVINGS) break;
-      t *= 0.5;
-    }
-    if (halvings == LME_MAX_HALVINGS || !isfinite(st.logZ)) {
+    if (newton_step(ns, d, f0, p, lam, &s, &st)) {
       reason = MPGM_SHAPE_NOT_CONVERGED;
       break;
     }
-    lam[0] = trial[0];
-    lam[1] = trial[1];
     s = st;
   }
   if (q->info) {
