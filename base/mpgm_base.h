@@ -21,8 +21,32 @@ extern "C" {
 #define MPGM_NAME_LEN 64   /**< names of scene items (materials, bodies) */
 #define MPGM_PATH_LEN 1024 /**< file and folder paths                    */
 
-/** Spatial dimension of the data layouts (2-D plane strain today). */
+/** Spatial dimension of the data layouts (2-D plane strain today): the
+ *  components of a vector per point or node (x, u, v, a, grad N), the
+ *  degrees of freedom per node. Code written out per component (x and y
+ *  apart) is marked "2-D only" where it stands. */
 #define MPGM_DIM 2
+/** Entries of a full second-order tensor, MPGM_DIM x MPGM_DIM row major:
+ *  the deformation gradient F and its increment dF, {xx, xy, yx, yy}. */
+#define MPGM_TENSOR (MPGM_DIM * MPGM_DIM)
+/** Entries of one node pair's block of the tangent K (the rows of node a's
+ *  components, the columns of node b's), MPGM_DIM x MPGM_DIM row major. */
+#define MPGM_BLOCK (MPGM_DIM * MPGM_DIM)
+/** Components of a symmetric tensor in Voigt notation that the tangent
+ *  couples: in 2-D the in-plane ones {xx, yy, xy} (3-D: 6). */
+#define MPGM_NVOIGT (MPGM_DIM * (MPGM_DIM + 1) / 2)
+/** Entries of the material tangent D per point: MPGM_NVOIGT x MPGM_NVOIGT,
+ *  row major, engineering shear (mpgm_material.h). */
+#define MPGM_NTANGENT (MPGM_NVOIGT * MPGM_NVOIGT)
+/** Stored components of a stress per point (sigma, S0, the materials'
+ *  tau): {xx, yy, xy, zz}. Plane strain keeps the out-of-plane zz, which is
+ *  not zero, after the in-plane Voigt components; in 3-D the six Voigt
+ *  components hold it. */
+#if MPGM_DIM == 2
+#define MPGM_NSTRESS (MPGM_NVOIGT + 1)
+#else
+#define MPGM_NSTRESS MPGM_NVOIGT
+#endif
 
 /** Error codes. Negative: fatal. Positive: recoverable (cut the step). */
 typedef enum {

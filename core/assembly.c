@@ -8,7 +8,8 @@
 
 #include "mpgm_core_impl.h"
 
-/* 2x2 helpers, row major {a00, a01, a10, a11} */
+/* 2x2 helpers, row major {a00, a01, a10, a11}. 2-D only: written out for
+ * MPGM_DIM = 2 (3-D: the 3x3 determinant and product). */
 static inline double det2(const double *a) { return a[0] * a[3] - a[1] * a[2]; }
 static inline void mul2(const double *a, const double *b, double *c) {
   c[0] = a[0] * b[0] + a[1] * b[2];
@@ -29,29 +30,31 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
   const int ns = P->nstate;
   for (int p = p0; p < p1; p++) {
     int err;
-    /* H = sum_I du_I (x) grad N_I (small: total u) */
-    double H[4] = {0, 0, 0, 0};
+    /* H = sum_I du_I (x) grad N_I (small: total u). 2-D only: H and
+     * dF = I + H written out per component (3-D: 3x3, loops over MPGM_DIM) */
+    double H[MPGM_TENSOR] = {0, 0, 0, 0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
-      const double ux = nd->du[2 * I] + (small ? nd->u[2 * I] : 0.0);
-      const double uy = nd->du[2 * I + 1] + (small ? nd->u[2 * I + 1] : 0.0);
-      const double gx = C->dN[2 * k], gy = C->dN[2 * k + 1];
+      const double ux = nd->du[MPGM_DIM * I] + (small ? nd->u[MPGM_DIM * I] : 0.0);
+      const double uy = nd->du[MPGM_DIM * I + 1] + (small ? nd->u[MPGM_DIM * I + 1] : 0.0);
+      const double gx = C->dN[MPGM_DIM * k], gy = C->dN[MPGM_DIM * k + 1];
       H[0] += ux * gx; H[1] += ux * gy;
       H[2] += uy * gx; H[3] += uy * gy;
     }
-    double *dF = P->dF_t + 4 * p, *F = P->F_t + 4 * p;
+    double *dF = P->dF_t + MPGM_TENSOR * p, *F = P->F_t + MPGM_TENSOR * p;
     dF[0] = 1.0 + H[0]; dF[1] = H[1]; dF[2] = H[2]; dF[3] = 1.0 + H[3];
     const mpgm_material *m = &mats[P->mat[p]];
     double *st_n = ns ? P->state + (size_t)ns * p : NULL;
     double *st_t = ns ? P->state_t + (size_t)ns * p : NULL;
     if (small) {
-      memcpy(F, dF, sizeof(double) * 4);
+      memcpy(F, dF, sizeof(double) * MPGM_TENSOR);
       P->vol_t[p] = P->vol0[p];
-      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-        C->g[2 * k] = C->dN[2 * k];
-        C->g[2 * k + 1] = C->dN[2 * k + 1];
+      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) { /* g = dN; 2-D only: x, y apart */
+        C->g[MPGM_DIM * k] = C->dN[MPGM_DIM * k];
+        C->g[MPGM_DIM * k + 1] = C->dN[MPGM_DIM * k + 1];
       }
-      err = m->type->update(m, MPGM_KIN_SMALL, F, dF, st_n, st_t, P->sigma_t + 4 * p, P->D_t + 9 * p);
+      err = m->type->update(m, MPGM_KIN_SMALL, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
+                            P->D_t + MPGM_NTANGENT * p);
     } else {
       const double J = det2(dF);
       if (!(J > 0.0)) {
@@ -59,16 +62,18 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
         *fail_J = J;
         return MPGM_ERR_JACOBIAN;
       }
-      mul2(dF, P->F + 4 * p, F);
+      mul2(dF, P->F + MPGM_TENSOR * p, F);
       P->vol_t[p] = J * P->vol[p];
-      /* gradients at the iterate: g = dN dF^-1 */
+      /* gradients at the iterate: g = dN dF^-1. 2-D only: the 2x2 inverse
+       * and the product written out (3-D: the 3x3 inverse) */
       const double i00 = dF[3] / J, i01 = -dF[1] / J, i10 = -dF[2] / J, i11 = dF[0] / J;
       for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-        const double a = C->dN[2 * k], b = C->dN[2 * k + 1];
-        C->g[2 * k] = a * i00 + b * i10;
-        C->g[2 * k + 1] = a * i01 + b * i11;
+        const double a = C->dN[MPGM_DIM * k], b = C->dN[MPGM_DIM * k + 1];
+        C->g[MPGM_DIM * k] = a * i00 + b * i10;
+        C->g[MPGM_DIM * k + 1] = a * i01 + b * i11;
       }
-      err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + 4 * p, P->D_t + 9 * p);
+      err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
+                            P->D_t + MPGM_NTANGENT * p);
     }
     if (err) {
       *fail = p;
@@ -76,11 +81,11 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
       return err;
     }
     if (pb->fx.prestress) { /* sigma += J^-1 F S0 F^T (small: S0) */
-      const double *S = P->S0 + 4 * p;
-      double *sg = P->sigma_t + 4 * p;
+      const double *S = P->S0 + MPGM_NSTRESS * p;
+      double *sg = P->sigma_t + MPGM_NSTRESS * p;
       if (small) {
-        for (int c = 0; c < 4; c++) sg[c] += S[c];
-      } else {
+        for (int c = 0; c < MPGM_NSTRESS; c++) sg[c] += S[c];
+      } else { /* 2-D only: F S0 F^T written out; zz is out of plane (F33 = 1) */
         const double J = F[0] * F[3] - F[1] * F[2];
         const double A0 = F[0] * S[0] + F[1] * S[2], A1 = F[0] * S[2] + F[1] * S[1];
         const double A2 = F[2] * S[0] + F[3] * S[2], A3 = F[2] * S[2] + F[3] * S[1];
@@ -132,9 +137,10 @@ int mpgm_eval_points(mpgm_problem *pb) {
     const int p = j.fail[t];
     if (j.err[t] == MPGM_ERR_JACOBIAN && !(j.fail_J[t] > 0.0))
       MPGM_ERROR(ctx, MPGM_ERR_JACOBIAN, "point %d at (%g, %g): det(dF) = %g <= 0", P->id[p],
-                 P->x[2 * p], P->x[2 * p + 1], j.fail_J[t]);
-    MPGM_ERROR(ctx, j.err[t], "point %d at (%g, %g), material \"%s\": %s", P->id[p], P->x[2 * p],
-               P->x[2 * p + 1], pb->scene->mats[P->mat[p]].name, mpgm_code_str(j.err[t]));
+                 P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], j.fail_J[t]);
+    MPGM_ERROR(ctx, j.err[t], "point %d at (%g, %g), material \"%s\": %s", P->id[p],
+               P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], pb->scene->mats[P->mat[p]].name,
+               mpgm_code_str(j.err[t]));
   }
   return 0;
 }
@@ -148,7 +154,8 @@ int mpgm_body_force(mpgm_problem *pb) {
   if (!pb->fx.gravity) return 0;
   mpgm_timer_start(ctx, MPGM_T_BODYFORCE);
   /* static: gravity grows with the load factor; dynamic: it acts in full
-   * from the start (only prescribed displacements are ramped in time) */
+   * from the start (only prescribed displacements are ramped in time).
+   * 2-D only: gx, gy written out (3-D: a third component) */
   const double f = pb->fx.inertia ? 1.0 : pb->lambda;
   const double gx = f * pb->scene->gravity[0];
   const double gy = f * pb->scene->gravity[1];
@@ -159,8 +166,8 @@ int mpgm_body_force(mpgm_problem *pb) {
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       const double w = m * C->N[k];
-      if (dof[2 * I] >= 0) pb->fext[dof[2 * I]] += w * gx;
-      if (dof[2 * I + 1] >= 0) pb->fext[dof[2 * I + 1]] += w * gy;
+      if (dof[MPGM_DIM * I] >= 0) pb->fext[dof[MPGM_DIM * I]] += w * gx;
+      if (dof[MPGM_DIM * I + 1] >= 0) pb->fext[dof[MPGM_DIM * I + 1]] += w * gy;
     }
   }
   mpgm_count(ctx, MPGM_C_BODY_FORCE, 1);
@@ -175,22 +182,30 @@ static void newmark_correct(mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
   const double dt = pb->dt, b = pb->scene->beta, g = pb->scene->gamma;
   const double c0 = 1.0 / (b * dt * dt), c1 = 1.0 / (b * dt), c2 = 0.5 / b - 1.0;
-  for (int i = 0; i < 2 * nd->n; i++) {
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
     nd->a_new[i] = c0 * nd->du[i] - c1 * nd->v[i] - c2 * nd->a[i];
     nd->v_new[i] = nd->v[i] + dt * ((1.0 - g) * nd->a[i] + g * nd->a_new[i]);
   }
 }
 
-/* Add the summed matrix of a batch (blocks (a, b) of 2 x 2 at kb + 4 (a B
- * + b), B = MPGM_ASM_BATCH, over the union nodes[0..nk)) into K without a
- * stored map, and zero it: for every column node, one merge of its sorted
- * neighbour list with the nodes sorted gives each row node's place (the
- * work of building a map, done at each assembly). Node clouds (one point
- * per group, 20-60 nodes) would need maps of hundreds of MB (47 000 points
- * x 4 x 24^2 ints for LME-MPM on the rolling disk), each used once or
- * twice. Only the nonzero entries are added: a pair of the union that no
- * point of the batch couples has a zero block, and may be missing from the
- * pattern or belong to another task running at the same time. */
+/* 1 when the block at e is zero. */
+static inline int block_zero(const double *e) {
+  for (int q = 0; q < MPGM_BLOCK; q++)
+    if (e[q] != 0.0) return 0;
+  return 1;
+}
+
+/* Add the summed matrix of a batch (blocks (a, b) of MPGM_DIM x MPGM_DIM at
+ * kb + MPGM_BLOCK (a B + b), B = MPGM_ASM_BATCH, over the union
+ * nodes[0..nk)) into K without a stored map, and zero it: for every column
+ * node, one merge of its sorted neighbour list with the nodes sorted gives
+ * each row node's place (the work of building a map, done at each
+ * assembly). Node clouds (one point per group, 20-60 nodes) would need maps
+ * of hundreds of MB (47 000 points x 4 x 24^2 ints for LME-MPM on the
+ * rolling disk), each used once or twice. Only the nonzero entries are
+ * added: a pair of the union that no point of the batch couples has a zero
+ * block, and may be missing from the pattern or belong to another task
+ * running at the same time. */
 static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb) {
   const mpgm_nodes *nd = &pb->nodes;
   const int *dof = nd->dof;
@@ -214,18 +229,21 @@ static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb) 
       tl[a] = t < tend && pb->nbr[t] == nodes[a] ? t : -1; /* -1: not coupled */
     }
     for (int a = 0; a < nk; a++) {
-      double *e = kb + 4 * (a * MPGM_ASM_BATCH + b);
-      if (tl[a] < 0 || (e[0] == 0.0 && e[1] == 0.0 && e[2] == 0.0 && e[3] == 0.0)) continue;
+      double *e = kb + MPGM_BLOCK * (a * MPGM_ASM_BATCH + b);
+      if (tl[a] < 0 || block_zero(e)) continue;
       const int I = nodes[a];
-      const int rx = dof[2 * I] >= 0 && !fix[2 * I], ry = dof[2 * I + 1] >= 0 && !fix[2 * I + 1];
-      for (int j = 0; j < 2; j++) {
-        const int col = dof[2 * J + j];
-        if (col < 0 || fix[2 * J + j]) continue;
+      /* 2-D only: the rows of x and y apart; y's row comes after x's when
+       * x is numbered (3-D: a loop over the rows, counting those before) */
+      const int rx = dof[MPGM_DIM * I] >= 0 && !fix[MPGM_DIM * I];
+      const int ry = dof[MPGM_DIM * I + 1] >= 0 && !fix[MPGM_DIM * I + 1];
+      for (int j = 0; j < MPGM_DIM; j++) {
+        const int col = dof[MPGM_DIM * J + j];
+        if (col < 0 || fix[MPGM_DIM * J + j]) continue;
         const int pos0 = pb->K.colptr[col] + pb->nbr_off[tl[a]];
         if (rx) val[pos0] += e[j];
-        if (ry) val[pos0 + (dof[2 * I] >= 0)] += e[2 + j];
+        if (ry) val[pos0 + (dof[MPGM_DIM * I] >= 0)] += e[MPGM_DIM + j];
       }
-      e[0] = e[1] = e[2] = e[3] = 0.0;
+      for (int q = 0; q < MPGM_BLOCK; q++) e[q] = 0.0;
     }
   }
 }
@@ -247,25 +265,27 @@ static inline void point_residual(const asm_job *j, int p) {
   const mpgm_conn *C = &pb->conn;
   const int *dof = pb->nodes.dof;
   double *R = pb->R;
-  const double *s = P->sigma_t + 4 * p, *an = j->an;
+  const double *s = P->sigma_t + MPGM_NSTRESS * p, *an = j->an;
   const double v = P->vol_t[p], m = P->mass[p];
   const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
-  double ap[2] = {0, 0};
+  /* 2-D only: a_p, sigma grad N and the force written out per component
+   * (3-D: a third component, sigma's xz, yz, zz terms) */
+  double ap[MPGM_DIM] = {0};
   if (j->inertia)
     for (int k = k0; k < k0 + nk; k++) {
-      ap[0] += C->N[k] * an[2 * C->node[k]];
-      ap[1] += C->N[k] * an[2 * C->node[k] + 1];
+      ap[0] += C->N[k] * an[MPGM_DIM * C->node[k]];
+      ap[1] += C->N[k] * an[MPGM_DIM * C->node[k] + 1];
     }
   for (int a = 0; a < nk; a++) {
     const int I = C->node[k0 + a];
-    const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
+    const double gx = C->g[MPGM_DIM * (k0 + a)], gy = C->g[MPGM_DIM * (k0 + a) + 1];
     double f0 = v * (s[0] * gx + s[2] * gy), f1 = v * (s[2] * gx + s[1] * gy);
     if (j->inertia) {
       f0 += m * C->N[k0 + a] * ap[0];
       f1 += m * C->N[k0 + a] * ap[1];
     }
-    if (dof[2 * I] >= 0) R[dof[2 * I]] -= f0;
-    if (dof[2 * I + 1] >= 0) R[dof[2 * I + 1]] -= f1;
+    if (dof[MPGM_DIM * I] >= 0) R[dof[MPGM_DIM * I]] -= f0;
+    if (dof[MPGM_DIM * I + 1] >= 0) R[dof[MPGM_DIM * I + 1]] -= f1;
   }
 }
 
@@ -281,55 +301,57 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
   double *R = pb->R;
   const int t0 = pb->grp_ptr[g], t1 = pb->grp_ptr[g + 1];
   const int nkg = C->ptr[pb->order[t0] + 1] - C->ptr[pb->order[t0]];
-  memset(kl, 0, sizeof(double) * 4 * (size_t)nkg * nkg);
+  memset(kl, 0, sizeof(double) * MPGM_BLOCK * (size_t)nkg * nkg);
   for (int t = t0; t < t1; t++) {
     const int p = pb->order[t];
     point_residual(j, p);
-    const double *s = P->sigma_t + 4 * p, *D = P->D_t + 9 * p;
+    const double *s = P->sigma_t + MPGM_NSTRESS * p, *D = P->D_t + MPGM_NTANGENT * p;
     const double v = P->vol_t[p], m = P->mass[p];
     const int k0 = C->ptr[p], nk = nkg;
     for (int b = 0; b < nk; b++) {
-      const double hx = C->g[2 * (k0 + b)], hy = C->g[2 * (k0 + b) + 1];
-      /* DB = D B_b (3 x 2) */
-      double DB[3][2];
-      for (int i = 0; i < 3; i++) {
-        DB[i][0] = D[3 * i] * hx + D[3 * i + 2] * hy;
-        DB[i][1] = D[3 * i + 1] * hy + D[3 * i + 2] * hx;
+      const double hx = C->g[MPGM_DIM * (k0 + b)], hy = C->g[MPGM_DIM * (k0 + b) + 1];
+      /* DB = D B_b (3 x 2). 2-D only: B_b = [hx 0; 0 hy; hy hx] written
+       * out (3-D: 6 x 3), as are sigma h, the blocks of B_a^T D B_b and
+       * the geometric term below */
+      double DB[MPGM_NVOIGT][MPGM_DIM];
+      for (int i = 0; i < MPGM_NVOIGT; i++) {
+        DB[i][0] = D[MPGM_NVOIGT * i] * hx + D[MPGM_NVOIGT * i + 2] * hy;
+        DB[i][1] = D[MPGM_NVOIGT * i + 1] * hy + D[MPGM_NVOIGT * i + 2] * hx;
       }
       const double sh0 = s[0] * hx + s[2] * hy, sh1 = s[2] * hx + s[1] * hy;
       const int Ib = C->node[k0 + b];
       for (int a = 0; a < (half ? b + 1 : nk); a++) {
-        const double gx = C->g[2 * (k0 + a)], gy = C->g[2 * (k0 + a) + 1];
+        const double gx = C->g[MPGM_DIM * (k0 + a)], gy = C->g[MPGM_DIM * (k0 + a) + 1];
         double diag = geo ? v * (gx * sh0 + gy * sh1) : 0.0;
         if (inertia) diag += kdyn * m * C->N[k0 + a] * C->N[k0 + b];
-        const double kab[4] = {
+        const double kab[MPGM_BLOCK] = {
             v * (gx * DB[0][0] + gy * DB[2][0]) + diag, v * (gx * DB[0][1] + gy * DB[2][1]),
             v * (gy * DB[1][0] + gx * DB[2][0]), v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
-        const double mab[4] = {diag, 0.0, 0.0, diag};
+        const double mab[MPGM_BLOCK] = {diag, 0.0, 0.0, diag}; /* 2-D only: diag I */
         const double *k = j->mass_only ? mab : kab;
-        double *e = kl + 4 * (a * nk + b);
-        for (int q = 0; q < 4; q++) e[q] += k[q];
+        double *e = kl + MPGM_BLOCK * (a * nk + b);
+        for (int q = 0; q < MPGM_BLOCK; q++) e[q] += k[q];
         if (lift) { /* free row of node a, fixed column of node b */
           const int Ia = C->node[k0 + a];
-          for (int i = 0; i < 2; i++)
-            for (int jj = 0; jj < 2; jj++)
-              if (dof[2 * Ia + i] >= 0 && dof[2 * Ib + jj] < 0)
-                R[dof[2 * Ia + i]] -= k[2 * i + jj] * lift[2 * Ib + jj];
+          for (int i = 0; i < MPGM_DIM; i++)
+            for (int jj = 0; jj < MPGM_DIM; jj++)
+              if (dof[MPGM_DIM * Ia + i] >= 0 && dof[MPGM_DIM * Ib + jj] < 0)
+                R[dof[MPGM_DIM * Ia + i]] -= k[MPGM_DIM * i + jj] * lift[MPGM_DIM * Ib + jj];
         }
       }
     }
   }
-  if (half) /* lower blocks: transposes of the upper ones */
+  if (half) /* lower blocks: transposes of the upper ones (2-D only: 2x2) */
     for (int b = 0; b < nkg; b++)
       for (int a = b + 1; a < nkg; a++) {
-        double *lo = kl + 4 * (a * nkg + b);
-        const double *up = kl + 4 * (b * nkg + a);
+        double *lo = kl + MPGM_BLOCK * (a * nkg + b);
+        const double *up = kl + MPGM_BLOCK * (b * nkg + a);
         lo[0] = up[0]; lo[1] = up[2]; lo[2] = up[1]; lo[3] = up[3];
       }
   if (pb->nomap) return; /* summed into the batch by assemble_batch */
   const int *sc = pb->scatter + pb->scatter_ptr[g];
   double *val = pb->K.val;
-  for (int q = 0; q < 4 * nkg * nkg; q++)
+  for (int q = 0; q < MPGM_BLOCK * nkg * nkg; q++)
     if (sc[q] >= 0) val[sc[q]] += kl[q];
 }
 
@@ -346,7 +368,7 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
   const mpgm_conn *C = &pb->conn;
   const int B = MPGM_ASM_BATCH;
   double *kl = pb->kloc + (size_t)tid * (size_t)pb->kloc_size;
-  double *kb = pb->kbatch + (size_t)tid * 4 * B * B;
+  double *kb = pb->kbatch + (size_t)tid * MPGM_BLOCK * B * B;
   int *slot = pb->kslot + (size_t)tid * (size_t)pb->kslot_n;
   int bn[MPGM_ASM_BATCH], loc[MPGM_SHAPE_MAXNODE], nb = 0;
   for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++) {
@@ -369,12 +391,9 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
     assemble_group(j, g, kl);
     for (int a = 0; a < nk; a++)
       for (int b = 0; b < nk; b++) {
-        const double *e = kl + 4 * (a * nk + b);
-        double *f = kb + 4 * (loc[a] * B + loc[b]);
-        f[0] += e[0];
-        f[1] += e[1];
-        f[2] += e[2];
-        f[3] += e[3];
+        const double *e = kl + MPGM_BLOCK * (a * nk + b);
+        double *f = kb + MPGM_BLOCK * (loc[a] * B + loc[b]);
+        for (int q = 0; q < MPGM_BLOCK; q++) f[q] += e[q];
       }
   }
   if (nb == 0) return;
@@ -408,7 +427,7 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
     j.mass_only = 1;
     j.geo = 0;
     j.kdyn = 1.0;
-    memset(pb->nodes.a_new, 0, sizeof(double) * 2 * (size_t)pb->nodes.n);
+    memset(pb->nodes.a_new, 0, sizeof(double) * MPGM_DIM * (size_t)pb->nodes.n);
   } else if (j.inertia) {
     mpgm_timer_start(ctx, MPGM_T_MASS);
     newmark_correct(pb);
@@ -434,7 +453,7 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
   /* held contact components: equation delta = 0 (identity row, R = 0) */
   if (pb->fx.contact) {
     const mpgm_nodes *nd = &pb->nodes;
-    for (int i = 0; i < 2 * nd->n; i++) {
+    for (int i = 0; i < MPGM_DIM * nd->n; i++) {
       const int e = nd->dof[i];
       if (e < 0 || !nd->fix[i]) continue;
       pb->R[e] = 0.0;
@@ -463,26 +482,28 @@ int mpgm_reactions(mpgm_problem *pb, double *r) {
   const mpgm_nodes *nd = &pb->nodes;
   const int inertia = pb->fx.inertia;
   const double f = inertia ? 1.0 : pb->lambda;
-  const double g[2] = {pb->fx.gravity ? f * pb->scene->gravity[0] : 0.0,
-                       pb->fx.gravity ? f * pb->scene->gravity[1] : 0.0};
-  memset(r, 0, sizeof(double) * 2 * (size_t)nd->n);
+  /* 2-D only: gravity, a_p and the forces written out per component, as
+   * in point_residual (3-D: a third component) */
+  const double g[MPGM_DIM] = {pb->fx.gravity ? f * pb->scene->gravity[0] : 0.0,
+                              pb->fx.gravity ? f * pb->scene->gravity[1] : 0.0};
+  memset(r, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   for (int p = 0; p < P->n; p++) {
-    const double *s = P->sigma_t + 4 * p, v = P->vol_t[p], m = P->mass[p];
-    double ap[2] = {0, 0};
+    const double *s = P->sigma_t + MPGM_NSTRESS * p, v = P->vol_t[p], m = P->mass[p];
+    double ap[MPGM_DIM] = {0};
     if (inertia)
       for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-        ap[0] += C->N[k] * nd->a_new[2 * C->node[k]];
-        ap[1] += C->N[k] * nd->a_new[2 * C->node[k] + 1];
+        ap[0] += C->N[k] * nd->a_new[MPGM_DIM * C->node[k]];
+        ap[1] += C->N[k] * nd->a_new[MPGM_DIM * C->node[k] + 1];
       }
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
-      if (!nd->fix[2 * I] && !nd->fix[2 * I + 1]) continue;
-      const double gx = C->g[2 * k], gy = C->g[2 * k + 1], mN = m * C->N[k];
-      r[2 * I] += v * (s[0] * gx + s[2] * gy) + mN * (ap[0] - g[0]);
-      r[2 * I + 1] += v * (s[2] * gx + s[1] * gy) + mN * (ap[1] - g[1]);
+      if (!nd->fix[MPGM_DIM * I] && !nd->fix[MPGM_DIM * I + 1]) continue;
+      const double gx = C->g[MPGM_DIM * k], gy = C->g[MPGM_DIM * k + 1], mN = m * C->N[k];
+      r[MPGM_DIM * I] += v * (s[0] * gx + s[2] * gy) + mN * (ap[0] - g[0]);
+      r[MPGM_DIM * I + 1] += v * (s[2] * gx + s[1] * gy) + mN * (ap[1] - g[1]);
     }
   }
-  for (int i = 0; i < 2 * nd->n; i++)
+  for (int i = 0; i < MPGM_DIM * nd->n; i++)
     if (!nd->fix[i]) r[i] = 0.0;
   return 0;
 }

@@ -3,7 +3,8 @@
 
 #include "mpgm_scene.h"
 
-int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[2]) {
+/* 2-D only: the selectors x = value, y = value and a box, in x and y. */
+int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[MPGM_DIM]) {
   const double x = X[0], y = X[1], t = bc->tol;
   if (bc->select == MPGM_SELECT_X) return fabs(x - bc->value) <= t;
   if (bc->select == MPGM_SELECT_Y) return fabs(y - bc->value) <= t;

@@ -22,10 +22,12 @@ int mpgm_contact_update(mpgm_problem *pb) {
     const int code = nd->contact[i];
     if (!code || pb->cflip[i]) continue;
     const int axis = abs(code) - 1, side = code > 0 ? 1 : -1;
-    const int held = nd->fix[2 * i + axis];
-    if ((held && side * r[2 * i + axis] < 0.0) || (!held && side * nd->du[2 * i + axis] < 0.0)) {
-      nd->fix[2 * i] = nd->fix[2 * i + 1] = (unsigned char)!held;
-      nd->ubar[2 * i] = nd->ubar[2 * i + 1] = 0.0;
+    const int held = nd->fix[MPGM_DIM * i + axis];
+    if ((held && side * r[MPGM_DIM * i + axis] < 0.0) ||
+        (!held && side * nd->du[MPGM_DIM * i + axis] < 0.0)) {
+      /* 2-D only: both components (no slip) written out */
+      nd->fix[MPGM_DIM * i] = nd->fix[MPGM_DIM * i + 1] = (unsigned char)!held;
+      nd->ubar[MPGM_DIM * i] = nd->ubar[MPGM_DIM * i + 1] = 0.0;
       pb->cflip[i] = 1;
       changed |= 1;
     }

@@ -22,7 +22,8 @@
 #include "mpgm_core_impl.h"
 
 
-/* Axis of the plane's normal and the side the body is on. */
+/* Axis of the plane's normal and the side the body is on (2-D only: the
+ * planes x = value and y = value). */
 static void plane_of(const mpgm_scene_boundary *bc, int *axis, int *side) {
   *axis = bc->select == MPGM_SELECT_X ? 0 : 1;
   *side = bc->side;
@@ -56,9 +57,9 @@ int mpgm_cpoints_setup(mpgm_problem *pb) {
   MPGM_ALLOC(ctx, cp->plane, cp->n);
   MPGM_ALLOC(ctx, cp->flip, cp->n);
   MPGM_ALLOC(ctx, cp->off, cp->n);
-  MPGM_ALLOC(ctx, cp->anchor, 2 * (size_t)cp->n);
+  MPGM_ALLOC(ctx, cp->anchor, MPGM_DIM * (size_t)cp->n);
   for (int t = 0; t < cp->n; t++) {
-    const double *x = P->x + 2 * (cp->first + t);
+    const double *x = P->x + MPGM_DIM * (cp->first + t);
     cp->plane[t] = -1;
     for (int i = 0; i < s->nbc && cp->plane[t] < 0; i++) {
       const mpgm_scene_boundary *bc = &s->bcs[i];
@@ -67,24 +68,25 @@ int mpgm_cpoints_setup(mpgm_problem *pb) {
       plane_of(bc, &axis, &side);
       if (side * (x[axis] - bc->value) > 1e-6 * s->h) continue;
       cp->plane[t] = (signed char)i;
-      cp->anchor[2 * t] = x[0];
-      cp->anchor[2 * t + 1] = x[1];
-      cp->anchor[2 * t + axis] = bc->value;
+      cp->anchor[MPGM_DIM * t] = x[0]; /* 2-D only: x and y written out */
+      cp->anchor[MPGM_DIM * t + 1] = x[1];
+      cp->anchor[MPGM_DIM * t + axis] = bc->value;
       cp->held++;
     }
   }
   return 0;
 }
 
-/* Position of tracer p at the current increments. */
-static void iterate_position(const mpgm_problem *pb, int p, double xe[2]) {
+/* Position of tracer p at the current increments (2-D only: x and y
+ * written out). */
+static void iterate_position(const mpgm_problem *pb, int p, double xe[MPGM_DIM]) {
   const mpgm_conn *C = &pb->conn;
   const double *du = pb->nodes.du;
-  xe[0] = pb->pts.x[2 * p];
-  xe[1] = pb->pts.x[2 * p + 1];
+  xe[0] = pb->pts.x[MPGM_DIM * p];
+  xe[1] = pb->pts.x[MPGM_DIM * p + 1];
   for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-    xe[0] += C->N[k] * du[2 * C->node[k]];
-    xe[1] += C->N[k] * du[2 * C->node[k] + 1];
+    xe[0] += C->N[k] * du[MPGM_DIM * C->node[k]];
+    xe[1] += C->N[k] * du[MPGM_DIM * C->node[k] + 1];
   }
 }
 
@@ -110,12 +112,14 @@ void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only) {
     const int p = cp->first + t;
     const double k = s->bcs[cp->plane[t]].penalty;
     if (!mass_only) { /* spring force -k (x - anchor) on the body */
-      double xe[2];
+      double xe[MPGM_DIM];
       iterate_position(pb, p, xe);
-      const double f[2] = {-k * (xe[0] - cp->anchor[2 * t]), -k * (xe[1] - cp->anchor[2 * t + 1])};
+      /* 2-D only: written out per component */
+      const double f[MPGM_DIM] = {-k * (xe[0] - cp->anchor[MPGM_DIM * t]),
+                                  -k * (xe[1] - cp->anchor[MPGM_DIM * t + 1])};
       for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++)
-        for (int c = 0; c < 2; c++) {
-          const int i = 2 * C->node[a] + c, e = nd->dof[i];
+        for (int c = 0; c < MPGM_DIM; c++) {
+          const int i = MPGM_DIM * C->node[a] + c, e = nd->dof[i];
           if (e >= 0 && !nd->fix[i]) pb->R[e] += C->N[a] * f[c];
         }
     }
@@ -124,8 +128,8 @@ void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only) {
     const double w = mass_only ? s->beta * pb->dt * pb->dt * k : k;
     for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++)
       for (int b = C->ptr[p]; b < C->ptr[p + 1]; b++)
-        for (int c = 0; c < 2; c++) {
-          const int i = 2 * C->node[a] + c, j = 2 * C->node[b] + c;
+        for (int c = 0; c < MPGM_DIM; c++) {
+          const int i = MPGM_DIM * C->node[a] + c, j = MPGM_DIM * C->node[b] + c;
           const int ei = nd->dof[i], ej = nd->dof[j];
           if (ei < 0 || ej < 0 || nd->fix[i] || nd->fix[j]) continue;
           /* FE: the point's nodes are those of a cell holding material,
@@ -145,14 +149,14 @@ int mpgm_cpoints_update(mpgm_problem *pb) {
   for (int t = 0; t < cp->n; t++) {
     if (cp->flip[t] || cp->off[t]) continue;
     const int p = cp->first + t;
-    double xe[2];
+    double xe[MPGM_DIM];
     iterate_position(pb, p, xe);
     if (cp->plane[t] >= 0) {
       /* held: let go when the spring pulls the body towards the plane
        * (the tracer sits off the plane on the body's side) */
       int axis, side;
       plane_of(&s->bcs[cp->plane[t]], &axis, &side);
-      if (side * (xe[axis] - cp->anchor[2 * t + axis]) > 0.0) {
+      if (side * (xe[axis] - cp->anchor[MPGM_DIM * t + axis]) > 0.0) {
         cp->plane[t] = -1;
         cp->held--;
         cp->releases++;
@@ -161,7 +165,7 @@ int mpgm_cpoints_update(mpgm_problem *pb) {
       }
       continue;
     }
-    const double *xs = pb->pts.x + 2 * p;
+    const double *xs = pb->pts.x + MPGM_DIM * p;
     for (int i = 0; i < s->nbc; i++) {
       const mpgm_scene_boundary *bc = &s->bcs[i];
       if (!mpgm_bc_at_points(bc)) continue;
@@ -172,8 +176,8 @@ int mpgm_cpoints_update(mpgm_problem *pb) {
       /* held where it crossed the plane in this step (linear in the step) */
       const double gs = side * (xs[axis] - bc->value);
       const double f = gs > 0.0 ? gs / (gs - ge) : 0.0;
-      for (int c = 0; c < 2; c++) cp->anchor[2 * t + c] = xs[c] + f * (xe[c] - xs[c]);
-      cp->anchor[2 * t + axis] = bc->value;
+      for (int c = 0; c < MPGM_DIM; c++) cp->anchor[MPGM_DIM * t + c] = xs[c] + f * (xe[c] - xs[c]);
+      cp->anchor[MPGM_DIM * t + axis] = bc->value;
       cp->plane[t] = (signed char)i;
       cp->held++;
       cp->holds++;

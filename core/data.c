@@ -11,30 +11,30 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsur
   p->nprobe = nprobe;
   p->nsurf = nsurf;
   p->nstate = nstate;
-  MPGM_ALLOC(ctx, p->x, 2 * m);
-  MPGM_ALLOC(ctx, p->x0, 2 * m);
-  MPGM_ALLOC(ctx, p->u, 2 * m);
-  MPGM_ALLOC(ctx, p->v, 2 * m);
-  MPGM_ALLOC(ctx, p->a, 2 * m);
+  MPGM_ALLOC(ctx, p->x, MPGM_DIM * m);
+  MPGM_ALLOC(ctx, p->x0, MPGM_DIM * m);
+  MPGM_ALLOC(ctx, p->u, MPGM_DIM * m);
+  MPGM_ALLOC(ctx, p->v, MPGM_DIM * m);
+  MPGM_ALLOC(ctx, p->a, MPGM_DIM * m);
   MPGM_ALLOC(ctx, p->mass, m);
   MPGM_ALLOC(ctx, p->vol0, m);
   MPGM_ALLOC(ctx, p->vol, m);
-  MPGM_ALLOC(ctx, p->F, 4 * m);
-  MPGM_ALLOC(ctx, p->sigma, 4 * m);
-  MPGM_ALLOC(ctx, p->S0, 4 * m);
+  MPGM_ALLOC(ctx, p->F, MPGM_TENSOR * m);
+  MPGM_ALLOC(ctx, p->sigma, MPGM_NSTRESS * m);
+  MPGM_ALLOC(ctx, p->S0, MPGM_NSTRESS * m);
   MPGM_ALLOC(ctx, p->state, (size_t)nstate * m);
   MPGM_ALLOC(ctx, p->mat, m);
   MPGM_ALLOC(ctx, p->body, m);
   MPGM_ALLOC(ctx, p->id, m);
   for (int i = 0; i < m; i++) p->id[i] = i;
-  MPGM_ALLOC(ctx, p->F_t, 4 * n);
-  MPGM_ALLOC(ctx, p->dF_t, 4 * n);
-  MPGM_ALLOC(ctx, p->sigma_t, 4 * n);
-  MPGM_ALLOC(ctx, p->D_t, 9 * n);
+  MPGM_ALLOC(ctx, p->F_t, MPGM_TENSOR * n);
+  MPGM_ALLOC(ctx, p->dF_t, MPGM_TENSOR * n);
+  MPGM_ALLOC(ctx, p->sigma_t, MPGM_NSTRESS * n);
+  MPGM_ALLOC(ctx, p->D_t, MPGM_NTANGENT * n);
   MPGM_ALLOC(ctx, p->state_t, (size_t)nstate * n);
   MPGM_ALLOC(ctx, p->vol_t, n);
-  for (int i = 0; i < m; i++) {
-    p->F[4 * i] = p->F[4 * i + 3] = 1.0;
+  for (int i = 0; i < m; i++) { /* F = I; 2-D only: F11 and F22 written out */
+    p->F[MPGM_TENSOR * i] = p->F[MPGM_TENSOR * i + 3] = 1.0;
   }
   return 0;
 }
@@ -43,12 +43,13 @@ void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double
                     double vol) {
   const mpgm_scene_body *bd = &s->bodies[body];
   const mpgm_material *mat = &s->mats[bd->material];
-  P->x[2 * p] = P->x0[2 * p] = x;
-  P->x[2 * p + 1] = P->x0[2 * p + 1] = y;
+  /* 2-D only: the position (x, y) and velocity written out per component */
+  P->x[MPGM_DIM * p] = P->x0[MPGM_DIM * p] = x;
+  P->x[MPGM_DIM * p + 1] = P->x0[MPGM_DIM * p + 1] = y;
   P->vol[p] = P->vol0[p] = vol;
   P->mass[p] = mat->density * vol;
-  P->v[2 * p] = bd->velocity[0];
-  P->v[2 * p + 1] = bd->velocity[1];
+  P->v[MPGM_DIM * p] = bd->velocity[0];
+  P->v[MPGM_DIM * p + 1] = bd->velocity[1];
   P->mat[p] = bd->material;
   P->body[p] = body;
   if (mat->type->init_state && P->nstate) mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
@@ -115,11 +116,14 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *
     return 0;
   }
   const point_array arr[] = {
-      {(void **)&p->x, 2},     {(void **)&p->x0, 2},    {(void **)&p->u, 2},
-      {(void **)&p->v, 2},     {(void **)&p->a, 2},     {(void **)&p->mass, 1},
-      {(void **)&p->vol0, 1},  {(void **)&p->vol, 1},   {(void **)&p->F, 4},
-      {(void **)&p->sigma, 4}, {(void **)&p->S0, 4},    {(void **)&p->state, p->nstate},
-      {(void **)&p->mat, -1},  {(void **)&p->body, -1}, {(void **)&p->id, -1}};
+      {(void **)&p->x, MPGM_DIM},          {(void **)&p->x0, MPGM_DIM},
+      {(void **)&p->u, MPGM_DIM},          {(void **)&p->v, MPGM_DIM},
+      {(void **)&p->a, MPGM_DIM},          {(void **)&p->mass, 1},
+      {(void **)&p->vol0, 1},              {(void **)&p->vol, 1},
+      {(void **)&p->F, MPGM_TENSOR},       {(void **)&p->sigma, MPGM_NSTRESS},
+      {(void **)&p->S0, MPGM_NSTRESS},     {(void **)&p->state, p->nstate},
+      {(void **)&p->mat, -1},              {(void **)&p->body, -1},
+      {(void **)&p->id, -1}};
   enum { NARR = sizeof arr / sizeof arr[0] };
   void *fresh[NARR] = {NULL};
   int *perm = perm_out ? perm_out : malloc(sizeof(int) * (size_t)n);
@@ -159,18 +163,18 @@ int mpgm_nodes_alloc(mpgm_ctx *ctx, mpgm_nodes *nd, int n) {
   nd->n = n;
   nd->cap = n;
   MPGM_ALLOC(ctx, nd->mass, n);
-  MPGM_ALLOC(ctx, nd->X, 2 * n);
-  MPGM_ALLOC(ctx, nd->x, 2 * n);
-  MPGM_ALLOC(ctx, nd->u, 2 * n);
-  MPGM_ALLOC(ctx, nd->du, 2 * n);
-  MPGM_ALLOC(ctx, nd->v, 2 * n);
-  MPGM_ALLOC(ctx, nd->a, 2 * n);
-  MPGM_ALLOC(ctx, nd->v_new, 2 * n);
-  MPGM_ALLOC(ctx, nd->a_new, 2 * n);
-  MPGM_ALLOC(ctx, nd->fix, 2 * n);
+  MPGM_ALLOC(ctx, nd->X, MPGM_DIM * n);
+  MPGM_ALLOC(ctx, nd->x, MPGM_DIM * n);
+  MPGM_ALLOC(ctx, nd->u, MPGM_DIM * n);
+  MPGM_ALLOC(ctx, nd->du, MPGM_DIM * n);
+  MPGM_ALLOC(ctx, nd->v, MPGM_DIM * n);
+  MPGM_ALLOC(ctx, nd->a, MPGM_DIM * n);
+  MPGM_ALLOC(ctx, nd->v_new, MPGM_DIM * n);
+  MPGM_ALLOC(ctx, nd->a_new, MPGM_DIM * n);
+  MPGM_ALLOC(ctx, nd->fix, MPGM_DIM * n);
   MPGM_ALLOC(ctx, nd->contact, n);
-  MPGM_ALLOC(ctx, nd->ubar, 2 * n);
-  MPGM_ALLOC(ctx, nd->dof, 2 * n);
+  MPGM_ALLOC(ctx, nd->ubar, MPGM_DIM * n);
+  MPGM_ALLOC(ctx, nd->dof, MPGM_DIM * n);
   return 0;
 }
 
@@ -186,8 +190,8 @@ int mpgm_conn_grow(mpgm_ctx *ctx, mpgm_conn *c, int keep, int nnz) {
   const size_t cap = (size_t)nnz + (size_t)nnz / 2 + 16;
   MPGM_CHECK(ctx, cap <= INT32_MAX, MPGM_ERR_NOMEM, "connectivity of %zu entries", cap);
   int *node = malloc(cap * sizeof(int));
-  double *N = malloc(cap * sizeof(double)), *dN = malloc(2 * cap * sizeof(double));
-  double *g = malloc(2 * cap * sizeof(double));
+  double *N = malloc(cap * sizeof(double)), *dN = malloc(MPGM_DIM * cap * sizeof(double));
+  double *g = malloc(MPGM_DIM * cap * sizeof(double));
   if (!node || !N || !dN || !g) {
     free(node);
     free(N);
@@ -198,7 +202,7 @@ int mpgm_conn_grow(mpgm_ctx *ctx, mpgm_conn *c, int keep, int nnz) {
   if (keep > 0) {
     memcpy(node, c->node, sizeof(int) * (size_t)keep);
     memcpy(N, c->N, sizeof(double) * (size_t)keep);
-    memcpy(dN, c->dN, 2 * sizeof(double) * (size_t)keep);
+    memcpy(dN, c->dN, MPGM_DIM * sizeof(double) * (size_t)keep);
   }
   free(c->node);
   free(c->N);
@@ -217,7 +221,8 @@ void mpgm_nodes_number(mpgm_nodes *nd) {
   /* contact nodes keep their equations while held (held components get
    * identity rows), so that the matrix pattern does not depend on the
    * active set */
-  for (int i = 0; i < 2 * nd->n; i++) nd->dof[i] = nd->fix[i] && !nd->contact[i / 2] ? -1 : k++;
+  for (int i = 0; i < MPGM_DIM * nd->n; i++)
+    nd->dof[i] = nd->fix[i] && !nd->contact[i / MPGM_DIM] ? -1 : k++;
   nd->ndof = k;
 }
 
@@ -236,8 +241,8 @@ int mpgm_conn_reserve(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnz) {
     c->cap = 0;
     MPGM_ALLOC(ctx, c->node, nnz);
     MPGM_ALLOC(ctx, c->N, nnz);
-    MPGM_ALLOC(ctx, c->dN, 2 * (size_t)nnz);
-    MPGM_ALLOC(ctx, c->g, 2 * (size_t)nnz);
+    MPGM_ALLOC(ctx, c->dN, MPGM_DIM * (size_t)nnz);
+    MPGM_ALLOC(ctx, c->g, MPGM_DIM * (size_t)nnz);
     c->cap = nnz;
   }
   return 0;
@@ -255,11 +260,11 @@ void mpgm_conn_release(mpgm_conn *c) {
 void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
   memset(fx, 0, sizeof *fx);
   fx->inertia = s->analysis == MPGM_ANALYSIS_DYNAMIC;
-  fx->gravity = s->gravity[0] != 0.0 || s->gravity[1] != 0.0;
+  fx->gravity = s->gravity[0] != 0.0 || s->gravity[1] != 0.0; /* 2-D only: x, y */
   fx->geometric = s->kinematics == MPGM_KIN_FINITE;
   for (int i = 0; i < s->nmat; i++) fx->plasticity |= s->mats[i].plastic;
   for (int i = 0; i < s->nbc; i++) {
-    for (int d = 0; d < 2; d++)
+    for (int d = 0; d < MPGM_DIM; d++)
       fx->prescribed |= s->bcs[i].fix[d] && s->bcs[i].displacement[d] != 0.0;
     fx->contact |= s->bcs[i].condition == MPGM_COND_CONTACT && !mpgm_bc_at_points(&s->bcs[i]);
     fx->contact_points |= mpgm_bc_at_points(&s->bcs[i]);

@@ -1,5 +1,9 @@
 /* geometry.c -- body geometries of a scene: point-in-body test, bounding
- * box, and the validation of polygons (simple, with area). */
+ * box, and the validation of polygons (simple, with area).
+ *
+ * 2-D only: the bodies are disks, rectangles and polygons of the plane,
+ * written out in x and y (polygon vertices are (x, y) pairs); 3-D adds
+ * solids of its own here. */
 #include <math.h>
 #include <stdio.h>
 
@@ -8,10 +12,10 @@
 /* Relative tolerance of "on the boundary" (of the body's size). */
 #define GEOM_REL_TOL 1e-12
 
-void mpgm_body_bbox(const mpgm_scene_body *b, double min[2], double max[2]) {
+void mpgm_body_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max[MPGM_DIM]) {
   switch (b->geometry) {
   case MPGM_GEOM_DISK:
-    for (int d = 0; d < 2; d++) {
+    for (int d = 0; d < MPGM_DIM; d++) {
       min[d] = b->centre[d] - b->radius;
       max[d] = b->centre[d] + b->radius;
     }
@@ -37,7 +41,7 @@ void mpgm_body_bbox(const mpgm_scene_body *b, double min[2], double max[2]) {
  * of its ends lies strictly above the horizontal through x, so a ray
  * through a vertex counts once), after a distance test against every edge
  * whose box holds x: points on an edge or vertex are inside. */
-static int polygon_contains(const mpgm_scene_body *b, const double x[2], double tol) {
+static int polygon_contains(const mpgm_scene_body *b, const double x[MPGM_DIM], double tol) {
   const double *p = b->points;
   const int n = b->npoints;
   const double tol2 = tol * tol;
@@ -61,7 +65,7 @@ static int polygon_contains(const mpgm_scene_body *b, const double x[2], double 
   return inside;
 }
 
-int mpgm_body_contains(const mpgm_scene_body *b, const double x[2]) {
+int mpgm_body_contains(const mpgm_scene_body *b, const double x[MPGM_DIM]) {
   switch (b->geometry) {
   case MPGM_GEOM_DISK: {
     const double r = b->radius * (1.0 + 2.0 * GEOM_REL_TOL);
@@ -109,7 +113,8 @@ static int segments_meet(const double *a, const double *b, const double *c, cons
          (fabs(d3) <= eps && on_segment(a, b, c, tol)) || (fabs(d4) <= eps && on_segment(a, b, d, tol));
 }
 
-int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[2], const double hi[2]) {
+int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[MPGM_DIM],
+                        const double hi[MPGM_DIM]) {
   if (lo[0] > b->max[0] || hi[0] < b->min[0] || lo[1] > b->max[1] || hi[1] < b->min[1]) return 0;
   if (b->geometry == MPGM_GEOM_DISK) {
     const double cx = fmin(fmax(b->centre[0], lo[0]), hi[0]), cy = fmin(fmax(b->centre[1], lo[1]), hi[1]);

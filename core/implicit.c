@@ -19,38 +19,40 @@ static void commit(mpgm_problem *pb) {
   const int move = pb->fx.geometric, inertia = pb->fx.inertia;
   const int newmark_pv = pb->fe->point_velocity == MPGM_PV_NEWMARK;
   const int m = P->n + P->nprobe + P->nsurf;
+  /* 2-D only: the points' increments written out per component (3-D: a
+   * third component) */
   for (int p = 0; p < m; p++) {
-    double d[2] = {0, 0}, v[2] = {0, 0}, a[2] = {0, 0};
+    double d[MPGM_DIM] = {0}, v[MPGM_DIM] = {0}, a[MPGM_DIM] = {0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       const double N = C->N[k];
-      d[0] += N * nd->du[2 * I];
-      d[1] += N * nd->du[2 * I + 1];
+      d[0] += N * nd->du[MPGM_DIM * I];
+      d[1] += N * nd->du[MPGM_DIM * I + 1];
       if (inertia) {
-        v[0] += N * nd->v_new[2 * I]; v[1] += N * nd->v_new[2 * I + 1];
-        a[0] += N * nd->a_new[2 * I]; a[1] += N * nd->a_new[2 * I + 1];
+        v[0] += N * nd->v_new[MPGM_DIM * I]; v[1] += N * nd->v_new[MPGM_DIM * I + 1];
+        a[0] += N * nd->a_new[MPGM_DIM * I]; a[1] += N * nd->a_new[MPGM_DIM * I + 1];
       }
     }
-    P->u[2 * p] += d[0];
-    P->u[2 * p + 1] += d[1];
+    P->u[MPGM_DIM * p] += d[0];
+    P->u[MPGM_DIM * p + 1] += d[1];
     if (move) {
-      P->x[2 * p] += d[0];
-      P->x[2 * p + 1] += d[1];
+      P->x[MPGM_DIM * p] += d[0];
+      P->x[MPGM_DIM * p + 1] += d[1];
     }
     if (inertia && newmark_pv) { /* eq (48): trapezoidal in the particle */
-      P->v[2 * p] += 0.5 * pb->dt * (P->a[2 * p] + a[0]);
-      P->v[2 * p + 1] += 0.5 * pb->dt * (P->a[2 * p + 1] + a[1]);
-      P->a[2 * p] = a[0]; P->a[2 * p + 1] = a[1];
+      P->v[MPGM_DIM * p] += 0.5 * pb->dt * (P->a[MPGM_DIM * p] + a[0]);
+      P->v[MPGM_DIM * p + 1] += 0.5 * pb->dt * (P->a[MPGM_DIM * p + 1] + a[1]);
+      P->a[MPGM_DIM * p] = a[0]; P->a[MPGM_DIM * p + 1] = a[1];
     } else if (inertia) {
-      P->v[2 * p] = v[0]; P->v[2 * p + 1] = v[1];
-      P->a[2 * p] = a[0]; P->a[2 * p + 1] = a[1];
+      P->v[MPGM_DIM * p] = v[0]; P->v[MPGM_DIM * p + 1] = v[1];
+      P->a[MPGM_DIM * p] = a[0]; P->a[MPGM_DIM * p + 1] = a[1];
     }
   }
-  memcpy(P->F, P->F_t, sizeof(double) * 4 * (size_t)P->n);
-  memcpy(P->sigma, P->sigma_t, sizeof(double) * 4 * (size_t)P->n);
+  memcpy(P->F, P->F_t, sizeof(double) * MPGM_TENSOR * (size_t)P->n);
+  memcpy(P->sigma, P->sigma_t, sizeof(double) * MPGM_NSTRESS * (size_t)P->n);
   memcpy(P->vol, P->vol_t, sizeof(double) * (size_t)P->n);
   if (P->nstate) memcpy(P->state, P->state_t, sizeof(double) * (size_t)P->nstate * P->n);
-  for (int i = 0; i < 2 * nd->n; i++) {
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
     nd->u[i] += nd->du[i];
     if (move) nd->x[i] += nd->du[i];
     if (inertia) {
@@ -93,19 +95,22 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
   }
 }
 
-/* The nodal mass of the lumped (row-sum) mass matrix into mI (2 per node,
- * the first of each pair used) and a = R / m into delta. */
+/* The nodal mass of the lumped (row-sum) mass matrix into mI (MPGM_DIM per
+ * node, the first of each node's used) and a = R / m into delta. */
 static void lumped_acceleration(mpgm_problem *pb) {
   const mpgm_nodes *nd = &pb->nodes;
   const mpgm_conn *C = &pb->conn;
   const mpgm_points *P = &pb->pts;
-  double *mI = pb->react; /* scratch, 2 per node */
-  memset(mI, 0, sizeof(double) * 2 * (size_t)nd->n);
+  double *mI = pb->react; /* scratch, MPGM_DIM per node */
+  memset(mI, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   for (int p = 0; p < P->n; p++)
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) mI[2 * C->node[k]] += P->mass[p] * C->N[k];
-  for (int i = 0; i < 2 * nd->n; i++)
-    if (nd->dof[i] >= 0)
-      pb->delta[nd->dof[i]] = mI[2 * (i / 2)] > 0.0 ? pb->R[nd->dof[i]] / mI[2 * (i / 2)] : 0.0;
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++)
+      mI[MPGM_DIM * C->node[k]] += P->mass[p] * C->N[k];
+  for (int i = 0; i < MPGM_DIM * nd->n; i++)
+    if (nd->dof[i] >= 0) {
+      const double mi = mI[MPGM_DIM * (i / MPGM_DIM)];
+      pb->delta[nd->dof[i]] = mi > 0.0 ? pb->R[nd->dof[i]] / mi : 0.0;
+    }
 }
 
 /* time.initial_acceleration = equilibrium: before the first step of a
@@ -121,7 +126,7 @@ static int initial_acceleration(mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
   const mpgm_conn *C = &pb->conn;
   mpgm_points *P = &pb->pts;
-  memset(nd->du, 0, sizeof(double) * 2 * (size_t)nd->n);
+  memset(nd->du, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   MPGM_CALL(mpgm_body_force(pb));
   MPGM_CALL(mpgm_eval_points(pb));
   MPGM_CALL(mpgm_assemble_mass(pb));
@@ -139,21 +144,21 @@ static int initial_acceleration(mpgm_problem *pb) {
   } else {
     return err;
   }
-  for (int i = 0; i < 2 * nd->n; i++) {
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
     const int e = nd->dof[i];
     nd->a[i] = e >= 0 && !nd->fix[i] ? pb->delta[e] : 0.0;
     if (!isfinite(nd->a[i]))
-      MPGM_ERROR(ctx, MPGM_ERR_NAN, "initial acceleration: not finite at node %d", i / 2);
+      MPGM_ERROR(ctx, MPGM_ERR_NAN, "initial acceleration: not finite at node %d", i / MPGM_DIM);
   }
   if (pb->fe->point_velocity == MPGM_PV_NEWMARK)
     for (int p = 0; p < P->n + P->nprobe + P->nsurf; p++) {
-      double a[2] = {0, 0};
+      double a[MPGM_DIM] = {0}; /* 2-D only: a_p written out per component */
       for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-        a[0] += C->N[k] * nd->a[2 * C->node[k]];
-        a[1] += C->N[k] * nd->a[2 * C->node[k] + 1];
+        a[0] += C->N[k] * nd->a[MPGM_DIM * C->node[k]];
+        a[1] += C->N[k] * nd->a[MPGM_DIM * C->node[k] + 1];
       }
-      P->a[2 * p] = a[0];
-      P->a[2 * p + 1] = a[1];
+      P->a[MPGM_DIM * p] = a[0];
+      P->a[MPGM_DIM * p + 1] = a[1];
     }
   return MPGM_OK;
 }

@@ -1,7 +1,9 @@
 /* mpgm_data.h -- the data model every layer shares: material points,
  * nodes, connectivity (the seam between "which method" and "which
  * physics"), and the effects a scene calls for. Arrays are structures of
- * arrays with MPGM_DIM components per vector. */
+ * arrays with MPGM_DIM components per vector, MPGM_TENSOR per tensor (F),
+ * MPGM_NSTRESS per stress and MPGM_NTANGENT per material tangent
+ * (mpgm_base.h). */
 #ifndef MPGM_DATA_H
 #define MPGM_DATA_H
 
@@ -25,24 +27,28 @@ typedef struct mpgm_points {
                        bodies' boundaries where contact is enforced
                        (mpgm_cpoints); 0 without contact at points     */
   int nstate;     /**< state doubles per point (max over materials)    */
-  double *x;      /**< current position, 2 per point [m]               */
-  double *x0;     /**< initial position, 2 per point [m]               */
-  double *u;      /**< total displacement, 2 per point [m]             */
-  double *v;      /**< velocity, 2 per point [m/s]                     */
-  double *a;      /**< acceleration, 2 per point [m/s^2]               */
+  double *x;      /**< current position, MPGM_DIM per point [m]        */
+  double *x0;     /**< initial position, MPGM_DIM per point [m]        */
+  double *u;      /**< total displacement, MPGM_DIM per point [m]      */
+  double *v;      /**< velocity, MPGM_DIM per point [m/s]              */
+  double *a;      /**< acceleration, MPGM_DIM per point [m/s^2]        */
   double *mass;   /**< mass [kg] (per unit thickness)                  */
   double *vol0;   /**< initial volume [m^3] (per unit thickness)       */
   double *vol;    /**< current volume [m^3]                            */
-  double *F;      /**< committed deformation gradient, 4 per point     */
-  double *sigma;  /**< committed Cauchy stress {xx, yy, xy, zz} [Pa]   */
+  double *F;      /**< committed deformation gradient, MPGM_TENSOR per
+                       point                                           */
+  double *sigma;  /**< committed Cauchy stress {xx, yy, xy, zz} [Pa],
+                       MPGM_NSTRESS per point                          */
   double *S0;     /**< initial (pre-)stress {xx, yy, xy, zz} [Pa] at the
-                       initial configuration, pushed forward with F    */
+                       initial configuration, pushed forward with F
+                       (MPGM_NSTRESS per point)                        */
   double *state;  /**< committed material state, nstate per point      */
   int *mat;       /**< material index                                  */
   int *body;      /**< body index                                      */
   int *id;        /**< the point's number at creation: points may be
                        reordered (mpgm_points_sort), ids stay          */
-  /* trial values of the current Newton iterate (n material points) */
+  /* trial values of the current Newton iterate (n material points): F_t
+   * and dF_t MPGM_TENSOR, sigma_t MPGM_NSTRESS, D_t MPGM_NTANGENT each */
   double *F_t, *sigma_t, *D_t, *state_t, *vol_t, *dF_t;
 } mpgm_points;
 
@@ -52,19 +58,20 @@ typedef struct mpgm_nodes {
   int cap;        /**< allocated nodes (n <= cap; MPM: the whole grid)  */
   double *mass;   /**< nodal mass projected from the points [kg]
                        (front ends that project; else 0)              */
-  double *X;      /**< initial position, 2 per node [m]                 */
+  double *X;      /**< initial position, MPGM_DIM per node [m]          */
   double *x;      /**< position at the start of the step [m]            */
   double *u;      /**< total displacement at the start of the step [m]  */
   double *du;     /**< displacement increment of the step [m]           */
   double *v, *a;  /**< velocity / acceleration at the start of the step */
   double *v_new, *a_new; /**< Newmark-corrected values of the iterate   */
-  unsigned char *fix;    /**< 2 per node: 1 when the component is fixed */
+  unsigned char *fix;    /**< MPGM_DIM per node: 1 when the component is
+                              fixed                                     */
   signed char *contact;  /**< per node: 0, or +-(axis + 1) for a node on a
                               unilateral contact plane whose normal is that
                               axis, the body on the + or - side         */
-  double *ubar;   /**< 2 per node: prescribed total displacement at the
-                       end of the run (fixed components; ramped)        */
-  int *dof;       /**< 2 per node: equation number, -1 when fixed       */
+  double *ubar;   /**< MPGM_DIM per node: prescribed total displacement
+                       at the end of the run (fixed components; ramped) */
+  int *dof;       /**< MPGM_DIM per node: equation number, -1 when fixed */
   int ndof;       /**< free equations                                   */
 } mpgm_nodes;
 
@@ -75,8 +82,10 @@ typedef struct mpgm_conn {
   int *ptr;       /**< np + 1 offsets                                   */
   int *node;      /**< node ids                                         */
   double *N;      /**< shape function values                            */
-  double *dN;     /**< grad N at the start-of-step configuration, 2 each */
-  double *g;      /**< grad N at the current iterate, 2 each (work)     */
+  double *dN;     /**< grad N at the start-of-step configuration,
+                       MPGM_DIM each                                    */
+  double *g;      /**< grad N at the current iterate, MPGM_DIM each
+                       (work)                                           */
   int version;    /**< incremented by a front end when the node set,
                        fixity or matrix pattern changes                  */
   int map_version;/**< incremented when only the point -> node lists
@@ -105,7 +114,8 @@ void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx);
 int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsurf, int nstate);
 /** Material point p of scene body `body` at (x, y) with volume vol [m^3]:
  *  position, mass (density x volume), the body's initial velocity,
- *  material, and the material's initial state. */
+ *  material, and the material's initial state. 2-D only: the position
+ *  comes as x and y (3-D: a z, or a vector). */
 void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double x, double y,
                     double vol);
 /** Equivalent plastic strain of the n material points into out (may be

@@ -87,7 +87,7 @@ typedef struct mpgm_cells {
 } mpgm_cells;
 
 typedef struct mpgm_frontend_type {
-  const char *name;       /**< the scene's "method": "fem", "mpm", "gmm" */
+  const char *name;       /**< the scene's "method" that selects it         */
   const char *doc;        /**< one line for docs and messages            */
   /* traits: what the scene loader lets through (frontend_check.c) */
   int persistent_nodes;   /**< 1: nodes carry the body and persist (their

@@ -33,7 +33,7 @@ typedef enum {
   MPGM_COND_SLIP = 2,  /**< "condition": "slip": the plane's normal only */
   MPGM_COND_CONTACT = 3 /**< "condition": "contact": no slip while the body
                              presses on the plane, released where it would
-                             be pulled (unilateral; method mpm)          */
+                             be pulled (unilateral)                     */
 } mpgm_condition;
 
 /** Where a "contact" boundary is enforced. */
@@ -67,14 +67,16 @@ typedef struct mpgm_scene_body {
   char name[MPGM_NAME_LEN];
   int material;        /**< index into scene materials               */
   int geometry;        /**< mpgm_geometry                            */
-  double min[2], max[2]; /**< bounding box (rectangle: its corners) [m] */
-  double centre[2];    /**< disk: centre [m]                         */
+  double min[MPGM_DIM], max[MPGM_DIM]; /**< bounding box (rectangle: its
+                            corners) [m]                            */
+  double centre[MPGM_DIM]; /**< disk: centre [m]                     */
   double radius;       /**< disk: radius [m]                         */
   int npoints;         /**< polygon: vertices (3..MPGM_POLYGON_MAX)   */
   double points[2 * MPGM_POLYGON_MAX]; /**< polygon: x0, y0, x1, y1, ...
                             in the order given (either orientation);
-                            simple, no repeated vertex [m]          */
-  double velocity[2];  /**< initial velocity [m/s]                   */
+                            simple, no repeated vertex [m] (2-D only:
+                            a polygon of the plane, (x, y) pairs)   */
+  double velocity[MPGM_DIM]; /**< initial velocity [m/s]             */
   int geostatic;       /**< 1: geostatic initial stress is given       */
   double surface;      /**< geostatic: y of the free surface [m]       */
   double k0;           /**< geostatic: sigma_xx = sigma_zz = k0 sigma_yy */
@@ -84,13 +86,13 @@ typedef struct mpgm_scene_boundary {
   char name[MPGM_NAME_LEN];
   int select;          /**< mpgm_select                              */
   double value;        /**< x or y of the selecting line [m]         */
-  double min[2], max[2]; /**< box [m]                                */
+  double min[MPGM_DIM], max[MPGM_DIM]; /**< box [m]                  */
   double tol;          /**< selection tolerance [m]                  */
   int condition;       /**< mpgm_condition (how fix was given)        */
-  int fix[2];          /**< 1: component fixed (after condition)      */
+  int fix[MPGM_DIM];   /**< 1: component fixed (after condition)      */
   int side;            /**< contact: +1 body on the + side of the plane
                             (a floor or left wall), -1 on the - side    */
-  double displacement[2]; /**< prescribed value of fixed components at
+  double displacement[MPGM_DIM]; /**< prescribed value of fixed components at
                                the end of the run [m] (ramped)        */
   int enforce;         /**< contact: MPGM_ENFORCE_NODES or _POINTS     */
   double penalty;      /**< contact at points: stiffness per point per
@@ -106,7 +108,7 @@ static inline int mpgm_bc_at_points(const mpgm_scene_boundary *bc) {
   return bc->condition == MPGM_COND_CONTACT && bc->enforce == MPGM_ENFORCE_POINTS;
 }
 
-/** A rigid obstacle of method gmm: layers of fixed nodes (no material
+/** A rigid obstacle (front ends with the obstacles trait): layers of fixed nodes (no material
  *  points) beyond a plane x = value or y = value, spacing mesh.h, aligned
  *  with the grid over mesh.domain and spanning its extent along the plane
  *  (docs/scene-format.md, "obstacles"). */
@@ -123,7 +125,7 @@ typedef struct mpgm_scene_obstacle {
 
 typedef struct mpgm_scene_probe {
   char name[MPGM_NAME_LEN];
-  double x[2];         /**< reference position [m]                   */
+  double x[MPGM_DIM];  /**< reference position [m]                   */
 } mpgm_scene_probe;
 
 typedef struct mpgm_scene {
@@ -151,7 +153,7 @@ typedef struct mpgm_scene {
   double min_node_distance; /**< GMM on the grid: a free node closer than
                                  this times h to a lower-numbered free
                                  node is left out of the step (0: off)  */
-  double dom_min[2], dom_max[2]; /**< domain box [m]                   */
+  double dom_min[MPGM_DIM], dom_max[MPGM_DIM]; /**< domain box [m]     */
   /* kinematics and time */
   int kinematics;           /**< mpgm_kinematics                       */
   int analysis;             /**< mpgm_analysis                         */
@@ -206,10 +208,10 @@ typedef struct mpgm_scene {
   int nbc;
   mpgm_scene_boundary *bcs;
   int nobstacle;
-  mpgm_scene_obstacle *obstacles; /**< method gmm: rigid node layers  */
+  mpgm_scene_obstacle *obstacles; /**< rigid node layers                */
   int nprobe;
   mpgm_scene_probe *probes;
-  double gravity[2];        /**< [m/s^2]                               */
+  double gravity[MPGM_DIM]; /**< [m/s^2]                               */
   mpgm_reference reference; /**< reference solution; type NULL if none  */
   /* output */
   char out_dir[MPGM_PATH_LEN];
@@ -236,10 +238,10 @@ typedef struct mpgm_scene {
  *  crossing-number test with the half-open rule, after a distance test
  *  against every edge near x, so vertices and edges count as inside.
  *  No allocation; safe to call from per-point loops. */
-int mpgm_body_contains(const mpgm_scene_body *b, const double x[2]);
+int mpgm_body_contains(const mpgm_scene_body *b, const double x[MPGM_DIM]);
 /** Bounding box [m] of body b, computed from its geometry data (rectangle
  *  corners, disk centre and radius, polygon vertices). */
-void mpgm_body_bbox(const mpgm_scene_body *b, double min[2], double max[2]);
+void mpgm_body_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max[MPGM_DIM]);
 
 /** Signed area of the polygon p (n points x0, y0, x1, y1, ...) [m^2];
  *  > 0 when counter-clockwise. */
@@ -254,10 +256,11 @@ int mpgm_polygon_check(const double *p, int n, char *msg, size_t len);
 
 /** 1 when body b (bounding box in b->min/max) meets the closed box
  *  [lo, hi] (touching counts), else 0. */
-int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[2], const double hi[2]);
+int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[MPGM_DIM],
+                        const double hi[MPGM_DIM]);
 
 /** 1 when a scene boundary selects the node at X (plane within tol, or box). */
-int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[2]);
+int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[MPGM_DIM]);
 
 #ifdef __cplusplus
 }

@@ -24,7 +24,7 @@
 
 typedef struct nd_work {
   const int *ptr, *adj;
-  const double *x;  /* 2 per node */
+  const double *x;  /* MPGM_DIM per node */
   int *side;        /* per node: -1 outside the current set, 0 / 1 half,
                        2 separator                                        */
   int *cnt;         /* per node: cut edges not yet covered                */
@@ -71,11 +71,11 @@ static int heap_pop(nd_work *w, int *nh) {
 static void select_kth(const double *x, int c, int *v, int m, int k) {
   int lo = 0, hi = m - 1;
   while (lo < hi) {
-    const double pivot = x[2 * v[(lo + hi) / 2] + c];
+    const double pivot = x[MPGM_DIM * v[(lo + hi) / 2] + c];
     int i = lo, j = hi;
     while (i <= j) {
-      while (x[2 * v[i] + c] < pivot) i++;
-      while (x[2 * v[j] + c] > pivot) j--;
+      while (x[MPGM_DIM * v[i] + c] < pivot) i++;
+      while (x[MPGM_DIM * v[j] + c] > pivot) j--;
       if (i <= j) {
         const int t = v[i];
         v[i] = v[j];
@@ -97,20 +97,22 @@ static void dissect(nd_work *w, int *v, int m, int pos) {
     for (int k = 0; k < m; k++) w->perm[pos + k] = v[k];
     return;
   }
-  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  /* 2-D only: the box's initial values and the longer of its two sides
+   * written out (3-D: the longest of three) */
+  double lo[MPGM_DIM] = {INFINITY, INFINITY}, hi[MPGM_DIM] = {-INFINITY, -INFINITY};
   for (int k = 0; k < m; k++)
-    for (int c = 0; c < 2; c++) {
-      lo[c] = fmin(lo[c], x[2 * v[k] + c]);
-      hi[c] = fmax(hi[c], x[2 * v[k] + c]);
+    for (int c = 0; c < MPGM_DIM; c++) {
+      lo[c] = fmin(lo[c], x[MPGM_DIM * v[k] + c]);
+      hi[c] = fmax(hi[c], x[MPGM_DIM * v[k] + c]);
     }
   const int c = hi[1] - lo[1] > hi[0] - lo[0];
   select_kth(x, c, v, m, m / 2);
   /* left: coordinate below the median value (a grid line of nodes at the
    * median goes whole to the right half) */
-  const double cut = x[2 * v[m / 2] + c];
+  const double cut = x[MPGM_DIM * v[m / 2] + c];
   int nl = 0;
   for (int k = 0; k < m; k++) {
-    const int left = x[2 * v[k] + c] < cut;
+    const int left = x[MPGM_DIM * v[k] + c] < cut;
     w->side[v[k]] = !left;
     if (left) {
       const int t = v[nl];
@@ -174,7 +176,7 @@ static void dissect(nd_work *w, int *v, int m, int pos) {
 }
 
 /** Nested-dissection order of the n nodes of a graph (CSR ptr/adj, the
- *  lists may include the node itself) with coordinates x (2 per node):
+ *  lists may include the node itself) with coordinates x (MPGM_DIM per node):
  *  perm[k] = the node numbered k. Errors: MPGM_ERR_NOMEM. */
 int mpgm_order_nodes(mpgm_ctx *ctx, int n, const int *ptr, const int *adj, const double *x,
                      int *perm) {

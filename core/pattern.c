@@ -237,11 +237,12 @@ static int matrix_pattern(mpgm_problem *pb) {
   K->colptr = calloc((size_t)n + 1, sizeof(int));
   size_t nnz = 0;
   for (int J = 0; J < nn; J++)
-    for (int j = 0; j < 2; j++) {
-      if (nd->dof[2 * J + j] < 0) continue;
+    for (int j = 0; j < MPGM_DIM; j++) {
+      if (nd->dof[MPGM_DIM * J + j] < 0) continue;
       for (int t = nptr[J]; t < nptr[J + 1]; t++) {
         const int I = pair[t];
-        nnz += (nd->dof[2 * I] >= 0) + (nd->dof[2 * I + 1] >= 0);
+        /* 2-D only: the numbered components of I, x and y written out */
+        nnz += (nd->dof[MPGM_DIM * I] >= 0) + (nd->dof[MPGM_DIM * I + 1] >= 0);
       }
     }
   K->rowind = malloc((nnz ? nnz : 1) * sizeof(int));
@@ -250,13 +251,13 @@ static int matrix_pattern(mpgm_problem *pb) {
              "out of memory (matrix with %zu entries)", nnz);
   size_t e = 0;
   for (int J = 0; J < nn; J++)
-    for (int j = 0; j < 2; j++) {
-      const int col = nd->dof[2 * J + j];
+    for (int j = 0; j < MPGM_DIM; j++) {
+      const int col = nd->dof[MPGM_DIM * J + j];
       if (col < 0) continue;
       for (int t = nptr[J]; t < nptr[J + 1]; t++) {
         const int I = pair[t];
-        for (int i = 0; i < 2; i++)
-          if (nd->dof[2 * I + i] >= 0) K->rowind[e++] = nd->dof[2 * I + i];
+        for (int i = 0; i < MPGM_DIM; i++)
+          if (nd->dof[MPGM_DIM * I + i] >= 0) K->rowind[e++] = nd->dof[MPGM_DIM * I + i];
       }
       K->colptr[col + 1] = (int)e;
     }
@@ -269,18 +270,21 @@ static int matrix_pattern(mpgm_problem *pb) {
     MPGM_CHECK(ctx, pb->perm, MPGM_ERR_NOMEM, "out of memory (ordering)");
     int k = 0;
     for (int t = 0; t < nn; t++)
-      for (int j = 0; j < 2; j++)
-        if (nd->dof[2 * pb->node_order[t] + j] >= 0) pb->perm[k++] = nd->dof[2 * pb->node_order[t] + j];
+      for (int j = 0; j < MPGM_DIM; j++) {
+        const int eq = nd->dof[MPGM_DIM * pb->node_order[t] + j];
+        if (eq >= 0) pb->perm[k++] = eq;
+      }
     MPGM_CHECK(ctx, k == n, MPGM_ERR_INTERNAL, "ordering: %d of %d equations placed", k, n);
   }
   /* node I's rows in a column of node J start nbr_off[t] entries into the
-   * column, t the place of I in J's list */
+   * column, t the place of I in J's list (2-D only: the numbered components
+   * counted x and y apart) */
   int *off = malloc(((size_t)nptr[nn] + 1) * sizeof(int));
   MPGM_CHECK(ctx, off, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
   for (int J = 0; J < nn; J++)
     for (int t = nptr[J], c = 0; t < nptr[J + 1]; t++) {
       off[t] = c;
-      c += (nd->dof[2 * pair[t]] >= 0) + (nd->dof[2 * pair[t] + 1] >= 0);
+      c += (nd->dof[MPGM_DIM * pair[t]] >= 0) + (nd->dof[MPGM_DIM * pair[t] + 1] >= 0);
     }
   free(pb->nbr_off);
   pb->nbr_off = off;
@@ -324,7 +328,7 @@ static int map_buffers(mpgm_problem *pb, int *maxk_out) {
   for (int g = 0; g < ng; g++) {
     const int p = pb->order[pb->grp_ptr[g]], k = C->ptr[p + 1] - C->ptr[p];
     if (k > maxk) maxk = k;
-    ns += 4 * (size_t)k * k;
+    ns += MPGM_BLOCK * (size_t)k * k;
   }
   MPGM_CHECK(ctx, ns <= INT32_MAX, MPGM_ERR_NOMEM, "scatter map of %zu entries", ns);
   pb->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE;
@@ -332,7 +336,8 @@ static int map_buffers(mpgm_problem *pb, int *maxk_out) {
   if (pb->nomap) {
     ns = 0;
     /* the batches' buffers, kept from step to step (zero between batches) */
-    if (!pb->kbatch) pb->kbatch = calloc(nt * 4 * MPGM_ASM_BATCH * MPGM_ASM_BATCH, sizeof(double));
+    if (!pb->kbatch)
+      pb->kbatch = calloc(nt * MPGM_BLOCK * MPGM_ASM_BATCH * MPGM_ASM_BATCH, sizeof(double));
     if (pb->kslot_n < nn) {
       free(pb->kslot);
       pb->kslot = malloc(nt * (size_t)nn * sizeof(int));
@@ -350,7 +355,7 @@ static int map_buffers(mpgm_problem *pb, int *maxk_out) {
     pb->scatter = malloc(cap * sizeof(int));
     pb->scatter_cap = pb->scatter ? cap : 0;
   }
-  pb->kloc_size = 4 * maxk * maxk;
+  pb->kloc_size = MPGM_BLOCK * maxk * maxk;
   pb->kloc = malloc(nt * (size_t)pb->kloc_size * sizeof(double));
   MPGM_CHECK(ctx, pb->scatter && pb->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   *maxk_out = maxk;
@@ -394,13 +399,15 @@ static int group_map(mpgm_problem *pb, int g, int *srt, int *tpos, size_t *s) {
     const int I = nodes[a];
     for (int b = 0; b < nk; b++) {
       const int J = nodes[b], t = tpos[a * nk + b];
-      for (int i = 0; i < 2; i++)
-        for (int j = 0; j < 2; j++) {
-          const int row = dof[2 * I + i], col = dof[2 * J + j];
+      for (int i = 0; i < MPGM_DIM; i++)
+        for (int j = 0; j < MPGM_DIM; j++) {
+          const int row = dof[MPGM_DIM * I + i], col = dof[MPGM_DIM * J + j];
           int pos = -1;
           /* held contact components are numbered but get no terms */
-          if (row >= 0 && col >= 0 && !nd->fix[2 * I + i] && !nd->fix[2 * J + j]) {
-            pos = K->colptr[col] + pb->nbr_off[t] + (i == 1 && dof[2 * I] >= 0);
+          if (row >= 0 && col >= 0 && !nd->fix[MPGM_DIM * I + i] && !nd->fix[MPGM_DIM * J + j]) {
+            /* 2-D only: the rows of I before row i are x's, if numbered
+             * (3-D: count the numbered components before i) */
+            pos = K->colptr[col] + pb->nbr_off[t] + (i == 1 && dof[MPGM_DIM * I] >= 0);
             /* a broken invariant, checked on every 16th group: the read is
              * a cache miss (a third of the maps' cost on clouds) */
             MPGM_CHECK(ctx, (g & 15) != 0 || K->rowind[pos] == row, MPGM_ERR_INTERNAL,

@@ -30,20 +30,21 @@ static int initial_stress(mpgm_problem *pb) {
   for (int p = 0; p < P->n; p++) {
     const mpgm_scene_body *b = &scene->bodies[P->body[p]];
     if (!b->geostatic) continue;
+    /* 2-D only: y is up; s0 written out as {xx, yy, xy, zz} */
     const double syy = scene->mats[b->material].density * scene->gravity[1] *
-                       (b->surface - P->x0[2 * p + 1]);
-    const double s0[4] = {b->k0 * syy, syy, 0.0, b->k0 * syy};
+                       (b->surface - P->x0[MPGM_DIM * p + 1]);
+    const double s0[MPGM_NSTRESS] = {b->k0 * syy, syy, 0.0, b->k0 * syy};
     const mpgm_material *m = &scene->mats[b->material];
-    memcpy(P->sigma + 4 * p, s0, sizeof s0);
+    memcpy(P->sigma + MPGM_NSTRESS * p, s0, sizeof s0);
     if (!m->type->init_stress || !P->nstate) {
-      memcpy(P->S0 + 4 * p, s0, sizeof s0);
+      memcpy(P->S0 + MPGM_NSTRESS * p, s0, sizeof s0);
       continue;
     }
     char msg[256] = "";
     if (m->type->init_stress(m, scene->kinematics, s0, P->state + (size_t)P->nstate * p, msg,
                              sizeof msg))
       MPGM_ERROR(pb->ctx, MPGM_ERR_INPUT, "%s: bodies.%s: geostatic initial stress at (%g, %g): %s",
-                 scene->file, b->name, P->x0[2 * p], P->x0[2 * p + 1], msg);
+                 scene->file, b->name, P->x0[MPGM_DIM * p], P->x0[MPGM_DIM * p + 1], msg);
   }
   return 0;
 }

@@ -37,7 +37,8 @@ struct mpgm_clouds {
   int min_nodes;         /**< smallest cloud                                */
   int max_enlarge;       /**< enlargements per point and step               */
   int m;                 /**< points                                        */
-  double *lambda;        /**< LME multiplier per point (warm start), 2 each */
+  double *lambda;        /**< LME multiplier per point (warm start),
+                              MPGM_DIM each                                 */
   double *rad;           /**< search radius of every point this step [m]    */
   int *cptr, *cidx;      /**< clouds of the search: CSR over the points     */
   size_t ccap;           /**< entries cidx has room for                     */
@@ -78,7 +79,7 @@ int mpgm_clouds_create(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_clouds **out) {
 static int size_for(mpgm_ctx *ctx, mpgm_clouds *c, int m) {
   if (c->lambda) return 0;
   c->m = m;
-  MPGM_ALLOC(ctx, c->lambda, 2 * (size_t)m);
+  MPGM_ALLOC(ctx, c->lambda, MPGM_DIM * (size_t)m);
   MPGM_ALLOC(ctx, c->rad, m);
   MPGM_ALLOC(ctx, c->cptr, m + 1);
   return 0;
@@ -88,11 +89,11 @@ double mpgm_clouds_radius(const mpgm_clouds *c) { return c->r0; }
 
 void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch) {
   if (!c->lambda) return; /* no warm start yet */
-  for (int i = 0; i < n; i++) {
-    scratch[2 * i] = c->lambda[2 * perm[i]];
-    scratch[2 * i + 1] = c->lambda[2 * perm[i] + 1];
+  for (int i = 0; i < n; i++) { /* 2-D only: x and y written out */
+    scratch[MPGM_DIM * i] = c->lambda[MPGM_DIM * perm[i]];
+    scratch[MPGM_DIM * i + 1] = c->lambda[MPGM_DIM * perm[i] + 1];
   }
-  memcpy(c->lambda, scratch, sizeof(double) * 2 * (size_t)n);
+  memcpy(c->lambda, scratch, sizeof(double) * MPGM_DIM * (size_t)n);
 }
 
 /* Drop the skipped nodes from a search result of n (of which min(n, cap)
@@ -112,13 +113,14 @@ static int drop_skipped(const mpgm_clouds *c, int n, int cap, int *idx, double *
 /* Nodes within r of x into idx (at most cap), skipped nodes left out;
  * returns the count (which may exceed cap: then idx holds the cap
  * nearest). */
-static int cloud(const mpgm_clouds *c, const double x[2], double r, int cap, int *idx, double *d2) {
+static int cloud(const mpgm_clouds *c, const double x[MPGM_DIM], double r, int cap, int *idx,
+                 double *d2) {
   return drop_skipped(c, mpgm_kdtree_radius(c->tree, x, r, cap, idx, d2), cap, idx, d2);
 }
 
 /* The squared distance of the (n+1)-th nearest node that is not skipped
  * (the nearest outside a cloud of n) into *dn2; 0 when there is none. */
-static int next_nearest(const mpgm_clouds *c, const double x[2], int n, double *dn2) {
+static int next_nearest(const mpgm_clouds *c, const double x[MPGM_DIM], int n, double *dn2) {
   enum { CAP = 2 * MPGM_SHAPE_MAXNODE + 2 };
   int ib[CAP];
   double db[CAP];
@@ -163,7 +165,7 @@ static int search(mpgm_clouds *c, const mpgm_fe_view *v) {
   double d2[MPGM_SHAPE_MAXNODE];
   c->cptr[0] = 0;
   for (int p = 0; p < m; p++) {
-    const double *x = P->x + 2 * p;
+    const double *x = P->x + MPGM_DIM * p;
     double r = c->r0;
     int n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
     for (int g = 0; n < want && g < MAX_GROWTH; g++) {
@@ -199,14 +201,15 @@ static int shape_failed(const mpgm_clouds *c, const mpgm_fe_view *v, int p, int 
                         double r, const char *why) {
   const mpgm_scene *s = v->scene;
   const mpgm_points *P = v->pts;
-  const double *x = P->x + 2 * p;
+  const double *x = P->x + MPGM_DIM * p;
   if (p < P->n)
     MPGM_ERROR(v->ctx, err,
                "step %ld: %s shape functions failed at point %d (body \"%s\", started at (%g, "
                "%g)) at (%g, %g) after %d cloud enlargement(s) (cloud of %d nodes within %g "
                "m; shape.max_enlarge = %d): %s",
-               v->step + 1, c->shape->name, P->id[p], s->bodies[P->body[p]].name, P->x0[2 * p],
-               P->x0[2 * p + 1], x[0], x[1], enl, n, r, c->max_enlarge, why ? why : "?");
+               v->step + 1, c->shape->name, P->id[p], s->bodies[P->body[p]].name,
+               P->x0[MPGM_DIM * p], P->x0[MPGM_DIM * p + 1], x[0], x[1], enl, n, r,
+               c->max_enlarge, why ? why : "?");
   MPGM_ERROR(v->ctx, err,
              "step %ld: %s shape functions failed at probe \"%s\" at (%g, %g) after %d cloud "
              "enlargement(s) (cloud of %d nodes within %g m): %s",
@@ -221,10 +224,10 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
                        double *t_search) {
   mpgm_ctx *ctx = v->ctx;
   const mpgm_points *P = v->pts;
-  const double *xn_all = mpgm_kdtree_points(c->tree), *x = P->x + 2 * p;
+  const double *xn_all = mpgm_kdtree_points(c->tree), *x = P->x + MPGM_DIM * p;
   int idx[MPGM_SHAPE_MAXNODE + 1];
-  double d2[MPGM_SHAPE_MAXNODE + 1], xn[2 * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE],
-      dN[2 * MPGM_SHAPE_MAXNODE];
+  double d2[MPGM_SHAPE_MAXNODE + 1], xn[MPGM_DIM * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE],
+      dN[MPGM_DIM * MPGM_SHAPE_MAXNODE];
   int n = c->cptr[p + 1] - c->cptr[p];
   memcpy(idx, c->cidx + c->cptr[p], sizeof(int) * (size_t)n);
   double r = c->rad[p];
@@ -232,9 +235,9 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
   int err = 0, enl = 0;
   for (;; enl++) {
     sort_by_node(n, idx);
-    for (int a = 0; a < n; a++) {
-      xn[2 * a] = xn_all[2 * idx[a]];
-      xn[2 * a + 1] = xn_all[2 * idx[a] + 1];
+    for (int a = 0; a < n; a++) { /* 2-D only: x and y written out */
+      xn[MPGM_DIM * a] = xn_all[MPGM_DIM * idx[a]];
+      xn[MPGM_DIM * a + 1] = xn_all[MPGM_DIM * idx[a] + 1];
     }
     mpgm_shape_params par;
     mpgm_shape_params_for_radius(&c->par, c->r0, r, &par);
@@ -243,8 +246,9 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
      * of the body (the cantilever's tip) is on the hull of its cloud, where
      * cond(J) of LME grows like 1 / (Newton residual) past 1e12 */
     if (p >= P->n) par.max_cond = 1e300;
+    /* 2-D only: the query's position written out (mpgm_shapefn.h) */
     const mpgm_shape_query q = {.n = n, .xn = xn, .xp = {x[0], x[1]}, .cell = -1, .par = &par,
-                                .lambda = c->lambda + 2 * p, .info = &info};
+                                .lambda = c->lambda + MPGM_DIM * p, .info = &info};
     /* an LME warm start that stalls is retried once from lambda = 0
      * before the cloud is enlarged */
     err = n > 0 ? mpgm_shape_eval_retry(c->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS])
@@ -280,12 +284,13 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
   /* MPGM_ERR_SHAPE (recoverable), or a fatal MPGM_ERR_INPUT */
   if (err) return shape_failed(c, v, p, err, enl, n, r, info.msg);
   MPGM_CALL(mpgm_conn_grow(ctx, out, *k, *k + n));
-  for (int a = 0; a < n; a++) {
-    if (N[a] == 0.0 && dN[2 * a] == 0.0 && dN[2 * a + 1] == 0.0) continue; /* outside the support */
+  for (int a = 0; a < n; a++) { /* 2-D only: grad N's x and y written out */
+    if (N[a] == 0.0 && dN[MPGM_DIM * a] == 0.0 && dN[MPGM_DIM * a + 1] == 0.0)
+      continue; /* outside the support */
     out->node[*k] = idx[a];
     out->N[*k] = N[a];
-    out->dN[2 * *k] = dN[2 * a];
-    out->dN[2 * *k + 1] = dN[2 * a + 1];
+    out->dN[MPGM_DIM * *k] = dN[MPGM_DIM * a];
+    out->dN[MPGM_DIM * *k + 1] = dN[MPGM_DIM * a + 1];
     (*k)++;
   }
   return 0;

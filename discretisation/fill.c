@@ -1,5 +1,6 @@
 /* fill.c -- the material points of bodies filled on a grid: the rule of
- * method mpm's particles and of method gmm's grid-filled bodies. */
+ * the particles of a grid-reset front end and the points of a persistent
+ * one's grid-filled bodies. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -9,29 +10,29 @@
 int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
                      void (*xy)(const void *grid, int c, double *xn), const void *grid,
                      int *owner, double *x, int *count) {
-  double gxi[18], gw[9];
+  double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
   *count = 0;
   if (mpgm_fe_gauss(cell, s->ppc, gxi, gw)) return MPGM_ERR_INPUT;
   const int nn = mpgm_fe_nnode(cell);
   double N[MPGM_FE_MAXNODE * 9];
-  for (int q = 0; q < s->ppc; q++) mpgm_fe_ref(cell, gxi + 2 * q, N + nn * q, NULL);
+  for (int q = 0; q < s->ppc; q++) mpgm_fe_ref(cell, gxi + MPGM_DIM * q, N + nn * q, NULL);
   int n = 0;
   for (int c = 0; c < ncell; c++) {
-    double xn[2 * MPGM_FE_MAXNODE];
+    double xn[MPGM_DIM * MPGM_FE_MAXNODE];
     xy(grid, c, xn);
     for (int q = 0; q < s->ppc; q++) {
-      double p[2] = {0, 0};
+      double p[MPGM_DIM] = {0, 0}; /* 2-D only: x and y written out */
       for (int a = 0; a < nn; a++) {
-        p[0] += N[nn * q + a] * xn[2 * a];
-        p[1] += N[nn * q + a] * xn[2 * a + 1];
+        p[0] += N[nn * q + a] * xn[MPGM_DIM * a];
+        p[1] += N[nn * q + a] * xn[MPGM_DIM * a + 1];
       }
       int b = 0;
       while (b < s->nbody && !mpgm_body_contains(&s->bodies[b], p)) b++;
       const size_t k = (size_t)c * s->ppc + q;
       if (owner) owner[k] = b < s->nbody ? b : -1;
       if (x) {
-        x[2 * k] = p[0];
-        x[2 * k + 1] = p[1];
+        x[MPGM_DIM * k] = p[0];
+        x[MPGM_DIM * k + 1] = p[1];
       }
       n += b < s->nbody;
     }
@@ -48,10 +49,11 @@ static void grid_cell_xy(const void *grid, int c, double *xn) {
 
 int mpgm_grid_fill(mpgm_ctx *ctx, const mpgm_grid *g, const mpgm_scene *s, mpgm_fill *f) {
   memset(f, 0, sizeof *f);
-  double gxi[18], gw[9];
+  double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
   MPGM_CHECK(ctx, mpgm_fe_gauss(g->cell, s->ppc, gxi, gw) == 0, MPGM_ERR_INPUT,
              "%s: mesh.ppc: no Gauss rule of %d points", s->file, s->ppc);
-  /* a point's volume: cell area x Gauss weight / reference area */
+  /* a point's volume: cell area x Gauss weight / reference area (2-D only:
+   * areas of Q4 and T3 cells, per unit thickness) */
   const double ref_area = g->cell == MPGM_CELL_Q4 ? 4.0 : 0.5;
   const double cell_area = g->h * g->h / (g->cell == MPGM_CELL_Q4 ? 1.0 : 2.0);
   for (int q = 0; q < s->ppc; q++) f->vol[q] = cell_area * gw[q] / ref_area;
@@ -72,7 +74,8 @@ void mpgm_fill_points(const mpgm_fill *f, const mpgm_scene *s, mpgm_points *P) {
   for (size_t k = 0; k < f->ngauss; k++) {
     const int b = f->owner[k];
     if (b < 0) continue;
-    mpgm_point_set(P, p++, s, b, f->x[MPGM_DIM * k], f->x[MPGM_DIM * k + 1], f->vol[k % (size_t)f->ppc]);
+    mpgm_point_set(P, p++, s, b, f->x[MPGM_DIM * k], f->x[MPGM_DIM * k + 1],
+                   f->vol[k % (size_t)f->ppc]);
   }
 }
 

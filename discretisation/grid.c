@@ -1,4 +1,5 @@
-/* grid.c -- structured background grid (mpgm_grid.h). */
+/* grid.c -- structured background grid (mpgm_grid.h). 2-D only: squares
+ * nx x ny, written out in x and y. */
 #include "mpgm_grid.h"
 
 #include <math.h>
@@ -15,7 +16,7 @@ int mpgm_grid_init(mpgm_ctx *ctx, mpgm_grid *g, const mpgm_scene *s) {
              "over mesh.domain, found %.4g nodes (h = %g)", s->file, (fx + 1) * (fy + 1), s->h);
   g->nx = fx < 1 ? 1 : (int)fx;
   g->ny = fy < 1 ? 1 : (int)fy;
-  for (int d = 0; d < 2; d++) g->min[d] = s->dom_min[d];
+  for (int d = 0; d < MPGM_DIM; d++) g->min[d] = s->dom_min[d];
   g->max[0] = g->min[0] + g->nx * g->h;
   g->max[1] = g->min[1] + g->ny * g->h;
   g->nnode = (g->nx + 1) * (g->ny + 1);
@@ -23,7 +24,7 @@ int mpgm_grid_init(mpgm_ctx *ctx, mpgm_grid *g, const mpgm_scene *s) {
   return 0;
 }
 
-void mpgm_grid_node(const mpgm_grid *g, int id, double X[2]) {
+void mpgm_grid_node(const mpgm_grid *g, int id, double X[MPGM_DIM]) {
   const int i = id % (g->nx + 1), j = id / (g->nx + 1);
   X[0] = g->min[0] + i * g->h;
   X[1] = g->min[1] + j * g->h;
@@ -41,10 +42,11 @@ void mpgm_grid_cell(const mpgm_grid *g, int c, int *nodes, double *xn) {
     nodes[0] = q[0]; nodes[1] = q[2]; nodes[2] = q[3];
   }
   if (xn)
-    for (int a = 0; a < g->nn; a++) mpgm_grid_node(g, nodes[a], xn + 2 * a);
+    for (int a = 0; a < g->nn; a++) mpgm_grid_node(g, nodes[a], xn + MPGM_DIM * a);
 }
 
-int mpgm_grid_locate(const mpgm_grid *g, const double x[2], int *cell, double xi[2]) {
+int mpgm_grid_locate(const mpgm_grid *g, const double x[MPGM_DIM], int *cell,
+                     double xi[MPGM_DIM]) {
   const double s = (x[0] - g->min[0]) / g->h, t = (x[1] - g->min[1]) / g->h;
   const double tol = 1e-9;
   if (!(s >= -tol && s <= g->nx + tol && t >= -tol && t <= g->ny + tol)) return MPGM_ERR_DOMAIN;

@@ -1,5 +1,12 @@
 /* kdtree.c -- kd-tree over borrowed 2-D points (see mpgm_kdtree.h).
  *
+ * 2-D only: the coordinates have stride MPGM_DIM, but boxes (box_add,
+ * box_empty, the children's boxes in build_rec), the choice of the split
+ * dimension, the finiteness checks, the query point (qx, qy), the squared
+ * distances dx dx + dy dy, the bound g[0] + g[1] and the gaps pushed with
+ * a subtree (g[dim], g[1 - dim]) are written out in x and y (3-D: a third
+ * term, the other two gaps).
+ *
  * Layout: nodes in one array in depth-first order, so the left child of node
  * i is i + 1 and the right child is stored; every node has its tight box.
  * Children come after their parent, which lets refit run one backward sweep.
@@ -34,14 +41,14 @@
 #define SORT_INSERTION_MAX 32
 
 typedef struct kd_node {
-  double lo[2], hi[2]; /* tight bounding box of the node's points          */
+  double lo[MPGM_DIM], hi[MPGM_DIM]; /* tight bounding box of its points   */
   int a;               /* leaf: first position in perm; internal: right child */
   int b;               /* leaf: one past the last position (> 0);
                           internal: -1 - split dimension                   */
 } kd_node;
 
 struct mpgm_kdtree {
-  const double *xy;  /* borrowed coordinates, 2 per point                 */
+  const double *xy;  /* borrowed coordinates, MPGM_DIM per point          */
   int n;             /* points                                            */
   int leaf_size;     /* maximum points per leaf                           */
   int built;         /* the structure is complete (refit may run)         */
@@ -69,8 +76,8 @@ static inline int before(double da, int ia, double db, int ib) {
 #endif
 
 /* Per-dimension squared gaps from q to the root box (0 inside). */
-static inline void root_gaps(const kd_node *root, const double q[2], double g[2]) {
-  for (int d = 0; d < 2; d++) {
+static inline void root_gaps(const kd_node *root, const double q[MPGM_DIM], double g[MPGM_DIM]) {
+  for (int d = 0; d < MPGM_DIM; d++) {
     const double a = root->lo[d] - q[d], b = q[d] - root->hi[d];
     const double gap = a > 0.0 ? a : b > 0.0 ? b : 0.0; /* not fmax: a libm call */
     g[d] = gap * gap;
@@ -80,8 +87,9 @@ static inline void root_gaps(const kd_node *root, const double q[2], double g[2]
 /* At internal node nd (index node) with the gaps g of its subtree: the
  * squared gaps along the split dimension of the left (gl) and right (gr)
  * child, never below g[dim]. */
-static KD_ALWAYS_INLINE int child_gaps(const kd_node *nodes, const kd_node *nd, const double q[2],
-                                       const double g[2], double *gl, double *gr) {
+static KD_ALWAYS_INLINE int child_gaps(const kd_node *nodes, const kd_node *nd,
+                                       const double q[MPGM_DIM], const double g[MPGM_DIM],
+                                       double *gl, double *gr) {
   const int dim = -1 - nd->b;
   const double a = q[dim] - nd[1].hi[dim];        /* left child = next node */
   const double b = nodes[nd->a].lo[dim] - q[dim]; /* right child            */
@@ -91,14 +99,15 @@ static KD_ALWAYS_INLINE int child_gaps(const kd_node *nodes, const kd_node *nd, 
   return dim;
 }
 
-static inline void box_add(double lo[2], double hi[2], const double *p) {
+/* 2-D only (x and y written out), as box_empty. */
+static inline void box_add(double lo[MPGM_DIM], double hi[MPGM_DIM], const double *p) {
   if (p[0] < lo[0]) lo[0] = p[0];
   if (p[0] > hi[0]) hi[0] = p[0];
   if (p[1] < lo[1]) lo[1] = p[1];
   if (p[1] > hi[1]) hi[1] = p[1];
 }
 
-static inline void box_empty(double lo[2], double hi[2]) {
+static inline void box_empty(double lo[MPGM_DIM], double hi[MPGM_DIM]) {
   lo[0] = lo[1] = INFINITY;
   hi[0] = hi[1] = -INFINITY;
 }
@@ -223,7 +232,7 @@ static int new_node(mpgm_ctx *ctx, mpgm_kdtree *t, int *id) {
  * whose coordinate d would be there in sorted order, smaller-or-equal ones
  * before and greater-or-equal ones after (Hoare's FIND). */
 static void select_nth(int *perm, const double *xy, int d, int lo, int hi, int nth) {
-#define KEY(i) xy[2 * (size_t)perm[i] + d]
+#define KEY(i) xy[MPGM_DIM * (size_t)perm[i] + d]
   while (hi > lo) {
     const double a = KEY(lo), b = KEY(lo + (hi - lo) / 2), c = KEY(hi);
     const double pivot = a < b ? (b < c ? b : (a < c ? c : a)) : (a < c ? a : (b < c ? c : b));
@@ -248,15 +257,15 @@ static void select_nth(int *perm, const double *xy, int d, int lo, int hi, int n
 }
 
 /* Node over perm[begin, end) with tight box (lo, hi); appends the subtree. */
-static int build_rec(mpgm_ctx *ctx, mpgm_kdtree *t, int begin, int end, const double lo[2],
-                     const double hi[2], int depth) {
+static int build_rec(mpgm_ctx *ctx, mpgm_kdtree *t, int begin, int end, const double lo[MPGM_DIM],
+                     const double hi[MPGM_DIM], int depth) {
   int id = 0;
   MPGM_CALL(new_node(ctx, t, &id));
   kd_node *nd = &t->nodes[id];
   nd->lo[0] = lo[0], nd->lo[1] = lo[1], nd->hi[0] = hi[0], nd->hi[1] = hi[1];
   if (depth > t->depth) t->depth = depth;
   const int count = end - begin;
-  const int d = (hi[1] - lo[1]) > (hi[0] - lo[0]);
+  const int d = (hi[1] - lo[1]) > (hi[0] - lo[0]); /* 2-D only: the wider side */
   if (count <= t->leaf_size || !(hi[d] > lo[d])) { /* small, or identical points */
     nd->a = begin, nd->b = end;
     return 0;
@@ -269,7 +278,7 @@ static int build_rec(mpgm_ctx *ctx, mpgm_kdtree *t, int begin, int end, const do
   int *perm = t->perm;
   double cut = 0.5 * lo[d] + 0.5 * hi[d];
   if (!(cut > lo[d]) || cut > hi[d]) cut = hi[d]; /* adjacent doubles */
-  double llo[2], lhi[2], rlo[2], rhi[2];
+  double llo[MPGM_DIM], lhi[MPGM_DIM], rlo[MPGM_DIM], rhi[MPGM_DIM];
   box_empty(llo, lhi), box_empty(rlo, rhi);
   /* Lomuto partition, the swap done by selects: the loads depend only on
    * perm[k] (read in order), so the processor keeps many of them in flight
@@ -277,8 +286,8 @@ static int build_rec(mpgm_ctx *ctx, mpgm_kdtree *t, int begin, int end, const do
   int i = begin;
   for (int k = begin; k < end; k++) {
     const int pk = perm[k], pi = perm[i];
-    const double *p = xy + 2 * (size_t)pk;
-    const double x = p[0], y = p[1];
+    const double *p = xy + MPGM_DIM * (size_t)pk;
+    const double x = p[0], y = p[1]; /* 2-D only: the boxes in x and y */
     const int left = p[d] < cut;
     perm[k] = left ? pi : pk;
     perm[i] = left ? pk : pi;
@@ -297,8 +306,8 @@ static int build_rec(mpgm_ctx *ctx, mpgm_kdtree *t, int begin, int end, const do
     mid = begin + count / 2;
     select_nth(perm, xy, d, begin, end - 1, mid);
     box_empty(llo, lhi), box_empty(rlo, rhi);
-    for (int k = begin; k < mid; k++) box_add(llo, lhi, xy + 2 * (size_t)perm[k]);
-    for (int k = mid; k < end; k++) box_add(rlo, rhi, xy + 2 * (size_t)perm[k]);
+    for (int k = begin; k < mid; k++) box_add(llo, lhi, xy + MPGM_DIM * (size_t)perm[k]);
+    for (int k = mid; k < end; k++) box_add(rlo, rhi, xy + MPGM_DIM * (size_t)perm[k]);
     t->median_splits++;
   }
   MPGM_CALL(build_rec(ctx, t, begin, mid, llo, lhi, depth + 1));
@@ -308,19 +317,20 @@ static int build_rec(mpgm_ctx *ctx, mpgm_kdtree *t, int begin, int end, const do
 }
 
 /* Check that every coordinate is finite; box of all points. */
-static int check_points(mpgm_ctx *ctx, const double *xy, int n, double lo[2], double hi[2]) {
+static int check_points(mpgm_ctx *ctx, const double *xy, int n, double lo[MPGM_DIM],
+                        double hi[MPGM_DIM]) {
   double nan_if_bad = 0.0;
   box_empty(lo, hi);
   for (int i = 0; i < n; i++) {
-    const double *p = xy + 2 * (size_t)i;
+    const double *p = xy + MPGM_DIM * (size_t)i;
     nan_if_bad += p[0] * 0.0 + p[1] * 0.0; /* NaN for Inf or NaN */
     box_add(lo, hi, p);
   }
   if (nan_if_bad == 0.0) return 0;
   for (int i = 0; i < n; i++)
-    MPGM_CHECK(ctx, isfinite(xy[2 * (size_t)i]) && isfinite(xy[2 * (size_t)i + 1]), MPGM_ERR_INPUT,
-               "kd-tree: point %d = (%g, %g) is not finite", i, xy[2 * (size_t)i],
-               xy[2 * (size_t)i + 1]);
+    MPGM_CHECK(ctx, isfinite(xy[MPGM_DIM * (size_t)i]) && isfinite(xy[MPGM_DIM * (size_t)i + 1]),
+               MPGM_ERR_INPUT, "kd-tree: point %d = (%g, %g) is not finite", i,
+               xy[MPGM_DIM * (size_t)i], xy[MPGM_DIM * (size_t)i + 1]);
   return 0;
 }
 
@@ -340,7 +350,7 @@ int mpgm_kdtree_rebuild(mpgm_ctx *ctx, mpgm_kdtree *t, const double *xy, int n) 
     t->built = t->valid = 1;
     return 0;
   }
-  double lo[2], hi[2];
+  double lo[MPGM_DIM], hi[MPGM_DIM];
   MPGM_CALL(check_points(ctx, xy, n, lo, hi));
   if (n > t->perm_cap) {
     int *p = realloc(t->perm, (size_t)n * sizeof *p);
@@ -390,20 +400,20 @@ int mpgm_kdtree_refit(mpgm_ctx *ctx, mpgm_kdtree *t, const double *xy) {
     if (nd->b >= 0) {
       box_empty(nd->lo, nd->hi);
       for (int k = nd->a; k < nd->b; k++) {
-        const double *p = xy + 2 * (size_t)t->perm[k];
+        const double *p = xy + MPGM_DIM * (size_t)t->perm[k];
         nan_if_bad += p[0] * 0.0 + p[1] * 0.0;
         box_add(nd->lo, nd->hi, p);
       }
     } else {
       const kd_node *l = nd + 1, *r = &t->nodes[nd->a];
-      for (int d = 0; d < 2; d++) {
+      for (int d = 0; d < MPGM_DIM; d++) {
         nd->lo[d] = l->lo[d] < r->lo[d] ? l->lo[d] : r->lo[d];
         nd->hi[d] = l->hi[d] > r->hi[d] ? l->hi[d] : r->hi[d];
       }
     }
   }
   if (nan_if_bad != 0.0) {
-    double lo[2], hi[2];
+    double lo[MPGM_DIM], hi[MPGM_DIM];
     MPGM_CALL(check_points(ctx, xy, t->n, lo, hi));
   }
   t->valid = 1;
@@ -437,8 +447,8 @@ static void rad_overflow(rad_out *o, int j, double d) {
   }
 }
 
-int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[2], double radius, int cap, int *idx,
-                       double *d2) {
+int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap,
+                       int *idx, double *d2) {
   if (!t || !t->valid || t->n == 0 || !(radius >= 0.0) || !isfinite(q[0]) || !isfinite(q[1]))
     return 0;
   const double qx = q[0], qy = q[1], r2 = radius * radius;
@@ -448,10 +458,10 @@ int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[2], double radius, i
   rad_out o = {idx, d2, cap > 0 ? cap : 0, 0};
   struct {
     int node;
-    double g[2];
+    double g[MPGM_DIM];
   } stack[KD_STACK];
   int sp = 0, node = 0;
-  double g[2];
+  double g[MPGM_DIM];
   root_gaps(&nodes[0], q, g);
   if (g[0] + g[1] > r2) node = -1;
   while (node >= 0) {
@@ -459,8 +469,8 @@ int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[2], double radius, i
     if (nd->b >= 0) {
       for (int k = nd->a; k < nd->b; k++) {
         const int j = perm[k];
-        const double dx = xy[2 * (size_t)j] - qx, dy = xy[2 * (size_t)j + 1] - qy;
-        const double d = dx * dx + dy * dy;
+        const double dx = xy[MPGM_DIM * (size_t)j] - qx, dy = xy[MPGM_DIM * (size_t)j + 1] - qy;
+        const double d = dx * dx + dy * dy; /* 2-D only */
         if (d <= r2) {
           if (o.cnt < o.cap)
             o.idx[o.cnt] = j, o.d2[o.cnt] = d;
@@ -472,7 +482,7 @@ int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[2], double radius, i
     } else {
       double gl, gr;
       const int dim = child_gaps(nodes, nd, q, g, &gl, &gr);
-      const double go = g[1 - dim];
+      const double go = g[1 - dim]; /* 2-D only: the other dimension's gap */
       const double ml = dim ? go + gl : gl + go, mr = dim ? go + gr : gr + go;
       if (mr <= r2) {
         stack[sp].node = nd->a, stack[sp].g[dim] = gr, stack[sp].g[1 - dim] = go;
@@ -534,21 +544,21 @@ static KD_ALWAYS_INLINE int knn_walk(const mpgm_kdtree *t, double qx, double qy,
   const int *perm = t->perm;
   const kd_node *nodes = t->nodes;
   knn_set s = {idx, d2, k, 0, INFINITY, INT_MAX};
-  const double q[2] = {qx, qy};
+  const double q[MPGM_DIM] = {qx, qy};
   struct {
     int node;
-    double m, g[2]; /* bound and gaps of the pending subtree */
+    double m, g[MPGM_DIM]; /* bound and gaps of the pending subtree */
   } stack[KD_STACK];
   int sp = 0, node = 0;
-  double g[2];
+  double g[MPGM_DIM];
   root_gaps(&nodes[0], q, g);
   for (;;) {
     const kd_node *nd = &nodes[node];
     if (nd->b >= 0) {
       for (int m = nd->a; m < nd->b; m++) {
         const int j = perm[m];
-        const double dx = xy[2 * (size_t)j] - qx, dy = xy[2 * (size_t)j + 1] - qy;
-        const double d = dx * dx + dy * dy;
+        const double dx = xy[MPGM_DIM * (size_t)j] - qx, dy = xy[MPGM_DIM * (size_t)j + 1] - qy;
+        const double d = dx * dx + dy * dy; /* 2-D only */
         if (d < s.worst || (d == s.worst && j < s.worst_i)) {
           if (sorted)
             knn_insert_sorted(&s, j, d);
@@ -559,7 +569,7 @@ static KD_ALWAYS_INLINE int knn_walk(const mpgm_kdtree *t, double qx, double qy,
     } else {
       double gl, gr;
       const int dim = child_gaps(nodes, nd, q, g, &gl, &gr);
-      const double go = g[1 - dim];
+      const double go = g[1 - dim]; /* 2-D only: the other dimension's gap */
       const double ml = dim ? go + gl : gl + go, mr = dim ? go + gr : gr + go;
       int near = node + 1, far = nd->a;
       double mn = ml, mf = mr, gn = gl, gf = gr;
@@ -593,7 +603,7 @@ static int knn_large(const mpgm_kdtree *t, double qx, double qy, int k, int *idx
   return knn_walk(t, qx, qy, k, idx, d2, 0);
 }
 
-int mpgm_kdtree_knn(const mpgm_kdtree *t, const double q[2], int k, int *idx, double *d2) {
+int mpgm_kdtree_knn(const mpgm_kdtree *t, const double q[MPGM_DIM], int k, int *idx, double *d2) {
   if (!t || !t->valid || t->n == 0 || k <= 0 || !isfinite(q[0]) || !isfinite(q[1])) return 0;
   if (k >= t->n) return mpgm_kdtree_radius(t, q, INFINITY, t->n, idx, d2); /* all, sorted */
   if (k <= KNN_SORTED_MAX) return knn_small(t, q[0], q[1], k, idx, d2);

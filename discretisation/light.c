@@ -46,6 +46,8 @@ int mpgm_light_drop(mpgm_ctx *ctx, mpgm_conn *c, int m, const unsigned char *lig
     const int surface = p >= first_surface;
     /* a surface point not enforced in this step has no functions */
     if (surface && mpgm_cpoints_unenforced(cp, p - first_surface)) continue;
+    /* 2-D only: Shepard's sums and the renormalised grad N written out in
+     * x and y (3-D: Sz and a third component) */
     double S = 0, Sx = 0, Sy = 0;
     int lost = 0;
     for (int k = k0; k < k1; k++) {

@@ -15,7 +15,7 @@ struct mpgm_fem_cells {
   int *cnode;      /**< nn node ids per cell (counter-clockwise)       */
   int *cptr, *ctype; /**< CSR offsets and VTK types, for output        */
   int *pcell;      /**< cell of every point (material and tracer)      */
-  double *pxi;     /**< local coordinates of every point, 2 each       */
+  double *pxi;     /**< local coordinates of every point, MPGM_DIM each */
 };
 typedef struct mpgm_fem_cells fem_data;
 
@@ -29,11 +29,12 @@ void mpgm_fem_cells_destroy(mpgm_fem_cells *d) {
   free(d);
 }
 
+/* The coordinates of cell c's nodes (2-D only: x and y written out). */
 static void cell_coords(const fem_data *d, const double *x, int c, double *xn) {
   const int *cn = d->cnode + (size_t)d->nn * c;
   for (int a = 0; a < d->nn; a++) {
-    xn[2 * a] = x[2 * cn[a]];
-    xn[2 * a + 1] = x[2 * cn[a] + 1];
+    xn[MPGM_DIM * a] = x[MPGM_DIM * cn[a]];
+    xn[MPGM_DIM * a + 1] = x[MPGM_DIM * cn[a] + 1];
   }
 }
 
@@ -53,13 +54,13 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
   MPGM_ALLOC(ctx, d->cptr, m->ncell + 1);
   MPGM_ALLOC(ctx, d->ctype, m->ncell);
   MPGM_ALLOC(ctx, d->pcell, npts + s->nprobe);
-  MPGM_ALLOC(ctx, d->pxi, 2 * (size_t)(npts + s->nprobe));
+  MPGM_ALLOC(ctx, d->pxi, MPGM_DIM * (size_t)(npts + s->nprobe));
   memcpy(d->cnode, m->cnode, sizeof(int) * (size_t)d->nn * m->ncell);
   mpgm_nodes *nd = v->nodes;
   mpgm_points *P = v->pts;
-  memcpy(nd->X, m->X, sizeof(double) * 2 * (size_t)m->nnode);
-  memcpy(nd->x, m->X, sizeof(double) * 2 * (size_t)m->nnode);
-  double gxi[18], gw[9];
+  memcpy(nd->X, m->X, sizeof(double) * MPGM_DIM * (size_t)m->nnode);
+  memcpy(nd->x, m->X, sizeof(double) * MPGM_DIM * (size_t)m->nnode);
+  double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
   MPGM_CALL(mpgm_fe_gauss(m->cell, s->ppc, gxi, gw));
   int p = 0;
   for (int c = 0; c < m->ncell; c++) {
@@ -68,26 +69,28 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
     const int *cn = d->cnode + (size_t)d->nn * c;
     d->cptr[c + 1] = d->cptr[c] + d->nn;
     d->ctype[c] = m->cell == MPGM_CELL_Q4 ? 9 : 5; /* VTK_QUAD, VTK_TRIANGLE */
+    /* 2-D only: velocities, positions and local coordinates written out in
+     * x and y here and for the probes below */
     for (int a = 0; a < d->nn; a++) {
-      nd->v[2 * cn[a]] = bd->velocity[0];
-      nd->v[2 * cn[a] + 1] = bd->velocity[1];
+      nd->v[MPGM_DIM * cn[a]] = bd->velocity[0];
+      nd->v[MPGM_DIM * cn[a] + 1] = bd->velocity[1];
     }
-    double xn[2 * MPGM_FE_MAXNODE];
+    double xn[MPGM_DIM * MPGM_FE_MAXNODE];
     cell_coords(d, nd->X, c, xn);
     for (int g = 0; g < s->ppc; g++, p++) {
-      double N[MPGM_FE_MAXNODE], dN[2 * MPGM_FE_MAXNODE], detJ;
-      int err = mpgm_fe_eval(m->cell, xn, gxi + 2 * g, N, dN, &detJ);
+      double N[MPGM_FE_MAXNODE], dN[MPGM_DIM * MPGM_FE_MAXNODE], detJ;
+      int err = mpgm_fe_eval(m->cell, xn, gxi + MPGM_DIM * g, N, dN, &detJ);
       MPGM_CHECK(ctx, !err, err, "%s: cell %d of body \"%s\" is inverted (det J = %g)", s->file, c,
                  bd->name, detJ);
       double x = 0, y = 0;
       for (int a = 0; a < d->nn; a++) {
-        x += N[a] * xn[2 * a];
-        y += N[a] * xn[2 * a + 1];
+        x += N[a] * xn[MPGM_DIM * a];
+        y += N[a] * xn[MPGM_DIM * a + 1];
       }
       mpgm_point_set(P, p, s, b, x, y, gw[g] * detJ);
       d->pcell[p] = c;
-      d->pxi[2 * p] = gxi[2 * g];
-      d->pxi[2 * p + 1] = gxi[2 * g + 1];
+      d->pxi[MPGM_DIM * p] = gxi[MPGM_DIM * g];
+      d->pxi[MPGM_DIM * p + 1] = gxi[MPGM_DIM * g + 1];
     }
   }
   /* probes: the cell holding the reference position */
@@ -95,20 +98,20 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
     const double *xp = s->probes[k].x;
     int found = -1;
     for (int cc = 0; cc < d->ncell && found < 0; cc++) {
-      double xn[2 * MPGM_FE_MAXNODE], xi[2];
+      double xn[MPGM_DIM * MPGM_FE_MAXNODE], xi[MPGM_DIM];
       cell_coords(d, nd->X, cc, xn);
       if (mpgm_fe_local(m->cell, xn, xp, xi) == 0 && mpgm_fe_inside(m->cell, xi, 1e-10)) {
         found = cc;
-        d->pxi[2 * p] = xi[0];
-        d->pxi[2 * p + 1] = xi[1];
+        d->pxi[MPGM_DIM * p] = xi[0];
+        d->pxi[MPGM_DIM * p + 1] = xi[1];
       }
     }
     MPGM_CHECK(ctx, found >= 0, MPGM_ERR_INPUT,
                "%s: probes.%s: expected a position inside a body, found (%g, %g)", s->file,
                s->probes[k].name, xp[0], xp[1]);
     d->pcell[p] = found;
-    P->x[2 * p] = P->x0[2 * p] = xp[0];
-    P->x[2 * p + 1] = P->x0[2 * p + 1] = xp[1];
+    P->x[MPGM_DIM * p] = P->x0[MPGM_DIM * p] = xp[0];
+    P->x[MPGM_DIM * p + 1] = P->x0[MPGM_DIM * p + 1] = xp[1];
   }
   MPGM_CALL(mpgm_nodes_apply_boundaries(ctx, s, nd));
   /* connectivity pattern: fixed for the whole run */
@@ -129,9 +132,10 @@ int mpgm_fem_cells_shape(const mpgm_fem_cells *d, const mpgm_fe_view *v) {
   const int np = v->pts->n + v->pts->nprobe;
   for (int p = 0; p < np; p++) {
     const int k0 = C->ptr[p];
-    double xn[2 * MPGM_FE_MAXNODE];
+    double xn[MPGM_DIM * MPGM_FE_MAXNODE];
     cell_coords(d, x, d->pcell[p], xn);
-    int err = mpgm_fe_eval(d->cell, xn, d->pxi + 2 * p, C->N + k0, C->dN + 2 * k0, NULL);
+    int err = mpgm_fe_eval(d->cell, xn, d->pxi + MPGM_DIM * p, C->N + k0, C->dN + MPGM_DIM * k0,
+                           NULL);
     if (err && p < v->pts->n)
       MPGM_ERROR(v->ctx, err, "cell %d of point %d is inverted (det J <= 0)", d->pcell[p], p);
   }
@@ -147,7 +151,8 @@ int mpgm_fem_cells_output(const mpgm_fem_cells *d, mpgm_cells *out) {
 }
 
 /* Cells of a body meshed nx x ny over [min, max]; count (if not NULL)
- * accumulates its nodes and cells, unclamped, in double. */
+ * accumulates its nodes and cells, unclamped, in double. 2-D only, as the
+ * structured meshes of rectangles below: squares nx x ny in x and y. */
 static void body_grid(const mpgm_scene *s, const mpgm_scene_body *b, int *nx, int *ny,
                       double count[2]) {
   const double fx = fmax(1.0, ceil((b->max[0] - b->min[0]) / s->h - 1e-9));
@@ -174,7 +179,7 @@ int mpgm_fem_rectangles(const mpgm_fe_view *v, mpgm_fem_cells **out) {
              "%s: mesh.h: expected a mesh of at most 5e7 nodes and 1e8 points, found %.4g nodes "
              "and %.4g points (h = %g)", s->file, count[0], count[1] * per_sq * s->ppc, s->h);
   const int nnode = (int)count[0], ncell = (int)count[1] * per_sq;
-  double *X = malloc(sizeof(double) * 2 * (size_t)nnode);
+  double *X = malloc(sizeof(double) * MPGM_DIM * (size_t)nnode);
   int *cnode = malloc(sizeof(int) * (size_t)nn * ncell), *cbody = malloc(sizeof(int) * (size_t)ncell);
   if (!X || !cnode || !cbody) {
     free(X); free(cnode); free(cbody);
@@ -188,8 +193,8 @@ int mpgm_fem_rectangles(const mpgm_fe_view *v, mpgm_fem_cells **out) {
     for (int j = 0; j <= ny; j++)
       for (int i = 0; i <= nx; i++) {
         const int k = n0 + j * (nx + 1) + i;
-        X[2 * k] = i == nx ? bd->max[0] : bd->min[0] + i * hx;
-        X[2 * k + 1] = j == ny ? bd->max[1] : bd->min[1] + j * hy;
+        X[MPGM_DIM * k] = i == nx ? bd->max[0] : bd->min[0] + i * hx;
+        X[MPGM_DIM * k + 1] = j == ny ? bd->max[1] : bd->min[1] + j * hy;
       }
     for (int j = 0; j < ny; j++)
       for (int i = 0; i < nx; i++) {

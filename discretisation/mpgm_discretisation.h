@@ -12,16 +12,17 @@
 extern "C" {
 #endif
 
-/** Material points of bodies filled on a grid: the rule of method mpm's
- *  particles and of method gmm's grid-filled bodies (one function, so both
+/** Material points of bodies filled on a grid: the rule of MPM's particles
+ *  and of GMM's grid-filled bodies (one function, so both
  *  put their points at the same places). For each of ncell cells of kind
  *  `cell` (mpgm_cell_kind), whose node coordinates (counter-clockwise) the
  *  caller's xy(grid, c, xn) gives, the Gauss points of the rule of s->ppc
  *  are taken in order; a point belongs to the first body of s that contains
  *  it (mpgm_body_contains), or to none. Outputs, entry k = c * s->ppc + q:
- *  owner (may be NULL) the body or -1; x (may be NULL) the position, 2 per
- *  entry [m]; *count the entries that belong to a body. Returns 0, or
- *  MPGM_ERR_INPUT when the cell kind has no rule of s->ppc points. */
+ *  owner (may be NULL) the body or -1; x (may be NULL) the position,
+ *  MPGM_DIM per entry [m]; *count the entries that belong to a body.
+ *  Returns 0, or MPGM_ERR_INPUT when the cell kind has no rule of s->ppc
+ *  points. */
 int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
                      void (*xy)(const void *grid, int c, double *xn), const void *grid,
                      int *owner, double *x, int *count);
@@ -35,14 +36,15 @@ void mpgm_surface_tracers_fill(mpgm_points *P, const mpgm_scene *s);
 /** Points on the boundary of body b at most `spacing` apart (a disk: from
  *  its lowest point, counter-clockwise; rectangles and polygons: every
  *  vertex and equal divisions of every edge). x == NULL: only count.
- *  Returns the number of points. */
+ *  Returns the number of points, MPGM_DIM doubles each in x (2-D only: the
+ *  boundary of a disk, rectangle or polygon of the plane). */
 int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x);
 
 /** A conforming mesh of FE cells, as a mesher (or a test) makes it. */
 typedef struct mpgm_fem_mesh {
   int cell;         /**< mpgm_cell_kind of every cell                     */
   int nnode;        /**< nodes                                            */
-  const double *X;  /**< initial node positions, 2 per node [m]           */
+  const double *X;  /**< initial node positions, MPGM_DIM per node [m]    */
   int ncell;        /**< cells                                            */
   const int *cnode; /**< mpgm_fe_nnode(cell) node ids per cell, counter-
                          clockwise                                        */
@@ -63,8 +65,8 @@ typedef struct mpgm_fill {
                         (cell area x weight / reference area)             */
 } mpgm_fill;
 
-/** The bodies of scene s filled on the grid g (mpgm_bodies_fill): method
- *  mpm's particles and the points of GMM's grid-filled bodies. Errors:
+/** The bodies of scene s filled on the grid g (mpgm_bodies_fill): MPM's
+ *  particles and the points of GMM's grid-filled bodies. Errors:
  *  MPGM_ERR_INPUT (no Gauss rule of mesh.ppc points; no point in any body),
  *  MPGM_ERR_NOMEM. Free with mpgm_fill_free (also after a failure). */
 int mpgm_grid_fill(mpgm_ctx *ctx, const struct mpgm_grid *g, const mpgm_scene *s, mpgm_fill *f);
@@ -113,7 +115,7 @@ void mpgm_clouds_destroy(mpgm_clouds *c);
 /** The kind's support radius r0 [m] (at mesh.h). */
 double mpgm_clouds_radius(const mpgm_clouds *c);
 /** The first n points were reordered (new point i is old perm[i]): their
- *  warm starts move along (scratch: 2 n doubles). */
+ *  warm starts move along (scratch: MPGM_DIM n doubles). */
 void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch);
 /** The cloud and the shape functions of every point of v->pts (material
  *  points, probes, surface points) at its position: candidates are the

@@ -2,7 +2,9 @@
  * per square (the diagonal from the lower-left to the upper-right corner),
  * with O(1) point location and local coordinates. Cell and node numbering:
  * square (i, j) is j * nx + i; node (i, j) is j * (nx + 1) + i; a Q4 cell is
- * its square; T3 cells 2 sq (lower-right) and 2 sq + 1 (upper-left). */
+ * its square; T3 cells 2 sq (lower-right) and 2 sq + 1 (upper-left).
+ * 2-D only: squares (nx, ny) and their cells (3-D: nz, hexahedra and
+ * tetrahedra). */
 #ifndef MPGM_GRID_H
 #define MPGM_GRID_H
 
@@ -12,7 +14,8 @@ typedef struct mpgm_grid {
   int cell;           /**< mpgm_cell_kind                                */
   int nn;             /**< nodes per cell                                */
   double h;           /**< cell size [m]                                 */
-  double min[2], max[2]; /**< covered box: min + (nx, ny) h [m]           */
+  double min[MPGM_DIM], max[MPGM_DIM]; /**< covered box: min + (nx, ny) h
+                                            [m]                          */
   int nx, ny;         /**< squares in x and y                            */
   int nnode, ncell;   /**< grid nodes and cells                          */
 } mpgm_grid;
@@ -21,12 +24,13 @@ typedef struct mpgm_grid {
  *  up to a whole number of cells). MPGM_ERR_INPUT if it is too large. */
 int mpgm_grid_init(mpgm_ctx *ctx, mpgm_grid *g, const mpgm_scene *s);
 /** Position of grid node id. */
-void mpgm_grid_node(const mpgm_grid *g, int id, double X[2]);
+void mpgm_grid_node(const mpgm_grid *g, int id, double X[MPGM_DIM]);
 /** Node ids (counter-clockwise) and, if xn is not NULL, their coordinates. */
 void mpgm_grid_cell(const mpgm_grid *g, int c, int *nodes, double *xn);
 /** Cell holding x and x's local coordinates in it; MPGM_ERR_DOMAIN if x is
  *  outside the grid. Points on a shared edge go to the cell above/right. */
-int mpgm_grid_locate(const mpgm_grid *g, const double x[2], int *cell, double xi[2]);
+int mpgm_grid_locate(const mpgm_grid *g, const double x[MPGM_DIM], int *cell,
+                     double xi[MPGM_DIM]);
 /** Cells sharing a node with cell c (c excluded); returns their count (<= 17:
  *  8 neighbouring squares and the other triangle of its own square). */
 int mpgm_grid_neighbours(const mpgm_grid *g, int c, int *out);

@@ -3,11 +3,13 @@
  * and k-nearest queries into caller-provided buffers, cheap refit and rebuild
  * when the points move.
  *
- * Data. The points are an interleaved array xy[2 i], xy[2 i + 1] (stride 2,
- * the layout of mpgm_points.x and mpgm_nodes.x). The tree keeps the pointer
- * and never copies or writes the coordinates: the caller keeps the array
- * alive and unchanged while the tree is queried, and calls
- * mpgm_kdtree_refit() or mpgm_kdtree_rebuild() after moving the points.
+ * Data. The points are an interleaved array xy[2 i], xy[2 i + 1] (stride
+ * MPGM_DIM, the layout of mpgm_points.x and mpgm_nodes.x; 2-D only: the
+ * tree's boxes, splits and distances are written out in x and y, see
+ * kdtree.c). The tree keeps the pointer and never copies or writes the
+ * coordinates: the caller keeps the array alive and unchanged while the
+ * tree is queried, and calls mpgm_kdtree_refit() or mpgm_kdtree_rebuild()
+ * after moving the points.
  *
  * Structure. A binary tree stored as one flat array in depth-first order;
  * every node holds the tight bounding box of its points, a leaf holds a range
@@ -69,7 +71,8 @@ typedef struct mpgm_kdtree_stats {
 /** Build a tree over n points xy[2 i], xy[2 i + 1] (borrowed: kept, not
  *  copied; must outlive the tree or the next rebuild).
  *  @param ctx       error context
- *  @param xy        interleaved coordinates, 2 n doubles (may be NULL if n = 0)
+ *  @param xy        interleaved coordinates, MPGM_DIM n doubles (may be NULL
+ *                   if n = 0)
  *  @param n         number of points, >= 0 (an empty tree answers 0 to all)
  *  @param leaf_size maximum points per leaf; <= 0 selects MPGM_KDTREE_LEAF_SIZE
  *  @param out       the new tree (NULL on failure)
@@ -114,8 +117,8 @@ void mpgm_kdtree_destroy(mpgm_kdtree **t);
  *  @return the number m of points in the ball, also when m > cap: then the
  *          buffers hold the cap nearest of them, in order, so the caller can
  *          grow its buffers to m and repeat. */
-int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[2], double radius, int cap, int *idx,
-                       double *d2);
+int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap,
+                       int *idx, double *d2);
 
 /** k nearest points, ordered by (d2, index): the first k of a brute-force
  *  list sorted by (d2, index), ties at the k-th distance included.
@@ -125,7 +128,7 @@ int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[2], double radius, i
  *  @param idx out: min(k, n) point indices
  *  @param d2  out: their squared distances
  *  @return min(k, n). */
-int mpgm_kdtree_knn(const mpgm_kdtree *t, const double q[2], int k, int *idx, double *d2);
+int mpgm_kdtree_knn(const mpgm_kdtree *t, const double q[MPGM_DIM], int k, int *idx, double *d2);
 
 /** Number of points indexed. */
 int mpgm_kdtree_size(const mpgm_kdtree *t);

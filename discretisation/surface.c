@@ -8,6 +8,8 @@
 
 static const double PI = 3.14159265358979323846;
 
+/* 2-D only: a circle and the edges of polygons (vertices: (x, y) pairs),
+ * written out in x and y. */
 int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x) {
   int n = 0;
   if (b->geometry == MPGM_GEOM_DISK) {
@@ -16,8 +18,8 @@ int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x) {
     if (n < 8) n = 8;
     for (int k = 0; k < n && x; k++) {
       const double th = -0.5 * PI + 2.0 * PI * k / n;
-      x[2 * k] = b->centre[0] + b->radius * cos(th);
-      x[2 * k + 1] = b->centre[1] + b->radius * sin(th);
+      x[MPGM_DIM * k] = b->centre[0] + b->radius * cos(th);
+      x[MPGM_DIM * k + 1] = b->centre[1] + b->radius * sin(th);
     }
     /* the lowest point exactly: a disk resting on a floor touches it */
     if (x) x[1] = b->centre[1] - b->radius;
@@ -40,8 +42,8 @@ int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x) {
     for (int k = 0; k < m; k++, n++)
       if (x) {
         const double t = (double)k / m;
-        x[2 * n] = a[0] + t * (q[0] - a[0]);
-        x[2 * n + 1] = a[1] + t * (q[1] - a[1]);
+        x[MPGM_DIM * n] = a[0] + t * (q[0] - a[0]);
+        x[MPGM_DIM * n + 1] = a[1] + t * (q[1] - a[1]);
       }
   }
   return n;
@@ -66,13 +68,13 @@ int mpgm_surface_tracers_count(const mpgm_scene *s) {
 void mpgm_surface_tracers_fill(mpgm_points *P, const mpgm_scene *s) {
   const double spacing = surface_spacing(s);
   for (int b = 0, p = P->n + P->nprobe; b < s->nbody && P->nsurf; b++) {
-    const int k = mpgm_body_surface(&s->bodies[b], spacing, P->x + 2 * p);
-    for (int q = p; q < p + k; q++) {
-      P->x0[2 * q] = P->x[2 * q];
-      P->x0[2 * q + 1] = P->x[2 * q + 1];
+    const int k = mpgm_body_surface(&s->bodies[b], spacing, P->x + MPGM_DIM * p);
+    for (int q = p; q < p + k; q++) { /* 2-D only: x and y written out */
+      P->x0[MPGM_DIM * q] = P->x[MPGM_DIM * q];
+      P->x0[MPGM_DIM * q + 1] = P->x[MPGM_DIM * q + 1];
       P->body[q] = b;
-      P->v[2 * q] = s->bodies[b].velocity[0];
-      P->v[2 * q + 1] = s->bodies[b].velocity[1];
+      P->v[MPGM_DIM * q] = s->bodies[b].velocity[0];
+      P->v[MPGM_DIM * q + 1] = s->bodies[b].velocity[1];
     }
     p += k;
   }

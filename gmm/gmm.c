@@ -102,11 +102,14 @@ static void merge_close(const mpgm_fe_view *v, gmm_data *d) {
   int idx[64];
   double d2[64];
   for (int i = 0; i < nd->n; i++) {
-    if (d->merged[i] || g->obst[i] || g->fix0[2 * i] || g->fix0[2 * i + 1]) continue;
-    const int k = mpgm_kdtree_radius(d->tree, nd->x + 2 * i, d->dmin, 64, idx, d2);
+    /* 2-D only: the fixity of x and y written out, here and below */
+    if (d->merged[i] || g->obst[i] || g->fix0[MPGM_DIM * i] || g->fix0[MPGM_DIM * i + 1]) continue;
+    const int k = mpgm_kdtree_radius(d->tree, nd->x + MPGM_DIM * i, d->dmin, 64, idx, d2);
     for (int a = 0; a < k && a < 64; a++) {
       const int j = idx[a];
-      if (j <= i || d->merged[j] || g->obst[j] || g->fix0[2 * j] || g->fix0[2 * j + 1]) continue;
+      if (j <= i || d->merged[j] || g->obst[j] || g->fix0[MPGM_DIM * j] ||
+          g->fix0[MPGM_DIM * j + 1])
+        continue;
       d->merged[j] = 1;
       mpgm_count(v->ctx, MPGM_C_NODES_MERGED, 1);
     }
@@ -137,7 +140,7 @@ static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
   memcpy(C->ptr, d->out.ptr, sizeof(int) * (size_t)(m + 1));
   memcpy(C->node, d->out.node, sizeof(int) * (size_t)k);
   memcpy(C->N, d->out.N, sizeof(double) * (size_t)k);
-  memcpy(C->dN, d->out.dN, 2 * sizeof(double) * (size_t)k);
+  memcpy(C->dN, d->out.dN, MPGM_DIM * sizeof(double) * (size_t)k);
   if (!same) C->version++;
   return 0;
 }

@@ -32,9 +32,10 @@ void mpgm_gmm_grid_destroy(gmm_grid **gp) {
 
 /* Obstacle nodes: layer l = 0 .. layers - 1 of obstacle o on the line
  * value + side (gap + l) h (strictly beyond the plane), across the grid's
- * extent along the plane, into X (2 per node, may be NULL); gid (may be
- * NULL) receives the grid node each coincides with (-1: off the grid).
- * Returns the count. */
+ * extent along the plane, into X (MPGM_DIM per node, may be NULL); gid (may
+ * be NULL) receives the grid node each coincides with (-1: off the grid).
+ * Returns the count. 2-D only: the plane's one direction along it, a grid
+ * line of nodes, x and y written out. */
 static int obstacle_nodes(const mpgm_scene *s, const mpgm_grid *g, int o, double *X, int *gid) {
   const mpgm_scene_obstacle *ob = &s->obstacles[o];
   const int ax = ob->axis, along = 1 - ax, nal = along == 0 ? g->nx : g->ny;
@@ -43,12 +44,12 @@ static int obstacle_nodes(const mpgm_scene *s, const mpgm_grid *g, int o, double
   for (int l = 0; l < ob->layers; l++) {
     const long k = k0 + (long)ob->side * (ob->gap + l); /* grid line across the axis */
     for (int i = 0; i <= nal; i++, n++) {
-      double x[2];
+      double x[MPGM_DIM];
       x[ax] = g->min[ax] + (double)k * g->h;
       x[along] = g->min[along] + i * g->h;
       if (X) {
-        X[2 * n] = x[0];
-        X[2 * n + 1] = x[1];
+        X[MPGM_DIM * n] = x[0];
+        X[MPGM_DIM * n + 1] = x[1];
       }
       if (gid) {
         const int nk = ax ? g->ny : g->nx;
@@ -67,7 +68,7 @@ typedef struct build {
   unsigned char *ofix;/* per grid node: a body node on an obstacle layer   */
   int nobs;           /* obstacle layer nodes                             */
   int *ogid;          /* their grid nodes (-1: off the grid, -2: a body node) */
-  double *Xo;         /* their positions, 2 each                          */
+  double *Xo;         /* their positions, MPGM_DIM each                   */
   int nbody_nodes;    /* nodes at grid nodes                              */
 } build;
 
@@ -90,12 +91,12 @@ static int holds_points(const build *b, int c) {
  * material point has within r0 (gmap 1; others -1). */
 static int body_nodes(mpgm_ctx *ctx, build *b, double r0) {
   const mpgm_grid *g = &b->g;
-  double *xp = malloc(sizeof(double) * 2 * (size_t)b->f.count);
+  double *xp = malloc(sizeof(double) * MPGM_DIM * (size_t)b->f.count);
   MPGM_CHECK(ctx, xp, MPGM_ERR_NOMEM, "out of memory (%d points)", b->f.count);
   for (size_t k = 0, p = 0; k < b->f.ngauss; k++)
-    if (b->f.owner[k] >= 0) {
-      xp[2 * p] = b->f.x[2 * k];
-      xp[2 * p + 1] = b->f.x[2 * k + 1];
+    if (b->f.owner[k] >= 0) { /* 2-D only: x and y written out */
+      xp[MPGM_DIM * p] = b->f.x[MPGM_DIM * k];
+      xp[MPGM_DIM * p + 1] = b->f.x[MPGM_DIM * k + 1];
       p++;
     }
   mpgm_kdtree *tree = NULL;
@@ -109,7 +110,7 @@ static int body_nodes(mpgm_ctx *ctx, build *b, double r0) {
   }
   for (int i = 0; i < g->nnode && !err; i++) {
     if (b->gmap[i] < 0) continue;
-    double X[2], d2;
+    double X[MPGM_DIM], d2;
     int nb;
     mpgm_grid_node(g, i, X);
     b->gmap[i] = mpgm_kdtree_knn(tree, X, 1, &nb, &d2) == 1 && d2 <= r0 * r0 ? 1 : -1;
@@ -125,9 +126,10 @@ static int obstacles(mpgm_ctx *ctx, const mpgm_scene *s, build *b, int *nnew) {
   const mpgm_grid *g = &b->g;
   for (int o = 0; o < s->nobstacle; o++) b->nobs += obstacle_nodes(s, g, o, NULL, NULL);
   b->ogid = malloc(sizeof(int) * (size_t)(b->nobs + 1));
-  b->Xo = malloc(sizeof(double) * 2 * (size_t)(b->nobs + 1));
+  b->Xo = malloc(sizeof(double) * MPGM_DIM * (size_t)(b->nobs + 1));
   MPGM_CHECK(ctx, b->ogid && b->Xo, MPGM_ERR_NOMEM, "out of memory (obstacle nodes)");
-  for (int o = 0, k = 0; o < s->nobstacle; o++) k += obstacle_nodes(s, g, o, b->Xo + 2 * k, b->ogid + k);
+  for (int o = 0, k = 0; o < s->nobstacle; o++)
+    k += obstacle_nodes(s, g, o, b->Xo + MPGM_DIM * k, b->ogid + k);
   *nnew = 0;
   for (int k = 0; k < b->nobs; k++) {
     if (b->ogid[k] >= 0 && b->gmap[b->ogid[k]] > 0) {
@@ -141,25 +143,25 @@ static int obstacles(mpgm_ctx *ctx, const mpgm_scene *s, build *b, int *nnew) {
 }
 
 /* Number the nodes: the body nodes in grid order, then the obstacles' new
- * ones (fixed). */
+ * ones (fixed). 2-D only: positions and fixity written out in x and y. */
 static void make_nodes(build *b, mpgm_nodes *nd) {
   const mpgm_grid *g = &b->g;
   int n = 0;
   for (int i = 0; i < g->nnode; i++) {
     if (b->gmap[i] <= 0) continue;
     b->gmap[i] = n;
-    mpgm_grid_node(g, i, nd->X + 2 * n);
-    nd->fix[2 * n] = nd->fix[2 * n + 1] = b->ofix[i];
+    mpgm_grid_node(g, i, nd->X + MPGM_DIM * n);
+    nd->fix[MPGM_DIM * n] = nd->fix[MPGM_DIM * n + 1] = b->ofix[i];
     n++;
   }
   for (int k = 0; k < b->nobs; k++) {
     if (b->ogid[k] == -2) continue;
-    nd->X[2 * n] = b->Xo[2 * k];
-    nd->X[2 * n + 1] = b->Xo[2 * k + 1];
-    nd->fix[2 * n] = nd->fix[2 * n + 1] = 1;
+    nd->X[MPGM_DIM * n] = b->Xo[MPGM_DIM * k];
+    nd->X[MPGM_DIM * n + 1] = b->Xo[MPGM_DIM * k + 1];
+    nd->fix[MPGM_DIM * n] = nd->fix[MPGM_DIM * n + 1] = 1;
     n++;
   }
-  memcpy(nd->x, nd->X, sizeof(double) * 2 * (size_t)nd->n);
+  memcpy(nd->x, nd->X, sizeof(double) * MPGM_DIM * (size_t)nd->n);
 }
 
 /* The material points (mpm's), probes and surface tracers; the free nodes
@@ -179,8 +181,8 @@ static int make_points(const mpgm_fe_view *v, build *b) {
     for (int a = 0; a < g->nn; a++) {
       const int I = b->gmap[nodes[a]];
       if (I < 0 || b->ofix[nodes[a]]) continue;
-      nd->v[2 * I] = s->bodies[bd].velocity[0];
-      nd->v[2 * I + 1] = s->bodies[bd].velocity[1];
+      nd->v[MPGM_DIM * I] = s->bodies[bd].velocity[0]; /* 2-D only: written out */
+      nd->v[MPGM_DIM * I + 1] = s->bodies[bd].velocity[1];
     }
   }
   mpgm_probes_place(v->pts, s);
@@ -214,11 +216,11 @@ static int make_cells(mpgm_ctx *ctx, const build *b, gmm_grid *gd) {
 /* The arrays of the light-node rule, and which nodes are the obstacles'. */
 static int park_arrays(mpgm_ctx *ctx, const build *b, const mpgm_nodes *nd, gmm_grid *gd) {
   const int n = nd->n;
-  gd->fix0 = malloc(2 * (size_t)n);
-  gd->ubar0 = malloc(sizeof(double) * 2 * (size_t)n);
+  gd->fix0 = malloc(MPGM_DIM * (size_t)n);
+  gd->ubar0 = malloc(sizeof(double) * MPGM_DIM * (size_t)n);
   gd->parked = calloc((size_t)n, 1);
-  gd->xs = malloc(sizeof(double) * 2 * (size_t)n);
-  gd->us = malloc(sizeof(double) * 2 * (size_t)n);
+  gd->xs = malloc(sizeof(double) * MPGM_DIM * (size_t)n);
+  gd->us = malloc(sizeof(double) * MPGM_DIM * (size_t)n);
   gd->mass = malloc(sizeof(double) * (size_t)n);
   gd->obst = calloc((size_t)n, 1);
   gd->wptr = malloc(sizeof(int) * (size_t)(n + 1));
@@ -228,10 +230,11 @@ static int park_arrays(mpgm_ctx *ctx, const build *b, const mpgm_nodes *nd, gmm_
   for (int i = b->nbody_nodes; i < n; i++) gd->obst[i] = 1;
   for (int i = 0; i < b->g.nnode; i++)
     if (b->gmap[i] >= 0 && b->ofix[i]) gd->obst[b->gmap[i]] = 1;
-  memcpy(gd->fix0, nd->fix, 2 * (size_t)n);
-  memcpy(gd->ubar0, nd->ubar, sizeof(double) * 2 * (size_t)n);
-  /* only free nodes may be parked (the light-node rule) */
-  for (int i = 0; i < n; i++) gd->eligible[i] = !gd->fix0[2 * i] && !gd->fix0[2 * i + 1];
+  memcpy(gd->fix0, nd->fix, MPGM_DIM * (size_t)n);
+  memcpy(gd->ubar0, nd->ubar, sizeof(double) * MPGM_DIM * (size_t)n);
+  /* only free nodes may be parked (the light-node rule); 2-D only: x, y */
+  for (int i = 0; i < n; i++)
+    gd->eligible[i] = !gd->fix0[MPGM_DIM * i] && !gd->fix0[MPGM_DIM * i + 1];
   return 0;
 }
 
@@ -279,7 +282,7 @@ static int follow_weights(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_nodes *
     int cnt = 0;
     double r = r0;
     for (int tries = 0; cnt == 0 && tries < 60; tries++, r *= MPGM_SHAPE_GROWTH) {
-      const int k = mpgm_kdtree_radius(tree, nd->x + 2 * i, r, MPGM_SHAPE_MAXNODE, idx, d2);
+      const int k = mpgm_kdtree_radius(tree, nd->x + MPGM_DIM * i, r, MPGM_SHAPE_MAXNODE, idx, d2);
       if (nw + MPGM_SHAPE_MAXNODE > g->wcap) {
         const int cap = 2 * (nw + MPGM_SHAPE_MAXNODE);
         int *wi = realloc(g->widx, sizeof(int) * (size_t)cap);
@@ -312,15 +315,15 @@ int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tr
   const mpgm_points *P = v->pts;
   mpgm_nodes *nd = v->nodes;
   const int n = nd->n;
-  memcpy(nd->fix, g->fix0, 2 * (size_t)n);
-  memcpy(nd->ubar, g->ubar0, sizeof(double) * 2 * (size_t)n);
+  memcpy(nd->fix, g->fix0, MPGM_DIM * (size_t)n);
+  memcpy(nd->ubar, g->ubar0, sizeof(double) * MPGM_DIM * (size_t)n);
   /* a free body node that moved into an obstacle is parked whatever its
    * mass */
   for (int i = 0; i < n; i++) {
     g->parked[i] = 0;
     for (int o = 0; o < s->nobstacle && g->eligible[i]; o++) {
       const mpgm_scene_obstacle *ob = &s->obstacles[o];
-      g->parked[i] |= ob->side * (nd->x[2 * i + ob->axis] - ob->value) > 0.0;
+      g->parked[i] |= ob->side * (nd->x[MPGM_DIM * i + ob->axis] - ob->value) > 0.0;
     }
   }
   g->nparked = mpgm_light_nodes(c, P->n, P->mass, n, g->eligible, s->min_node_mass, g->mass, g->parked);
@@ -329,11 +332,11 @@ int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tr
   const double lam = v->lambda;
   for (int i = 0; i < n; i++) {
     if (!g->parked[i]) continue;
-    for (int k = 0; k < 2; k++) {
-      g->xs[2 * i + k] = nd->x[2 * i + k];
-      g->us[2 * i + k] = nd->u[2 * i + k];
-      nd->fix[2 * i + k] = 1;
-      nd->ubar[2 * i + k] = lam > 0.0 ? nd->u[2 * i + k] / lam : 0.0;
+    for (int k = 0; k < MPGM_DIM; k++) {
+      g->xs[MPGM_DIM * i + k] = nd->x[MPGM_DIM * i + k];
+      g->us[MPGM_DIM * i + k] = nd->u[MPGM_DIM * i + k];
+      nd->fix[MPGM_DIM * i + k] = 1;
+      nd->ubar[MPGM_DIM * i + k] = lam > 0.0 ? nd->u[MPGM_DIM * i + k] / lam : 0.0;
     }
   }
   if (!g->nparked) return 0;
@@ -347,22 +350,22 @@ void mpgm_gmm_grid_unpark(const mpgm_fe_view *v, gmm_grid *g) {
   const int move = v->fx->geometric;
   for (int i = 0; i < nd->n && g->nparked; i++) {
     if (!g->parked[i]) continue;
-    double du[2] = {0, 0}, v[2] = {0, 0}, a[2] = {0, 0};
+    double du[MPGM_DIM] = {0}, v[MPGM_DIM] = {0}, a[MPGM_DIM] = {0};
     for (int k = g->wptr[i]; k < g->wptr[i + 1]; k++) {
       const int J = g->widx[k];
       const double w = g->ww[k];
-      for (int c = 0; c < 2; c++) {
-        du[c] += w * nd->du[2 * J + c];
-        v[c] += w * nd->v[2 * J + c];
-        a[c] += w * nd->a[2 * J + c];
+      for (int c = 0; c < MPGM_DIM; c++) {
+        du[c] += w * nd->du[MPGM_DIM * J + c];
+        v[c] += w * nd->v[MPGM_DIM * J + c];
+        a[c] += w * nd->a[MPGM_DIM * J + c];
       }
     }
-    for (int c = 0; c < 2; c++) {
-      nd->du[2 * i + c] = du[c];
-      nd->u[2 * i + c] = g->us[2 * i + c] + du[c];
-      nd->x[2 * i + c] = g->xs[2 * i + c] + (move ? du[c] : 0.0);
-      nd->v[2 * i + c] = v[c];
-      nd->a[2 * i + c] = a[c];
+    for (int c = 0; c < MPGM_DIM; c++) {
+      nd->du[MPGM_DIM * i + c] = du[c];
+      nd->u[MPGM_DIM * i + c] = g->us[MPGM_DIM * i + c] + du[c];
+      nd->x[MPGM_DIM * i + c] = g->xs[MPGM_DIM * i + c] + (move ? du[c] : 0.0);
+      nd->v[MPGM_DIM * i + c] = v[c];
+      nd->a[MPGM_DIM * i + c] = a[c];
     }
   }
 }

@@ -1,6 +1,6 @@
 /* scene_boundaries.c -- the "boundaries" and "obstacles" of a scene:
  * node selectors, conditions (stick, slip, contact at grid nodes or at
- * surface points), prescribed displacements, and method gmm's rigid
+ * surface points), prescribed displacements, and the rigid
  * obstacles (docs/scene-format.md). Called by scene.c's read_scene. */
 #include <math.h>
 #include <stdio.h>

@@ -12,10 +12,10 @@
 typedef struct mpm_data {
   mpgm_grid g;
   int *pcell;          /**< cell of every point (material, then probes)    */
-  double *pxi;         /**< local coordinates in that cell, 2 per point     */
+  double *pxi;         /**< local coordinates in that cell, MPGM_DIM per point */
   int *gmap;           /**< grid node -> node of the step, or -1           */
   unsigned char *cact; /**< 1 when the cell holds a material point         */
-  unsigned char *gfix; /**< 2 per grid node: fixed by a scene boundary     */
+  unsigned char *gfix; /**< MPGM_DIM per grid node: fixed by a boundary    */
   signed char *gcontact; /**< per grid node: contact code (mpgm_nodes.contact) */
   unsigned char *gfree;  /**< per grid node: a contact node the last step
                               ended with released                        */
@@ -24,16 +24,18 @@ typedef struct mpm_data {
    * has the same, the matrix pattern is the same (only the maps change) */
   int pn;
   int *plglob;
+  mpgm_conn plists;    /**< clouds: the lists of the last begin_step         */
   unsigned char *pfix, *pact;
-  double *gm, *gq, *gf;/**< per grid node: mass, momentum, inertia force    */
+  double *gm, *gq, *gf;/**< per grid node: mass; MPGM_DIM each: momentum,
+                            inertia force                                 */
   unsigned char *light;/**< per grid node: light (no equation this step)    */
   /* meshfree shape functions (shape.kind mls / lme): clouds of grid nodes */
   int meshfree;
-  double *gx;          /**< the grid nodes' positions, 2 each [m]           */
+  double *gx;          /**< the grid nodes' positions, MPGM_DIM each [m]    */
   mpgm_kdtree *tree;   /**< over gx: the candidates of the clouds           */
   mpgm_clouds *clouds; /**< the clouds and their shape functions            */
   int *perm;           /**< reorder of the particles (mpgm_points_sort)      */
-  double *pscr;        /**< scratch, 2 per point                            */
+  double *pscr;        /**< scratch, MPGM_DIM per point                     */
   long step;           /**< steps begun (for messages)                     */
 } mpm_data;
 
@@ -53,6 +55,7 @@ static void mpm_destroy(void *self) {
   free(d->pact);
   free(d->gm);
   free(d->light);
+  mpgm_conn_release(&d->plists);
   free(d->gq);
   free(d->gf);
   free(d->gx);
@@ -96,28 +99,28 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
   v->nodes->n = 0;
   const int m = np + s->nprobe + nsurf;
   MPGM_ALLOC(ctx, d->pcell, m);
-  MPGM_ALLOC(ctx, d->pxi, 2 * (size_t)m);
+  MPGM_ALLOC(ctx, d->pxi, MPGM_DIM * (size_t)m);
   MPGM_ALLOC(ctx, d->gmap, g->nnode);
   MPGM_ALLOC(ctx, d->cact, g->ncell);
-  MPGM_ALLOC(ctx, d->gfix, 2 * (size_t)g->nnode);
+  MPGM_ALLOC(ctx, d->gfix, MPGM_DIM * (size_t)g->nnode);
   MPGM_ALLOC(ctx, d->gcontact, g->nnode);
   MPGM_ALLOC(ctx, d->gfree, g->nnode);
   MPGM_ALLOC(ctx, d->lglob, g->nnode);
   MPGM_ALLOC(ctx, d->plglob, g->nnode);
-  MPGM_ALLOC(ctx, d->pfix, 2 * (size_t)g->nnode);
+  MPGM_ALLOC(ctx, d->pfix, MPGM_DIM * (size_t)g->nnode);
   MPGM_ALLOC(ctx, d->pact, g->ncell);
   d->pn = -1;
   MPGM_ALLOC(ctx, d->gm, g->nnode);
   MPGM_ALLOC(ctx, d->light, g->nnode);
-  MPGM_ALLOC(ctx, d->gq, 2 * (size_t)g->nnode);
-  MPGM_ALLOC(ctx, d->gf, 2 * (size_t)g->nnode);
+  MPGM_ALLOC(ctx, d->gq, MPGM_DIM * (size_t)g->nnode);
+  MPGM_ALLOC(ctx, d->gf, MPGM_DIM * (size_t)g->nnode);
   MPGM_CALL(mpgm_conn_reserve(ctx, v->conn, m, m * g->nn));
   MPGM_ALLOC(ctx, d->perm, m);
-  MPGM_ALLOC(ctx, d->pscr, 2 * (size_t)m);
+  MPGM_ALLOC(ctx, d->pscr, MPGM_DIM * (size_t)m);
   d->meshfree = !s->shape->needs_cell;
   if (d->meshfree) { /* clouds of grid nodes: the grid's nodes never move */
-    MPGM_ALLOC(ctx, d->gx, 2 * (size_t)g->nnode);
-    for (int i = 0; i < g->nnode; i++) mpgm_grid_node(g, i, d->gx + 2 * i);
+    MPGM_ALLOC(ctx, d->gx, MPGM_DIM * (size_t)g->nnode);
+    for (int i = 0; i < g->nnode; i++) mpgm_grid_node(g, i, d->gx + MPGM_DIM * i);
     MPGM_CALL(mpgm_kdtree_create(ctx, d->gx, g->nnode, 0, &d->tree));
     MPGM_CALL(mpgm_clouds_create(ctx, s, &d->clouds));
   }
@@ -128,11 +131,12 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
     if (mpgm_bc_at_points(&s->bcs[i])) continue;
     int hits = 0;
     for (int k = 0; k < g->nnode; k++) {
-      double X[2];
+      double X[MPGM_DIM];
       mpgm_grid_node(g, k, X);
       if (!mpgm_boundary_selects(&s->bcs[i], X)) continue;
       hits++;
-      for (int c = 0; c < 2; c++) d->gfix[2 * k + c] |= (unsigned char)s->bcs[i].fix[c];
+      for (int c = 0; c < MPGM_DIM; c++)
+        d->gfix[MPGM_DIM * k + c] |= (unsigned char)s->bcs[i].fix[c];
       if (s->bcs[i].condition == MPGM_COND_CONTACT) /* normal axis, body side */
         d->gcontact[k] = (signed char)((s->bcs[i].select == MPGM_SELECT_X ? 1 : 2) * s->bcs[i].side);
     }
@@ -145,18 +149,19 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
 
 /* Cell of a probe: its own cell if active, else an active neighbour that
  * holds it on its boundary (a probe on the edge of the material). */
-static int probe_cell(const mpm_data *d, const double x[2], int *cell, double xi[2]) {
+static int probe_cell(const mpm_data *d, const double x[MPGM_DIM], int *cell,
+                      double xi[MPGM_DIM]) {
   if (d->cact[*cell]) return 0;
   int cand[18];
   const int nc = mpgm_grid_neighbours(&d->g, *cell, cand);
   for (int i = 0; i < nc; i++) {
     if (!d->cact[cand[i]]) continue;
     int nodes[MPGM_FE_MAXNODE];
-    double xn[2 * MPGM_FE_MAXNODE], t[2];
+    double xn[MPGM_DIM * MPGM_FE_MAXNODE], t[MPGM_DIM];
     mpgm_grid_cell(&d->g, cand[i], nodes, xn);
     if (mpgm_fe_local(d->g.cell, xn, x, t) == 0 && mpgm_fe_inside(d->g.cell, t, 1e-9)) {
       *cell = cand[i];
-      xi[0] = t[0];
+      xi[0] = t[0]; /* 2-D only: written out */
       xi[1] = t[1];
       return 0;
     }
@@ -170,9 +175,12 @@ static int probe_cell(const mpm_data *d, const double x[2], int *cell, double xi
  * field). Returns 0, or 1 when no active cell is near (not enforced this
  * step). A tracer slightly outside the grid (a spring lets a held tracer
  * dip below a plane on the grid's edge) is located in the edge cell. */
-static int surface_cell(const mpm_data *d, const double x[2], int *cell, double xi[2]) {
+static int surface_cell(const mpm_data *d, const double x[MPGM_DIM], int *cell,
+                        double xi[MPGM_DIM]) {
   const mpgm_grid *g = &d->g;
-  double xc[2] = {fmin(fmax(x[0], g->min[0]), g->max[0]), fmin(fmax(x[1], g->min[1]), g->max[1])};
+  /* 2-D only: the clamp, the cells' centres and distances written out */
+  double xc[MPGM_DIM] = {fmin(fmax(x[0], g->min[0]), g->max[0]),
+                         fmin(fmax(x[1], g->min[1]), g->max[1])};
   if (mpgm_grid_locate(g, xc, cell, xi)) return 1;
   int cand[19], best = -1;
   const int nc = mpgm_grid_neighbours(g, *cell, cand);
@@ -181,11 +189,11 @@ static int surface_cell(const mpm_data *d, const double x[2], int *cell, double 
   for (int i = 0; i <= nc; i++) {
     if (!d->cact[cand[i]]) continue;
     int nodes[MPGM_FE_MAXNODE];
-    double xn[2 * MPGM_FE_MAXNODE], c[2] = {0, 0};
+    double xn[MPGM_DIM * MPGM_FE_MAXNODE], c[MPGM_DIM] = {0};
     mpgm_grid_cell(g, cand[i], nodes, xn);
     for (int a = 0; a < g->nn; a++) {
-      c[0] += xn[2 * a] / g->nn;
-      c[1] += xn[2 * a + 1] / g->nn;
+      c[0] += xn[MPGM_DIM * a] / g->nn;
+      c[1] += xn[MPGM_DIM * a + 1] / g->nn;
     }
     const double dist = hypot(c[0] - x[0], c[1] - x[1]);
     if (dist < dmin) {
@@ -195,7 +203,7 @@ static int surface_cell(const mpm_data *d, const double x[2], int *cell, double 
   }
   if (best < 0) return 1;
   int nodes[MPGM_FE_MAXNODE];
-  double xn[2 * MPGM_FE_MAXNODE];
+  double xn[MPGM_DIM * MPGM_FE_MAXNODE];
   mpgm_grid_cell(g, best, nodes, xn);
   if (mpgm_fe_local(g->cell, xn, x, xi)) return 1;
   *cell = best;
@@ -220,15 +228,17 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
   const int np = P->n, ms = P->n + P->nprobe, m = ms + P->nsurf;
   memset(d->cact, 0, (size_t)g->ncell);
   for (int p = 0; p < ms; p++) {
-    if (mpgm_grid_locate(g, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p)) {
+    if (mpgm_grid_locate(g, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p)) {
       if (p < np)
         MPGM_ERROR(ctx, MPGM_ERR_DOMAIN,
                    "step %ld: particle %d (body \"%s\", started at (%g, %g)) is at (%g, %g), "
                    "outside the background grid [%g, %g] x [%g, %g] (mesh.domain)",
-                   d->step, P->id[p], s->bodies[P->body[p]].name, P->x0[2 * p], P->x0[2 * p + 1],
-                   P->x[2 * p], P->x[2 * p + 1], g->min[0], g->max[0], g->min[1], g->max[1]);
-      MPGM_ERROR(ctx, MPGM_ERR_DOMAIN, "step %ld: probe \"%s\" is at (%g, %g), outside the background grid",
-                 d->step, s->probes[p - np].name, P->x[2 * p], P->x[2 * p + 1]);
+                   d->step, P->id[p], s->bodies[P->body[p]].name, P->x0[MPGM_DIM * p],
+                   P->x0[MPGM_DIM * p + 1], P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], g->min[0],
+                   g->max[0], g->min[1], g->max[1]);
+      MPGM_ERROR(ctx, MPGM_ERR_DOMAIN,
+                 "step %ld: probe \"%s\" is at (%g, %g), outside the background grid", d->step,
+                 s->probes[p - np].name, P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]);
     }
     if (p < np) d->cact[d->pcell[p]] = 1;
   }
@@ -243,20 +253,21 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
   if (descents > np / 32) {
     MPGM_CALL(mpgm_points_sort(ctx, v->pool, P, d->pcell, g->ncell, d->perm));
     /* the front end's own per-particle data moves along */
-    permute(d->pxi, d->pscr, d->perm, np, 2);
+    permute(d->pxi, d->pscr, d->perm, np, MPGM_DIM);
     if (d->meshfree) mpgm_clouds_permute(d->clouds, d->perm, np, d->pscr); /* LME warm starts */
     for (int p = 0; p < np; p++) d->pscr[p] = d->pcell[d->perm[p]];
     for (int p = 0; p < np; p++) d->pcell[p] = (int)d->pscr[p];
   }
   for (int k = 0; k < P->nprobe; k++) {
     const int p = np + k;
-    MPGM_CHECK(ctx, probe_cell(d, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p) == 0, MPGM_ERR_DOMAIN,
-               "step %ld: probe \"%s\" at (%g, %g) is in no cell holding material", d->step,
-               s->probes[k].name, P->x[2 * p], P->x[2 * p + 1]);
+    MPGM_CHECK(ctx, probe_cell(d, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p) == 0,
+               MPGM_ERR_DOMAIN, "step %ld: probe \"%s\" at (%g, %g) is in no cell holding material",
+               d->step, s->probes[k].name, P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]);
   }
   if (m > ms) mpgm_cpoints_enforce_all(v->cp);
   for (int p = ms; p < m; p++)
-    if (surface_cell(d, P->x + 2 * p, d->pcell + p, d->pxi + 2 * p)) mpgm_cpoints_unenforce(v->cp, p - ms);
+    if (surface_cell(d, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p))
+      mpgm_cpoints_unenforce(v->cp, p - ms);
   return 0;
 }
 
@@ -270,13 +281,15 @@ static int cell_shape(const mpgm_fe_view *v, mpm_data *d) {
   int k = 0;
   for (int p = 0; p < m; p++) {
     int nodes[MPGM_FE_MAXNODE];
-    double xn[2 * MPGM_FE_MAXNODE];
+    double xn[MPGM_DIM * MPGM_FE_MAXNODE];
     C->ptr[p] = k;
     if (p >= ms && mpgm_cpoints_unenforced(v->cp, p - ms)) continue; /* no shape functions */
     mpgm_grid_cell(g, d->pcell[p], nodes, xn);
-    mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[2 * p], P->x[2 * p + 1]},
-                          .cell = g->cell, .xi = {d->pxi[2 * p], d->pxi[2 * p + 1]}};
-    MPGM_CALL(v->scene->shape->eval(&q, C->N + k, C->dN + 2 * k));
+    /* 2-D only: the query's xp and xi written out (mpgm_shapefn.h) */
+    mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]},
+                          .cell = g->cell,
+                          .xi = {d->pxi[MPGM_DIM * p], d->pxi[MPGM_DIM * p + 1]}};
+    MPGM_CALL(v->scene->shape->eval(&q, C->N + k, C->dN + MPGM_DIM * k));
     for (int a = 0; a < nn; a++) C->node[k + a] = nodes[a]; /* grid ids for now */
     k += nn;
   }
@@ -296,15 +309,15 @@ static void step_nodes(const mpgm_fe_view *v, mpm_data *d) {
     d->gmap[i] = -1;
     if (d->light[i]) continue;
     d->gmap[i] = n;
-    mpgm_grid_node(g, i, nd->X + 2 * n);
-    nd->x[2 * n] = nd->X[2 * n];
-    nd->x[2 * n + 1] = nd->X[2 * n + 1];
+    mpgm_grid_node(g, i, nd->X + MPGM_DIM * n);
+    nd->x[MPGM_DIM * n] = nd->X[MPGM_DIM * n]; /* 2-D only: x and y written out */
+    nd->x[MPGM_DIM * n + 1] = nd->X[MPGM_DIM * n + 1];
     nd->contact[n] = d->gcontact[i];
     d->lglob[n] = i;
-    for (int c = 0; c < 2; c++) {
-      nd->u[2 * n + c] = nd->du[2 * n + c] = nd->ubar[2 * n + c] = 0.0;
+    for (int c = 0; c < MPGM_DIM; c++) {
+      nd->u[MPGM_DIM * n + c] = nd->du[MPGM_DIM * n + c] = nd->ubar[MPGM_DIM * n + c] = 0.0;
       /* a contact node starts as the last step left it */
-      nd->fix[2 * n + c] = d->gcontact[i] && d->gfree[i] ? 0 : d->gfix[2 * i + c];
+      nd->fix[MPGM_DIM * n + c] = d->gcontact[i] && d->gfree[i] ? 0 : d->gfix[MPGM_DIM * i + c];
     }
     n++;
   }
@@ -322,44 +335,65 @@ static void project(const mpgm_fe_view *v, mpm_data *d) {
   const int n = nd->n, inertia = v->fx->inertia;
   memset(nd->mass, 0, sizeof(double) * (size_t)n);
   if (inertia) {
-    memset(d->gq, 0, sizeof(double) * 2 * (size_t)n);
-    memset(d->gf, 0, sizeof(double) * 2 * (size_t)n);
+    memset(d->gq, 0, sizeof(double) * MPGM_DIM * (size_t)n);
+    memset(d->gf, 0, sizeof(double) * MPGM_DIM * (size_t)n);
   }
   for (int p = 0; p < P->n; p++)
     for (int kk = C->ptr[p]; kk < C->ptr[p + 1]; kk++) {
       const int I = C->node[kk];
       const double wm = C->N[kk] * P->mass[p];
       nd->mass[I] += wm;
-      if (inertia) {
-        d->gq[2 * I] += wm * P->v[2 * p];
-        d->gq[2 * I + 1] += wm * P->v[2 * p + 1];
-        d->gf[2 * I] += wm * P->a[2 * p];
-        d->gf[2 * I + 1] += wm * P->a[2 * p + 1];
+      if (inertia) { /* 2-D only: momentum and inertia force written out */
+        d->gq[MPGM_DIM * I] += wm * P->v[MPGM_DIM * p];
+        d->gq[MPGM_DIM * I + 1] += wm * P->v[MPGM_DIM * p + 1];
+        d->gf[MPGM_DIM * I] += wm * P->a[MPGM_DIM * p];
+        d->gf[MPGM_DIM * I + 1] += wm * P->a[MPGM_DIM * p + 1];
       }
     }
-  for (int i = 0; i < 2 * n && inertia; i++) {
-    nd->v[i] = d->gq[i] / nd->mass[i / 2];
-    nd->a[i] = d->gf[i] / nd->mass[i / 2];
+  for (int i = 0; i < MPGM_DIM * n && inertia; i++) {
+    nd->v[i] = d->gq[i] / nd->mass[i / MPGM_DIM];
+    nd->a[i] = d->gf[i] / nd->mass[i / MPGM_DIM];
   }
   if (!inertia) {
-    memset(nd->v, 0, sizeof(double) * 2 * (size_t)n);
-    memset(nd->a, 0, sizeof(double) * 2 * (size_t)n);
+    memset(nd->v, 0, sizeof(double) * MPGM_DIM * (size_t)n);
+    memset(nd->a, 0, sizeof(double) * MPGM_DIM * (size_t)n);
   }
 }
 
 /* FE: the same active cells, nodes and fixity give the same pattern (new
  * maps only); clouds change with every particle move. */
-static void pattern_version(const mpgm_fe_view *v, const mpm_data *d) {
+static int pattern_version(const mpgm_fe_view *v, mpm_data *d) {
   const mpgm_nodes *nd = v->nodes;
+  const mpgm_conn *C = v->conn;
   const int n = nd->n;
-  int same = !d->meshfree && n == d->pn && memcmp(d->cact, d->pact, (size_t)d->g.ncell) == 0 &&
-             memcmp(d->lglob, d->plglob, sizeof(int) * (size_t)n) == 0;
+  /* cells: the node set, the active cells (which give the pattern) and
+   * the fixity of the last step; clouds: the node set and the lists of the
+   * last begin_step (whose pattern the core holds) */
+  int same = n == d->pn && memcmp(d->lglob, d->plglob, sizeof(int) * (size_t)n) == 0;
+  if (!d->meshfree) {
+    same = same && memcmp(d->cact, d->pact, (size_t)d->g.ncell) == 0;
+  } else {
+    const mpgm_conn *L = &d->plists;
+    same = same && L->np == C->np && L->ptr && L->ptr[L->np] == C->ptr[C->np] &&
+           memcmp(L->ptr, C->ptr, sizeof(int) * (size_t)(C->np + 1)) == 0 &&
+           memcmp(L->node, C->node, sizeof(int) * (size_t)C->ptr[C->np]) == 0;
+  }
   /* the fixity of contact nodes does not change the pattern (they keep
    * their equations), only the maps */
-  for (int i = 0; i < 2 * n && same; i++)
-    same = nd->contact[i / 2] || nd->fix[i] == d->pfix[i];
+  for (int i = 0; i < MPGM_DIM * n && same; i++)
+    same = nd->contact[i / MPGM_DIM] || nd->fix[i] == d->pfix[i];
   if (same) v->conn->map_version++;
   else v->conn->version++;
+  if (!d->meshfree) return 0;
+  /* clouds: this begin_step's node set and lists, for the next one */
+  d->pn = n;
+  memcpy(d->plglob, d->lglob, sizeof(int) * (size_t)n);
+  memcpy(d->pfix, nd->fix, MPGM_DIM * (size_t)n);
+  MPGM_CALL(mpgm_conn_reserve(v->ctx, &d->plists, C->np, 0));
+  MPGM_CALL(mpgm_conn_grow(v->ctx, &d->plists, 0, C->ptr[C->np]));
+  memcpy(d->plists.ptr, C->ptr, sizeof(int) * (size_t)(C->np + 1));
+  memcpy(d->plists.node, C->node, sizeof(int) * (size_t)C->ptr[C->np]);
+  return 0;
 }
 
 /* Reset the grid; locate the points; activate cells; shape functions at
@@ -381,8 +415,7 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));
   step_nodes(v, d);
   project(v, d);
-  pattern_version(v, d);
-  return 0;
+  return pattern_version(v, d);
 }
 
 /* The grid is reset when the next step begins; only the contact state of
@@ -392,10 +425,11 @@ static int mpm_end_step(void *self, const mpgm_fe_view *v) {
   const mpgm_nodes *nd = v->nodes;
   memset(d->gfree, 0, (size_t)d->g.nnode);
   for (int i = 0; i < nd->n; i++)
-    if (nd->contact[i]) d->gfree[d->lglob[i]] = !nd->fix[2 * i] && !nd->fix[2 * i + 1];
+    if (nd->contact[i]) /* 2-D only: x and y written out */
+      d->gfree[d->lglob[i]] = !nd->fix[MPGM_DIM * i] && !nd->fix[MPGM_DIM * i + 1];
   d->pn = nd->n;
   memcpy(d->plglob, d->lglob, sizeof(int) * (size_t)nd->n);
-  memcpy(d->pfix, nd->fix, 2 * (size_t)nd->n);
+  memcpy(d->pfix, nd->fix, MPGM_DIM * (size_t)nd->n);
   memcpy(d->pact, d->cact, (size_t)d->g.ncell);
   return 0;
 }

@@ -21,7 +21,7 @@ struct mpgm_cpoints {
   unsigned char *flip;/**< per tracer: state changed in this step        */
   unsigned char *off; /**< per tracer: no shape functions this step (no
                            active cell near it): not enforced          */
-  double *anchor;     /**< 2 per tracer: where it is held [m]            */
+  double *anchor;     /**< MPGM_DIM per tracer: where it is held [m]     */
   int held;           /**< tracers held now                              */
   long holds, releases; /**< changes of state over the run               */
   long unenforced;    /**< tracer-steps without shape functions          */
@@ -79,8 +79,8 @@ struct mpgm_problem {
   int ngroups;
   int *order;        /**< material points, group after group            */
   int *grp_ptr;      /**< ngroups + 1 offsets into order                 */
-  int *scatter;      /**< per group: 4 n_p^2 positions in K.val (-1: fixed
-                          component)                                    */
+  int *scatter;      /**< per group: MPGM_BLOCK n_p^2 positions in K.val
+                          (-1: fixed component)                         */
   int *scatter_ptr;  /**< ngroups + 1 offsets of the groups' maps        */
   size_t scatter_cap; /**< allocated entries of scatter                 */
   int nomap;         /**< node clouds: K assembled by merging each column's
@@ -94,11 +94,12 @@ struct mpgm_problem {
                           the solver's analysis; NULL: its own order    */
   double *kloc;      /**< local matrices of the groups, one per thread
                           (kloc_size doubles each)                      */
-  int kloc_size;     /**< 4 max n_p^2                                    */
+  int kloc_size;     /**< MPGM_BLOCK max n_p^2                           */
   double *kbatch;    /**< node clouds: per thread, the summed local matrix
                           of a batch of nearby points over the union of
-                          their clouds (4 MPGM_ASM_BATCH^2 doubles, zero
-                          between batches), merged into K once (assembly.c) */
+                          their clouds (MPGM_BLOCK MPGM_ASM_BATCH^2
+                          doubles, zero between batches), merged into K
+                          once (assembly.c)                              */
   int *kslot;        /**< node clouds: per thread and node, its place in
                           the batch's union (-1: none); kslot_n each     */
   int kslot_n;       /**< nodes kslot has room for, per thread           */
@@ -114,15 +115,16 @@ struct mpgm_problem {
   int tpt_ptr[2 * MPGM_ASM_CHUNKS + 1]; /**< offsets into task_pts        */
   int *task_pts;     /**< the tasks' points (their groups' points)       */
   double *R, *fext, *delta;
-  double *dubar;     /**< 2 per node: prescribed increment of the step   */
+  double *dubar;     /**< MPGM_DIM per node: prescribed increment of the
+                          step                                          */
   const double *lift; /**< when set (first iteration), assembly adds
                            -K_free,fixed * lift to R: the prescribed increment
                            enters Newton linearly, not as a jump of the
                            boundary nodes alone                           */
   mpgm_solver *solver;
   int symmetric;     /**< all tangents symmetric (static or dynamic)    */
-  double *react;     /**< 2 per node: support force on the body at fixed
-                          components (mpgm_reactions)                   */
+  double *react;     /**< MPGM_DIM per node: support force on the body
+                          at fixed components (mpgm_reactions)          */
   long contact_rounds; /**< extra solves of steps whose contact set changed */
   long step_cuts;    /**< steps rejected and retried with half the step
                           (time.max_cuts; run.c)                        */
@@ -139,7 +141,7 @@ static inline double mpgm_load_factor(const mpgm_problem *pb) {
 }
 
 /** Nested-dissection order of the n nodes of a graph (CSR ptr/adj) with
- *  coordinates x (2 per node): perm[k] = the node numbered k
+ *  coordinates x (MPGM_DIM per node): perm[k] = the node numbered k
  *  (core/ordering.c). Errors: MPGM_ERR_NOMEM. */
 int mpgm_order_nodes(mpgm_ctx *ctx, int n, const int *ptr, const int *adj, const double *x,
                      int *perm);
@@ -160,8 +162,9 @@ int mpgm_assemble_mass(mpgm_problem *pb);
 int mpgm_pattern_build(mpgm_problem *pb);
 
 /** Support forces at the fixed components of the current iterate:
- *  r = f_int + f_inertia - f_ext there (0 at free components); r has 2
- *  doubles per node. Uses the trial state of the last mpgm_eval_points. */
+ *  r = f_int + f_inertia - f_ext there (0 at free components); r has
+ *  MPGM_DIM doubles per node. Uses the trial state of the last
+ *  mpgm_eval_points. */
 int mpgm_reactions(mpgm_problem *pb, double *r);
 
 /** Regroup the points by node list and rebuild the scatter maps (points ->

@@ -14,13 +14,15 @@ typedef struct gmm_grid {
   int *cnode; /**< node ids of every cell, counter-clockwise              */
   int *ctype; /**< VTK cell type of every cell (9 quad, 5 triangle)        */
   /* light nodes (mesh.min_node_mass): parked for a step */
-  unsigned char *fix0;   /**< 2 per node: fixity of obstacles and boundaries */
-  double *ubar0;         /**< 2 per node: their prescribed values [m]        */
+  unsigned char *fix0;   /**< MPGM_DIM per node: fixity of obstacles and
+                              boundaries                                   */
+  double *ubar0;         /**< MPGM_DIM per node: their prescribed values [m] */
   unsigned char *parked; /**< per node: parked in this step                */
   unsigned char *eligible; /**< per node: free (no fixed component), so it
                               may be parked                                */
-  double *xs, *us;       /**< 2 per node: position, displacement at the start
-                              of the step (restored for parked nodes) [m]    */
+  double *xs, *us;       /**< MPGM_DIM per node: position, displacement at the
+                              start of the step (restored for parked nodes)
+                              [m]                                            */
   double *mass;          /**< per node: sum_p N_Ip m_p of the step [kg]      */
   int nparked;           /**< nodes parked in this step                       */
   unsigned char *obst;   /**< per node: an obstacle node                      */
