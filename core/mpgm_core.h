@@ -85,8 +85,7 @@ typedef struct mpgm_report {
  *  MPGM_ERR_NOMEM. */
 int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene, const mpgm_frontend_type *fe,
                         mpgm_problem **out);
-void mpgm_problem_destroy(mpgm_problem **pb);
-
+/** Free a problem (accepts NULL, nulls the pointer). */
 void mpgm_problem_destroy(mpgm_problem **pb);
 /** One step to load factor / time pb->t + pb->dt: the front end's
  *  begin_step, the scene's integrator (solve and commit), the front end's
