@@ -212,14 +212,7 @@ static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb) 
   const unsigned char *fix = nd->fix;
   double *val = pb->K.val;
   int srt[MPGM_ASM_BATCH], tl[MPGM_ASM_BATCH];
-  for (int a = 0; a < nk; a++) {
-    int w = a;
-    while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
-      srt[w] = srt[w - 1];
-      w--;
-    }
-    srt[w] = a;
-  }
+  mpgm_argsort_nodes(nodes, nk, srt);
   for (int b = 0; b < nk; b++) {
     const int J = nodes[b], tend = pb->nbr_ptr[J + 1];
     int t = pb->nbr_ptr[J];

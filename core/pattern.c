@@ -376,14 +376,7 @@ static int group_map(mpgm_problem *pb, int g, int *srt, int *tpos, size_t *s) {
   /* place of node a of the group in the neighbour list of its node b,
    * found by one merge of the sorted list with the group's nodes in
    * increasing order: O(nk + degree) per b (clouds are long) */
-  for (int a = 0; a < nk; a++) { /* local indices by node number */
-    int w = a;
-    while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
-      srt[w] = srt[w - 1];
-      w--;
-    }
-    srt[w] = a;
-  }
+  mpgm_argsort_nodes(nodes, nk, srt); /* local indices by node number */
   for (int b = 0; b < nk; b++) {
     const int J = nodes[b], tend = pb->nbr_ptr[J + 1];
     int t = pb->nbr_ptr[J];

@@ -193,6 +193,19 @@ int mpgm_cpoints_update(mpgm_problem *pb);
 int mpgm_body_force(mpgm_problem *pb);
 
 
+/** The local indices 0 .. nk - 1 of nodes[] in increasing node number
+ *  (insertion sort: node lists are short), into srt. */
+static inline void mpgm_argsort_nodes(const int *nodes, int nk, int *srt) {
+  for (int a = 0; a < nk; a++) {
+    int w = a;
+    while (w > 0 && nodes[srt[w - 1]] > nodes[a]) {
+      srt[w] = srt[w - 1];
+      w--;
+    }
+    srt[w] = a;
+  }
+}
+
 /** The view of the problem a front end gets (mpgm_frontend.h). */
 void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v);
 /** The front end's begin_step (timed as "shape"); sets pb->lambda. */
