@@ -37,6 +37,11 @@ int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, cons
   snprintf(o->dir, sizeof o->dir, "%s", dir);
   MPGM_CALL(mpgm_mkdir_p(ctx, dir));
   char path[MPGM_PATH_LEN + 64];
+  /* an earlier run's summary.json must not stand for this run's should it
+   * stop before writing its own (killed, disk full) */
+  snprintf(path, sizeof path, "%s/summary.json", dir);
+  MPGM_CHECK(ctx, remove(path) == 0 || errno == ENOENT, MPGM_ERR_IO, "%s: cannot remove: %s", path,
+             strerror(errno));
   if (scene->vtk != MPGM_VTK_NONE) {
     snprintf(path, sizeof path, "%s/vtk", dir);
     MPGM_CALL(mpgm_mkdir_p(ctx, path));

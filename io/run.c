@@ -37,6 +37,12 @@ static double process_cpu(void) {
 /* How the run went, for summary.json. */
 typedef struct run_state {
   const mpgm_run_result *res; /**< status, failure, cuts                */
+  const char *status;   /**< "completed", "failed" (a step failed) or
+                             "io_error" (the outputs could not be
+                             written: the run stopped there)            */
+  const char *message;  /**< why, "" when completed                    */
+  long failed_step;     /**< the step that failed, or whose outputs
+                             could not be written; -1 if none          */
   double wall;          /**< wall time of the run [s]                   */
   double cpu;           /**< processor time of the run, every thread,
                              user + system [s]                          */
@@ -154,9 +160,9 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   mpgm_report r;
   mpgm_problem_report(pb, &r);
   cJSON *j = cJSON_CreateObject();
-  cJSON_AddStringToObject(j, "status", res->failed ? "failed" : "completed");
-  cJSON_AddStringToObject(j, "message", res->message);
-  if (res->failed_step >= 0) cJSON_AddNumberToObject(j, "failed_step", (double)res->failed_step);
+  cJSON_AddStringToObject(j, "status", rs->status);
+  cJSON_AddStringToObject(j, "message", rs->message);
+  if (rs->failed_step >= 0) cJSON_AddNumberToObject(j, "failed_step", (double)rs->failed_step);
   cJSON_AddStringToObject(j, "scene_file", s->file);
   cJSON_AddItemToObject(j, "scene", cJSON_Duplicate((const cJSON *)s->resolved, 1));
   cJSON_AddStringToObject(j, "method", s->frontend->name);
@@ -215,18 +221,39 @@ static int output_step(void *user, const mpgm_problem *pb, int fields, double wa
 /* The run's end: probes.csv, steps.csv and summary.json are written
  * whatever happened; on failure the failing step's message is kept in ctx
  * (as "step K (t = T) failed: why" when a step failed) and its code
- * returned, else the code of the writes. */
-static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, const run_state *rs, int err) {
+ * returned, else the code of the writes. A run whose outputs could not be
+ * written says so in summary.json ("io_error", the step and the message),
+ * when summary.json itself can still be written. */
+static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, run_state *rs, int err) {
+  const mpgm_run_result *res = rs->res;
+  char io_msg[sizeof ctx->msg + 64] = "";
+  rs->status = "completed";
+  rs->message = "";
+  rs->failed_step = -1;
+  if (res->failed) {
+    rs->status = "failed";
+    rs->message = res->message;
+    rs->failed_step = res->failed_step;
+  } else if (err) { /* the outputs of a converged step, or the start's */
+    mpgm_report r;
+    mpgm_problem_report(pb, &r);
+    snprintf(io_msg, sizeof io_msg, "outputs of step %ld: %s", r.step, ctx->msg);
+    rs->status = err == MPGM_ERR_IO ? "io_error" : "failed";
+    rs->message = io_msg;
+    rs->failed_step = r.step;
+  }
   mpgm_ctx keep = *ctx;
   mpgm_err_clear(ctx);
   int werr = mpgm_output_probes_write(ctx, o);
   if (!werr) werr = mpgm_output_steps_write(ctx, o);
-  if (!werr) werr = write_summary(ctx, pb, o, rs);
+  /* summary.json even when the tables could not be written */
+  const int serr = write_summary(ctx, pb, o, rs);
+  if (!werr) werr = serr;
   if (!err) return werr;
   const int code = keep.code ? keep.code : err;
   *ctx = keep;
   ctx->code = 0;
-  mpgm_err_set(ctx, code, keep.file, keep.line, "%s", rs->res->failed ? rs->res->message : keep.msg);
+  mpgm_err_set(ctx, code, keep.file, keep.line, "%s", res->failed ? res->message : keep.msg);
   return code;
 }
 
@@ -254,7 +281,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_run_opts *opts) {
     const mpgm_run_control rc = {.monitor = &mon, .time_split = opts && opts->per_iteration, .t0 = t0};
     err = mpgm_problem_run(pb, &rc, &res);
   }
-  const run_state rs = {.res = &res, .wall = mpgm_wtime() - t0, .cpu = process_cpu() - cpu0};
+  run_state rs = {.res = &res, .wall = mpgm_wtime() - t0, .cpu = process_cpu() - cpu0};
   err = finish(ctx, pb, &o, &rs, err);
   mpgm_run_result_free(&res);
   mpgm_output_close(&o);

@@ -32,5 +32,23 @@ if [ "$rows" -eq 3 ] && head -1 "$work/ok/steps.csv" | grep -q "newton_iteration
 else
   echo "FAIL: steps.csv ($rows rows)"; nfail=$((nfail + 1))
 fi
+# The outputs of step 2 cannot be written (a folder stands where its VTK
+# file's temporary goes: the same as a full disk for the writer): exit 3,
+# and summary.json says io_error at step 2 with the path, not "completed";
+# the outputs of step 1 are kept.
+mkdir -p "$work/full/vtk/points_000002.vtk.tmp/busy"
+echo '{"status": "completed"}' > "$work/full/summary.json" # an earlier run's
+"$exe" run "$scene" --quiet --set mesh.h=0.5 --set time.load_steps=4 --out "$work/full" > "$work/out" 2> "$work/err"
+rc=$?
+/usr/bin/python3 - "$work/full" "$rc" <<'PY' && npass=$((npass + 1)) || nfail=$((nfail + 1))
+import json, os, sys
+d, rc = sys.argv[1], int(sys.argv[2])
+s = json.load(open(f"{d}/summary.json"))
+ok = (rc == 3 and s["status"] == "io_error" and s.get("failed_step") == 2 and "points_000002.vtk" in s["message"]
+      and s["counts"]["steps"] == 2 and os.path.exists(f"{d}/vtk/points_000001.vtk"))
+print(("PASS" if ok else "FAIL") + f": outputs of step 2 cannot be written: exit {rc} (3), status {s['status']} "
+      f"(io_error) at step {s.get('failed_step')} (2), message '{s['message'][:90]}', step 1's VTK kept")
+sys.exit(0 if ok else 1)
+PY
 echo "$npass passed, $nfail failed"
 [ $nfail -eq 0 ]

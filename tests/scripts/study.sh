@@ -37,6 +37,15 @@ sleep 1.1
   && ok "second call skips the 4 complete runs" || ko "second call (exit $rc): $(cat tiny2.err)"
 [ -n "$stamp" ] && [ "$stamp" = "$(stat -c %Y.%N "tiny_out/runs/method=fem,mesh.h=0.25/summary.json")" ] \
   && ok "a skipped run's summary.json is untouched" || ko "summary.json rewritten on skip"
+# a run whose outputs could not be written (status io_error) is not a
+# result: the next call runs it again, and skips the others
+io_run="tiny_out/runs/method=fem,mesh.h=0.5"
+sed -i 's/"status":[[:space:]]*"completed"/"status": "io_error"/' "$io_run/summary.json"
+"$exe" study tiny.json > tiny_io.out 2> tiny_io.err; rc=$?
+[ $rc -eq 0 ] && [ "$(grep -c "skip" tiny_io.err)" -eq 3 ] && grep -q "\[.*\] completed" tiny_io.err \
+  && grep -Eq '"status":[[:space:]]*"completed"' "$io_run/summary.json" \
+  && ok "a run that ended in io_error runs again, the 3 others are skipped" \
+  || ko "io_error run not rerun (exit $rc): $(cat tiny_io.err)"
 for f in study_error_h.png study_error_time.png study_error_h.svg study_error_time.svg; do
   [ -s "tiny_out/$f" ] || ko "tiny_out/$f missing or empty"
 done
