@@ -125,6 +125,9 @@ typedef enum {
                                  (LME multiplier) retried from zero      */
   MPGM_C_NODES_MERGED,      /**< GMM: node-steps left out for being closer
                                  than mesh.min_node_distance to another  */
+  MPGM_C_TRACERS_CARRIED,   /**< tracer-steps without functions of their
+                                 own, moved with their nearest material
+                                 point (mpgm_tracers_carry)              */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

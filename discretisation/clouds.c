@@ -168,7 +168,12 @@ static int search(mpgm_clouds *c, const mpgm_fe_view *v) {
     const double *x = P->x + MPGM_DIM * p;
     double r = c->r0;
     int n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
-    for (int g = 0; n < want && g < MAX_GROWTH; g++) {
+    /* a probe or surface point with no node within its support is away
+     * from the material: it gets no functions (mpgm_tracers_carry then
+     * moves it with the material), never a radius grown across the
+     * domain */
+    const int stray = p >= P->n && n == 0;
+    for (int g = 0; n < want && g < MAX_GROWTH && !stray; g++) {
       r *= MPGM_SHAPE_GROWTH;
       mpgm_count(ctx, MPGM_C_RADIUS_GROWTHS, 1);
       n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
@@ -254,7 +259,9 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
     err = n > 0 ? mpgm_shape_eval_retry(c->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS])
                 : MPGM_ERR_SHAPE;
     if (n == 0) info.msg = "no node within the support radius";
-    if (err != MPGM_ERR_SHAPE || enl >= c->max_enlarge) break;
+    /* a point with no node within its support is not enlarged: the
+     * nearest node may be across the domain */
+    if (err != MPGM_ERR_SHAPE || enl >= c->max_enlarge || n == 0) break;
     /* enlarge: the next-nearest node outside the cloud */
     const double t0 = mpgm_wtime();
     double dn2;

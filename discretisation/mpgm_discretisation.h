@@ -32,6 +32,17 @@ int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
  *  last P->nsurf points of P (after the probes). The front ends call both
  *  (mpm.c, gmm_grid.c). */
 int mpgm_surface_tracers_count(const mpgm_scene *s);
+/** Surface points that have no functions in this step (their evaluation
+ *  failed, they lost every node to the light-node rule, no cell holds
+ *  material near them) still move with the material: each takes the
+ *  functions of its nearest material point (counted: tracers_carried). It
+ *  stays unenforced for the step. c: the connectivity of every point
+ *  (compacted); scratch: a connectivity the caller keeps; the two swap
+ *  their arrays when a tracer is carried. */
+int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch);
+/** Their initial positions into x (MPGM_DIM per tracer; NULL: count only);
+ *  returns how many. */
+int mpgm_surface_tracers_xy(const mpgm_scene *s, double *x);
 void mpgm_surface_tracers_fill(mpgm_points *P, const mpgm_scene *s);
 /** Points on the boundary of body b at most `spacing` apart (a disk: from
  *  its lowest point, counter-clockwise; rectangles and polygons: every

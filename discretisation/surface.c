@@ -58,10 +58,13 @@ static double surface_spacing(const mpgm_scene *s) {
   return spacing;
 }
 
-int mpgm_surface_tracers_count(const mpgm_scene *s) {
+int mpgm_surface_tracers_count(const mpgm_scene *s) { return mpgm_surface_tracers_xy(s, NULL); }
+
+int mpgm_surface_tracers_xy(const mpgm_scene *s, double *x) {
   const double spacing = surface_spacing(s);
   int n = 0;
-  for (int b = 0; b < s->nbody && isfinite(spacing); b++) n += mpgm_body_surface(&s->bodies[b], spacing, NULL);
+  for (int b = 0; b < s->nbody && isfinite(spacing); b++)
+    n += mpgm_body_surface(&s->bodies[b], spacing, x ? x + MPGM_DIM * n : NULL);
   return n;
 }
 
@@ -78,4 +81,60 @@ void mpgm_surface_tracers_fill(mpgm_points *P, const mpgm_scene *s) {
     }
     p += k;
   }
+}
+
+/* The nearest material point to x (ties: the lowest index). */
+static int nearest_point(const mpgm_points *P, const double *x) {
+  int best = 0;
+  double dmin = INFINITY;
+  for (int q = 0; q < P->n; q++) {
+    double d2 = 0.0;
+    for (int d = 0; d < MPGM_DIM; d++) {
+      const double e = P->x[MPGM_DIM * q + d] - x[d];
+      d2 += e * e;
+    }
+    if (d2 < dmin) {
+      dmin = d2;
+      best = q;
+    }
+  }
+  return best;
+}
+
+int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch) {
+  const mpgm_points *P = v->pts;
+  const int first = P->n + P->nprobe, m = first + P->nsurf;
+  int nempty = 0;
+  for (int p = first; p < m; p++) nempty += c->ptr[p + 1] == c->ptr[p];
+  if (!nempty || P->n == 0) return 0;
+  /* the new lists: a carried tracer's are its nearest point's */
+  int nnz = 0;
+  for (int p = 0; p < m; p++) {
+    const int q = p >= first && c->ptr[p + 1] == c->ptr[p] ? nearest_point(P, P->x + MPGM_DIM * p) : p;
+    nnz += c->ptr[q + 1] - c->ptr[q];
+  }
+  MPGM_CALL(mpgm_conn_reserve(v->ctx, scratch, m, 0));
+  MPGM_CALL(mpgm_conn_grow(v->ctx, scratch, 0, nnz));
+  int k = 0;
+  for (int p = 0; p < m; p++) {
+    int q = p;
+    if (p >= first && c->ptr[p + 1] == c->ptr[p]) {
+      q = nearest_point(P, P->x + MPGM_DIM * p);
+      mpgm_count(v->ctx, MPGM_C_TRACERS_CARRIED, 1);
+    }
+    scratch->ptr[p] = k;
+    for (int e = c->ptr[q]; e < c->ptr[q + 1]; e++, k++) {
+      scratch->node[k] = c->node[e];
+      scratch->N[k] = c->N[e];
+      for (int d = 0; d < MPGM_DIM; d++) scratch->dN[MPGM_DIM * k + d] = c->dN[MPGM_DIM * e + d];
+    }
+  }
+  scratch->ptr[m] = k;
+  /* the lists change places; the versions stay the caller's */
+  mpgm_conn t = *c;
+  c->ptr = scratch->ptr, c->node = scratch->node, c->N = scratch->N, c->dN = scratch->dN;
+  c->g = scratch->g, c->cap = scratch->cap, c->np = m;
+  scratch->ptr = t.ptr, scratch->node = t.node, scratch->N = t.N, scratch->dN = t.dN;
+  scratch->g = t.g, scratch->cap = t.cap, scratch->np = t.np;
+  return 0;
 }

@@ -51,6 +51,7 @@ typedef struct gmm_data {
                               being close to another node (grid-filled)     */
   double dmin;           /**< that distance [m] (0: off)                      */
   mpgm_conn out;         /**< the step's connectivity before it is copied    */
+  mpgm_conn carry;       /**< scratch of mpgm_tracers_carry                  */
 } gmm_data;
 
 static void gmm_destroy(void *self) {
@@ -62,6 +63,7 @@ static void gmm_destroy(void *self) {
   mpgm_clouds_destroy(d->clouds);
   free(d->merged);
   mpgm_conn_release(&d->out);
+  mpgm_conn_release(&d->carry);
   free(d);
 }
 
@@ -131,6 +133,8 @@ static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(mpgm_clouds_build(d->clouds, v, d->tree, d->merged, &d->out));
   /* grid-filled bodies: nodes with little mass are parked for the step */
   if (d->grid) MPGM_CALL(mpgm_gmm_grid_park(v, d->grid, d->tree, mpgm_clouds_radius(d->clouds), &d->out));
+  /* surface points without functions move with the material */
+  MPGM_CALL(mpgm_tracers_carry(v, &d->out, &d->carry));
   const int k = d->out.ptr[m];
   /* a new pattern only when some point's node list changed */
   int same = C->np == m && C->ptr[m] == k;

@@ -25,6 +25,7 @@ typedef struct mpm_data {
   int pn;
   int *plglob;
   mpgm_conn plists;    /**< clouds: the lists of the last begin_step         */
+  mpgm_conn carry;     /**< scratch of mpgm_tracers_carry                    */
   unsigned char *pfix, *pact;
   double *gm, *gq, *gf;/**< per grid node: mass; MPGM_DIM each: momentum,
                             inertia force                                 */
@@ -56,6 +57,7 @@ static void mpm_destroy(void *self) {
   free(d->gm);
   free(d->light);
   mpgm_conn_release(&d->plists);
+  mpgm_conn_release(&d->carry);
   free(d->gq);
   free(d->gf);
   free(d->gx);
@@ -414,6 +416,8 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->min_node_mass, d->gm, d->light);
   MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));
   step_nodes(v, d);
+  /* surface points without functions move with the material */
+  MPGM_CALL(mpgm_tracers_carry(v, v->conn, &d->carry));
   project(v, d);
   return pattern_version(v, d);
 }
