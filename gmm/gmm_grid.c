@@ -87,9 +87,10 @@ static int holds_points(const build *b, int c) {
   return 0;
 }
 
-/* The body nodes: the grid nodes of the cells holding points that some
- * material point has within r0 (gmap 1; others -1). */
-static int body_nodes(mpgm_ctx *ctx, build *b, double r0) {
+/* The body nodes: the grid nodes of the cells holding material points or
+ * surface points that some material point has within r0 (gmap 1; others
+ * -1). */
+static int body_nodes(mpgm_ctx *ctx, const mpgm_scene *s, build *b, double r0) {
   const mpgm_grid *g = &b->g;
   double *xp = malloc(sizeof(double) * MPGM_DIM * (size_t)b->f.count);
   MPGM_CHECK(ctx, xp, MPGM_ERR_NOMEM, "out of memory (%d points)", b->f.count);
@@ -100,7 +101,7 @@ static int body_nodes(mpgm_ctx *ctx, build *b, double r0) {
       p++;
     }
   mpgm_kdtree *tree = NULL;
-  const int err = mpgm_kdtree_create(ctx, xp, b->f.count, 0, &tree);
+  int err = mpgm_kdtree_create(ctx, xp, b->f.count, 0, &tree);
   for (int i = 0; i < g->nnode; i++) b->gmap[i] = -1;
   for (int c = 0; c < g->ncell && !err; c++) {
     if (!holds_points(b, c)) continue;
@@ -108,6 +109,21 @@ static int body_nodes(mpgm_ctx *ctx, build *b, double r0) {
     mpgm_grid_cell(g, c, nodes, NULL);
     for (int a = 0; a < g->nn; a++) b->gmap[nodes[a]] = 0;
   }
+  /* and of the cells holding surface points (contact at points): a point
+   * on the boundary of a cell whose Gauss points are all outside the body
+   * would lie outside the hull of its cloud (LME fails there) */
+  const int nsurf = mpgm_surface_tracers_count(s);
+  double *xs = nsurf ? malloc(sizeof(double) * MPGM_DIM * (size_t)nsurf) : NULL;
+  if (!err && nsurf && !xs) err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
+  if (xs) mpgm_surface_tracers_xy(s, xs);
+  for (int k = 0; k < nsurf && !err; k++) {
+    int c, nodes[MPGM_FE_MAXNODE];
+    double xi[MPGM_DIM];
+    if (mpgm_grid_locate(g, xs + MPGM_DIM * k, &c, xi)) continue; /* off the grid */
+    mpgm_grid_cell(g, c, nodes, NULL);
+    for (int a = 0; a < g->nn; a++) b->gmap[nodes[a]] = 0;
+  }
+  free(xs);
   for (int i = 0; i < g->nnode && !err; i++) {
     if (b->gmap[i] < 0) continue;
     double X[MPGM_DIM], d2;
@@ -246,7 +262,7 @@ static int setup(const mpgm_fe_view *v, double r0, build *b, gmm_grid *gd) {
   b->gmap = malloc(sizeof(int) * (size_t)b->g.nnode);
   b->ofix = calloc((size_t)b->g.nnode, 1);
   MPGM_CHECK(ctx, b->gmap && b->ofix, MPGM_ERR_NOMEM, "out of memory (grid of %d nodes)", b->g.nnode);
-  MPGM_CALL(body_nodes(ctx, b, r0));
+  MPGM_CALL(body_nodes(ctx, s, b, r0));
   for (int i = 0; i < b->g.nnode; i++) b->nbody_nodes += b->gmap[i] > 0;
   int nnew = 0;
   MPGM_CALL(obstacles(ctx, s, b, &nnew));
