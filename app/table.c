@@ -183,7 +183,7 @@ int mpgm_table_read(mpgm_ctx *ctx, const char *path, mpgm_table *t) {
   memset(t, 0, sizeof *t);
   char *text;
   size_t n;
-  MPGM_CALL(mpgm_read_file(ctx, path, &text, &n));
+  MPGM_CALL(mpgm_read_file(ctx, path, (size_t)1 << 30, &text, &n));
   int err = 0;
   if (!err && n == 0) err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: empty file", path);
   const char *p = text;

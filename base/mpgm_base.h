@@ -177,11 +177,12 @@ int mpgm_err_set(mpgm_ctx *ctx, int code, const char *file, int line,
 /** Forget a recorded (recoverable) error, e.g. after a step cut. */
 void mpgm_err_clear(mpgm_ctx *ctx);
 
-/** Read a whole file into *text (malloc'd, NUL-terminated; the caller
- *  frees it; binary content may hold NULs), its length in *len (may be
- *  NULL). Errors: MPGM_ERR_IO (cannot
- *  open or read, with the path), MPGM_ERR_NOMEM. */
-int mpgm_read_file(mpgm_ctx *ctx, const char *path, char **text, size_t *len);
+/** Read a whole file of at most max bytes into *text (malloc'd,
+ *  NUL-terminated; the caller frees it; binary content may hold NULs), its
+ *  length in *len (may be NULL). Errors: MPGM_ERR_IO (cannot open or read,
+ *  with the path), MPGM_ERR_INPUT (a folder or a device, not a file; more
+ *  than max bytes), MPGM_ERR_NOMEM. */
+int mpgm_read_file(mpgm_ctx *ctx, const char *path, size_t max, char **text, size_t *len);
 
 /** Monotonic wall clock in seconds. */
 double mpgm_wtime(void);

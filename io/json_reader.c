@@ -66,6 +66,29 @@ static const cJSON *keep(jr_reader *r, cJSON *v) {
 
 enum { AS_NUMBER, AS_STRING, AS_JSON };
 
+/* An override's value as JSON when it is JSON (arrays, objects, numbers,
+ * ...), as a string otherwise (jr_check_override has refused a value that
+ * starts like an array or object and is not JSON). */
+static const cJSON *override_json(jr_node *o, const jr_override *ov) {
+  const char *s = ov->value;
+  const int json = !jr_strict_check(s, strlen(s), NULL, NULL, 0);
+  return keep(o->r, json ? cJSON_Parse(s) : cJSON_CreateString(s));
+}
+
+int jr_check_override(mpgm_ctx *ctx, const char *file, const jr_override *ov) {
+  const char *s = ov->value;
+  char why[160];
+  size_t at;
+  const long bad = jr_utf8_invalid(s, strlen(s));
+  MPGM_CHECK(ctx, bad < 0, MPGM_ERR_INPUT, "%s: %s: --set value is not UTF-8 (byte 0x%02X at "
+             "character %ld)", file, ov->path, (unsigned)(unsigned char)s[bad < 0 ? 0 : bad], bad + 1);
+  const char *p = s + strspn(s, " \t\r\n");
+  if ((*p == '[' || *p == '{') && jr_strict_check(s, strlen(s), &at, why, sizeof why))
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: %s: --set value '%s' is not JSON: %s at character %zu",
+               file, ov->path, s, why, at + 1);
+  return 0;
+}
+
 /* Item for key: the override (converted as `as` says) or the file's. */
 static int lookup(jr_node *o, const char *key, int as, const cJSON **out) {
   mark_seen(o, key);
@@ -76,28 +99,23 @@ static int lookup(jr_node *o, const char *key, int as, const cJSON **out) {
   }
   const char *s = ov->value;
   if (as == AS_NUMBER) {
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || (errno == ERANGE && isinf(v)))
-      return jr_fail(o, key, "expected a number, found '%s' (from --set)", s);
+    double v = strtod(s, NULL);
+    if (!jr_is_json_number(s))
+      return jr_fail(o, key, "expected a number in JSON's form (e.g. 0.05, -2, 1e-6), found '%s' "
+                     "(from --set)", s);
+    if (!isfinite(v)) return jr_fail(o, key, "expected a finite number, found '%s' (from --set)", s);
     *out = keep(o->r, cJSON_CreateNumber(v));
   } else if (as == AS_STRING) {
     *out = keep(o->r, cJSON_CreateString(s));
   } else {
-    cJSON *v = cJSON_Parse(s);
-    if (!v) v = cJSON_CreateString(s);
-    *out = keep(o->r, v);
+    *out = override_json(o, ov);
   }
   return 0;
 }
 
 const cJSON *jr_override_json(jr_node *o, const char *key) {
-  jr_override *ov = find_override(o, key);
-  if (!ov) return NULL;
-  cJSON *v = cJSON_Parse(ov->value);
-  if (!v) v = cJSON_CreateString(ov->value);
-  return keep(o->r, v);
+  const jr_override *ov = find_override(o, key);
+  return ov ? override_json(o, ov) : NULL;
 }
 
 int jr_num(jr_node *o, const char *key, double def, double lo, double hi,
@@ -263,12 +281,12 @@ int jr_unused_overrides(jr_reader *r) {
   return 0;
 }
 
-/* 1-based line and column of `at` in text. */
-static void line_col(const char *text, const char *at, int *line, int *col) {
+/* 1-based line and column (in bytes) of offset at of text. */
+static void line_col(const char *text, size_t at, int *line, int *col) {
   *line = 1;
   *col = 1;
-  for (const char *p = text; p < at && *p; p++) {
-    if (*p == '\n') {
+  for (size_t i = 0; i < at; i++) {
+    if (text[i] == '\n') {
       (*line)++;
       *col = 1;
     } else {
@@ -277,24 +295,37 @@ static void line_col(const char *text, const char *at, int *line, int *col) {
   }
 }
 
+/* Up to 20 bytes of text from at, printable ASCII only (others as '?'). */
+static void excerpt(const char *text, size_t len, size_t at, char near[24]) {
+  size_t k = 0;
+  for (size_t i = at; i < len && k < 20; i++, k++) {
+    const unsigned char c = (unsigned char)text[i];
+    near[k] = c == '\n' || c == '\r' || c == '\t' ? ' ' : c >= 0x20 && c < 0x7F ? (char)c : '?';
+  }
+  near[k] = '\0';
+}
+
 int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc) {
   *doc = NULL;
-  char *text;
-  MPGM_CALL(mpgm_read_file(ctx, file, &text, NULL));
-  const char *end = NULL;
-  cJSON *d = cJSON_ParseWithOpts(text, &end, 1);
-  if (!d) {
-    int line, col;
-    const char *at = end ? end : cJSON_GetErrorPtr();
-    if (!at) at = text;
+  char *text, why[160], near[24];
+  size_t len, at;
+  int line, col;
+  MPGM_CALL(mpgm_read_file(ctx, file, JR_MAX_FILE, &text, &len));
+  if (jr_strict_check(text, len, &at, why, sizeof why)) {
     line_col(text, at, &line, &col);
-    char near[24] = "";
-    snprintf(near, sizeof near, "%.20s", at);
-    for (char *p = near; *p; p++)
-      if (*p == '\n' || *p == '\r') *p = ' ';
+    excerpt(text, len, at, near);
     free(text);
-    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: line %d, column %d: JSON syntax error near '%s'%s", file,
-               line, col, near, near[0] ? "" : " (end of file)");
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: line %d, column %d: JSON syntax error: %s (near '%s'%s)",
+               file, line, col, why, near, near[0] ? "" : ", the end of the file");
+  }
+  const char *end = NULL;
+  cJSON *d = cJSON_ParseWithLengthOpts(text, len, &end, 0);
+  if (!d) { /* only when memory ran out: the strict check passed */
+    at = end ? (size_t)(end - text) : 0;
+    line_col(text, at < len ? at : len, &line, &col);
+    free(text);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: line %d, column %d: cJSON could not build the tree "
+               "(out of memory?)", file, line, col);
   }
   free(text);
   if (!cJSON_IsObject(d)) {

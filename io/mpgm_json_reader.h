@@ -15,6 +15,8 @@
 
 #define JR_MAXKEYS 48
 #define JR_PATH 256
+#define JR_MAX_DEPTH 64                 /**< arrays and objects within each other */
+#define JR_MAX_FILE ((size_t)64 << 20) /**< largest JSON file read [bytes]       */
 
 typedef struct jr_override {
   char path[JR_PATH]; /**< dotted path, e.g. "mesh.h"   */
@@ -72,6 +74,20 @@ int jr_end(jr_node *o);
  *  ("FILE: line L, column C: JSON syntax error near '...'", or
  *  "FILE: (root): expected an object, found ..."). */
 int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc);
+/** Strict RFC 8259 check of text[0, len): one JSON value with whitespace
+ *  around it; strings (and keys) UTF-8 without NUL, raw or as \u0000, and
+ *  without lone surrogates; numbers in JSON's grammar (no "01", "1.", ".5");
+ *  nesting at most JR_MAX_DEPTH. Returns 0, or 1 with *at the byte offset of
+ *  the first fault and why (nwhy bytes) saying what it is. */
+int jr_strict_check(const char *text, size_t len, size_t *at, char *why, size_t nwhy);
+/** Offset of the first byte of s[0, len) that does not start a valid UTF-8
+ *  sequence, -1 when all are valid. */
+long jr_utf8_invalid(const char *s, size_t len);
+/** 1 when the whole of s is a JSON number. */
+int jr_is_json_number(const char *s);
+/** Refuse an override whose value is not UTF-8, or starts like an array or
+ *  object ('[' or '{') and is not strict JSON: "FILE: PATH: ..." */
+int jr_check_override(mpgm_ctx *ctx, const char *file, const jr_override *ov);
 /** Overrides not consumed by any read: error "unknown path". */
 int jr_unused_overrides(jr_reader *r);
 /** A JSON value given by an override for path (NULL if none); marks it used

@@ -316,6 +316,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   char def[MPGM_PATH_LEN];
   snprintf(def, sizeof def, "results/%s", s->stem);
   MPGM_CALL(jr_str(&o, "dir", def, s->out_dir, sizeof s->out_dir));
+  if (!s->out_dir[0]) return jr_fail(&o, "dir", "expected a folder path, found an empty string");
   MPGM_CALL(jr_int(&o, "every", 1, 1, 1 << 30, &s->every));
   MPGM_CALL(jr_enum(&o, "vtk", vtk_names, MPGM_VTK_OUT_BINARY, &s->vtk));
   const cJSON *f = jr_override_json(&o, "fields");
@@ -542,6 +543,9 @@ static int parse_sets(mpgm_ctx *ctx, const char *file, int nset, const char *con
     memcpy(ov[i].path, sets[i], n);
     ov[i].path[n] = '\0';
     ov[i].value = eq + 1;
+    MPGM_CHECK(ctx, jr_utf8_invalid(ov[i].path, n) < 0, MPGM_ERR_INPUT,
+               "%s: --set key %d is not UTF-8", file, i + 1);
+    MPGM_CALL(jr_check_override(ctx, file, &ov[i]));
   }
   return 0;
 }

@@ -10,6 +10,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -148,7 +149,7 @@ int mpgm_vtk_read(mpgm_ctx *ctx, const char *path, mpgm_vtk_grid **out) {
   *out = NULL;
   rd r = {ctx, path, NULL, 0, 0, 0};
   char *buf;
-  MPGM_CALL(mpgm_read_file(ctx, path, &buf, &r.len));
+  MPGM_CALL(mpgm_read_file(ctx, path, SIZE_MAX - 1, &buf, &r.len));
   r.b = buf;
   mpgm_vtk_grid *g = calloc(1, sizeof *g);
   int err = g ? read_body(&r, g) : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
@@ -213,7 +214,7 @@ int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out) {
   memset(out, 0, sizeof *out);
   char *buf;
   size_t len;
-  MPGM_CALL(mpgm_read_file(ctx, path, &buf, &len));
+  MPGM_CALL(mpgm_read_file(ctx, path, SIZE_MAX - 1, &buf, &len));
   int err = 0;
   if (!strstr(buf, "<VTKFile") || !strstr(buf, "type=\"Collection\""))
     err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: not a .pvd collection", path);
