@@ -44,7 +44,8 @@ const char *mpgm_timer_name(int id) {
 static const char *const counter_names[MPGM_C_COUNT] = {
     "analyses", "factorizations", "solves", "linear_iterations", "material_updates",
     "body_force_loops", "inertia_loops", "point_sorts", "radius_growths", "cloud_enlargements",
-    "shape_cold_restarts", "nodes_merged", "tracers_carried"};
+    "shape_cold_restarts", "nodes_merged", "surface_points_carried",
+    "probes_carried"};
 
 const char *mpgm_counter_name(int id) {
   return (id >= 0 && id < MPGM_C_COUNT) ? counter_names[id] : "?";

@@ -125,9 +125,12 @@ typedef enum {
                                  (LME multiplier) retried from zero      */
   MPGM_C_NODES_MERGED,      /**< GMM: node-steps left out for being closer
                                  than mesh.min_node_distance to another  */
-  MPGM_C_TRACERS_CARRIED,   /**< tracer-steps without functions of their
-                                 own, moved with their nearest material
-                                 point (mpgm_tracers_carry)              */
+  MPGM_C_SURFACE_CARRIED,   /**< surface-point steps without functions of
+                                 their own, moved with their nearest
+                                 material point (mpgm_tracers_carry)     */
+  MPGM_C_PROBES_CARRIED,    /**< probe-steps the same (a probe the
+                                 material has left, e.g. on a free
+                                 surface that sinks below it)            */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

@@ -281,11 +281,12 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
     n = nn;
   }
   const int surf = p - (P->n + P->nprobe); /* >= 0: a surface point */
-  if (err == MPGM_ERR_SHAPE && surf >= 0) {
-    /* no functions at a surface point: contact is not enforced there in
-     * this step (counted), and the point does not move */
+  if (err == MPGM_ERR_SHAPE && p >= P->n) {
+    /* no functions at a probe or surface point (contact is not enforced
+     * there in this step, counted): mpgm_tracers_carry moves it with its
+     * nearest material point */
     mpgm_err_clear(ctx);
-    mpgm_cpoints_unenforce(v->cp, surf);
+    if (surf >= 0) mpgm_cpoints_unenforce(v->cp, surf);
     return 0;
   }
   /* MPGM_ERR_SHAPE (recoverable), or a fatal MPGM_ERR_INPUT */

@@ -60,11 +60,10 @@ int mpgm_light_drop(mpgm_ctx *ctx, mpgm_conn *c, int m, const unsigned char *lig
       Sy += c->dN[MPGM_DIM * k + 1];
     }
     if (lost && !(S > 1e-12)) {
-      /* a surface point among light nodes only: not enforced this step */
-      if (surface) {
-        mpgm_cpoints_unenforce(cp, p - first_surface);
-        continue;
-      }
+      /* a surface point among light nodes only: not enforced this step;
+       * a probe: no functions (both are carried by mpgm_tracers_carry) */
+      if (surface) mpgm_cpoints_unenforce(cp, p - first_surface);
+      if (p >= P->n) continue;
       MPGM_ERROR(ctx, MPGM_ERR_SHAPE, "step %ld: %s %d at (%g, %g) lost every node to "
                  "mesh.min_node_mass = %g", step + 1, kind_of(P, p), p < P->n ? P->id[p] : p - P->n,
                  P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], min_node_mass);

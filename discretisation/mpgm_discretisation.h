@@ -32,11 +32,11 @@ int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
  *  last P->nsurf points of P (after the probes). The front ends call both
  *  (mpm.c, gmm_grid.c). */
 int mpgm_surface_tracers_count(const mpgm_scene *s);
-/** Surface points that have no functions in this step (their evaluation
- *  failed, they lost every node to the light-node rule, no cell holds
- *  material near them) still move with the material: each takes the
- *  functions of its nearest material point (counted: tracers_carried). It
- *  stays unenforced for the step. c: the connectivity of every point
+/** Probes and surface points that have no functions in this step (their
+ *  evaluation failed, they lost every node to the light-node rule, no cell
+ *  holds material near them) still move with the material: each takes the
+ *  functions of its nearest material point (counted: probes_carried,
+ *  surface_points_carried). A surface point stays unenforced for the step. c: the connectivity of every point
  *  (compacted); scratch: a connectivity the caller keeps; the two swap
  *  their arrays when a tracer is carried. */
 int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch);

@@ -103,7 +103,7 @@ static int nearest_point(const mpgm_points *P, const double *x) {
 
 int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch) {
   const mpgm_points *P = v->pts;
-  const int first = P->n + P->nprobe, m = first + P->nsurf;
+  const int first = P->n, m = first + P->nprobe + P->nsurf;
   int nempty = 0;
   for (int p = first; p < m; p++) nempty += c->ptr[p + 1] == c->ptr[p];
   if (!nempty || P->n == 0) return 0;
@@ -120,7 +120,7 @@ int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch) 
     int q = p;
     if (p >= first && c->ptr[p + 1] == c->ptr[p]) {
       q = nearest_point(P, P->x + MPGM_DIM * p);
-      mpgm_count(v->ctx, MPGM_C_TRACERS_CARRIED, 1);
+      mpgm_count(v->ctx, p < P->n + P->nprobe ? MPGM_C_PROBES_CARRIED : MPGM_C_SURFACE_CARRIED, 1);
     }
     scratch->ptr[p] = k;
     for (int e = c->ptr[q]; e < c->ptr[q + 1]; e++, k++) {

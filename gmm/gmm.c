@@ -133,7 +133,7 @@ static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(mpgm_clouds_build(d->clouds, v, d->tree, d->merged, &d->out));
   /* grid-filled bodies: nodes with little mass are parked for the step */
   if (d->grid) MPGM_CALL(mpgm_gmm_grid_park(v, d->grid, d->tree, mpgm_clouds_radius(d->clouds), &d->out));
-  /* surface points without functions move with the material */
+  /* probes and surface points without functions move with the material */
   MPGM_CALL(mpgm_tracers_carry(v, &d->out, &d->carry));
   const int k = d->out.ptr[m];
   /* a new pattern only when some point's node list changed */

@@ -238,9 +238,7 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
                    d->step, P->id[p], s->bodies[P->body[p]].name, P->x0[MPGM_DIM * p],
                    P->x0[MPGM_DIM * p + 1], P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], g->min[0],
                    g->max[0], g->min[1], g->max[1]);
-      MPGM_ERROR(ctx, MPGM_ERR_DOMAIN,
-                 "step %ld: probe \"%s\" is at (%g, %g), outside the background grid", d->step,
-                 s->probes[p - np].name, P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]);
+      d->pcell[p] = -1; /* a probe outside the grid: carried (below) */
     }
     if (p < np) d->cact[d->pcell[p]] = 1;
   }
@@ -260,12 +258,12 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
     for (int p = 0; p < np; p++) d->pscr[p] = d->pcell[d->perm[p]];
     for (int p = 0; p < np; p++) d->pcell[p] = (int)d->pscr[p];
   }
-  for (int k = 0; k < P->nprobe; k++) {
-    const int p = np + k;
-    MPGM_CHECK(ctx, probe_cell(d, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p) == 0,
-               MPGM_ERR_DOMAIN, "step %ld: probe \"%s\" at (%g, %g) is in no cell holding material",
-               d->step, s->probes[k].name, P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]);
-  }
+  /* a probe in no cell holding material (the free surface sank below it)
+   * gets no functions here: mpgm_tracers_carry moves it with its nearest
+   * material point */
+  for (int p = np; p < ms; p++)
+    if (d->pcell[p] >= 0 && probe_cell(d, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p))
+      d->pcell[p] = -1;
   if (m > ms) mpgm_cpoints_enforce_all(v->cp);
   for (int p = ms; p < m; p++)
     if (surface_cell(d, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p))
@@ -286,6 +284,7 @@ static int cell_shape(const mpgm_fe_view *v, mpm_data *d) {
     double xn[MPGM_DIM * MPGM_FE_MAXNODE];
     C->ptr[p] = k;
     if (p >= ms && mpgm_cpoints_unenforced(v->cp, p - ms)) continue; /* no shape functions */
+    if (p >= P->n && p < ms && d->pcell[p] < 0) continue;             /* a probe carried */
     mpgm_grid_cell(g, d->pcell[p], nodes, xn);
     /* 2-D only: the query's xp and xi written out (mpgm_shapefn.h) */
     mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]},
@@ -416,7 +415,7 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->min_node_mass, d->gm, d->light);
   MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));
   step_nodes(v, d);
-  /* surface points without functions move with the material */
+  /* probes and surface points without functions move with the material */
   MPGM_CALL(mpgm_tracers_carry(v, v->conn, &d->carry));
   project(v, d);
   return pattern_version(v, d);

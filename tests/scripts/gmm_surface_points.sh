@@ -27,9 +27,9 @@ for k in ("lme", "mls"):
     s = summary(sys.argv[1], k)
     c = s["counts"]
     check(s["status"] == "completed" and c["steps"] == 2 and c["contact_points"] == 252 and
-          c["contact_points_unenforced"] == 0 and c.get("tracers_carried", 0) == 0,
+          c["contact_points_unenforced"] == 0 and c.get("surface_points_carried", 0) == 0,
           f"GMM-{k.upper()}, h = 0.025, 2 steps: every one of the {c['contact_points']} rim points has "
           f"functions of its own ({c['contact_points_unenforced']} point-steps unenforced, "
-          f"{c.get('tracers_carried', 0)} carried)")
+          f"{c.get('surface_points_carried', 0)} carried)")
 done()
 PY

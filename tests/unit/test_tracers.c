@@ -6,9 +6,12 @@
  *     stays 0, its search is one query), and leaves it unenforced;
  *   - mpgm_tracers_carry then gives it the functions of its nearest
  *     material point, exactly (the same nodes, N and grad N), counts it,
- *     and leaves the other points' lists as they were.
+ *     and leaves the other points' lists as they were;
+ *   - a probe moved away is treated the same (item 5: a probe the material
+ *     has left follows the material, the run does not stop).
  * The scene is built in memory: GMM-MLS on a 0.8 m x 0.4 m block with a
- * contact plane under it; one surface point is then moved 5 m away. */
+ * contact plane under it and a probe in it; one surface point and the
+ * probe are then moved 5 m away. */
 #include "mpgm_core_impl.h"
 #include "mpgm_discretisation.h"
 #include "mpgm_kdtree.h"
@@ -27,6 +30,7 @@ static int make(mpgm_ctx *ctx, mpgm_scene **s, mpgm_problem **pb) {
       " \"materials\": {\"m\": {\"type\": \"neo_hookean\", \"density\": 2385.7, \"E\": 3.1e6, \"nu\": 0.287}},"
       " \"bodies\": [{\"material\": \"m\", \"rectangle\": {\"min\": [0.3, 0.0], \"max\": [1.1, 0.4]}}],"
       " \"boundaries\": [{\"y\": 0.0, \"condition\": \"contact\", \"enforce\": \"points\", \"spacing\": 0.2}],"
+      " \"probes\": {\"mid\": [0.7, 0.2]},"
       " \"gravity\": [0.0, -9.81], \"output\": {\"vtk\": \"none\"}}";
   cJSON *j = cJSON_Parse(text);
   int err = j ? mpgm_scene_load_json(ctx, "tracers", j, s) : MPGM_ERR_INTERNAL;
@@ -59,14 +63,16 @@ int main(void) {
   if (!err) err = mpgm_clouds_build(cl, &v, tree, NULL, &out);
   const long g0 = ctx.count[MPGM_C_RADIUS_GROWTHS], e0 = ctx.count[MPGM_C_CLOUD_ENLARGEMENTS];
   P->x[MPGM_DIM * stray] += 5.0;
+  P->x[MPGM_DIM * P->n] += 5.0; /* the probe */
   mpgm_cpoints_enforce_all(v.cp);
   if (!err) err = mpgm_clouds_build(cl, &v, tree, NULL, &out);
   const long dg = ctx.count[MPGM_C_RADIUS_GROWTHS] - 2 * g0;
   const long de = ctx.count[MPGM_C_CLOUD_ENLARGEMENTS] - 2 * e0;
   mpgm_test(!err && dg <= 0 && de <= 0 && out.ptr[stray + 1] == out.ptr[stray] &&
+                out.ptr[P->n + 1] == out.ptr[P->n] &&
                 mpgm_cpoints_unenforced(v.cp, stray - first),
-            "a surface point 5 m away: no functions, unenforced, no radius growth or enlargement "
-            "for it (%ld, %ld more than with the point on the body) (%s)", dg, de, err ? ctx.msg : "ok");
+            "a surface point and a probe 5 m away: no functions (no error), the surface point "
+            "unenforced, no radius growth or enlargement for them (%ld, %ld more than with the point on the body) (%s)", dg, de, err ? ctx.msg : "ok");
   if (err) goto done;
   /* its nearest material point, by brute force */
   int q = 0;
@@ -75,7 +81,7 @@ int main(void) {
     const double dx = P->x[2 * p] - P->x[2 * stray], dy = P->x[2 * p + 1] - P->x[2 * stray + 1];
     if (dx * dx + dy * dy < dmin) dmin = dx * dx + dy * dy, q = p;
   }
-  const int q0 = out.ptr[q], nq = out.ptr[q + 1] - q0, other = first;
+  const int q0 = out.ptr[q], nq = out.ptr[q + 1] - q0, other = first + (stray == first);
   int *qn = malloc(sizeof(int) * (size_t)nq);
   double *qN = malloc(sizeof(double) * (size_t)nq), *qdN = malloc(sizeof(double) * 2 * (size_t)nq);
   const int no = out.ptr[other + 1] - out.ptr[other];
@@ -89,9 +95,23 @@ int main(void) {
   const int same = !err && nk == nq && memcmp(out.node + k0, qn, sizeof(int) * (size_t)nq) == 0 &&
                    memcmp(out.N + k0, qN, sizeof(double) * (size_t)nq) == 0 &&
                    memcmp(out.dN + 2 * k0, qdN, sizeof(double) * 2 * (size_t)nq) == 0;
-  mpgm_test(same && ctx.count[MPGM_C_TRACERS_CARRIED] == 1,
+  mpgm_test(same && ctx.count[MPGM_C_SURFACE_CARRIED] == 1,
             "carried: the stray surface point takes the %d functions of its nearest point %d "
-            "exactly, counted %ld time(s)", nq, q, ctx.count[MPGM_C_TRACERS_CARRIED]);
+            "exactly, counted %ld time(s)", nq, q, ctx.count[MPGM_C_SURFACE_CARRIED]);
+  /* the probe: the same from its own nearest point */
+  int qp = 0;
+  dmin = 1e300;
+  for (int p = 0; p < P->n; p++) {
+    const double dx = P->x[2 * p] - P->x[2 * P->n], dy = P->x[2 * p + 1] - P->x[2 * P->n + 1];
+    if (dx * dx + dy * dy < dmin) dmin = dx * dx + dy * dy, qp = p;
+  }
+  const int np = out.ptr[P->n + 1] - out.ptr[P->n], nqp = out.ptr[qp + 1] - out.ptr[qp];
+  mpgm_test(!err && np == nqp && np > 0 &&
+                memcmp(out.node + out.ptr[P->n], out.node + out.ptr[qp], sizeof(int) * (size_t)np) == 0 &&
+                memcmp(out.N + out.ptr[P->n], out.N + out.ptr[qp], sizeof(double) * (size_t)np) == 0 &&
+                ctx.count[MPGM_C_PROBES_CARRIED] == 1,
+            "carried: the probe takes the %d functions of its nearest point %d, counted %ld time(s)",
+            nqp, qp, ctx.count[MPGM_C_PROBES_CARRIED]);
   const int other_same = out.ptr[other + 1] - out.ptr[other] == no &&
                          memcmp(out.node + out.ptr[other], on, sizeof(int) * (size_t)no) == 0;
   mpgm_test(other_same && mpgm_cpoints_unenforced(v.cp, stray - first),
