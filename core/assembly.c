@@ -30,13 +30,13 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
   const int ns = P->nstate;
   for (int p = p0; p < p1; p++) {
     int err;
-    /* H = sum_I du_I (x) grad N_I (small: total u). 2-D only: H and
-     * dF = I + H written out per component (3-D: 3x3, loops over MPGM_DIM) */
+    /* H = sum_I du_I (x) grad N_I, the gradient of the step's increment.
+     * 2-D only: H and dF = I + H written out per component (3-D: 3x3,
+     * loops over MPGM_DIM) */
     double H[MPGM_TENSOR] = {0, 0, 0, 0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
-      const double ux = nd->du[MPGM_DIM * I] + (small ? nd->u[MPGM_DIM * I] : 0.0);
-      const double uy = nd->du[MPGM_DIM * I + 1] + (small ? nd->u[MPGM_DIM * I + 1] : 0.0);
+      const double ux = nd->du[MPGM_DIM * I], uy = nd->du[MPGM_DIM * I + 1];
       const double gx = C->dN[MPGM_DIM * k], gy = C->dN[MPGM_DIM * k + 1];
       H[0] += ux * gx; H[1] += ux * gy;
       H[2] += uy * gx; H[3] += uy * gy;
@@ -47,7 +47,10 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
     double *st_n = ns ? P->state + (size_t)ns * p : NULL;
     double *st_t = ns ? P->state_t + (size_t)ns * p : NULL;
     if (small) {
-      memcpy(F, dF, sizeof(double) * MPGM_TENSOR);
+      /* the strain accumulated at the point, step by step: F = I + grad u
+       * is the last step's plus this step's increment. The nodes need not
+       * keep the total displacement (MPM's grid is reset every step) */
+      for (int c = 0; c < MPGM_TENSOR; c++) F[c] = P->F[MPGM_TENSOR * p + c] + H[c];
       P->vol_t[p] = P->vol0[p];
       for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) { /* g = dN; 2-D only: x, y apart */
         C->g[MPGM_DIM * k] = C->dN[MPGM_DIM * k];

@@ -77,13 +77,21 @@ int mpgm_cpoints_setup(mpgm_problem *pb) {
   return 0;
 }
 
+/* Position of tracer p at the start of the step: under small kinematics
+ * the points stay where they started, and the position is that plus the
+ * displacement so far (2-D only: x and y written out). */
+static void start_position(const mpgm_problem *pb, int p, double xs[MPGM_DIM]) {
+  const int moved = pb->fx.geometric;
+  xs[0] = pb->pts.x[MPGM_DIM * p] + (moved ? 0.0 : pb->pts.u[MPGM_DIM * p]);
+  xs[1] = pb->pts.x[MPGM_DIM * p + 1] + (moved ? 0.0 : pb->pts.u[MPGM_DIM * p + 1]);
+}
+
 /* Position of tracer p at the current increments (2-D only: x and y
  * written out). */
 static void iterate_position(const mpgm_problem *pb, int p, double xe[MPGM_DIM]) {
   const mpgm_conn *C = &pb->conn;
   const double *du = pb->nodes.du;
-  xe[0] = pb->pts.x[MPGM_DIM * p];
-  xe[1] = pb->pts.x[MPGM_DIM * p + 1];
+  start_position(pb, p, xe);
   for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
     xe[0] += C->N[k] * du[MPGM_DIM * C->node[k]];
     xe[1] += C->N[k] * du[MPGM_DIM * C->node[k] + 1];
@@ -165,7 +173,8 @@ int mpgm_cpoints_update(mpgm_problem *pb) {
       }
       continue;
     }
-    const double *xs = pb->pts.x + MPGM_DIM * p;
+    double xs[MPGM_DIM];
+    start_position(pb, p, xs);
     for (int i = 0; i < s->nbc; i++) {
       const mpgm_scene_boundary *bc = &s->bcs[i];
       if (!mpgm_bc_at_points(bc)) continue;

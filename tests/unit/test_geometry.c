@@ -392,6 +392,58 @@ static void test_probe_value(void) {
             "reference list: %d kinds, unknown names not found", nk);
 }
 
+/* column_wave: a history that is the modal series itself (summed here,
+ * independently of the closed form the kind uses) has no error; its
+ * amplitude is rho g H^2 / M; a history off by a constant is off by it. */
+static double column_series(double H, double M, double rho, double g, double t) {
+  const double c = sqrt(M / rho);
+  double w = 0.5 * H * H; /* u_top = -(rho g / M) (H^2/2 - sum ...) */
+  for (int n = 1; n <= 20000; n++) {
+    const double k = (2 * n - 1) * PI / (2.0 * H);
+    w -= (n % 2 ? 2.0 : -2.0) / (H * k * k * k) * cos(c * k * t);
+  }
+  return -rho * g / M * w;
+}
+
+static void test_column_wave(void) {
+  mpgm_scene s;
+  memset(&s, 0, sizeof s);
+  s.reference.type = mpgm_reference_type_find("column_wave");
+  mpgm_test(s.reference.type != NULL, "reference kind column_wave is listed");
+  if (!s.reference.type) return;
+  const double H = 10.0, M = 13461538.461538462, rho = 2000.0, g = 9.81;
+  s.reference.probe = 1;
+  s.reference.component = 1;
+  s.reference.param[0] = H, s.reference.param[1] = M, s.reference.param[2] = rho, s.reference.param[3] = g;
+  static double h[NROW * NCOL];
+  const double T = 4.0 * H / sqrt(M / rho), dt = 2.3 * T / (NROW - 1); /* 2.3 periods */
+  for (int shift = 0; shift < 2; shift++) {
+    for (int k = 0; k < NROW; k++) {
+      double *row = h + (size_t)NCOL * k;
+      row[0] = k, row[1] = k * dt, row[2] = 7.0, row[3] = 8.0, row[4] = -1.0;
+      row[5] = column_series(H, M, rho, g, k * dt) + (shift && k ? 1e-3 : 0.0);
+    }
+    cJSON *m = cJSON_CreateObject();
+    mpgm_test(mpgm_reference_metrics(&s, NROW, NCOL, h, m) == 0, "column_wave: metrics return 0");
+    const double amp = rho * g * H * H / M;
+    mpgm_test_rel(metric(m, "top_amplitude_ref"), amp, TEST_TOL1, "column_wave: amplitude rho g H^2 / M");
+    mpgm_test_rel(metric(m, "period_ref"), T, TEST_TOL1, "column_wave: period 4 H / c");
+    /* the series, cut after 20000 terms, is exact to about amp / n^2 */
+    if (!shift) {
+      mpgm_test_abs(metric(m, "error_max"), 0.0, 1e-8 * amp,
+                    "column_wave: the closed form is the modal series (error_max %.3g m)",
+                    metric(m, "error_max"));
+      /* (sampled every T / 435: the extremes are missed by g (dt / 2)^2 / 2 at most) */
+      mpgm_test_rel(metric(m, "top_amplitude"), amp, 1e-4, "column_wave: the series spans 0 .. -amplitude");
+    } else {
+      mpgm_test_rel(metric(m, "error_max"), 1e-3, 1e-5, "column_wave: a history 1 mm off has error_max 1 mm");
+      mpgm_test_rel(metric(m, "relative_error_max"), 1e-3 / amp, 1e-5,
+                    "column_wave: relative_error_max = error_max / amplitude");
+    }
+    cJSON_Delete(m);
+  }
+}
+
 /* ------------------------------------------------------------ through the loader */
 
 static int write_text(const char *path, const char *text) {
@@ -468,6 +520,7 @@ int main(void) {
   test_meets_box();
   test_rolling_disk();
   test_probe_value();
+  test_column_wave();
   char dir[] = "/tmp/mpgm_test_geometry_XXXXXX";
   if (mkdtemp(dir)) {
     test_loader(dir);
