@@ -305,29 +305,25 @@ static void excerpt(const char *text, size_t len, size_t at, char near[24]) {
   near[k] = '\0';
 }
 
-int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc) {
+int jr_parse_text(mpgm_ctx *ctx, const char *file, const char *text, size_t len, cJSON **doc) {
   *doc = NULL;
-  char *text, why[160], near[24];
-  size_t len, at;
+  char why[160], near[24];
+  size_t at;
   int line, col;
-  MPGM_CALL(mpgm_read_file(ctx, file, JR_MAX_FILE, &text, &len));
   if (jr_strict_check(text, len, &at, why, sizeof why)) {
     line_col(text, at, &line, &col);
     excerpt(text, len, at, near);
-    free(text);
     MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: line %d, column %d: JSON syntax error: %s (near '%s'%s)",
                file, line, col, why, near, near[0] ? "" : ", the end of the file");
   }
   const char *end = NULL;
   cJSON *d = cJSON_ParseWithLengthOpts(text, len, &end, 0);
-  if (!d) { /* only when memory ran out: the strict check passed */
+  if (!d) { /* the strict check passed: cJSON fails only when memory runs out */
     at = end ? (size_t)(end - text) : 0;
     line_col(text, at < len ? at : len, &line, &col);
-    free(text);
     MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "%s: line %d, column %d: cJSON could not build the tree "
                "(out of memory?)", file, line, col);
   }
-  free(text);
   if (!cJSON_IsObject(d)) {
     const char *type = jr_type(d);
     cJSON_Delete(d);
@@ -335,4 +331,14 @@ int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc) {
   }
   *doc = d;
   return 0;
+}
+
+int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc) {
+  *doc = NULL;
+  char *text;
+  size_t len;
+  MPGM_CALL(mpgm_read_file(ctx, file, JR_MAX_FILE, &text, &len));
+  const int err = jr_parse_text(ctx, file, text, len, doc);
+  free(text);
+  return err;
 }

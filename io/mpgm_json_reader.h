@@ -74,6 +74,9 @@ int jr_end(jr_node *o);
  *  ("FILE: line L, column C: JSON syntax error near '...'", or
  *  "FILE: (root): expected an object, found ..."). */
 int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc);
+/** The same for text[0, len) (need not be NUL-terminated); file names it in
+ *  messages. */
+int jr_parse_text(mpgm_ctx *ctx, const char *file, const char *text, size_t len, cJSON **doc);
 /** Strict RFC 8259 check of text[0, len): one JSON value with whitespace
  *  around it; strings (and keys) UTF-8 without NUL, raw or as \u0000, and
  *  without lone surrogates; numbers in JSON's grammar (no "01", "1.", ".5");

@@ -20,6 +20,11 @@ extern "C" {
  *  read) with the message in ctx; *out is NULL then. */
 int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
                     const char *const *sets, mpgm_scene **out);
+/** Load and validate a scene given as JSON text[0, len) (not necessarily
+ *  NUL-terminated; the fuzz target's entry): name stands for the file in
+ *  messages. Errors as mpgm_scene_load. */
+int mpgm_scene_load_text(mpgm_ctx *ctx, const char *name, const char *text, size_t len, int nset,
+                         const char *const *sets, mpgm_scene **out);
 /** Load and validate a scene given as a cJSON object (borrowed, not
  *  changed), e.g. the resolved scene an earlier run wrote into its
  *  summary.json; name stands for the file in messages. Errors as

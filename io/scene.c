@@ -593,6 +593,14 @@ int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
   return scene_read(ctx, file, doc, nset, sets, out);
 }
 
+int mpgm_scene_load_text(mpgm_ctx *ctx, const char *name, const char *text, size_t len, int nset,
+                         const char *const *sets, mpgm_scene **out) {
+  *out = NULL;
+  cJSON *doc = NULL;
+  MPGM_CALL(jr_parse_text(ctx, name, text, len, &doc));
+  return scene_read(ctx, name, doc, nset, sets, out);
+}
+
 int mpgm_scene_load_json(mpgm_ctx *ctx, const char *name, const void *json, mpgm_scene **out) {
   *out = NULL;
   MPGM_CHECK(ctx, cJSON_IsObject((const cJSON *)json), MPGM_ERR_INPUT, "%s: expected a JSON object (a scene)", name);

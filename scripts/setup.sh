@@ -11,6 +11,7 @@ MPGM_PACKAGES=(
   python3 python3-vtk9   # tests read our VTK files with VTK's own reader, as ParaView does
   libnanoflann-dev       # header-only, used only by bench/kdtree
   gnuplot-nox            # mpgm plot and mpgm render draw with it (docs/studies.md)
+  clang libclang-rt-14-dev  # libFuzzer: scripts/fuzz (docs/architecture.md, Tests)
 )
 
 mpgm_install_missing() {
