@@ -281,6 +281,30 @@ static int cmd_bench_solvers(int argc, char **argv) {
   return err ? report_error(&ctx, err) : EXIT_OK;
 }
 
+/* MPGM_TEST_FAULT=KIND:STEP:TIMES (tests/scripts/failure_kinds.sh): make
+ * one kind of recoverable failure on purpose (mpgm_fault). Returns 0, or
+ * EXIT_INPUT with a message when the variable is malformed. */
+static int test_fault(mpgm_ctx *ctx) {
+  const char *v = getenv("MPGM_TEST_FAULT");
+  if (!v || !*v) return 0;
+  static const struct { const char *name; int code; } kinds[] = {
+      {"return_map", MPGM_ERR_RETURN_MAP}, {"jacobian", MPGM_ERR_JACOBIAN},
+      {"shape", MPGM_ERR_SHAPE}, {"not_converged", MPGM_ERR_NOT_CONVERGED}, {"nan", MPGM_ERR_NAN}};
+  char kind[32];
+  long step;
+  int times, used = 0;
+  if (sscanf(v, "%31[a-z_]:%ld:%d%n", kind, &step, &times, &used) == 3 && v[used] == '\0' &&
+      step >= 1 && times >= 0)
+    for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
+      if (strcmp(kind, kinds[i].name) == 0) {
+        ctx->fault = (mpgm_fault){.code = kinds[i].code, .step = step, .times = times};
+        return 0;
+      }
+  fprintf(stderr, "mpgm: MPGM_TEST_FAULT=%s: expected KIND:STEP:TIMES with KIND one of return_map, "
+          "jacobian, shape, not_converged, nan, STEP >= 1 and TIMES >= 0\n", v);
+  return EXIT_INPUT;
+}
+
 int main(int argc, char **argv) {
 #if defined(__GLIBC__)
   /* MPM rebuilds its pattern, maps and factor every step: keep freed memory
@@ -309,9 +333,11 @@ int main(int argc, char **argv) {
   if (rc == EXIT_OK) {
     mpgm_ctx ctx;
     mpgm_ctx_init(&ctx);
-    rc = strcmp(a.cmd, "run") == 0        ? cmd_run(&a, &ctx)
-         : strcmp(a.cmd, "material") == 0 ? cmd_material(&a, &ctx)
-                                          : cmd_check(&a, &ctx);
+    rc = test_fault(&ctx);
+    if (rc == EXIT_OK)
+      rc = strcmp(a.cmd, "run") == 0      ? cmd_run(&a, &ctx)
+           : strcmp(a.cmd, "material") == 0 ? cmd_material(&a, &ctx)
+                                            : cmd_check(&a, &ctx);
   }
   free(a.sets);
   return rc;

@@ -151,6 +151,20 @@ typedef enum {
  *  whole message without a trailing newline. */
 typedef void (*mpgm_log_fn)(void *user, int level, const char *msg);
 
+/** A failure made on purpose, for the tests of step control
+ *  (tests/scripts/failure_kinds.sh): the check of one recoverable kind
+ *  (code: MPGM_ERR_RETURN_MAP, _JACOBIAN, _SHAPE, _NOT_CONVERGED, _NAN)
+ *  reports a failure at its own place in the first `times` attempts of step
+ *  `step` (the step and its retries after cuts). The mpgm command sets it
+ *  from the environment variable MPGM_TEST_FAULT=KIND:STEP:TIMES; code 0
+ *  (the default) is off. */
+typedef struct mpgm_fault {
+  int code;   /**< failure kind to make, 0: none                       */
+  long step;  /**< the step it is made at                              */
+  int times;  /**< attempts of that step it is made in                 */
+  int fired;  /**< attempts so far (the step control counts its cuts)  */
+} mpgm_fault;
+
 /** The run context: first error, timers, counters, logger. One per run. */
 typedef struct mpgm_ctx {
   int code;           /**< first recorded error code, 0 if none   */
@@ -163,7 +177,15 @@ typedef struct mpgm_ctx {
   mpgm_log_fn log;    /**< logger (NULL: messages are dropped)     */
   void *log_user;     /**< its first argument                      */
   int log_level;      /**< most detailed level passed on            */
+  mpgm_fault fault;   /**< a failure made on purpose (tests); off    */
 } mpgm_ctx;
+
+/** 1 when the failure `code` is to be made now, in an attempt of `step`
+ *  (mpgm_fault); 0 otherwise, always when no fault is set. */
+static inline int mpgm_fault_due(const mpgm_ctx *ctx, int code, long step) {
+  return ctx->fault.code == code && code != 0 && ctx->fault.step == step &&
+         ctx->fault.fired < ctx->fault.times;
+}
 
 /** Reset a context to "no error", zero timers and counters. */
 void mpgm_ctx_init(mpgm_ctx *ctx);

@@ -59,7 +59,8 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
       err = m->type->update(m, MPGM_KIN_SMALL, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
                             P->D_t + MPGM_NTANGENT * p);
     } else {
-      const double J = det2(dF);
+      double J = det2(dF);
+      if (p == 0 && mpgm_fault_due(pb->ctx, MPGM_ERR_JACOBIAN, pb->step + 1)) J = -J; /* tests */
       if (!(J > 0.0)) {
         *fail = p;
         *fail_J = J;
@@ -78,6 +79,8 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
       err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
                             P->D_t + MPGM_NTANGENT * p);
     }
+    if (!err && p == 0 && mpgm_fault_due(pb->ctx, MPGM_ERR_RETURN_MAP, pb->step + 1))
+      err = MPGM_ERR_RETURN_MAP; /* tests: as the material would report it */
     if (err) {
       *fail = p;
       *fail_J = 1.0; /* not a det(dF) failure */

@@ -64,7 +64,8 @@ int mpgm_newton_residual(mpgm_problem *pb, mpgm_newton *nt) {
   /* modified Newton assembles K only when it refactorises */
   nt->want_K = !pb->scene->newton_modified || !nt->factored || pb->lift;
   MPGM_CALL(mpgm_assemble(pb, nt->want_K));
-  const double res = norm2(pb->R, pb->nodes.ndof);
+  double res = norm2(pb->R, pb->nodes.ndof);
+  if (mpgm_fault_due(pb->ctx, MPGM_ERR_NAN, pb->step + 1)) res = NAN; /* tests */
   if (!isfinite(res))
     MPGM_ERROR(pb->ctx, MPGM_ERR_NAN, "Newton iteration %d: residual is not finite", nt->it);
   if (nt->it == 0) {
@@ -88,9 +89,11 @@ int mpgm_newton_test(mpgm_problem *pb, const mpgm_newton *nt, int *done) {
    * residual then sits at its round-off floor, which grows with the
    * problem's size and stiffness) */
   const int res_ok = res <= sc->atol || res <= sc->rtol * nt->ref;
-  *done = !pb->lift && (res_ok || (it > 0 && info->du_rel <= sc->dtol));
+  /* tests: a stall made on purpose ends Newton as its iteration limit does */
+  const int stall = it > 0 && mpgm_fault_due(pb->ctx, MPGM_ERR_NOT_CONVERGED, pb->step + 1);
+  *done = !stall && !pb->lift && (res_ok || (it > 0 && info->du_rel <= sc->dtol));
   if (*done) return 0;
-  if (it == sc->max_iter)
+  if (it == sc->max_iter || stall)
     MPGM_ERROR(pb->ctx, MPGM_ERR_NOT_CONVERGED,
                "Newton did not converge in %d iterations (|R| = %.3e, |R|/ref = %.3e, "
                "|du|/|Du| = %.3e)", it, res, info->res_rel, info->du_rel);

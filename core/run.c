@@ -74,16 +74,23 @@ static int next_dt(mpgm_problem *pb, stepper *sp) {
   return 0;
 }
 
+/* The mark of a failure made on purpose (mpgm_fault), "" otherwise. */
+static const char *made(const mpgm_ctx *ctx, long k, int err) {
+  return mpgm_fault_due(ctx, err, k) ? " [made on purpose: MPGM_TEST_FAULT]" : "";
+}
+
 /* A recoverable failure of step k rejects it (nothing was committed): cut
  * the step in half, log and record it. */
 static void cut(mpgm_problem *pb, stepper *sp, long k, int err, mpgm_run_result *res) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
   const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
-  mpgm_log(ctx, MPGM_LOG_WARNING, "step %ld (%s %.9g, %s %.3g) rejected: %s; retrying with %.3g "
+  mpgm_log(ctx, MPGM_LOG_WARNING, "step %ld (%s %.9g, %s %.3g) rejected: %s%s; retrying with %.3g "
            "(halving %d of at most %d, time.max_cuts)", k, dyn ? "t =" : "load factor", pb->t + pb->dt,
-           dyn ? "dt" : "increment", pb->dt, ctx->msg, 0.5 * pb->dt, sp->level + 1, s->max_cuts);
+           dyn ? "dt" : "increment", pb->dt, ctx->msg, made(ctx, k, err), 0.5 * pb->dt, sp->level + 1,
+           s->max_cuts);
   cut_record(res, k, pb->t + pb->dt, pb->dt, err, ctx->msg);
+  if (k == ctx->fault.step && err == ctx->fault.code) ctx->fault.fired++; /* tests */
   mpgm_err_clear(ctx);
   sp->dt_now = 0.5 * pb->dt;
   sp->level++;
@@ -95,8 +102,9 @@ static void cut(mpgm_problem *pb, stepper *sp, long k, int err, mpgm_run_result 
 /* Step k failed for good: the run's failure message. */
 static void failed(mpgm_problem *pb, long k, int err, mpgm_run_result *res) {
   const mpgm_scene *s = pb->scene;
-  snprintf(res->message, sizeof res->message, "step %ld (%s %.9g) failed: %s%s", k,
+  snprintf(res->message, sizeof res->message, "step %ld (%s %.9g) failed: %s%s%s", k,
            s->analysis == MPGM_ANALYSIS_DYNAMIC ? "t =" : "load factor", pb->t + pb->dt, pb->ctx->msg,
+           made(pb->ctx, k, err),
            err > 0 && s->max_cuts > 0 ? " (at the smallest step allowed, the scene's halved "
                                         "time.max_cuts times)" : "");
   res->failed = 1;

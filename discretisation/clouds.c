@@ -258,6 +258,10 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
      * before the cloud is enlarged */
     err = n > 0 ? mpgm_shape_eval_retry(c->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS])
                 : MPGM_ERR_SHAPE;
+    if (!err && p == 0 && mpgm_fault_due(ctx, MPGM_ERR_SHAPE, v->step + 1)) { /* tests */
+      err = MPGM_ERR_SHAPE;
+      info.msg = "failure made on purpose (MPGM_TEST_FAULT)";
+    }
     if (n == 0) info.msg = "no node within the support radius";
     /* a point with no node within its support is not enlarged: the
      * nearest node may be across the domain */
