@@ -117,6 +117,14 @@ static int read_file_kind(mpgm_ctx *ctx, FILE *f, const char *path) {
   MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: is %s, not a regular file", path, kind);
 }
 
+const char *mpgm_version(void) {
+#ifdef MPGM_VERSION_STRING
+  return MPGM_VERSION_STRING;
+#else
+  return "unknown";
+#endif
+}
+
 int mpgm_read_file(mpgm_ctx *ctx, const char *path, size_t max, char **text, size_t *len) {
   *text = NULL;
   if (len) *len = 0;

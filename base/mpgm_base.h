@@ -209,6 +209,10 @@ void mpgm_err_clear(mpgm_ctx *ctx);
  *  than max bytes), MPGM_ERR_NOMEM. */
 int mpgm_read_file(mpgm_ctx *ctx, const char *path, size_t max, char **text, size_t *len);
 
+/** mpgm's version and the commit it was built from, e.g. "0.1.0
+ *  (1a2b3c4d5e6f)": what a checkpoint records. */
+const char *mpgm_version(void);
+
 /** Monotonic wall clock in seconds. */
 double mpgm_wtime(void);
 /** Calls of mpgm_wtime so far in this process (all threads): the timers'
