@@ -15,6 +15,7 @@
 #include "bench_solvers.h"
 #include "material_driver.h"
 #include "exit_code.h"
+#include "mpgm_checkpoint.h"
 #include "mpgm_run.h"
 #include "mpgm_scene_io.h"
 #include "study.h"
@@ -22,6 +23,7 @@
 static void usage(FILE *f) {
   fprintf(f,
           "usage: mpgm run SCENE [--set KEY=VALUE ...] [--out DIR] [--progress | --quiet]\n"
+          "       mpgm run --restart DIR [SCENE] [--set KEY=VALUE ...] [--progress | --quiet]\n"
           "       mpgm check SCENE [--set KEY=VALUE ...]\n"
           "       mpgm material FILE.json [--out FILE.csv]\n"
           "       mpgm study STUDY.json [--jobs N] [--out DIR] [--no-plot] [--rerun-failed] [--dry-run]\n"
@@ -31,9 +33,11 @@ static void usage(FILE *f) {
           "                   [--radius R] [--title TEXT]\n"
           "       mpgm bench-solvers DIR [--repeat N] [--out FILE.csv] [--only NAME,...]\n"
           "                          [--tol X] [--restart M] [--max-iterations N]\n"
-          "       mpgm help\n"
+          "       mpgm help | version\n"
           "\n"
-          "  run       run a scene; results go to DIR (default: the scene's output.dir)\n"
+          "  run       run a scene; results go to DIR (default: the scene's output.dir);\n"
+          "            --restart DIR: continue the run in DIR from its last checkpoint\n"
+          "            (output.checkpoint_every), with the scene it was started with\n"
           "  check     validate a scene, print the resolved scene and its effects; run nothing\n"
           "  material  drive one material along a deformation path; CSV to FILE.csv\n"
           "            (default: FILE's name with .csv, in the current folder;\n"
@@ -56,7 +60,7 @@ static void usage(FILE *f) {
 
 
 typedef struct args {
-  const char *cmd, *scene, *out;
+  const char *cmd, *scene, *out, *restart;
   const char **sets;
   int nset, progress;
   int per_iteration;
@@ -70,12 +74,13 @@ static int parse_args(int argc, char **argv, args *a) {
   a->cmd = argv[1];
   for (int i = 2; i < argc; i++) {
     const char *s = argv[i];
-    if (strcmp(s, "--set") == 0 || strcmp(s, "--out") == 0) {
+    if (strcmp(s, "--set") == 0 || strcmp(s, "--out") == 0 || strcmp(s, "--restart") == 0) {
       if (i + 1 >= argc) {
         fprintf(stderr, "mpgm: %s needs a value\n", s);
         return EXIT_INPUT;
       }
       if (s[2] == 's') a->sets[a->nset++] = argv[++i];
+      else if (s[2] == 'r') a->restart = argv[++i];
       else a->out = argv[++i];
     } else if (strncmp(s, "--set=", 6) == 0) {
       a->sets[a->nset++] = s + 6;
@@ -98,7 +103,16 @@ static int parse_args(int argc, char **argv, args *a) {
       return EXIT_INPUT;
     }
   }
-  if (!a->scene) {
+  if (a->restart && strcmp(a->cmd, "run") != 0) {
+    fprintf(stderr, "mpgm %s: --restart is an option of mpgm run\n", a->cmd);
+    return EXIT_INPUT;
+  }
+  if (a->restart && a->out && strcmp(a->out, a->restart) != 0) {
+    fprintf(stderr, "mpgm run: --restart %s continues in its own folder; --out %s names another\n",
+            a->restart, a->out);
+    return EXIT_INPUT;
+  }
+  if (!a->scene && !a->restart) {
     fprintf(stderr, "mpgm %s: no SCENE given\n", a->cmd);
     usage(stderr);
     return EXIT_INPUT;
@@ -187,12 +201,58 @@ static int cmd_material(const args *a, mpgm_ctx *ctx) {
   return EXIT_OK;
 }
 
+/* The first path at which two JSON values differ, into path (n bytes);
+ * 0 when they are equal. */
+static int first_difference(const cJSON *x, const cJSON *y, const char *at, char *path, size_t n) {
+  if (cJSON_Compare(x, y, 1)) return 0;
+  if (cJSON_IsObject(x) && cJSON_IsObject(y)) {
+    for (const cJSON *c = x->child; c; c = c->next) {
+      char sub[1024];
+      snprintf(sub, sizeof sub, "%s%s%s", at, at[0] ? "." : "", c->string);
+      if (first_difference(c, cJSON_GetObjectItemCaseSensitive(y, c->string), sub, path, n)) return 1;
+    }
+    for (const cJSON *c = y->child; c; c = c->next)
+      if (!cJSON_GetObjectItemCaseSensitive(x, c->string)) {
+        snprintf(path, n, "%s%s%s", at, at[0] ? "." : "", c->string);
+        return 1;
+      }
+  }
+  snprintf(path, n, "%s", at[0] ? at : "(root)");
+  return 1;
+}
+
+/* mpgm run --restart DIR [SCENE]: the checkpoint, and the scene it
+ * continues (SCENE, or the checkpoint's own, with the --set overrides),
+ * which must be the scene the checkpoint was written for. */
+static int restart_scene(const args *a, mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm_scene **s) {
+  MPGM_CALL(mpgm_checkpoint_read(ctx, a->restart, ck));
+  if (a->scene) MPGM_CALL(mpgm_scene_load(ctx, a->scene, a->nset, a->sets, s));
+  else MPGM_CALL(mpgm_scene_load_text(ctx, ck->file, ck->scene_json, strlen(ck->scene_json), a->nset,
+                                      a->sets, s));
+  char *text = mpgm_scene_resolved_json(*s);
+  cJSON *now = text ? cJSON_Parse(text) : NULL, *then = cJSON_Parse(ck->scene_json);
+  char path[1024] = "";
+  const int differ = !now || !then || first_difference(then, now, "", path, sizeof path);
+  free(text);
+  cJSON_Delete(now);
+  cJSON_Delete(then);
+  MPGM_CHECK(ctx, !differ, MPGM_ERR_INPUT, "%s: written for another scene (%s differs): restart "
+             "with the scene and --set the run was started with, or with no scene", ck->path, path);
+  return 0;
+}
+
 static int cmd_run(const args *a, mpgm_ctx *ctx) {
   mpgm_scene *s = NULL;
-  int err = mpgm_scene_load(ctx, a->scene, a->nset, a->sets, &s);
-  if (err) return report_error(ctx, err);
-  const char *dir = a->out ? a->out : s->out_dir;
-  mpgm_run_opts opts = {.out_dir = dir, .per_iteration = a->per_iteration};
+  mpgm_checkpoint ck = {0};
+  int err = a->restart ? restart_scene(a, ctx, &ck, &s) : mpgm_scene_load(ctx, a->scene, a->nset, a->sets, &s);
+  if (err) {
+    mpgm_checkpoint_free(&ck);
+    mpgm_scene_destroy(&s);
+    return report_error(ctx, err);
+  }
+  const char *dir = a->restart ? a->restart : a->out ? a->out : s->out_dir;
+  mpgm_run_opts opts = {.out_dir = dir, .per_iteration = a->per_iteration,
+                        .restart = a->restart ? &ck : NULL};
   term_log tl = {0};
   mpgm_ctx_set_logger(ctx, term_logger, &tl, a->progress ? MPGM_LOG_PROGRESS : MPGM_LOG_INFO);
   err = mpgm_run(ctx, s, &opts);
@@ -209,6 +269,7 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
            realpath(dir, abs) ? abs : dir, s->frontend->cells ? ", mesh.pvd" : "");
     rc = EXIT_OK;
   }
+  mpgm_checkpoint_free(&ck);
   mpgm_scene_destroy(&s);
   return rc;
 }
@@ -317,6 +378,10 @@ int main(int argc, char **argv) {
       strcmp(argv[1], "-h") == 0) {
     usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? EXIT_INPUT : EXIT_OK;
+  }
+  if (strcmp(argv[1], "version") == 0 || strcmp(argv[1], "--version") == 0) {
+    printf("mpgm %s\n", mpgm_version()); /* what a checkpoint records */
+    return EXIT_OK;
   }
   if (strcmp(argv[1], "study") == 0) return mpgm_cmd_study(argc, argv);
   if (strcmp(argv[1], "plot") == 0) return mpgm_cmd_plot(argc, argv);

@@ -91,6 +91,16 @@ void mpgm_problem_destroy(mpgm_problem **pb);
  *  begin_step, the scene's integrator (solve and commit), the front end's
  *  end_step. On a recoverable failure nothing is committed. */
 int mpgm_step(mpgm_problem *pb);
+/** Checkpoints (core/checkpoint.c): between two steps, the state the run
+ *  continues from -- step and step control, every committed array of the
+ *  points and nodes, contact state, work counters, the front end's and the
+ *  solver's own state -- appended to b. restore reads it into a problem
+ *  just created from the same scene; its run (mpgm_problem_run) then
+ *  continues with the next step and the result the caller restored, bit
+ *  for bit as the run that saved it. Errors: MPGM_ERR_NOMEM; restore:
+ *  MPGM_ERR_INPUT when b is of another scene or layout. */
+int mpgm_problem_save(const mpgm_problem *pb, mpgm_blob *b);
+int mpgm_problem_restore(mpgm_problem *pb, mpgm_blob *b);
 /** Add an observer of the steps (copied; at most MPGM_OBSERVERS_MAX). */
 int mpgm_problem_observe(mpgm_problem *pb, const mpgm_observer *obs);
 
@@ -101,6 +111,10 @@ typedef struct mpgm_monitor {
    *  output.times, the end); wall: the step's wall time [s]. A non-zero
    *  return stops the run with that code. */
   int (*step)(void *user, const mpgm_problem *pb, int fields, double wall);
+  /** Optional: every output.checkpoint_every steps (not after the last),
+   *  after step: write a checkpoint (mpgm_problem_save). A non-zero return
+   *  stops the run with that code. */
+  int (*checkpoint)(void *user, const mpgm_problem *pb);
 } mpgm_monitor;
 
 /** How mpgm_problem_run runs. */

@@ -118,6 +118,12 @@ typedef struct mpgm_frontend_type {
   int (*end_step)(void *self, const mpgm_fe_view *v);
   /** Optional: cells for output (a mesh.pvd next to points.pvd). */
   int (*cells)(const void *self, mpgm_cells *out);
+  /** Optional: the front end's own state that later steps depend on and
+   *  begin_step does not rebuild (LME warm starts, the contact state of a
+   *  reset grid), appended to a checkpoint / read back after create
+   *  (mpgm_problem_save / _restore; mpgm_blob.h). */
+  int (*save)(const void *self, mpgm_ctx *ctx, struct mpgm_blob *b);
+  int (*restore)(void *self, mpgm_ctx *ctx, struct mpgm_blob *b);
 } mpgm_frontend_type;
 
 #ifdef __cplusplus

@@ -216,6 +216,7 @@ typedef struct mpgm_scene {
   /* output */
   char out_dir[MPGM_PATH_LEN];
   int every;                /**< write VTK every n steps                */
+  int checkpoint_every;     /**< write a checkpoint every n steps (0: never) */
   int ntimes;               /**< output.times: entries of times         */
   double times[64];         /**< output.times: steps end exactly at these
                                  times (load factors, static) and VTK is

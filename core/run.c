@@ -52,16 +52,8 @@ static void log_split(const mpgm_problem *pb, const double *before) {
   mpgm_log(ctx, MPGM_LOG_INFO, "%s", line);
 }
 
-/* Step control across the loop. */
-typedef struct stepper {
-  double end, dt0; /* end of the run (time, or load factor 1); the scene's step */
-  double dt_now;   /* the step now: halved by a cut, doubled back after easy steps */
-  int level, easy; /* cuts in force; converged steps in a row since */
-  int nout;        /* output.times passed */
-} stepper;
-
 /* The next step's size; 1 when it ends on an output time. */
-static int next_dt(mpgm_problem *pb, stepper *sp) {
+static int next_dt(mpgm_problem *pb, mpgm_stepper *sp) {
   const mpgm_scene *s = pb->scene;
   pb->dt = fmin(sp->dt_now, sp->end - pb->t);
   /* output.times: the step that reaches the next one ends on it (a step
@@ -81,7 +73,7 @@ static const char *made(const mpgm_ctx *ctx, long k, int err) {
 
 /* A recoverable failure of step k rejects it (nothing was committed): cut
  * the step in half, log and record it. */
-static void cut(mpgm_problem *pb, stepper *sp, long k, int err, mpgm_run_result *res) {
+static void cut(mpgm_problem *pb, mpgm_stepper *sp, long k, int err, mpgm_run_result *res) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
   const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
@@ -111,26 +103,47 @@ static void failed(mpgm_problem *pb, long k, int err, mpgm_run_result *res) {
   res->failed_step = k;
 }
 
+/* After a converged step: the monitor's outputs, and a checkpoint every
+ * output.checkpoint_every steps (then what a step rebuilds is dropped, as
+ * a restart from it must: the runs with and without a stop continue
+ * alike). */
+static int after_step(mpgm_problem *pb, const mpgm_run_control *rc, int on_time, double wall) {
+  const mpgm_scene *s = pb->scene;
+  const mpgm_stepper *sp = &pb->sp;
+  const int last = pb->t >= sp->end - 1e-9 * sp->dt0;
+  const int fields = pb->step % s->every == 0 || on_time || last;
+  if (rc->monitor && rc->monitor->step) MPGM_CALL(rc->monitor->step(rc->monitor->user, pb, fields, wall));
+  if (s->checkpoint_every > 0 && pb->step % s->checkpoint_every == 0 && !last && rc->monitor &&
+      rc->monitor->checkpoint) {
+    MPGM_CALL(rc->monitor->checkpoint(rc->monitor->user, pb));
+    mpgm_problem_drop_rebuilt(pb);
+  }
+  return 0;
+}
+
 int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_result *res) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
   const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
-  memset(res, 0, sizeof *res);
-  res->failed_step = -1;
-  /* the step: time step, or load increment (t then counts load, 0 to 1) */
-  stepper sp = {.end = dyn ? s->t_end : 1.0, .dt0 = dyn ? s->dt : 1.0 / s->load_steps};
-  sp.dt_now = sp.dt0;
-  pb->dt = sp.dt0;
+  mpgm_stepper *sp = &pb->sp;
+  if (!pb->resumed) { /* a restored problem continues its result and steps */
+    memset(res, 0, sizeof *res);
+    res->failed_step = -1;
+    /* the step: time step, or load increment (t then counts load, 0 to 1) */
+    *sp = (mpgm_stepper){.end = dyn ? s->t_end : 1.0, .dt0 = dyn ? s->dt : 1.0 / s->load_steps};
+    sp->dt_now = sp->dt0;
+    pb->dt = sp->dt0;
+  }
   int err = 0;
-  while (!err && pb->t < sp.end - 1e-9 * sp.dt0) {
-    const int on_time = next_dt(pb, &sp);
+  while (!err && pb->t < sp->end - 1e-9 * sp->dt0) {
+    const int on_time = next_dt(pb, sp);
     double before[MPGM_T_COUNT];
     memcpy(before, ctx->t, sizeof before);
     const long k = pb->step + 1;
     const double ts = mpgm_wtime();
     err = mpgm_step(pb);
-    if (err > 0 && sp.level < s->max_cuts) {
-      cut(pb, &sp, k, err, res);
+    if (err > 0 && sp->level < s->max_cuts) {
+      cut(pb, sp, k, err, res);
       err = 0;
       continue;
     }
@@ -140,16 +153,14 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
     }
     /* grow_after steps in a row that converged at the cut size double the
      * step back towards the scene's */
-    if (sp.level > 0 && ++sp.easy >= s->grow_after) {
-      sp.dt_now = fmin(sp.dt0, 2.0 * sp.dt_now);
-      sp.level--;
-      sp.easy = 0;
+    if (sp->level > 0 && ++sp->easy >= s->grow_after) {
+      sp->dt_now = fmin(sp->dt0, 2.0 * sp->dt_now);
+      sp->level--;
+      sp->easy = 0;
     }
     if (rc->time_split) log_split(pb, before);
-    const int fields = pb->step % s->every == 0 || on_time || pb->t >= sp.end - 1e-9 * sp.dt0;
-    if (rc->monitor && rc->monitor->step)
-      err = rc->monitor->step(rc->monitor->user, pb, fields, mpgm_wtime() - ts);
-    progress(pb, sp.end, rc->t0);
+    err = after_step(pb, rc, on_time, mpgm_wtime() - ts);
+    progress(pb, sp->end, rc->t0);
   }
   return err;
 }

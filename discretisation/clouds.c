@@ -87,6 +87,21 @@ static int size_for(mpgm_ctx *ctx, mpgm_clouds *c, int m) {
 
 double mpgm_clouds_radius(const mpgm_clouds *c) { return c->r0; }
 
+int mpgm_clouds_save(const mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b) {
+  const int m = c->lambda ? c->m : 0;
+  MPGM_CALL(mpgm_blob_put(ctx, b, "clouds.m", &m, sizeof m));
+  return mpgm_blob_put(ctx, b, "clouds.lambda", c->lambda, MPGM_DIM * (size_t)m * sizeof(double));
+}
+
+int mpgm_clouds_restore(mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b) {
+  int m;
+  MPGM_CALL(mpgm_blob_get(ctx, b, "clouds.m", &m, sizeof m));
+  MPGM_CHECK(ctx, m >= 0 && (!c->lambda || m == c->m), MPGM_ERR_INPUT,
+             "checkpoint: warm starts of %d points, the clouds have %d", m, c->m);
+  if (m > 0) MPGM_CALL(size_for(ctx, c, m));
+  return mpgm_blob_get(ctx, b, "clouds.lambda", c->lambda, MPGM_DIM * (size_t)m * sizeof(double));
+}
+
 void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch) {
   if (!c->lambda) return; /* no warm start yet */
   for (int i = 0; i < n; i++) { /* 2-D only: x and y written out */

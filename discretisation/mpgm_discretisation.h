@@ -125,6 +125,10 @@ int mpgm_clouds_create(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_clouds **out);
 void mpgm_clouds_destroy(mpgm_clouds *c);
 /** The kind's support radius r0 [m] (at mesh.h). */
 double mpgm_clouds_radius(const mpgm_clouds *c);
+/** Checkpoints: the warm starts (LME multipliers) of every point into b /
+ *  back (mpgm_blob.h); the clouds themselves are rebuilt every step. */
+int mpgm_clouds_save(const mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b);
+int mpgm_clouds_restore(mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b);
 /** The first n points were reordered (new point i is old perm[i]): their
  *  warm starts move along (scratch: MPGM_DIM n doubles). */
 void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch);

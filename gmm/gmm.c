@@ -167,6 +167,16 @@ static int gmm_cells(const void *self, mpgm_cells *out) {
   return 0;
 }
 
+/* Checkpoint: the LME warm starts (the nodes are the problem's, the clouds,
+ * the kd-tree and the parked nodes are rebuilt every step). */
+static int gmm_save(const void *self, mpgm_ctx *ctx, mpgm_blob *b) {
+  return mpgm_clouds_save(((const gmm_data *)self)->clouds, ctx, b);
+}
+
+static int gmm_restore(void *self, mpgm_ctx *ctx, mpgm_blob *b) {
+  return mpgm_clouds_restore(((gmm_data *)self)->clouds, ctx, b);
+}
+
 const mpgm_frontend_type mpgm_frontend_gmm = {
     .name = "gmm",
     .doc = "Galerkin Meshfree Method: the nodes of UL-FEM (or of bodies filled on a grid) "
@@ -182,4 +192,6 @@ const mpgm_frontend_type mpgm_frontend_gmm = {
     .begin_step = gmm_begin_step,
     .end_step = gmm_end_step,
     .cells = gmm_cells,
+    .save = gmm_save,
+    .restore = gmm_restore,
 };

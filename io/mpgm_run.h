@@ -12,6 +12,9 @@ typedef struct mpgm_run_opts {
   const char *out_dir; /**< results folder (overrides output.dir if set)  */
   int per_iteration;   /**< 1: log the time split of every step (level INFO,
                             for benchmarks)                              */
+  struct mpgm_checkpoint *restart; /**< continue from this checkpoint (read
+                            from out_dir by mpgm_checkpoint_read, of this
+                            scene); NULL: a new run                       */
 } mpgm_run_opts;
 
 /** Run a loaded scene with its front end (scene->frontend). Writes DIR/summary.json (also on

@@ -8,6 +8,7 @@
 #define MPGM_VTK_H
 
 #include "mpgm_base.h"
+#include "mpgm_blob.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -58,6 +59,11 @@ int mpgm_pvd_create(mpgm_ctx *ctx, const char *path, mpgm_pvd **out);
 int mpgm_pvd_add(mpgm_pvd *pvd, mpgm_ctx *ctx, double time, const char *file);
 /** Free (accepts NULL, nulls the pointer). */
 void mpgm_pvd_destroy(mpgm_pvd **pvd);
+/** Checkpoints: the entries of a collection (NULL: none) as sections
+ *  TAG.n, TAG.time, TAG.file / read back into an empty collection, which
+ *  is then written. */
+int mpgm_pvd_save(const mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag);
+int mpgm_pvd_restore(mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag);
 
 /** One point-data array read back from a legacy file. */
 typedef struct mpgm_vtk_array {

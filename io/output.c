@@ -29,7 +29,29 @@ static int table_push(mpgm_ctx *ctx, double **buf, int *n, int *cap, int width, 
   return 0;
 }
 
-int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
+/* Remove the VTK files of DIR/vtk numbered keep or later (and temporaries
+ * a stopped run left): a new run keeps none, a restarted one those written
+ * before its checkpoint. */
+static void remove_vtk_from(const char *path, int keep) {
+  DIR *dd = opendir(path);
+  if (!dd) return;
+  struct dirent *e;
+  while ((e = readdir(dd))) {
+    int idx = -1;
+    if (!(strncmp(e->d_name, "points_", 7) == 0 && sscanf(e->d_name + 7, "%d", &idx) == 1) &&
+        !(strncmp(e->d_name, "mesh_", 5) == 0 && sscanf(e->d_name + 5, "%d", &idx) == 1))
+      continue;
+    if (!strstr(e->d_name, ".vtk") || (idx < keep && !strstr(e->d_name, ".tmp"))) continue;
+    char f[MPGM_PATH_LEN + 400];
+    snprintf(f, sizeof f, "%s/%s", path, e->d_name);
+    remove(f);
+  }
+  closedir(dd);
+}
+
+/* mpgm_output_open, keeping the first `keep` VTK outputs (restart). */
+static int output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir,
+                       int keep) {
   const mpgm_scene *scene = mpgm_problem_scene(pb);
   mpgm_cells cells;
   const int has_cells = mpgm_problem_cells(pb, &cells);
@@ -46,19 +68,7 @@ int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, cons
     snprintf(path, sizeof path, "%s/vtk", dir);
     MPGM_CALL(mpgm_mkdir_p(ctx, path));
     /* stale files of an earlier run in the same folder would mix series */
-    DIR *dd = opendir(path);
-    if (dd) {
-      struct dirent *e;
-      while ((e = readdir(dd))) {
-        if ((strncmp(e->d_name, "points_", 7) == 0 || strncmp(e->d_name, "mesh_", 5) == 0) &&
-            strstr(e->d_name, ".vtk")) {
-          char f[MPGM_PATH_LEN + 400];
-          snprintf(f, sizeof f, "%s/%s", path, e->d_name);
-          remove(f);
-        }
-      }
-      closedir(dd);
-    }
+    remove_vtk_from(path, keep);
     snprintf(path, sizeof path, "%s/points.pvd", dir);
     MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_points));
     if (has_cells) {
@@ -70,11 +80,49 @@ int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, cons
   if (scene->nmatrices > 0) { /* output.matrices; no systems of an earlier run */
     snprintf(o->matrices_dir, sizeof o->matrices_dir, "%s/matrices", dir);
     MPGM_CALL(mpgm_mkdir_p(ctx, o->matrices_dir));
-    MPGM_CALL(mpgm_remove_files(ctx, o->matrices_dir, "step", ".mtx"));
+    if (keep == 0) MPGM_CALL(mpgm_remove_files(ctx, o->matrices_dir, "step", ".mtx"));
   }
   o->ncol = 2 * mpgm_problem_points(pb)->nprobe;
   o->scene = scene;
   return 0;
+}
+
+int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
+  return output_open(ctx, o, pb, dir, 0);
+}
+
+/* The tallies, the histories and the .pvd entries. */
+int mpgm_output_save(const mpgm_output *o, mpgm_ctx *ctx, mpgm_blob *b) {
+  const int n[5] = {o->nvtk, o->files, o->nrow, o->nstep, 2 + o->ncol};
+  MPGM_CALL(mpgm_blob_put(ctx, b, "out.counts", n, sizeof n));
+  MPGM_CALL(mpgm_blob_put(ctx, b, "out.mtx", &o->mtx_written, sizeof o->mtx_written));
+  MPGM_CALL(mpgm_blob_put(ctx, b, "out.probes", o->hist, sizeof(double) * (size_t)(o->nrow * n[4])));
+  MPGM_CALL(mpgm_blob_put(ctx, b, "out.steps", o->steps, sizeof(double) * (size_t)(o->nstep * STEP_COLS)));
+  MPGM_CALL(mpgm_pvd_save(o->pvd_points, ctx, b, "out.pvd_points"));
+  return mpgm_pvd_save(o->pvd_mesh, ctx, b, "out.pvd_mesh");
+}
+
+int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir,
+                       mpgm_blob *b) {
+  int n[5];
+  MPGM_CALL(mpgm_blob_get(ctx, b, "out.counts", n, sizeof n));
+  MPGM_CHECK(ctx, n[0] >= 0 && n[2] >= 0 && n[3] >= 0 && n[4] == 2 + 2 * mpgm_problem_points(pb)->nprobe,
+             MPGM_ERR_INPUT, "checkpoint: output of %d probe columns, this scene has %d", n[4] - 2,
+             2 * mpgm_problem_points(pb)->nprobe);
+  MPGM_CALL(output_open(ctx, o, pb, dir, n[0]));
+  o->nvtk = n[0], o->files = n[1];
+  MPGM_CALL(mpgm_blob_get(ctx, b, "out.mtx", &o->mtx_written, sizeof o->mtx_written));
+  double *row;
+  for (int i = 0; i < n[2]; i++) MPGM_CALL(table_push(ctx, &o->hist, &o->nrow, &o->caprow, n[4], &row));
+  MPGM_CALL(mpgm_blob_get(ctx, b, "out.probes", o->hist, sizeof(double) * (size_t)(n[2] * n[4])));
+  for (int i = 0; i < n[3]; i++) MPGM_CALL(table_push(ctx, &o->steps, &o->nstep, &o->capstep, STEP_COLS, &row));
+  MPGM_CALL(mpgm_blob_get(ctx, b, "out.steps", o->steps, sizeof(double) * (size_t)(n[3] * STEP_COLS)));
+  MPGM_CALL(mpgm_pvd_restore(o->pvd_points, ctx, b, "out.pvd_points"));
+  MPGM_CALL(mpgm_pvd_restore(o->pvd_mesh, ctx, b, "out.pvd_mesh"));
+  /* the histories as the checkpoint has them: rows a stopped run wrote
+   * after it are gone */
+  MPGM_CALL(mpgm_output_probes_write(ctx, o));
+  return mpgm_output_steps_write(ctx, o);
 }
 
 /* A step begins: is it listed (remove what a retried step wrote)? */

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <sys/resource.h>
 
+#include "mpgm_checkpoint.h"
 #include "mpgm_output.h"
 #include "mpgm_scene_io.h"
 
@@ -201,6 +202,7 @@ static int write_summary(mpgm_ctx *ctx, const mpgm_problem *pb, mpgm_output *o, 
 typedef struct out_monitor {
   mpgm_ctx *ctx;
   mpgm_output *o;
+  const mpgm_run_result *res; /**< the run's result so far (its cuts)    */
 } out_monitor;
 
 static int output_step(void *user, const mpgm_problem *pb, int fields, double wall) {
@@ -215,6 +217,15 @@ static int output_step(void *user, const mpgm_problem *pb, int fields, double wa
     if (!err) err = mpgm_output_steps_write(ctx, m->o);
   }
   mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
+  return err;
+}
+
+/* A checkpoint into the results folder (output.checkpoint_every). */
+static int output_checkpoint(void *user, const mpgm_problem *pb) {
+  out_monitor *m = user;
+  mpgm_timer_start(m->ctx, MPGM_T_OUTPUT);
+  const int err = mpgm_checkpoint_write(m->ctx, m->o->dir, pb, m->o, m->res);
+  mpgm_timer_stop(m->ctx, MPGM_T_OUTPUT);
   return err;
 }
 
@@ -257,27 +268,38 @@ static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, run_state *rs
   return code;
 }
 
+/* The results folder of a run: a new one, or, for a restart, the
+ * checkpoint's state restored into pb, o and res. */
+static int start(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, const char *dir,
+                 const mpgm_run_opts *opts, mpgm_run_result *res) {
+  memset(o, 0, sizeof *o);
+  if (opts && opts->restart) MPGM_CALL(mpgm_checkpoint_restore(ctx, opts->restart, pb, o, dir, res));
+  else MPGM_CALL(mpgm_output_open(ctx, o, pb, dir));
+  return mpgm_output_observe(ctx, o, pb);
+}
+
 int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_run_opts *opts) {
   const double t0 = mpgm_wtime(), cpu0 = process_cpu();
   mpgm_problem *pb = NULL;
   MPGM_CALL(mpgm_problem_create(ctx, s, NULL, &pb));
   mpgm_output o;
-  int err = mpgm_output_open(ctx, &o, pb, opts && opts->out_dir ? opts->out_dir : s->out_dir);
-  if (!err) err = mpgm_output_observe(ctx, &o, pb);
-  if (err) {
+  mpgm_run_result res = {.failed_step = -1};
+  int err = start(ctx, pb, &o, opts && opts->out_dir ? opts->out_dir : s->out_dir, opts, &res);
+  if (err) { /* no results folder, or a checkpoint refused: nothing written */
+    mpgm_run_result_free(&res);
     mpgm_output_close(&o);
     mpgm_problem_destroy(&pb);
     return err;
   }
-  /* the initial state */
-  mpgm_timer_start(ctx, MPGM_T_OUTPUT);
-  err = mpgm_output_probes_record(ctx, &o, pb);
-  if (!err) err = mpgm_output_vtk(ctx, &o, pb);
-  mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
-  mpgm_run_result res = {.failed_step = -1};
+  if (!(opts && opts->restart)) { /* the initial state */
+    mpgm_timer_start(ctx, MPGM_T_OUTPUT);
+    err = mpgm_output_probes_record(ctx, &o, pb);
+    if (!err) err = mpgm_output_vtk(ctx, &o, pb);
+    mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
+  }
   if (!err) {
-    out_monitor m = {ctx, &o};
-    const mpgm_monitor mon = {.user = &m, .step = output_step};
+    out_monitor m = {ctx, &o, &res};
+    const mpgm_monitor mon = {.user = &m, .step = output_step, .checkpoint = output_checkpoint};
     const mpgm_run_control rc = {.monitor = &mon, .time_split = opts && opts->per_iteration, .t0 = t0};
     err = mpgm_problem_run(pb, &rc, &res);
   }

@@ -318,6 +318,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_str(&o, "dir", def, s->out_dir, sizeof s->out_dir));
   if (!s->out_dir[0]) return jr_fail(&o, "dir", "expected a folder path, found an empty string");
   MPGM_CALL(jr_int(&o, "every", 1, 1, 1 << 30, &s->every));
+  MPGM_CALL(jr_int(&o, "checkpoint_every", 0, 0, 1 << 30, &s->checkpoint_every));
   MPGM_CALL(jr_enum(&o, "vtk", vtk_names, MPGM_VTK_OUT_BINARY, &s->vtk));
   const cJSON *f = jr_override_json(&o, "fields");
   if (!f) f = jr_raw(&o, "fields");

@@ -313,23 +313,27 @@ static int pvd_write(const mpgm_pvd *p, mpgm_ctx *ctx) {
   return mpgm_atomic_close(ctx, p->path, fp); /* checks ferror */
 }
 
+/* Room for twice the entries; 0 when out of memory. */
+static int pvd_grow(mpgm_pvd *pvd) {
+  const int cap = pvd->cap ? 2 * pvd->cap : 16;
+  if (cap <= pvd->cap || (size_t)cap >= SIZE_MAX / sizeof(double)) return 0;
+  double *t = realloc(pvd->time, (size_t)cap * sizeof(*t));
+  if (t) pvd->time = t;
+  char **f = t ? realloc(pvd->file, (size_t)cap * sizeof(*f)) : NULL;
+  if (f) pvd->file = f;
+  if (!t || !f) return 0;
+  pvd->cap = cap;
+  return 1;
+}
+
 /* See mpgm_vtk.h. On failure the entry is not kept. */
 int mpgm_pvd_add(mpgm_pvd *pvd, mpgm_ctx *ctx, double time, const char *file) {
   MPGM_CHECK(ctx, pvd && file && *file, MPGM_ERR_INPUT,
              "mpgm_pvd_add: NULL collection or empty file name");
   MPGM_CHECK(ctx, isfinite(time), MPGM_ERR_INPUT, "%s: time %g not finite",
              pvd->path, time);
-  if (pvd->n == pvd->cap) {
-    int cap = pvd->cap ? 2 * pvd->cap : 16;
-    MPGM_CHECK(ctx, cap > pvd->cap && (size_t)cap < SIZE_MAX / sizeof(double),
-               MPGM_ERR_NOMEM, "%s: too many entries", pvd->path);
-    double *t = realloc(pvd->time, (size_t)cap * sizeof(*t));
-    if (t) pvd->time = t;
-    char **f = t ? realloc(pvd->file, (size_t)cap * sizeof(*f)) : NULL;
-    if (f) pvd->file = f;
-    MPGM_CHECK(ctx, t && f, MPGM_ERR_NOMEM, "%s: out of memory", pvd->path);
-    pvd->cap = cap;
-  }
+  MPGM_CHECK(ctx, pvd->n < pvd->cap || pvd_grow(pvd), MPGM_ERR_NOMEM, "%s: out of memory",
+             pvd->path);
   char *name = strdup(file);
   MPGM_CHECK(ctx, name != NULL, MPGM_ERR_NOMEM, "%s: out of memory", pvd->path);
   pvd->time[pvd->n] = time;
@@ -341,6 +345,69 @@ int mpgm_pvd_add(mpgm_pvd *pvd, mpgm_ctx *ctx, double time, const char *file) {
     free(name);
   }
   return ierr;
+}
+
+/* See mpgm_vtk.h: n, the times, the file names NUL-separated. */
+int mpgm_pvd_save(const mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag) {
+  char t[MPGM_BLOB_TAG];
+  const int n = pvd ? pvd->n : 0;
+  size_t len = 0;
+  for (int i = 0; i < n; i++) len += strlen(pvd->file[i]) + 1;
+  char *names = malloc(len ? len : 1);
+  MPGM_CHECK(ctx, names, MPGM_ERR_NOMEM, "out of memory (checkpoint)");
+  for (int i = 0, k = 0; i < n; i++) {
+    const size_t l = strlen(pvd->file[i]) + 1;
+    memcpy(names + k, pvd->file[i], l);
+    k += (int)l;
+  }
+  snprintf(t, sizeof t, "%s.n", tag);
+  int err = mpgm_blob_put(ctx, b, t, &n, sizeof n);
+  snprintf(t, sizeof t, "%s.time", tag);
+  if (!err) err = mpgm_blob_put(ctx, b, t, n ? pvd->time : NULL, sizeof(double) * (size_t)n);
+  snprintf(t, sizeof t, "%s.file", tag);
+  if (!err) err = mpgm_blob_put(ctx, b, t, names, len);
+  free(names);
+  return err;
+}
+
+int mpgm_pvd_restore(mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag) {
+  char t[MPGM_BLOB_TAG];
+  int n;
+  size_t len;
+  snprintf(t, sizeof t, "%s.n", tag);
+  MPGM_CALL(mpgm_blob_get(ctx, b, t, &n, sizeof n));
+  MPGM_CHECK(ctx, n >= 0 && (pvd || n == 0), MPGM_ERR_INPUT, "checkpoint: %s: %d entries", tag, n);
+  double *time = malloc(sizeof(double) * (size_t)(n ? n : 1));
+  MPGM_CHECK(ctx, time, MPGM_ERR_NOMEM, "out of memory (checkpoint)");
+  snprintf(t, sizeof t, "%s.time", tag);
+  int err = mpgm_blob_get(ctx, b, t, time, sizeof(double) * (size_t)n);
+  snprintf(t, sizeof t, "%s.file", tag);
+  if (!err) err = mpgm_blob_peek(ctx, b, t, &len);
+  char *names = err ? NULL : malloc(len + 1);
+  if (!err && !names) err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
+  if (!err) err = mpgm_blob_get(ctx, b, t, names, len);
+  if (!err) names[len] = '\0';
+  /* the entries again, then the collection written once */
+  const char *p = names;
+  for (int i = 0; !err && i < n; i++) {
+    if ((size_t)(p - names) >= len) {
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "checkpoint: %s: %d names", tag, i);
+      break;
+    }
+    char *name = strdup(p);
+    if (!name || (pvd->n == pvd->cap && !pvd_grow(pvd))) {
+      free(name);
+      err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
+      break;
+    }
+    pvd->time[pvd->n] = time[i];
+    pvd->file[pvd->n++] = name;
+    p += strlen(p) + 1;
+  }
+  if (!err && pvd) err = pvd_write(pvd, ctx);
+  free(time);
+  free(names);
+  return err;
 }
 
 /* See mpgm_vtk.h. */

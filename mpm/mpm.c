@@ -438,6 +438,22 @@ static int mpm_end_step(void *self, const mpgm_fe_view *v) {
 }
 
 
+/* Checkpoint: the grid nodes' contact state (the next step's first guess),
+ * the steps begun, the LME warm starts. */
+static int mpm_save(const void *self, mpgm_ctx *ctx, mpgm_blob *b) {
+  const mpm_data *d = self;
+  MPGM_CALL(mpgm_blob_put(ctx, b, "mpm.gfree", d->gfree, (size_t)d->g.nnode));
+  MPGM_CALL(mpgm_blob_put(ctx, b, "mpm.step", &d->step, sizeof d->step));
+  return d->meshfree ? mpgm_clouds_save(d->clouds, ctx, b) : 0;
+}
+
+static int mpm_restore(void *self, mpgm_ctx *ctx, mpgm_blob *b) {
+  mpm_data *d = self;
+  MPGM_CALL(mpgm_blob_get(ctx, b, "mpm.gfree", d->gfree, (size_t)d->g.nnode));
+  MPGM_CALL(mpgm_blob_get(ctx, b, "mpm.step", &d->step, sizeof d->step));
+  return d->meshfree ? mpgm_clouds_restore(d->clouds, ctx, b) : 0;
+}
+
 const mpgm_frontend_type mpgm_frontend_mpm = {
     .name = "mpm",
     .doc = "Material Point Method: a background grid emptied and projected on every step, "
@@ -452,4 +468,6 @@ const mpgm_frontend_type mpgm_frontend_mpm = {
     .destroy = mpm_destroy,
     .begin_step = mpm_begin_step,
     .end_step = mpm_end_step,
+    .save = mpm_save,
+    .restore = mpm_restore,
 };

@@ -145,6 +145,34 @@ static const char *auto_backend(const void *data) {
 
 static mpgm_solver *auto_part(void *data) { return ((auto_data *)data)->active; }
 
+/* Checkpoint: the part in use and the holds (the parts' factorisations are
+ * rebuilt). {lu active, chol present, hold, hold_len} and the tallies. */
+typedef struct auto_state {
+  int on_lu, has_chol, hold, hold_len;
+  long switches, lu_steps;
+} auto_state;
+
+static int auto_save(const void *data, mpgm_ctx *ctx, mpgm_blob *b) {
+  const auto_data *d = data;
+  const auto_state st = {d->active == d->lu, d->chol != NULL, d->hold, d->hold_len, d->switches,
+                         d->lu_steps};
+  return mpgm_blob_put(ctx, b, "solver.auto", &st, sizeof st);
+}
+
+static int auto_restore(void *data, mpgm_ctx *ctx, mpgm_blob *b) {
+  auto_data *d = data;
+  auto_state st;
+  MPGM_CALL(mpgm_blob_get(ctx, b, "solver.auto", &st, sizeof st));
+  if (!st.has_chol) mpgm_solver_destroy(&d->chol); /* a matrix was not symmetric */
+  if (st.on_lu && !d->lu) MPGM_CALL(mpgm_solver_create(ctx, &mpgm_solver_umfpack, &d->opts, &d->lu));
+  d->active = st.on_lu ? d->lu : d->chol;
+  MPGM_CHECK(ctx, d->active, MPGM_ERR_INPUT, "checkpoint: solver auto without a part in use");
+  if (d->chol) d->chol->analysed = 0;
+  if (d->lu) d->lu->analysed = 0;
+  d->hold = st.hold, d->hold_len = st.hold_len, d->switches = st.switches, d->lu_steps = st.lu_steps;
+  return 0;
+}
+
 const mpgm_solver_type mpgm_solver_auto = {
     .name = "auto",
     .doc = "CHOLMOD for symmetric matrices, UMFPACK when one is not positive definite "
@@ -160,4 +188,6 @@ const mpgm_solver_type mpgm_solver_auto = {
     .step = auto_step,
     .backend = auto_backend,
     .part = auto_part,
+    .save = auto_save,
+    .restore = auto_restore,
 };

@@ -12,6 +12,7 @@
 #define MPGM_SOLVER_H
 
 #include "mpgm_base.h"
+#include "mpgm_blob.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -92,6 +93,12 @@ typedef struct mpgm_solver_type {
    *  use), for a matrix that must not go through its fallback; NULL op:
    *  the instance itself. */
   struct mpgm_solver *(*part)(void *data);
+  /** Optional: the instance's state that outlives a step and decides what
+   *  later steps do (a composite's part in use and holds), appended to a
+   *  checkpoint / read back into a fresh instance (mpgm_blob.h); NULL ops:
+   *  nothing to keep (factorisations are rebuilt, not saved). */
+  int (*save)(const void *data, mpgm_ctx *ctx, struct mpgm_blob *b);
+  int (*restore)(void *data, mpgm_ctx *ctx, struct mpgm_blob *b);
 } mpgm_solver_type;
 
 /** A solver instance. */
@@ -130,6 +137,11 @@ int mpgm_solver_threads(int n);
  *  steps); *kept = 0 when a factorisation held before is no longer valid.
  *  Backends without the operation: *kept = 1. */
 int mpgm_solver_step(mpgm_solver *s, mpgm_ctx *ctx, int *kept);
+/** Checkpoints: the backend's name and its own state (type->save) into b /
+ *  read back into a fresh instance of the same backend (another backend:
+ *  MPGM_ERR_INPUT). The instance then analyses and factorises anew. */
+int mpgm_solver_save(const mpgm_solver *s, mpgm_ctx *ctx, struct mpgm_blob *b);
+int mpgm_solver_restore(mpgm_solver *s, mpgm_ctx *ctx, struct mpgm_blob *b);
 /** The name of the backend a report should name (a composite's first
  *  choice: "cholmod" for "auto" on symmetric matrices). */
 const char *mpgm_solver_name(const mpgm_solver *s);

@@ -5,6 +5,7 @@
 #include "mpgm_solver.h"
 
 #include <dlfcn.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -181,6 +182,24 @@ int mpgm_solver_step(mpgm_solver *s, mpgm_ctx *ctx, int *kept) {
 
 const char *mpgm_solver_name(const mpgm_solver *s) {
   return s->type->backend ? s->type->backend(s->data) : s->type->name;
+}
+
+int mpgm_solver_save(const mpgm_solver *s, mpgm_ctx *ctx, mpgm_blob *b) {
+  char name[MPGM_BLOB_TAG] = "";
+  snprintf(name, sizeof name, "%s", s->type->name);
+  MPGM_CALL(mpgm_blob_put(ctx, b, "solver", name, sizeof name));
+  return s->type->save ? s->type->save(s->data, ctx, b) : 0;
+}
+
+int mpgm_solver_restore(mpgm_solver *s, mpgm_ctx *ctx, mpgm_blob *b) {
+  char name[MPGM_BLOB_TAG], want[MPGM_BLOB_TAG] = "";
+  snprintf(want, sizeof want, "%s", s->type->name);
+  MPGM_CALL(mpgm_blob_get(ctx, b, "solver", name, sizeof name));
+  name[MPGM_BLOB_TAG - 1] = '\0';
+  MPGM_CHECK(ctx, strcmp(name, want) == 0, MPGM_ERR_INPUT,
+             "checkpoint: written with solver \"%s\", this run uses \"%s\"", name, want);
+  s->analysed = 0;
+  return s->type->restore ? s->type->restore(s->data, ctx, b) : 0;
 }
 
 mpgm_solver *mpgm_solver_part(mpgm_solver *s) {

@@ -43,6 +43,15 @@ static inline int mpgm_asm_phase(int ph) {
   return first[ph];
 }
 
+/** Step control across the run loop (run.c); kept in the problem, so that a
+ *  run restored from a checkpoint continues with the step it had. */
+typedef struct mpgm_stepper {
+  double end, dt0; /**< end of the run (time, or load factor 1); the scene's step */
+  double dt_now;   /**< the step now: halved by a cut, doubled back after easy steps */
+  int level, easy; /**< cuts in force; converged steps in a row since */
+  int nout;        /**< output.times passed */
+} mpgm_stepper;
+
 struct mpgm_problem {
   mpgm_ctx *ctx;
   const mpgm_scene *scene;
@@ -63,6 +72,9 @@ struct mpgm_problem {
   long step;         /**< steps completed                               */
   long newton_total; /**< Newton iterations over the run                */
   mpgm_newton_info last;
+  mpgm_stepper sp;   /**< step control (run.c)                            */
+  int resumed;       /**< restored from a checkpoint (mpgm_problem_restore):
+                          the run continues its step control and result */
   /* linear system */
   mpgm_csc K;
   int pattern_version; /**< conn.version the pattern was built for      */
@@ -245,5 +257,11 @@ int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt);
  *  (contact_nodes.c). Returns a mask of what changed: 1 contact nodes,
  *  2 surface points. */
 int mpgm_contact_update(mpgm_problem *pb);
+
+/** Drop what a step rebuilds when missing (equation numbers, point groups,
+ *  node graph, pattern, scatter maps, the solver's analysis, the
+ *  factorisation): after a checkpoint is written or restored
+ *  (checkpoint.c), so that both runs rebuild them from the same state. */
+void mpgm_problem_drop_rebuilt(mpgm_problem *pb);
 
 #endif

@@ -1,0 +1,147 @@
+#!/usr/bin/env bash
+# restart.sh -- checkpoint and restart (issue 16, item 8).
+#
+# Each case is run twice with output.checkpoint_every set: A to its end,
+# B killed with SIGKILL at a random moment after its first checkpoint and
+# continued with `mpgm run --restart B`. B must then hold, to the bit, what
+# A holds: probes.csv, steps.csv (its wall-clock column aside), every VTK
+# file and .pvd collection, the metrics, the counts (clock reads and the
+# solver's memory peak aside: they measure the process, not the run), the
+# step cuts and the status. The cases are coarse and dynamic:
+#   fem_mc        UL-FEM, Mohr-Coulomb column collapse (FEM has no contact)
+#   mpm_mc        MPM, Mohr-Coulomb block dropped on a floor, contact at
+#                 its surface points
+#   gmm_mls_mc    the same block, GMM-MLS
+#   gmm_lme_mc    the same block, GMM-LME (the LME multipliers are warm
+#                 starts kept across steps)
+#   gmm_lme_disk  GMM-LME rolling disk: bodies filled on the grid, light
+#                 nodes parked, contact at surface points
+#   gmm_lme_cc    GMM-LME column collapse: Mohr-Coulomb, obstacle nodes
+#   mpm_cuts      the block with MPM and two step cuts made on purpose at
+#                 step 3 (MPGM_TEST_FAULT): the checkpoint at step 4 holds
+#                 a quartered step that grows back after it
+#   fem_static    the cantilever, static (load steps)
+# Then the refusals, each with exit 2 and a message that says why: a
+# checkpoint restarted with another scene or another --set, a checkpoint
+# whose version bytes were altered, a truncated checkpoint, a folder
+# without a checkpoint.
+#
+# The kill time is random (RESTART_SEED fixes it; the seed is printed).
+#
+# usage: restart.sh MPGM_EXE SOURCE_DIR WORK_DIR
+set -uo pipefail
+exe="$1"; src="$2"; work="$3"
+rm -rf "$work"; mkdir -p "$work"
+seed="${RESTART_SEED:-$RANDOM}"
+echo "RESTART_SEED=$seed"
+RANDOM=$seed
+npass=0; nfail=0
+pass() { echo "PASS: $1"; npass=$((npass + 1)); }
+fail() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
+
+mc='materials={"soft":{"type":"mohr_coulomb","density":1000,"E":1e6,"nu":0.3,"c":1500,"phi":25,"psi":0}}'
+block="$src/tests/scenes/block_on_floor.json"
+block_sets=(--set "$mc" --set time.end=0.2 --set output.every=10)
+
+# one_case NAME SCENE ARGS...: A, B killed, B restarted, compared
+one_case() {
+  local name="$1" scene="$2"; shift 2
+  local d="$work/$name" t0 t1 ms pid killed=0
+  mkdir -p "$d"
+  t0=$(date +%s%N)
+  "$exe" run "$scene" --quiet --set output.vtk=ascii "$@" --out "$d/A" > "$d/A.log" 2>&1
+  local rca=$?
+  t1=$(date +%s%N)
+  "$exe" run "$scene" --quiet --set output.vtk=ascii "$@" --out "$d/B" > "$d/B.log" 2>&1 &
+  pid=$!
+  # after the first checkpoint, at a random moment of the rest of the run
+  while kill -0 "$pid" 2> /dev/null && [ ! -e "$d/B/checkpoint.mpgm" ]; do sleep 0.005; done
+  ms=$(( (t1 - t0) / 1000000 * (RANDOM % 70) / 100 ))
+  sleep "$(printf '%d.%03d' $((ms / 1000)) $((ms % 1000)))"
+  if kill -9 "$pid" 2> /dev/null; then killed=1; fi
+  wait "$pid" 2> /dev/null
+  "$exe" run --restart "$d/B" --quiet > "$d/R.log" 2>&1
+  local rcr=$?
+  local how="killed after ${ms} ms past its first checkpoint"
+  [ $killed -eq 1 ] || how="ended before the kill (${ms} ms); restarted from its last checkpoint"
+  if [ $rcr -ne $rca ]; then
+    fail "$name: uninterrupted exit $rca, restarted exit $rcr ($how): $(head -c 300 "$d/R.log")"
+    return
+  fi
+  if python3 "$src/tests/tools/same_run.py" "$d/A" "$d/B"; then
+    pass "$name: B $how, restarted: the same to the bit (exit $rca)"
+  else
+    fail "$name: B $how, restarted: differs from the uninterrupted run (above)"
+  fi
+}
+
+one_case fem_mc "$src/cases/column_collapse.json" --set method=fem --set mesh.h=0.2 \
+  --set time.end=0.3 --set output.checkpoint_every=7 --set output.every=10 \
+  --set 'boundaries=[{"x":0,"condition":"slip"},{"y":0,"condition":"stick"}]'
+one_case mpm_mc "$block" "${block_sets[@]}" --set output.checkpoint_every=6
+one_case gmm_mls_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kind=mls \
+  --set output.checkpoint_every=6
+one_case gmm_lme_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kind=lme \
+  --set output.checkpoint_every=6
+one_case gmm_lme_disk "$src/cases/rolling_disk.json" --set method=gmm --set shape.kind=lme \
+  --set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.2 --set output.every=5 \
+  --set output.checkpoint_every=4
+one_case gmm_lme_cc "$src/cases/column_collapse_gmm.json" --set shape.kind=lme --set mesh.h=0.2 \
+  --set time.end=0.3 --set output.checkpoint_every=5 --set output.times=[0.1]
+MPGM_TEST_FAULT=nan:3:2 one_case mpm_cuts "$block" --set time.max_cuts=4 --set time.grow_after=3 \
+  --set time.end=0.04 --set output.checkpoint_every=4 --set output.every=5
+if grep -q '"step":\s*3' "$work/mpm_cuts/B/summary.json" 2> /dev/null; then
+  pass "mpm_cuts: the cuts made before the checkpoint are listed after the restart"
+else
+  fail "mpm_cuts: summary.json of the restarted run lists no cut at step 3"
+fi
+one_case fem_static "$src/cases/cantilever.json" --set time.load_steps=6 \
+  --set output.checkpoint_every=2
+
+# ---- refusals -------------------------------------------------------------
+d="$work/mpm_mc/B"
+# expect_refusal WHAT PATTERN ARGS...: exit 2, the message matches PATTERN
+expect_refusal() {
+  local what="$1" pat="$2"; shift 2
+  "$exe" run "$@" --quiet > "$work/refusal.out" 2> "$work/refusal.err"
+  local rc=$?
+  if [ $rc -eq 2 ] && grep -Eq "$pat" "$work/refusal.err"; then
+    pass "$what: exit 2: $(head -c 200 "$work/refusal.err")"
+  else
+    fail "$what: exit $rc (expected 2 and /$pat/): $(head -c 300 "$work/refusal.err")"
+  fi
+}
+before=$(sha256sum "$d/probes.csv")
+expect_refusal "restart with another scene" "written for another scene" --restart "$d" \
+  "$src/cases/cantilever.json"
+expect_refusal "restart with another --set" "written for another scene \(time.end differs\)" \
+  --restart "$d" --set time.end=0.5
+[ "$before" = "$(sha256sum "$d/probes.csv")" ] && pass "a refused restart leaves the results" \
+  || fail "a refused restart changed probes.csv"
+cp -r "$d" "$work/altered"
+python3 - "$work/altered/checkpoint.mpgm" <<'EOF'
+import sys
+p = sys.argv[1]
+b = bytearray(open(p, "rb").read())
+# the header section: tag (24 bytes), length (8), then magic 8, format 4,
+# byte order 4, sizes 4, padding 4, the version string
+assert b[:6] == b"header" and b[32:40] == b"MPGMCKPT", "unexpected header layout"
+b[56] ^= 0x01
+open(p, "wb").write(b)
+EOF
+expect_refusal "a checkpoint of another version" "written by mpgm .* this is mpgm" \
+  --restart "$work/altered"
+cp -r "$d" "$work/truncated"
+python3 - "$work/truncated/checkpoint.mpgm" <<'EOF'
+import os, sys
+os.truncate(sys.argv[1], os.path.getsize(sys.argv[1]) // 2)
+EOF
+expect_refusal "a truncated checkpoint" "checkpoint.mpgm: .*(past the end|end of the data)" \
+  --restart "$work/truncated"
+mkdir -p "$work/empty"
+expect_refusal "a folder without a checkpoint" "holds no checkpoint.mpgm" --restart "$work/empty"
+expect_refusal "--restart with --out elsewhere" "continues in its own folder" --restart "$d" \
+  --out "$work/elsewhere"
+
+echo "restart: $npass passed, $nfail failed"
+[ $nfail -eq 0 ]
