@@ -131,6 +131,10 @@ typedef enum {
   MPGM_C_PROBES_CARRIED,    /**< probe-steps the same (a probe the
                                  material has left, e.g. on a free
                                  surface that sinks below it)            */
+  MPGM_C_NODE_MOTION_FALLBACKS, /**< GMM, mesh.node_motion interpolated:
+                                 node-steps whose functions at the node
+                                 failed; the node moved with its own
+                                 coefficient                             */
   MPGM_C_COUNT
 } mpgm_counter_id;
 
