@@ -128,6 +128,11 @@ typedef struct mpgm_scene_probe {
   double x[MPGM_DIM];  /**< reference position [m]                   */
 } mpgm_scene_probe;
 
+/** How persistent nodes move with a step (mesh.node_motion): with their
+ *  own coefficient's increment, or with the increment of the displacement
+ *  field at their position, sum_J N_J(x_I) du_J (GMM, finite strain). */
+typedef enum { MPGM_NODES_COEFFICIENT = 0, MPGM_NODES_INTERPOLATED } mpgm_node_motion;
+
 typedef struct mpgm_scene {
   char file[MPGM_PATH_LEN]; /**< scene file as given                  */
   char stem[MPGM_NAME_LEN]; /**< file name without folder and .json    */
@@ -153,6 +158,7 @@ typedef struct mpgm_scene {
   double min_node_distance; /**< GMM on the grid: a free node closer than
                                  this times h to a lower-numbered free
                                  node is left out of the step (0: off)  */
+  int node_motion;          /**< mpgm_node_motion (GMM, finite strain)  */
   double dom_min[MPGM_DIM], dom_max[MPGM_DIM]; /**< domain box [m]     */
   /* kinematics and time */
   int kinematics;           /**< mpgm_kinematics                       */

@@ -348,3 +348,51 @@ int mpgm_clouds_build(mpgm_clouds *c, const mpgm_fe_view *v, const mpgm_kdtree *
   mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
   return err;
 }
+
+int mpgm_clouds_eval_at(mpgm_clouds *c, mpgm_ctx *ctx, const mpgm_kdtree *tree,
+                        const unsigned char *skip, const double x[MPGM_DIM], int *idx, double *N,
+                        int *n_out) {
+  *n_out = 0;
+  c->tree = tree;
+  c->skip = skip;
+  const int nnode = mpgm_kdtree_size(tree), want = c->min_nodes < nnode ? c->min_nodes : nnode;
+  double d2[MPGM_SHAPE_MAXNODE], xn[MPGM_DIM * MPGM_SHAPE_MAXNODE], dN[MPGM_DIM * MPGM_SHAPE_MAXNODE];
+  double r = c->r0;
+  int n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
+  for (int g = 0; n < want && g < MAX_GROWTH; g++) {
+    r *= MPGM_SHAPE_GROWTH;
+    n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
+  }
+  if (n == 0 || n > MPGM_SHAPE_MAXNODE) return MPGM_ERR_SHAPE;
+  sort_by_node(n, idx);
+  const double *xa = mpgm_kdtree_points(tree);
+  for (int a = 0; a < n; a++) { /* 2-D only: x and y written out */
+    xn[MPGM_DIM * a] = xa[MPGM_DIM * idx[a]];
+    xn[MPGM_DIM * a + 1] = xa[MPGM_DIM * idx[a] + 1];
+  }
+  mpgm_shape_params par;
+  mpgm_shape_params_for_radius(&c->par, c->r0, r, &par);
+  par.max_cond = 1e300; /* N only */
+  double lambda[MPGM_DIM] = {0};
+  mpgm_shape_info info = {0};
+  const mpgm_shape_query q = {.n = n, .xn = xn, .xp = {x[0], x[1]}, .cell = -1, .par = &par,
+                              .lambda = lambda, .info = &info};
+  int err = mpgm_shape_eval_retry(c->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS]);
+  if (err == MPGM_ERR_SHAPE) {
+    /* a position on the hull of its cloud (a node on the body's outline),
+     * where LME's multiplier runs to infinity: once more 1e-3 of the way
+     * towards the cloud's centroid, inside the hull */
+    double cx[MPGM_DIM] = {0};
+    for (int a = 0; a < n; a++) { /* 2-D only */
+      cx[0] += xn[MPGM_DIM * a] / n;
+      cx[1] += xn[MPGM_DIM * a + 1] / n;
+    }
+    const mpgm_shape_query q2 = {.n = n, .xn = xn, .xp = {x[0] + 1e-3 * (cx[0] - x[0]),
+                                                         x[1] + 1e-3 * (cx[1] - x[1])},
+                                 .cell = -1, .par = &par, .lambda = lambda, .info = &info};
+    lambda[0] = lambda[1] = 0.0;
+    err = mpgm_shape_eval_retry(c->shape, &q2, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS]);
+  }
+  if (!err) *n_out = n;
+  return err;
+}

@@ -129,6 +129,14 @@ double mpgm_clouds_radius(const mpgm_clouds *c);
  *  back (mpgm_blob.h); the clouds themselves are rebuilt every step. */
 int mpgm_clouds_save(const mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b);
 int mpgm_clouds_restore(mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b);
+/** The functions N of the clouds' kind at one position x, over the nodes
+ *  of tree (skip: left out) within r0 (grown while fewer than min_nodes),
+ *  without warm start: into idx and N (MPGM_SHAPE_MAXNODE each), *n of
+ *  them. Errors: MPGM_ERR_SHAPE (no node, too many, the evaluation
+ *  failed; nothing recorded in ctx beyond what the kind records). */
+int mpgm_clouds_eval_at(mpgm_clouds *c, mpgm_ctx *ctx, const struct mpgm_kdtree *tree,
+                        const unsigned char *skip, const double x[MPGM_DIM], int *idx, double *N,
+                        int *n);
 /** The first n points were reordered (new point i is old perm[i]): their
  *  warm starts move along (scratch: MPGM_DIM n doubles). */
 void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch);

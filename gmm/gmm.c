@@ -52,6 +52,10 @@ typedef struct gmm_data {
   double dmin;           /**< that distance [m] (0: off)                      */
   mpgm_conn out;         /**< the step's connectivity before it is copied    */
   mpgm_conn carry;       /**< scratch of mpgm_tracers_carry                  */
+  /* mesh.node_motion "interpolated" (else NULL) */
+  mpgm_kdtree *tree_xs;  /**< over xs                                        */
+  double *xs;            /**< MPGM_DIM per node: start-of-step positions     */
+  unsigned char *skip;   /**< per node: not among the step's nodes           */
 } gmm_data;
 
 static void gmm_destroy(void *self) {
@@ -64,6 +68,9 @@ static void gmm_destroy(void *self) {
   free(d->merged);
   mpgm_conn_release(&d->out);
   mpgm_conn_release(&d->carry);
+  mpgm_kdtree_destroy(&d->tree_xs);
+  free(d->xs);
+  free(d->skip);
   free(d);
 }
 
@@ -87,6 +94,12 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
     MPGM_ALLOC(ctx, d->merged, v->nodes->n);
   }
   MPGM_CALL(mpgm_kdtree_create(ctx, v->nodes->x, v->nodes->n, 0, &d->tree));
+  if (s->node_motion == MPGM_NODES_INTERPOLATED && v->fx->geometric) {
+    MPGM_ALLOC(ctx, d->xs, MPGM_DIM * (size_t)v->nodes->n);
+    MPGM_ALLOC(ctx, d->skip, v->nodes->n);
+    memcpy(d->xs, v->nodes->x, sizeof(double) * MPGM_DIM * (size_t)v->nodes->n);
+    MPGM_CALL(mpgm_kdtree_create(ctx, d->xs, v->nodes->n, 0, &d->tree_xs));
+  }
   return 0;
 }
 
@@ -149,9 +162,51 @@ static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
   return 0;
 }
 
+/* mesh.node_motion "interpolated" (docs/theory.md section 13, "node
+ * motion"): a node that is not fixed in both components moves with the
+ * step's displacement field at its start-of-step position,
+ * u^h(x_I) = sum_J N_J(x_I) du_J, over the nodes the points used (parked
+ * and merged nodes left out), instead of with its own coefficient du_I
+ * (committed by the integrator); a fixed component keeps its prescribed
+ * increment, an obstacle node stays. A node whose functions fail keeps
+ * its coefficient's motion (counted: node_motion_fallbacks). */
+static int move_interpolated(const mpgm_fe_view *v, gmm_data *d) {
+  mpgm_ctx *ctx = v->ctx;
+  mpgm_nodes *nd = v->nodes;
+  const int n = nd->n;
+  double *xs = d->xs;
+  unsigned char *skip = d->skip;
+  for (int i = 0; i < MPGM_DIM * n; i++) xs[i] = nd->x[i] - nd->du[i];
+  for (int i = 0; i < n; i++)
+    skip[i] = d->grid && (d->grid->parked[i] || (d->merged && d->merged[i]));
+  const double t0 = mpgm_wtime();
+  MPGM_CALL(mpgm_kdtree_rebuild(ctx, d->tree_xs, xs, n));
+  mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, mpgm_wtime() - t0);
+  int idx[MPGM_SHAPE_MAXNODE];
+  double N[MPGM_SHAPE_MAXNODE];
+  for (int i = 0; i < n; i++) { /* 2-D only: x and y written out */
+    if ((nd->fix[MPGM_DIM * i] && nd->fix[MPGM_DIM * i + 1]) || (d->grid && d->grid->obst[i]))
+      continue;
+    int k;
+    if (mpgm_clouds_eval_at(d->clouds, ctx, d->tree_xs, skip, xs + MPGM_DIM * i, idx, N, &k)) {
+      mpgm_count(ctx, MPGM_C_NODE_MOTION_FALLBACKS, 1);
+      continue;
+    }
+    double du[MPGM_DIM] = {0};
+    for (int a = 0; a < k; a++) {
+      du[0] += N[a] * nd->du[MPGM_DIM * idx[a]];
+      du[1] += N[a] * nd->du[MPGM_DIM * idx[a] + 1];
+    }
+    for (int c = 0; c < MPGM_DIM; c++)
+      if (!nd->fix[MPGM_DIM * i + c]) nd->x[MPGM_DIM * i + c] = xs[MPGM_DIM * i + c] + du[c];
+  }
+  return 0;
+}
+
 static int gmm_end_step(void *self, const mpgm_fe_view *v) {
   gmm_data *d = self;
   if (d->grid) mpgm_gmm_grid_unpark(v, d->grid);
+  if (d->tree_xs) MPGM_CALL(move_interpolated(v, d));
   return 0;
 }
 
@@ -187,6 +242,7 @@ const mpgm_frontend_type mpgm_frontend_gmm = {
     .geometries = 1u << MPGM_GEOM_RECTANGLE | 1u << MPGM_GEOM_DISK | 1u << MPGM_GEOM_POLYGON,
     .conditions = MPGM_FE_COND_FIX | MPGM_FE_COND_DISPLACEMENT | MPGM_FE_COND_CONTACT_POINTS,
     .obstacles = 1,
+    .node_motion = 1,
     .create = gmm_create,
     .destroy = gmm_destroy,
     .begin_step = gmm_begin_step,

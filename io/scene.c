@@ -13,6 +13,7 @@
 #include "scene_impl.h"
 
 static const char *const cell_names[] = {"tri", "quad", NULL}; /* = mpgm_cell_kind */
+static const char *const node_motion_names[] = {"coefficient", "interpolated", NULL}; /* = mpgm_node_motion */
 static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", NULL};
 static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
@@ -392,6 +393,7 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_int(&mesh, "ppc", s->cell == MPGM_CELL_Q4 ? 4 : 3, 1, 9, &s->ppc));
   MPGM_CALL(jr_num(&mesh, "min_node_mass", 1e-2, 0.0, 0.5, 0, 1, &s->min_node_mass));
   MPGM_CALL(jr_num(&mesh, "min_node_distance", 0.0, 0.0, 1.0, 0, 1, &s->min_node_distance));
+  MPGM_CALL(jr_enum(&mesh, "node_motion", node_motion_names, MPGM_NODES_COEFFICIENT, &s->node_motion));
   {
     double xi[18], w[9];
     if (mpgm_fe_gauss(s->cell, s->ppc, xi, w))
