@@ -14,6 +14,8 @@
 #   gmm_mls_mc    the same block, GMM-MLS
 #   gmm_lme_mc    the same block, GMM-LME (the LME multipliers are warm
 #                 starts kept across steps)
+#   gmm_lme_nodes GMM-LME gamma 0.8 column collapse, its nodes moved by the
+#                 interpolated field (mesh.node_motion)
 #   gmm_lme_disk  GMM-LME rolling disk: bodies filled on the grid, light
 #                 nodes parked, contact at surface points
 #   gmm_lme_cc    GMM-LME column collapse: Mohr-Coulomb, obstacle nodes
@@ -83,6 +85,9 @@ one_case gmm_mls_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kin
   --set output.checkpoint_every=6
 one_case gmm_lme_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kind=lme \
   --set output.checkpoint_every=6
+one_case gmm_lme_nodes "$src/cases/column_collapse_gmm.json" --set shape.kind=lme \
+  --set shape.gamma=0.8 --set mesh.node_motion=interpolated --set mesh.h=0.2 --set time.end=0.3 \
+  --set output.checkpoint_every=5 --set output.times=[0.1]
 one_case gmm_lme_disk "$src/cases/rolling_disk.json" --set method=gmm --set shape.kind=lme \
   --set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.2 --set output.every=5 \
   --set output.checkpoint_every=4
