@@ -133,6 +133,22 @@ static int cloud(const mpgm_clouds *c, const double x[MPGM_DIM], double r, int c
   return drop_skipped(c, mpgm_kdtree_radius(c->tree, x, r, cap, idx, d2), cap, idx, d2);
 }
 
+/* The cloud of x: nodes within *r (starting at the caller's radius),
+ * the radius grown x MPGM_SHAPE_GROWTH while the cloud holds fewer than
+ * want nodes (each growth counted in *growths), unless stray_stop and no
+ * node is within the first radius. Returns the count (see cloud). */
+static int grown_cloud(const mpgm_clouds *c, const double x[MPGM_DIM], int want, int stray_stop,
+                       double *r, int *idx, double *d2, long *growths) {
+  int n = cloud(c, x, *r, MPGM_SHAPE_MAXNODE, idx, d2);
+  if (stray_stop && n == 0) return 0;
+  for (int g = 0; n < want && g < MAX_GROWTH; g++) {
+    *r *= MPGM_SHAPE_GROWTH;
+    (*growths)++;
+    n = cloud(c, x, *r, MPGM_SHAPE_MAXNODE, idx, d2);
+  }
+  return n;
+}
+
 /* The squared distance of the (n+1)-th nearest node that is not skipped
  * (the nearest outside a cloud of n) into *dn2; 0 when there is none. */
 static int next_nearest(const mpgm_clouds *c, const double x[MPGM_DIM], int n, double *dn2) {
@@ -182,17 +198,11 @@ static int search(mpgm_clouds *c, const mpgm_fe_view *v) {
   for (int p = 0; p < m; p++) {
     const double *x = P->x + MPGM_DIM * p;
     double r = c->r0;
-    int n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
     /* a probe or surface point with no node within its support is away
      * from the material: it gets no functions (mpgm_tracers_carry then
      * moves it with the material), never a radius grown across the
      * domain */
-    const int stray = p >= P->n && n == 0;
-    for (int g = 0; n < want && g < MAX_GROWTH && !stray; g++) {
-      r *= MPGM_SHAPE_GROWTH;
-      mpgm_count(ctx, MPGM_C_RADIUS_GROWTHS, 1);
-      n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
-    }
+    const int n = grown_cloud(c, x, want, p >= P->n, &r, idx, d2, &ctx->count[MPGM_C_RADIUS_GROWTHS]);
     MPGM_CHECK(ctx, n <= MPGM_SHAPE_MAXNODE, MPGM_ERR_INPUT,
                "%s: shape: step %ld: %s %d at (%g, %g) has %d nodes within its support radius "
                "%g m, more than MPGM_SHAPE_MAXNODE = %d: lower shape.radius / shape.dilation "
@@ -358,11 +368,8 @@ int mpgm_clouds_eval_at(mpgm_clouds *c, mpgm_ctx *ctx, const mpgm_kdtree *tree,
   const int nnode = mpgm_kdtree_size(tree), want = c->min_nodes < nnode ? c->min_nodes : nnode;
   double d2[MPGM_SHAPE_MAXNODE], xn[MPGM_DIM * MPGM_SHAPE_MAXNODE], dN[MPGM_DIM * MPGM_SHAPE_MAXNODE];
   double r = c->r0;
-  int n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
-  for (int g = 0; n < want && g < MAX_GROWTH; g++) {
-    r *= MPGM_SHAPE_GROWTH;
-    n = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
-  }
+  long growths = 0; /* not the points' radius_growths */
+  const int n = grown_cloud(c, x, want, 0, &r, idx, d2, &growths);
   if (n == 0 || n > MPGM_SHAPE_MAXNODE) return MPGM_ERR_SHAPE;
   sort_by_node(n, idx);
   const double *xa = mpgm_kdtree_points(tree);
