@@ -223,7 +223,12 @@ static int first_difference(const cJSON *x, const cJSON *y, const char *at, char
 
 /* mpgm run --restart DIR [SCENE]: the checkpoint, and the scene it
  * continues (SCENE, or the checkpoint's own, with the --set overrides),
- * which must be the scene the checkpoint was written for. */
+ * which must be the scene the checkpoint was written for, but for the
+ * keys that cannot change a result (RESTART_FREE). */
+static const char *const RESTART_FREE[] = {
+    "threads", /* mpgm's loops give the same bits on any number of threads */
+};
+
 static int restart_scene(const args *a, mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm_scene **s) {
   MPGM_CALL(mpgm_checkpoint_read(ctx, a->restart, ck));
   if (a->scene) MPGM_CALL(mpgm_scene_load(ctx, a->scene, a->nset, a->sets, s));
@@ -231,6 +236,10 @@ static int restart_scene(const args *a, mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm
                                       a->sets, s));
   char *text = mpgm_scene_resolved_json(*s);
   cJSON *now = text ? cJSON_Parse(text) : NULL, *then = cJSON_Parse(ck->scene_json);
+  for (size_t i = 0; i < sizeof RESTART_FREE / sizeof *RESTART_FREE; i++) {
+    cJSON_DeleteItemFromObjectCaseSensitive(now, RESTART_FREE[i]);
+    cJSON_DeleteItemFromObjectCaseSensitive(then, RESTART_FREE[i]);
+  }
   char path[1024] = "";
   const int differ = !now || !then || first_difference(then, now, "", path, sizeof path);
   free(text);

@@ -23,6 +23,8 @@
 #                 step 3 (MPGM_TEST_FAULT): the checkpoint at step 4 holds
 #                 a quartered step that grows back after it
 #   fem_static    the cantilever, static (load steps)
+#   mpm_threads   the MPM block, B started on two threads and continued on
+#                 one (threads may change at a restart), A on one
 # Then the refusals, each with exit 2 and a message that says why: a
 # checkpoint restarted with another scene or another --set, a checkpoint
 # whose version bytes were altered, a truncated checkpoint, a folder
@@ -38,6 +40,7 @@ seed="${RESTART_SEED:-$RANDOM}"
 echo "RESTART_SEED=$seed"
 RANDOM=$seed
 npass=0; nfail=0
+restart_sets=()  # --set values given to A and to the restart of B, not to B's start
 pass() { echo "PASS: $1"; npass=$((npass + 1)); }
 fail() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
 
@@ -51,7 +54,8 @@ one_case() {
   local d="$work/$name" t0 t1 ms pid killed=0
   mkdir -p "$d"
   t0=$(date +%s%N)
-  "$exe" run "$scene" --quiet --set output.vtk=ascii "$@" --out "$d/A" > "$d/A.log" 2>&1
+  "$exe" run "$scene" --quiet --set output.vtk=ascii "$@" "${restart_sets[@]}" --out "$d/A" \
+    > "$d/A.log" 2>&1
   local rca=$?
   t1=$(date +%s%N)
   "$exe" run "$scene" --quiet --set output.vtk=ascii "$@" --out "$d/B" > "$d/B.log" 2>&1 &
@@ -62,7 +66,7 @@ one_case() {
   sleep "$(printf '%d.%03d' $((ms / 1000)) $((ms % 1000)))"
   if kill -9 "$pid" 2> /dev/null; then killed=1; fi
   wait "$pid" 2> /dev/null
-  "$exe" run --restart "$d/B" --quiet > "$d/R.log" 2>&1
+  "$exe" run --restart "$d/B" --quiet "${restart_sets[@]}" > "$d/R.log" 2>&1
   local rcr=$?
   local how="killed after ${ms} ms past its first checkpoint"
   [ $killed -eq 1 ] || how="ended before the kill (${ms} ms); restarted from its last checkpoint"
@@ -102,6 +106,11 @@ else
 fi
 one_case fem_static "$src/cases/cantilever.json" --set time.load_steps=6 \
   --set output.checkpoint_every=2
+# threads may change at a restart (the bits do not depend on them): A on
+# one thread, B started on two and continued on one
+restart_sets=(--set threads=1)
+one_case mpm_threads "$block" "${block_sets[@]}" --set output.checkpoint_every=6 --set threads=2
+restart_sets=()
 
 # ---- refusals -------------------------------------------------------------
 d="$work/mpm_mc/B"
