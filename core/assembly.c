@@ -28,6 +28,7 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
   const mpgm_material *mats = pb->scene->mats;
   const int small = !pb->fx.geometric;
   const int ns = P->nstate;
+  double *D_t = pb->stress_only ? NULL : P->D_t;
   for (int p = p0; p < p1; p++) {
     int err;
     /* H = sum_I du_I (x) grad N_I, the gradient of the step's increment.
@@ -57,7 +58,7 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
         C->g[MPGM_DIM * k + 1] = C->dN[MPGM_DIM * k + 1];
       }
       err = m->type->update(m, MPGM_KIN_SMALL, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
-                            P->D_t + MPGM_NTANGENT * p);
+                            D_t ? D_t + MPGM_NTANGENT * p : NULL);
     } else {
       double J = det2(dF);
       if (p == 0 && mpgm_fault_due(pb->ctx, MPGM_ERR_JACOBIAN, pb->step + 1)) J = -J; /* tests */
@@ -77,7 +78,7 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
         C->g[MPGM_DIM * k + 1] = a * i01 + b * i11;
       }
       err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
-                            P->D_t + MPGM_NTANGENT * p);
+                            D_t ? D_t + MPGM_NTANGENT * p : NULL);
     }
     if (!err && p == 0 && mpgm_fault_due(pb->ctx, MPGM_ERR_RETURN_MAP, pb->step + 1))
       err = MPGM_ERR_RETURN_MAP; /* tests: as the material would report it */

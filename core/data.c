@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "mpgm_data.h"
+#include "mpgm_integrator.h"
 
 int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsurf, int nstate) {
   const int m = n + nprobe + nsurf;
@@ -259,7 +260,7 @@ void mpgm_conn_release(mpgm_conn *c) {
 
 void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
   memset(fx, 0, sizeof *fx);
-  fx->inertia = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  fx->inertia = s->analysis != MPGM_ANALYSIS_STATIC;
   fx->gravity = s->gravity[0] != 0.0 || s->gravity[1] != 0.0; /* 2-D only: x, y */
   fx->geometric = s->kinematics == MPGM_KIN_FINITE;
   for (int i = 0; i < s->nmat; i++) fx->plasticity |= s->mats[i].plastic;
@@ -270,5 +271,6 @@ void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
     fx->contact_points |= mpgm_bc_at_points(&s->bcs[i]);
   }
   for (int i = 0; i < s->nbody; i++) fx->prestress |= s->bodies[i].geostatic;
+  fx->tangent = !s->integrator || s->integrator->implicit;
 }
 

@@ -4,7 +4,8 @@
 
 #include "mpgm_integrator.h"
 
-#define MPGM_INTEGRATOR_LIST(X) X(mpgm_integrator_implicit)
+#define MPGM_INTEGRATOR_LIST(X) \
+  X(mpgm_integrator_implicit) X(mpgm_integrator_npc) X(mpgm_integrator_fe) X(mpgm_integrator_usl)
 
 #define MPGM_DECLARE(t) extern const mpgm_integrator_type t;
 MPGM_INTEGRATOR_LIST(MPGM_DECLARE)

@@ -103,6 +103,8 @@ typedef struct mpgm_effects {
   int contact_points; /**< unilateral contact at surface points (penalty,
                            active set; core/contact_points.c)          */
   int prestress;      /**< a body has a geostatic initial stress         */
+  int tangent;        /**< an implicit integrator: a tangent is assembled
+                           and factorised (explicit schemes: 0)         */
 } mpgm_effects;
 
 /** The effects a scene calls for: the one place they are decided (used by

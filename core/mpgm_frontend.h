@@ -99,6 +99,8 @@ typedef struct mpgm_frontend_type {
   unsigned conditions;    /**< MPGM_FE_COND_* bits                       */
   int obstacles;          /**< 1: takes rigid obstacles (node layers)     */
   int node_motion;        /**< 1: takes mesh.node_motion "interpolated"   */
+  int explicit_schemes;   /**< 1: takes time.analysis "explicit" (lumped
+                               mass on nodes it projects every step)     */
   /** Optional: rules of this front end beyond its traits, as
    *  MPGM_ERR_INPUT with "FILE: json.path: expected ..., found ...". */
   int (*check)(mpgm_ctx *ctx, const mpgm_scene *s);

@@ -26,6 +26,10 @@ typedef struct mpgm_integrator_type {
    *  nodes. On a recoverable failure (> 0) nothing is committed and the
    *  run loop may cut the step. */
   int (*step)(void *self, struct mpgm_problem *pb);
+  /** Optional: the largest step the scheme allows from pb's present state
+   *  (a stability limit, e.g. CFL); the run loop takes the smaller of it
+   *  and the scene's step. Called before every step. */
+  double (*dt_limit)(void *self, const struct mpgm_problem *pb);
 } mpgm_integrator_type;
 
 /** The integrator named `name`; NULL if none. */

@@ -22,7 +22,11 @@ extern "C" {
 #define MPGM_POLYGON_MAX 256 /**< most vertices of a polygon body */
 #define MPGM_MATRICES_MAX 64 /**< most steps in output.matrices */
 
-typedef enum { MPGM_ANALYSIS_STATIC = 0, MPGM_ANALYSIS_DYNAMIC = 1 } mpgm_analysis;
+typedef enum {
+  MPGM_ANALYSIS_STATIC = 0,  /**< load steps, no inertia                   */
+  MPGM_ANALYSIS_DYNAMIC = 1, /**< implicit Newmark                         */
+  MPGM_ANALYSIS_EXPLICIT = 2 /**< explicit schemes (time.scheme)            */
+} mpgm_analysis;
 typedef enum { MPGM_VTK_NONE = 0, MPGM_VTK_OUT_ASCII = 1, MPGM_VTK_OUT_BINARY = 2 } mpgm_vtk_mode;
 typedef enum { MPGM_GEOM_RECTANGLE = 0, MPGM_GEOM_DISK = 1, MPGM_GEOM_POLYGON = 2 } mpgm_geometry;
 typedef enum { MPGM_SELECT_X = 0, MPGM_SELECT_Y = 1, MPGM_SELECT_BOX = 2 } mpgm_select;
@@ -181,7 +185,12 @@ typedef struct mpgm_scene {
                                  (free components) instead of du = 0  */
   const mpgm_integrator_type *integrator; /**< how a step is solved: from
                                  time.analysis (static, dynamic: the
-                                 implicit Newmark integrator)          */
+                                 implicit Newmark integrator; explicit:
+                                 time.scheme)                          */
+  double cfl;               /**< explicit without time.dt: dt = cfl h /
+                                 max(max |v_p|, max c_p) each step      */
+  double npc_gamma;         /**< explicit npc: gamma of the predictor
+                                 and corrector (003 eqs 30-31)          */
   /* solver */
   const mpgm_solver_type *solver; /**< solver.linear ("auto": the composite
                                  Cholesky / LU backend)               */

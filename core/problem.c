@@ -102,7 +102,7 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene, const mpgm_front
   pb->scene = scene;
   /* the scene's step (the run loop may cut it): time step, or load
    * increment in static analysis (t then counts the load factor) */
-  pb->dt = scene->analysis == MPGM_ANALYSIS_DYNAMIC ? scene->dt : 1.0 / scene->load_steps;
+  pb->dt = scene->analysis != MPGM_ANALYSIS_STATIC ? scene->dt : 1.0 / scene->load_steps;
   pb->fe = fe;
   pb->integ = scene->integrator;
   pb->pattern_version = -1;

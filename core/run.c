@@ -55,7 +55,8 @@ static void log_split(const mpgm_problem *pb, const double *before) {
 /* The next step's size; 1 when it ends on an output time. */
 static int next_dt(mpgm_problem *pb, mpgm_stepper *sp) {
   const mpgm_scene *s = pb->scene;
-  pb->dt = fmin(sp->dt_now, sp->end - pb->t);
+  const double limit = pb->integ->dt_limit ? pb->integ->dt_limit(pb->integ_data, pb) : INFINITY;
+  pb->dt = fmin(fmin(sp->dt_now, limit), sp->end - pb->t);
   /* output.times: the step that reaches the next one ends on it (a step
    * within 1e-6 of it is stretched to it, not followed by a sliver) */
   while (sp->nout < s->ntimes && s->times[sp->nout] <= pb->t + 1e-9 * sp->dt0) sp->nout++;
@@ -76,7 +77,7 @@ static const char *made(const mpgm_ctx *ctx, long k, int err) {
 static void cut(mpgm_problem *pb, mpgm_stepper *sp, long k, int err, mpgm_run_result *res) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
-  const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
   mpgm_log(ctx, MPGM_LOG_WARNING, "step %ld (%s %.9g, %s %.3g) rejected: %s%s; retrying with %.3g "
            "(halving %d of at most %d, time.max_cuts)", k, dyn ? "t =" : "load factor", pb->t + pb->dt,
            dyn ? "dt" : "increment", pb->dt, ctx->msg, made(ctx, k, err), 0.5 * pb->dt, sp->level + 1,
@@ -95,7 +96,7 @@ static void cut(mpgm_problem *pb, mpgm_stepper *sp, long k, int err, mpgm_run_re
 static void failed(mpgm_problem *pb, long k, int err, mpgm_run_result *res) {
   const mpgm_scene *s = pb->scene;
   snprintf(res->message, sizeof res->message, "step %ld (%s %.9g) failed: %s%s%s", k,
-           s->analysis == MPGM_ANALYSIS_DYNAMIC ? "t =" : "load factor", pb->t + pb->dt, pb->ctx->msg,
+           s->analysis != MPGM_ANALYSIS_STATIC ? "t =" : "load factor", pb->t + pb->dt, pb->ctx->msg,
            made(pb->ctx, k, err),
            err > 0 && s->max_cuts > 0 ? " (at the smallest step allowed, the scene's halved "
                                         "time.max_cuts times)" : "");
@@ -124,13 +125,15 @@ static int after_step(mpgm_problem *pb, const mpgm_run_control *rc, int on_time,
 int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_result *res) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
-  const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
+  const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
   mpgm_stepper *sp = &pb->sp;
   if (!pb->resumed) { /* a restored problem continues its result and steps */
     memset(res, 0, sizeof *res);
     res->failed_step = -1;
     /* the step: time step, or load increment (t then counts load, 0 to 1) */
-    *sp = (mpgm_stepper){.end = dyn ? s->t_end : 1.0, .dt0 = dyn ? s->dt : 1.0 / s->load_steps};
+    /* (an explicit run without time.dt: each step from the CFL limit) */
+    const double dt0 = !dyn ? 1.0 / s->load_steps : s->dt > 0.0 ? s->dt : s->t_end;
+    *sp = (mpgm_stepper){.end = dyn ? s->t_end : 1.0, .dt0 = dt0};
     sp->dt_now = sp->dt0;
     pb->dt = sp->dt0;
   }

@@ -21,7 +21,7 @@ static int fail(mpgm_ctx *ctx, const mpgm_scene *s, const char *path, const char
 
 /* The names of the methods whose trait `field` has every bit of `bits`
  * ("fem, mpm"; "none"). */
-enum { SHAPES, GEOMETRIES, CONDITIONS, OBSTACLES, NODE_MOTION };
+enum { SHAPES, GEOMETRIES, CONDITIONS, OBSTACLES, NODE_MOTION, EXPLICIT };
 static const char *takers(int field, unsigned bits, char *buf, size_t len) {
   const mpgm_frontend_type *const *t = mpgm_frontend_types();
   buf[0] = '\0';
@@ -30,7 +30,8 @@ static const char *takers(int field, unsigned bits, char *buf, size_t len) {
                           : field == GEOMETRIES ? t[i]->geometries
                           : field == CONDITIONS ? t[i]->conditions
                           : field == OBSTACLES  ? (unsigned)t[i]->obstacles
-                                                : (unsigned)t[i]->node_motion;
+                          : field == NODE_MOTION ? (unsigned)t[i]->node_motion
+                                                 : (unsigned)t[i]->explicit_schemes;
     if ((have & bits) != bits) continue;
     const size_t n = strlen(buf);
     snprintf(buf + n, len - n, "%s%s", n ? ", " : "", t[i]->name);
@@ -133,6 +134,26 @@ static int check_boundaries(mpgm_ctx *ctx, const mpgm_scene *s) {
   return 0;
 }
 
+/* time.analysis "explicit": a method that projects lumped masses, and what
+ * the explicit schemes do not enforce yet (contact; moving supports are
+ * refused by the methods that take explicit schemes, MPM). */
+static int check_explicit(mpgm_ctx *ctx, const mpgm_scene *s) {
+  if (s->analysis != MPGM_ANALYSIS_EXPLICIT) return 0;
+  char m[128], path[48];
+  if (!s->frontend->explicit_schemes)
+    return fail(ctx, s, "time.analysis", "method %s has no explicit schemes (methods that take "
+                "\"explicit\": %s)", s->frontend->name, takers(EXPLICIT, 1, m, sizeof m));
+  for (int i = 0; i < s->nbc; i++) {
+    const mpgm_scene_boundary *bc = &s->bcs[i];
+    if (bc->condition == MPGM_COND_CONTACT) {
+      snprintf(path, sizeof path, "boundaries.%d.condition", i);
+      return fail(ctx, s, path, "\"contact\" is not enforced by the explicit schemes: use "
+                  "time.analysis \"dynamic\" (implicit), or fixed or slip supports");
+    }
+  }
+  return 0;
+}
+
 int mpgm_frontend_check(mpgm_ctx *ctx, const mpgm_scene *s) {
   const mpgm_frontend_type *fe = s->frontend;
   MPGM_CALL(check_shape(ctx, s));
@@ -150,5 +171,6 @@ int mpgm_frontend_check(mpgm_ctx *ctx, const mpgm_scene *s) {
     return fail(ctx, s, "mesh.node_motion",
                 "\"interpolated\" moves the nodes, and under kinematics \"small\" nodes do not "
                 "move: remove the key or use kinematics \"finite\"");
+  MPGM_CALL(check_explicit(ctx, s));
   return fe->check ? fe->check(ctx, s) : 0;
 }

@@ -18,8 +18,10 @@ void *mpgm_effects_json(const mpgm_effects *fx) {
   cJSON *e = cJSON_CreateObject();
   cJSON_AddBoolToObject(e, "inertia", fx->inertia);
   cJSON_AddBoolToObject(e, "gravity", fx->gravity);
-  cJSON_AddBoolToObject(e, "geometric_stiffness", fx->geometric);
-  cJSON_AddBoolToObject(e, "configuration_update", fx->geometric);
+  cJSON_AddBoolToObject(e, "tangent", fx->tangent);
+  cJSON_AddBoolToObject(e, "geometric_stiffness", fx->geometric && fx->tangent);
+  /* explicit schemes move the points under either kinematics */
+  cJSON_AddBoolToObject(e, "configuration_update", fx->geometric || !fx->tangent);
   cJSON_AddBoolToObject(e, "plasticity", fx->plasticity);
   cJSON_AddBoolToObject(e, "prescribed_displacement", fx->prescribed);
   cJSON_AddBoolToObject(e, "contact", fx->contact);

@@ -15,7 +15,7 @@
 static const char *const cell_names[] = {"tri", "quad", NULL}; /* = mpgm_cell_kind */
 static const char *const node_motion_names[] = {"coefficient", "interpolated", NULL}; /* = mpgm_node_motion */
 static const char *const kin_names[] = {"finite", "small", NULL};
-static const char *const analysis_names[] = {"static", "dynamic", NULL};
+static const char *const analysis_names[] = {"static", "dynamic", "explicit", NULL};
 static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
 static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
                                           "volume", "J", "material", "acceleration", "id", "eps_p",
@@ -355,7 +355,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
     const double v = c->valuedouble, prev = s->ntimes ? s->times[s->ntimes - 1] : 0.0;
     if (!(v > prev))
       return jr_fail(&o, "times", "expected increasing times above 0 (%s), found %g after %g",
-                     s->analysis == MPGM_ANALYSIS_DYNAMIC ? "s" : "load factors", v, prev);
+                     s->analysis != MPGM_ANALYSIS_STATIC ? "s" : "load factors", v, prev);
     s->times[s->ntimes++] = v;
   }
   cJSON_AddItemToObject(o.out, "times", cJSON_CreateDoubleArray(s->times, s->ntimes));
@@ -411,14 +411,47 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
   return 0;
 }
 
+/* "time", explicit analysis: the scheme (an explicit member of the
+ * integrator family), the CFL number, the predictor's gamma. The keys are
+ * refused with the other analyses, whose integrator ignores them. */
+static int read_explicit(jr_node *tm, mpgm_scene *s) {
+  static const char *const keys[] = {"scheme", "cfl", "npc_gamma"};
+  if (s->analysis != MPGM_ANALYSIS_EXPLICIT) {
+    for (int i = 0; i < 3; i++)
+      if (jr_raw(tm, keys[i]) || jr_override_json(tm, keys[i]))
+        return jr_fail(tm, keys[i], "only with time.analysis \"explicit\", found \"%s\"",
+                       analysis_names[s->analysis]);
+    return 0;
+  }
+  const mpgm_integrator_type *const *it = mpgm_integrator_types();
+  const mpgm_integrator_type *ex[16];
+  const char *names[16];
+  int n = 0;
+  for (int i = 0; it[i] && n < 15; i++)
+    if (!it[i]->implicit) {
+      ex[n] = it[i];
+      names[n++] = it[i]->name;
+    }
+  names[n] = NULL;
+  MPGM_CHECK(tm->r->ctx, n > 0, MPGM_ERR_INTERNAL, "no explicit integrator in this build");
+  int k; /* the first explicit integrator of the list is the default */
+  MPGM_CALL(jr_enum(tm, "scheme", names, 0, &k));
+  s->integrator = ex[k];
+  MPGM_CALL(jr_num(tm, "cfl", 0.1, 0.0, 1.0, 1, 0, &s->cfl));
+  MPGM_CALL(jr_num(tm, "npc_gamma", 0.5, 0.0, 1.0, 0, 0, &s->npc_gamma));
+  return 0;
+}
+
 /* "time": analysis, step and end (dynamic) or load steps (static),
  * Newmark parameters, predictor, step control, initial acceleration. */
 static int read_time(jr_node *root, mpgm_scene *s) {
   jr_node tm;
   MPGM_CALL(jr_child(root, "time", 0, &tm));
   MPGM_CALL(jr_enum(&tm, "analysis", analysis_names, MPGM_ANALYSIS_STATIC, &s->analysis));
-  const int dyn = s->analysis == MPGM_ANALYSIS_DYNAMIC;
-  MPGM_CALL(jr_num(&tm, "dt", dyn ? NAN : 1.0, 0, INFINITY, 1, 0, &s->dt));
+  const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
+  const int expl = s->analysis == MPGM_ANALYSIS_EXPLICIT;
+  /* explicit: dt 0 (the default) takes each step from the CFL condition */
+  MPGM_CALL(jr_num(&tm, "dt", expl ? 0.0 : dyn ? NAN : 1.0, 0, INFINITY, !expl, 0, &s->dt));
   MPGM_CALL(jr_num(&tm, "end", dyn ? NAN : 1.0, 0, INFINITY, 1, 0, &s->t_end));
   MPGM_CALL(jr_int(&tm, "load_steps", 1, 1, 1 << 24, &s->load_steps));
   MPGM_CALL(jr_num(&tm, "newmark_beta", 0.25, 0, 0.5, 1, 0, &s->beta));
@@ -429,10 +462,11 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_int(&tm, "grow_after", 4, 1, 1000000, &s->grow_after));
   static const char *const accel_names[] = {"zero", "equilibrium", NULL};
   MPGM_CALL(jr_enum(&tm, "initial_acceleration", accel_names, 1, &s->initial_accel));
+  MPGM_CALL(read_explicit(&tm, s));
   MPGM_CALL(jr_end(&tm));
   if (dyn && s->dt > s->t_end)
     return jr_fail(&tm, "dt", "expected dt <= end (%g s), found %g s", s->t_end, s->dt);
-  if (dyn && s->t_end / s->dt > 1e8)
+  if (dyn && s->dt > 0.0 && s->t_end / s->dt > 1e8)
     return jr_fail(&tm, "dt", "expected at most 1e8 steps, found end/dt = %g", s->t_end / s->dt);
 
   return 0;
@@ -503,8 +537,9 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_int(root, "threads", 0, 0, 256, &s->loop_threads));
 
   MPGM_CALL(read_time(root, s));
-  /* static and dynamic analyses: the implicit Newmark integrator */
-  s->integrator = mpgm_integrator_type_find("implicit");
+  /* static and dynamic analyses: the implicit Newmark integrator (explicit:
+   * time.scheme, read_explicit) */
+  if (s->analysis != MPGM_ANALYSIS_EXPLICIT) s->integrator = mpgm_integrator_type_find("implicit");
   MPGM_CHECK(root->r->ctx, s->integrator, MPGM_ERR_INTERNAL, "no implicit integrator in this build");
 
   MPGM_CALL(read_solver(root, s));

@@ -37,6 +37,8 @@ int mpgm_reference_read(jr_node *root, mpgm_scene *s) {
     return jr_fail(&r, "probe", "expected the name of a probe defined in probes (%s), found \"%s\"",
                    s->nprobe ? list : "none defined", pname);
   }
+  ref->x0[0] = s->probes[ref->probe].x[0]; /* 2-D only: x and y */
+  ref->x0[1] = s->probes[ref->probe].x[1];
   if (ref->type->needs_component) {
     static const char *const comps[] = {"x", "y", NULL};
     MPGM_CALL(jr_enum(&r, "component", comps, -1, &ref->component));
@@ -46,9 +48,9 @@ int mpgm_reference_read(jr_node *root, mpgm_scene *s) {
     MPGM_CALL(jr_num(&r, ps->name, ps->def, ps->lo, ps->hi, ps->lo_open, ps->hi_open, &ref->param[p]));
   }
   MPGM_CALL(jr_end(&r));
-  if (ref->type->needs_dynamic && s->analysis != MPGM_ANALYSIS_DYNAMIC)
+  if (ref->type->needs_dynamic && s->analysis == MPGM_ANALYSIS_STATIC)
     return jr_fail(&r, "kind", "reference \"%s\" compares a time history: expected time.analysis "
-                   "\"dynamic\", found \"static\"", ref->type->name);
+                   "\"dynamic\" or \"explicit\", found \"static\"", ref->type->name);
   return 0;
 }
 

@@ -464,6 +464,7 @@ const mpgm_frontend_type mpgm_frontend_mpm = {
     .geometries = 1u << MPGM_GEOM_RECTANGLE | 1u << MPGM_GEOM_DISK | 1u << MPGM_GEOM_POLYGON,
     .conditions = MPGM_FE_COND_FIX | MPGM_FE_COND_CONTACT_NODES | MPGM_FE_COND_CONTACT_POINTS,
     .obstacles = 0,
+    .explicit_schemes = 1,
     .create = mpm_create,
     .destroy = mpm_destroy,
     .begin_step = mpm_begin_step,

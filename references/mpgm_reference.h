@@ -34,6 +34,8 @@ typedef struct mpgm_reference {
   int probe;      /**< index of the probe in the scene's probes          */
   int component;  /**< 0: x, 1: y (kinds with needs_component; else 0)   */
   double param[MPGM_REF_MAXPARAM]; /**< in type->params order            */
+  double x0[2];   /**< the probe's initial position [m] (its material
+                       coordinate)                                      */
 } mpgm_reference;
 
 /** One metric: name (static string) and value. */
@@ -46,7 +48,7 @@ struct mpgm_reference_type {
   const char *name;     /**< scene name, e.g. "rolling_disk"              */
   const char *doc;      /**< one line for docs                            */
   int needs_component;  /**< 1: reads "component": "x" | "y" (required)   */
-  int needs_dynamic;    /**< 1: only with time.analysis "dynamic"         */
+  int needs_dynamic;    /**< 1: not with time.analysis "static"           */
   int nparam;           /**< entries of params                            */
   const mpgm_param_spec *params; /**< numeric parameters (not probe, component) */
   /** Metrics from a probe history (layout above; nrow >= 1 and the probe's

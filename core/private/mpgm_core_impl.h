@@ -73,6 +73,8 @@ struct mpgm_problem {
   long newton_total; /**< Newton iterations over the run                */
   mpgm_newton_info last;
   mpgm_stepper sp;   /**< step control (run.c)                            */
+  int stress_only;   /**< the point update computes no tangent D (explicit
+                          schemes assemble no matrix)                  */
   int resumed;       /**< restored from a checkpoint (mpgm_problem_restore):
                           the run continues its step control and result */
   /* linear system */

@@ -59,6 +59,9 @@ SCENES = {
     # MPM: contact at grid nodes (its enforce default)
     "mpm_contact": {"method": "mpm", "mesh": MESH, "materials": {"nh": MATERIALS["nh"]},
                     "bodies": [BLOCK], "boundaries": [{"y": 0.0, "condition": "contact"}]},
+    # MPM, explicit: the keys of the explicit schemes
+    "mpm_explicit": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
+                     "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK]},
 }
 
 
@@ -126,11 +129,19 @@ def expected(text, resolved):
     m = re.fullmatch(r"(\S+) \(quad\), (\S+) \(tri\)", t)
     if m:
         return float(m.group(1) if cell == "quad" else m.group(2))
-    m = re.fullmatch(r"dynamic: required; static: (\S+) \(unused\)", t)
+    m = re.fullmatch(r"dynamic: required;(?: explicit: (\S+) \(from `cfl`\);)? static: (\S+) \(unused\)", t)
     if m:
-        if resolved.get("time", {}).get("analysis") != "static":
+        analysis = resolved.get("time", {}).get("analysis")
+        if analysis == "explicit" and m.group(1):
+            return float(m.group(1))
+        if analysis != "static":
             raise LookupError("required here")
-        return float(m.group(1))
+        return float(m.group(2))
+    m = re.fullmatch(r"explicit: (.+)", t)
+    if m:  # a key of explicit analysis only
+        if resolved.get("time", {}).get("analysis") != "explicit":
+            raise LookupError("explicit only")
+        t = m.group(1)
     m = re.fullmatch(r"(\S+) \(off\)", t)
     if m:
         t = m.group(1)

@@ -1,0 +1,274 @@
+/* explicit.c -- the explicit schemes of the time-integrator family
+ * (time.analysis "explicit", time.scheme; docs/theory.md, "Explicit
+ * schemes"): on the nodes a front end projected for the step (lumped mass
+ * m_I, velocity v_I and acceleration a_I of the points, mpm.c), a step is
+ * one stress update, one nodal force and one update of the points. No
+ * matrix is assembled or factorised and no Newton iteration runs.
+ *
+ *   fe   update stress first, momentum form (Molinos et al. 2021, eqs 22-23)
+ *   usl  update stress last, symplectic Euler (Tran et al. 2019, eqs 27-40)
+ *   npc  Newmark predictor-corrector (Molinos et al. 2021, Algorithm 1,
+ *        eqs 30-34)
+ *
+ * Every scheme ends with the same update of the points (move_points):
+ * a_p = sum_I N_Ip A_I, v_p += dt a_p, x_p += sum_I N_Ip (dt V_I +
+ * c dt^2 A_I), with A_I = f_I / m_I and V_I, c the scheme's. Fixed
+ * components have V = A = 0; a node without mass gets no update. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_core_impl.h"
+
+typedef struct explicit_data {
+  double *f;   /**< MPGM_DIM per node: f_ext - f_int [N]               */
+  double *mod; /**< per material: P-wave modulus lambda + 2 mu [Pa]    */
+} explicit_data;
+
+static void explicit_destroy(void *self) {
+  explicit_data *d = self;
+  if (!d) return;
+  free(d->f);
+  free(d->mod);
+  free(d);
+}
+
+/* The value of material parameter `name`, or NAN when it has none. */
+static double param(const mpgm_material *m, const char *name) {
+  for (int i = 0; i < m->type->nparam; i++)
+    if (strcmp(m->type->params[i].name, name) == 0) return m->param[i];
+  return NAN;
+}
+
+static int explicit_create(mpgm_problem *pb, void **self) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_scene *s = pb->scene;
+  explicit_data *d;
+  MPGM_ALLOC(ctx, d, 1);
+  *self = d;
+  MPGM_ALLOC(ctx, d->f, MPGM_DIM * (size_t)pb->nodes.cap + 1);
+  MPGM_ALLOC(ctx, d->mod, s->nmat + 1);
+  for (int i = 0; i < s->nmat; i++) {
+    const mpgm_material *m = &s->mats[i];
+    const double E = param(m, "E"), nu = param(m, "nu");
+    MPGM_CHECK(ctx, isfinite(E) && isfinite(nu), MPGM_ERR_INPUT,
+               "%s: materials.%s: type \"%s\" has no E and nu, from which an explicit run takes "
+               "the wave speed of its CFL condition", s->file, m->name, m->type->name);
+    double lam, mu;
+    mpgm_lame(E, nu, &lam, &mu);
+    d->mod[i] = lam + 2.0 * mu;
+  }
+  pb->stress_only = 1; /* no tangent: nothing is assembled */
+  return 0;
+}
+
+/* CFL condition (Molinos et al. 2021, eq 43): dt = cfl h / max(max_p |v_p|,
+ * max_p c_p), c_p = sqrt((lambda + 2 mu) / rho_p) with the point's current
+ * density; a fixed time.dt when the scene gives one. */
+static double explicit_dt_limit(void *self, const mpgm_problem *pb) {
+  const explicit_data *d = self;
+  const mpgm_scene *s = pb->scene;
+  if (s->dt > 0.0) return INFINITY;
+  const mpgm_points *P = &pb->pts;
+  double vmax = 0.0, c2max = 0.0;
+  for (int p = 0; p < P->n; p++) {
+    const double *v = P->v + MPGM_DIM * p; /* 2-D only: |v| of x and y */
+    vmax = fmax(vmax, hypot(v[0], v[1]));
+    c2max = fmax(c2max, d->mod[P->mat[p]] * P->vol[p] / P->mass[p]);
+  }
+  const double speed = fmax(vmax, sqrt(c2max));
+  return speed > 0.0 ? s->cfl * s->h / speed : INFINITY;
+}
+
+/* Zero the fixed components of a nodal vector (MPGM_DIM per node). */
+static void zero_fixed(const mpgm_nodes *nd, double *w) {
+  for (int i = 0; i < MPGM_DIM * nd->n; i++)
+    if (nd->fix[i]) w[i] = 0.0;
+}
+
+/* The stress of the points after the nodes moved by dt vel: F = (I + dt
+ * grad v) F_n (kinematics "small": the strain increment dt sym grad v
+ * added to the point's strain, the volume scaled by 1 + tr), the
+ * constitutive update (trial arrays of the points). */
+static int stress(mpgm_problem *pb, const double *vel) {
+  mpgm_nodes *nd = &pb->nodes;
+  mpgm_points *P = &pb->pts;
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) nd->du[i] = pb->dt * vel[i];
+  MPGM_CALL(mpgm_eval_points(pb));
+  if (!pb->fx.geometric) /* 2-D only: tr of dF - I over x and y */
+    for (int p = 0; p < P->n; p++) {
+      const double *dF = P->dF_t + MPGM_TENSOR * p;
+      P->vol_t[p] = P->vol[p] * (dF[0] + dF[3] - 1.0);
+    }
+  return 0;
+}
+
+/* Nodal force f = f_ext - f_int of the stress sigma on the volumes vol
+ * (either the committed or the trial arrays of the points):
+ * f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip), and the nodal
+ * acceleration A = f / m (0 at fixed components and massless nodes). */
+static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma, const double *vol,
+                        double *A) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_points *P = &pb->pts;
+  const mpgm_nodes *nd = &pb->nodes;
+  const mpgm_conn *C = &pb->conn;
+  mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
+  double *f = d->f;
+  memset(f, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
+  const double gx = pb->scene->gravity[0], gy = pb->scene->gravity[1];
+  for (int p = 0; p < P->n; p++) { /* 2-D only: components written out */
+    const double *sg = sigma + MPGM_NSTRESS * p, m = P->mass[p], v = vol[p];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      const double N = C->N[k], ax = C->dN[MPGM_DIM * k], ay = C->dN[MPGM_DIM * k + 1];
+      f[MPGM_DIM * I] += m * N * gx - v * (sg[0] * ax + sg[2] * ay);
+      f[MPGM_DIM * I + 1] += m * N * gy - v * (sg[2] * ax + sg[1] * ay);
+    }
+  }
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
+    const double m = nd->mass[i / MPGM_DIM];
+    A[i] = nd->fix[i] || !(m > 0.0) ? 0.0 : f[i] / m;
+    if (!isfinite(A[i])) {
+      mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+      MPGM_ERROR(ctx, MPGM_ERR_NAN, "step %ld: the acceleration of node %d at (%g, %g) is not "
+                 "finite (nodal mass %g kg)", pb->step + 1, i / MPGM_DIM,
+                 nd->x[MPGM_DIM * (i / MPGM_DIM)], nd->x[MPGM_DIM * (i / MPGM_DIM) + 1], m);
+    }
+  }
+  mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+  return 0;
+}
+
+/* Commit the stress update of the step (trial -> committed arrays). */
+static void commit_stress(mpgm_problem *pb) {
+  mpgm_points *P = &pb->pts;
+  memcpy(P->F, P->F_t, sizeof(double) * MPGM_TENSOR * (size_t)P->n);
+  memcpy(P->sigma, P->sigma_t, sizeof(double) * MPGM_NSTRESS * (size_t)P->n);
+  memcpy(P->vol, P->vol_t, sizeof(double) * (size_t)P->n);
+  if (P->nstate) memcpy(P->state, P->state_t, sizeof(double) * (size_t)P->nstate * P->n);
+}
+
+/* The points (material points and tracers) from the nodes: a_p = sum N A,
+ * v_p += dt a_p, x_p += sum N (dt V + c dt^2 A). */
+static void move_points(mpgm_problem *pb, const double *V, const double *A, double c) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_timer_start(ctx, MPGM_T_UPDATE);
+  mpgm_points *P = &pb->pts;
+  const mpgm_conn *C = &pb->conn;
+  const double dt = pb->dt, c2 = c * dt * dt;
+  const int m = P->n + P->nprobe + P->nsurf;
+  for (int p = 0; p < m; p++) { /* 2-D only: components written out */
+    double a[MPGM_DIM] = {0}, w[MPGM_DIM] = {0};
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      const double N = C->N[k];
+      a[0] += N * A[MPGM_DIM * I];
+      a[1] += N * A[MPGM_DIM * I + 1];
+      w[0] += N * (dt * V[MPGM_DIM * I] + c2 * A[MPGM_DIM * I]);
+      w[1] += N * (dt * V[MPGM_DIM * I + 1] + c2 * A[MPGM_DIM * I + 1]);
+    }
+    for (int q = 0; q < MPGM_DIM; q++) {
+      P->a[MPGM_DIM * p + q] = a[q];
+      P->v[MPGM_DIM * p + q] += dt * a[q];
+      P->x[MPGM_DIM * p + q] += w[q];
+      P->u[MPGM_DIM * p + q] += w[q];
+    }
+  }
+  mpgm_timer_stop(ctx, MPGM_T_UPDATE);
+}
+
+/* fe: the stress from the projected velocity v_I (update stress first),
+ * the force of that stress, the momentum p_I + dt f_I: V = v + dt A. */
+static int fe_step(void *self, mpgm_problem *pb) {
+  mpgm_nodes *nd = &pb->nodes;
+  double *V = nd->v_new, *A = nd->a_new;
+  zero_fixed(nd, nd->v);
+  MPGM_CALL(stress(pb, nd->v));
+  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma_t, pb->pts.vol_t, A));
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
+  commit_stress(pb);
+  move_points(pb, V, A, 0.0);
+  return 0;
+}
+
+/* usl: the force of the stress of the last step, the new nodal velocity
+ * V = v + dt A, then the stress from V (update stress last). */
+static int usl_step(void *self, mpgm_problem *pb) {
+  mpgm_nodes *nd = &pb->nodes;
+  double *V = nd->v_new, *A = nd->a_new;
+  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma, pb->pts.vol, A));
+  zero_fixed(nd, nd->v);
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
+  MPGM_CALL(stress(pb, V));
+  commit_stress(pb);
+  move_points(pb, V, A, 0.0);
+  return 0;
+}
+
+/* npc: the predictor of eq 30, projected from the points, v_pred =
+ * sum_p N m_p (v_p + (1 - gamma) dt a_p) / m_I; the stress from it; the
+ * corrector V = v_pred + gamma dt A (eq 31); the points by eqs 32-34. */
+static int npc_step(void *self, mpgm_problem *pb) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_nodes *nd = &pb->nodes;
+  const mpgm_points *P = &pb->pts;
+  const mpgm_conn *C = &pb->conn;
+  const double g = pb->scene->npc_gamma, dt = pb->dt;
+  double *V = nd->v_new, *A = nd->a_new;
+  mpgm_timer_start(ctx, MPGM_T_MASS);
+  memset(V, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
+  for (int p = 0; p < P->n; p++) {
+    const double vx = P->v[MPGM_DIM * p] + (1.0 - g) * dt * P->a[MPGM_DIM * p];
+    const double vy = P->v[MPGM_DIM * p + 1] + (1.0 - g) * dt * P->a[MPGM_DIM * p + 1];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      const double w = C->N[k] * P->mass[p];
+      V[MPGM_DIM * I] += w * vx;
+      V[MPGM_DIM * I + 1] += w * vy;
+    }
+  }
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
+    const double m = nd->mass[i / MPGM_DIM];
+    V[i] = nd->fix[i] || !(m > 0.0) ? 0.0 : V[i] / m;
+  }
+  mpgm_timer_stop(ctx, MPGM_T_MASS);
+  MPGM_CALL(stress(pb, V));
+  MPGM_CALL(nodal_forces(pb, self, P->sigma_t, P->vol_t, A));
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] += g * dt * A[i];
+  commit_stress(pb);
+  move_points(pb, V, A, 0.5);
+  return 0;
+}
+
+const mpgm_integrator_type mpgm_integrator_npc = {
+    .name = "npc",
+    .doc = "explicit Newmark predictor-corrector (Molinos et al. 2021, Algorithm 1; "
+           "time.npc_gamma)",
+    .implicit = 0,
+    .create = explicit_create,
+    .destroy = explicit_destroy,
+    .step = npc_step,
+    .dt_limit = explicit_dt_limit,
+};
+
+const mpgm_integrator_type mpgm_integrator_fe = {
+    .name = "fe",
+    .doc = "explicit forward Euler, update stress first, momentum form (Molinos et al. 2021, "
+           "eqs 22-23)",
+    .implicit = 0,
+    .create = explicit_create,
+    .destroy = explicit_destroy,
+    .step = fe_step,
+    .dt_limit = explicit_dt_limit,
+};
+
+const mpgm_integrator_type mpgm_integrator_usl = {
+    .name = "usl",
+    .doc = "explicit update stress last with symplectic Euler (Tran et al. 2019, eqs 27-40)",
+    .implicit = 0,
+    .create = explicit_create,
+    .destroy = explicit_destroy,
+    .step = usl_step,
+    .dt_limit = explicit_dt_limit,
+};
