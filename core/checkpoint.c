@@ -86,6 +86,8 @@ static int all_arrays(mpgm_problem *pb, arr *a) {
   k += nodes_arrays(&pb->nodes, a + k);
   if (pb->fx.contact_points) k += cpoints_arrays(&pb->cp, a + k);
   a[k++] = (arr){"ctx.count", pb->ctx->count, sizeof pb->ctx->count};
+  a[k++] = (arr){"energy.work_int", &pb->work_int, sizeof pb->work_int};
+  a[k++] = (arr){"energy.work_ext", &pb->work_ext, sizeof pb->work_ext};
   return k;
 }
 

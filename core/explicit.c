@@ -143,6 +143,7 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
 /* Commit the stress update of the step (trial -> committed arrays). */
 static void commit_stress(mpgm_problem *pb) {
   mpgm_points *P = &pb->pts;
+  mpgm_work_internal(pb);
   memcpy(P->F, P->F_t, sizeof(double) * MPGM_TENSOR * (size_t)P->n);
   memcpy(P->sigma, P->sigma_t, sizeof(double) * MPGM_NSTRESS * (size_t)P->n);
   memcpy(P->vol, P->vol_t, sizeof(double) * (size_t)P->n);
@@ -158,6 +159,8 @@ static void move_points(mpgm_problem *pb, const double *V, const double *A, doub
   const mpgm_conn *C = &pb->conn;
   const double dt = pb->dt, c2 = c * dt * dt;
   const int m = P->n + P->nprobe + P->nsurf;
+  const double gx = pb->scene->gravity[0], gy = pb->scene->gravity[1];
+  double wext = 0.0;
   for (int p = 0; p < m; p++) { /* 2-D only: components written out */
     double a[MPGM_DIM] = {0}, w[MPGM_DIM] = {0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
@@ -174,7 +177,9 @@ static void move_points(mpgm_problem *pb, const double *V, const double *A, doub
       P->x[MPGM_DIM * p + q] += w[q];
       P->u[MPGM_DIM * p + q] += w[q];
     }
+    if (p < P->n) wext += P->mass[p] * (gx * w[0] + gy * w[1]);
   }
+  pb->work_ext += wext;
   mpgm_timer_stop(ctx, MPGM_T_UPDATE);
 }
 

@@ -19,6 +19,8 @@ static void commit(mpgm_problem *pb) {
   const int move = pb->fx.geometric, inertia = pb->fx.inertia;
   const int newmark_pv = pb->fe->point_velocity == MPGM_PV_NEWMARK;
   const int m = P->n + P->nprobe + P->nsurf;
+  const double gx = pb->scene->gravity[0], gy = pb->scene->gravity[1];
+  double wext = 0.0; /* work of gravity (dynamic: in full) */
   /* 2-D only: the points' increments written out per component (3-D: a
    * third component) */
   for (int p = 0; p < m; p++) {
@@ -35,6 +37,7 @@ static void commit(mpgm_problem *pb) {
     }
     P->u[MPGM_DIM * p] += d[0];
     P->u[MPGM_DIM * p + 1] += d[1];
+    if (p < P->n) wext += P->mass[p] * (gx * d[0] + gy * d[1]);
     if (move) {
       P->x[MPGM_DIM * p] += d[0];
       P->x[MPGM_DIM * p + 1] += d[1];
@@ -47,6 +50,10 @@ static void commit(mpgm_problem *pb) {
       P->v[MPGM_DIM * p] = v[0]; P->v[MPGM_DIM * p + 1] = v[1];
       P->a[MPGM_DIM * p] = a[0]; P->a[MPGM_DIM * p + 1] = a[1];
     }
+  }
+  if (inertia) {
+    pb->work_ext += wext;
+    mpgm_work_internal(pb);
   }
   memcpy(P->F, P->F_t, sizeof(double) * MPGM_TENSOR * (size_t)P->n);
   memcpy(P->sigma, P->sigma_t, sizeof(double) * MPGM_NSTRESS * (size_t)P->n);

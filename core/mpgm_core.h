@@ -166,6 +166,21 @@ int mpgm_problem_cells(const mpgm_problem *pb, mpgm_cells *out);
 /** What the run has done so far. */
 void mpgm_problem_report(const mpgm_problem *pb, mpgm_report *r);
 
+/** Energy and momentum of a dynamic run after its last step (energy.c,
+ *  docs/theory.md section 19), per unit thickness. */
+typedef struct mpgm_energy {
+  double kinetic;   /**< sum_p m_p |v_p|^2 / 2 [J]                        */
+  double work_int;  /**< work of the stresses so far [J]: the strain energy
+                         of elastic bodies, plus what plasticity dissipated */
+  double work_ext;  /**< work of gravity so far [J]                       */
+  double total;     /**< kinetic + work_int - work_ext: constant while no
+                         other force (contact, supports in motion) works */
+  double momentum[2]; /**< sum_p m_p v_p [kg m/s]                         */
+  double node_momentum[2]; /**< sum_I m_I v_I of the last step's nodes, m_I =
+                         sum_p N_Ip m_p (the points' at step 0)          */
+} mpgm_energy;
+void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e);
+
 #ifdef __cplusplus
 }
 #endif

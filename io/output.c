@@ -14,7 +14,9 @@
 #include "mpgm_mtx.h"
 #include "mpgm_vtk.h"
 
-enum { STEP_COLS = 9 };
+/* steps.csv: 9 columns, and 8 of energy and momentum in dynamic runs (all
+ * 17 are kept in memory) */
+enum { STEP_BASE = 9, STEP_COLS = 17 };
 
 /* Append a row of width doubles to a growable table; *row points to it. */
 static int table_push(mpgm_ctx *ctx, double **buf, int *n, int *cap, int width, double **row) {
@@ -194,13 +196,18 @@ int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *p
   row[6] = n->du_rel;
   row[7] = r.dt;
   row[8] = wall;
+  mpgm_energy e;
+  mpgm_problem_energy(pb, &e);
+  const double en[8] = {e.kinetic, e.work_int, e.work_ext, e.total, e.momentum[0], e.momentum[1],
+                        e.node_momentum[0], e.node_momentum[1]};
+  memcpy(row + STEP_BASE, en, sizeof en);
   return 0;
 }
 
 /* Write a history table to DIR/name atomically: the header line, then one
  * line per row of width numbers (the step first, as an integer). */
 static int write_table(mpgm_ctx *ctx, const mpgm_output *o, const char *name,
-                       const char *header, const double *rows, int nrow, int width) {
+                       const char *header, const double *rows, int nrow, int stride, int width) {
   char path[MPGM_PATH_LEN + 64];
   snprintf(path, sizeof path, "%s/%s", o->dir, name);
   void *fv;
@@ -208,7 +215,7 @@ static int write_table(mpgm_ctx *ctx, const mpgm_output *o, const char *name,
   FILE *f = fv;
   fputs(header, f);
   for (int r = 0; r < nrow; r++) {
-    const double *row = rows + (size_t)width * r;
+    const double *row = rows + (size_t)stride * r;
     fprintf(f, "%ld", (long)row[0]);
     for (int c = 1; c < width; c++) fprintf(f, ",%.17g", row[c]);
     fputc('\n', f);
@@ -217,13 +224,16 @@ static int write_table(mpgm_ctx *ctx, const mpgm_output *o, const char *name,
 }
 
 int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o) {
-  char header[256];
+  const int st = o->scene->analysis == MPGM_ANALYSIS_STATIC;
+  char header[512];
   snprintf(header, sizeof header,
            "step,%s,newton_iterations,residual_initial,residual,residual_relative,"
-           "increment_relative,%s,wall_s\n",
-           o->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time",
-           o->scene->analysis == MPGM_ANALYSIS_STATIC ? "load_increment" : "dt");
-  return write_table(ctx, o, "steps.csv", header, o->steps, o->nstep, STEP_COLS);
+           "increment_relative,%s,wall_s%s\n", st ? "load_factor" : "time",
+           st ? "load_increment" : "dt",
+           st ? "" : ",kinetic_energy,internal_work,external_work,energy_total,momentum_x,"
+                     "momentum_y,node_momentum_x,node_momentum_y");
+  return write_table(ctx, o, "steps.csv", header, o->steps, o->nstep, STEP_COLS,
+                     st ? STEP_BASE : STEP_COLS);
 }
 
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
@@ -251,7 +261,7 @@ int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o) {
     n += (size_t)snprintf(header + n, sizeof header - n, ",%s_ux,%s_uy", sc->probes[k].name,
                           sc->probes[k].name);
   if (n < sizeof header - 1) strcat(header, "\n");
-  return write_table(ctx, o, "probes.csv", header, o->hist, o->nrow, 2 + o->ncol);
+  return write_table(ctx, o, "probes.csv", header, o->hist, o->nrow, 2 + o->ncol, 2 + o->ncol);
 }
 
 int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {

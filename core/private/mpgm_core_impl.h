@@ -75,6 +75,9 @@ struct mpgm_problem {
   mpgm_stepper sp;   /**< step control (run.c)                            */
   int stress_only;   /**< the point update computes no tangent D (explicit
                           schemes assemble no matrix)                  */
+  double work_int;   /**< dynamic: work of the stresses so far [J] (per
+                          unit thickness; energy.c)                     */
+  double work_ext;   /**< dynamic: work of gravity so far [J]             */
   int resumed;       /**< restored from a checkpoint (mpgm_problem_restore):
                           the run continues its step control and result */
   /* linear system */
@@ -219,6 +222,11 @@ static inline void mpgm_argsort_nodes(const int *nodes, int nk, int *srt) {
     srt[w] = a;
   }
 }
+
+/** Add the work of the stresses over the step about to be committed (the
+ *  points' trial arrays against the committed ones) to pb->work_int
+ *  (energy.c). */
+void mpgm_work_internal(mpgm_problem *pb);
 
 /** The view of the problem a front end gets (mpgm_frontend.h). */
 void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v);

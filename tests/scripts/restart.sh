@@ -23,6 +23,7 @@
 #                 step 3 (MPGM_TEST_FAULT): the checkpoint at step 4 holds
 #                 a quartered step that grows back after it
 #   fem_static    the cantilever, static (load steps)
+#   mpm_explicit  Dyka's bar, explicit npc (energy columns included)
 #   mpm_threads   the MPM block, B started on two threads and continued on
 #                 one (threads may change at a restart), A on one
 # Then the refusals, each with exit 2 and a message that says why: a
@@ -106,6 +107,8 @@ else
 fi
 one_case fem_static "$src/cases/cantilever.json" --set time.load_steps=6 \
   --set output.checkpoint_every=2
+one_case mpm_explicit "$src/cases/dyka_bar.json" --set output.checkpoint_every=150 \
+  --set output.every=200
 # threads may change at a restart (the bits do not depend on them): A on
 # one thread, B started on two and continued on one
 restart_sets=(--set threads=1)

@@ -60,8 +60,10 @@ check(rn["scene"]["time"]["predictor"] == "velocity" and dz < 1e-8 and
       f"grid nodes: predictor du = dt v and du = 0: same s_final (rel. diff {dz:.1e}), "
       f"{rn['counts']['newton_iterations']} vs {rz['counts']['newton_iterations']} Newton iterations")
 r1 = json.load(open(f"{w}/roll_t1/summary.json")); r3 = json.load(open(f"{w}/roll_t3/summary.json"))
-def steps(d):  # steps.csv without its wall-clock column
-    return [l.rsplit(",", 1)[0] for l in open(f"{w}/{d}/steps.csv")]
+def steps(d):  # steps.csv without its wall-clock column (found by its name)
+    rows = [l.rstrip("\n").split(",") for l in open(f"{w}/{d}/steps.csv")]
+    drop = rows[0].index("wall_s")
+    return [r[:drop] + r[drop + 1:] for r in rows]
 same = open(f"{w}/roll_t1/probes.csv").read() == open(f"{w}/roll_t3/probes.csv").read() and \
     steps("roll_t1") == steps("roll_t3")
 check(r1["threads"] == 1 and r3["threads"] == 3 and same and r1["metrics"] == r3["metrics"],

@@ -1,0 +1,67 @@
+/* energy.c -- the energy and momentum balance of dynamic runs (explicit
+ * and implicit; docs/theory.md section 19, "Energy and momentum"): the
+ * work of the stresses and of gravity accumulated step by step, the
+ * kinetic energy and the momentum of the points and of the nodes. */
+#include <string.h>
+
+#include "mpgm_core_impl.h"
+
+/* Work of the stresses over the step about to be committed (the trial
+ * arrays against the committed ones), by the midpoint rule: the rate of
+ * deformation of F(s) = (I + s (dF - I)) F_n at s = 1/2 is
+ * sym((dF - I) ((I + dF) / 2)^-1) per unit time, and the work is
+ * (V_n sigma_n + V sigma) / 2 : that (plane strain: zz does no work).
+ * Kinematics "small": the increment sym(dF - I) itself. */
+void mpgm_work_internal(mpgm_problem *pb) {
+  const mpgm_points *P = &pb->pts;
+  const int small = !pb->fx.geometric;
+  double w = 0.0;
+  for (int p = 0; p < P->n; p++) { /* 2-D only: 2x2 written out */
+    const double *dF = P->dF_t + MPGM_TENSOR * p;
+    const double H[4] = {dF[0] - 1.0, dF[1], dF[2], dF[3] - 1.0};
+    double h[4];
+    if (small) {
+      memcpy(h, H, sizeof h);
+    } else { /* H M^-1, M = (I + dF) / 2 */
+      const double m0 = 0.5 * (1.0 + dF[0]), m1 = 0.5 * dF[1], m2 = 0.5 * dF[2],
+                   m3 = 0.5 * (1.0 + dF[3]);
+      const double det = m0 * m3 - m1 * m2;
+      const double i0 = m3 / det, i1 = -m1 / det, i2 = -m2 / det, i3 = m0 / det;
+      h[0] = H[0] * i0 + H[1] * i2;
+      h[1] = H[0] * i1 + H[1] * i3;
+      h[2] = H[2] * i0 + H[3] * i2;
+      h[3] = H[2] * i1 + H[3] * i3;
+    }
+    const double *s0 = P->sigma + MPGM_NSTRESS * p, *s1 = P->sigma_t + MPGM_NSTRESS * p;
+    const double v0 = P->vol[p], v1 = P->vol_t[p];
+    double s[3];
+    for (int c = 0; c < 3; c++) s[c] = 0.5 * (v0 * s0[c] + v1 * s1[c]);
+    w += s[0] * h[0] + s[1] * h[3] + s[2] * (h[1] + h[2]);
+  }
+  pb->work_int += w;
+}
+
+void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
+  const mpgm_points *P = &pb->pts;
+  const mpgm_nodes *nd = &pb->nodes;
+  const mpgm_conn *C = &pb->conn;
+  memset(e, 0, sizeof *e);
+  e->work_int = pb->work_int;
+  e->work_ext = pb->work_ext;
+  for (int p = 0; p < P->n; p++) { /* 2-D only: x and y written out */
+    const double m = P->mass[p], vx = P->v[MPGM_DIM * p], vy = P->v[MPGM_DIM * p + 1];
+    e->kinetic += 0.5 * m * (vx * vx + vy * vy);
+    e->momentum[0] += m * vx;
+    e->momentum[1] += m * vy;
+    /* the nodes' momentum sum_I m_I v_I with the lumped masses m_I =
+     * sum_p N_Ip m_p: summed over the points */
+    if (pb->step == 0 || C->np != P->n + P->nprobe + P->nsurf) continue;
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      e->node_momentum[0] += m * C->N[k] * nd->v_new[MPGM_DIM * I];
+      e->node_momentum[1] += m * C->N[k] * nd->v_new[MPGM_DIM * I + 1];
+    }
+  }
+  if (pb->step == 0) memcpy(e->node_momentum, e->momentum, sizeof e->momentum);
+  e->total = e->kinetic + e->work_int - e->work_ext;
+}
