@@ -154,16 +154,17 @@ int mpgm_eval_points(mpgm_problem *pb) {
 
 /* ---- external force --------------------------------------------------- */
 
-int mpgm_body_force(mpgm_problem *pb) {
+int mpgm_body_force(mpgm_problem *pb, double t) {
   mpgm_ctx *ctx = pb->ctx;
   const int n = pb->nodes.ndof;
   memset(pb->fext, 0, sizeof(double) * (size_t)n);
   if (!pb->fx.gravity) return 0;
   mpgm_timer_start(ctx, MPGM_T_BODYFORCE);
   /* static: gravity grows with the load factor; dynamic: it acts in full
-   * from the start (only prescribed displacements are ramped in time).
-   * 2-D only: gx, gy written out (3-D: a third component) */
-  const double f = pb->fx.inertia ? 1.0 : pb->lambda;
+   * from the start unless the scene ramps it (gravity_ramp); prescribed
+   * displacements ramp over the run. 2-D only: gx, gy written out (3-D: a
+   * third component) */
+  const double f = mpgm_gravity_factor(pb, t);
   const double gx = f * pb->scene->gravity[0];
   const double gy = f * pb->scene->gravity[1];
   const mpgm_conn *C = &pb->conn;
@@ -481,7 +482,7 @@ int mpgm_reactions(mpgm_problem *pb, double *r) {
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
   const int inertia = pb->fx.inertia;
-  const double f = inertia ? 1.0 : pb->lambda;
+  const double f = mpgm_gravity_factor(pb, pb->t + pb->dt);
   /* 2-D only: gravity, a_p and the forces written out per component, as
    * in point_residual (3-D: a third component) */
   const double g[MPGM_DIM] = {pb->fx.gravity ? f * pb->scene->gravity[0] : 0.0,

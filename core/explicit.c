@@ -8,7 +8,8 @@
  *   fe   update stress first, momentum form (Molinos et al. 2021, eqs 22-23)
  *   usl  update stress last, symplectic Euler (Tran et al. 2019, eqs 27-40)
  *   npc  Newmark predictor-corrector (Molinos et al. 2021, Algorithm 1,
- *        eqs 30-34)
+ *        eqs 30-33; the points' positions as Newmark's beta = 0, or by
+ *        their eq 34: time.npc_position)
  *
  * Every scheme ends with the same update of the points (move_points):
  * a_p = sum_I N_Ip A_I, v_p += dt a_p, x_p += sum_I N_Ip (dt V_I +
@@ -104,11 +105,12 @@ static int stress(mpgm_problem *pb, const double *vel) {
 }
 
 /* Nodal force f = f_ext - f_int of the stress sigma on the volumes vol
- * (either the committed or the trial arrays of the points):
- * f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip), and the nodal
- * acceleration A = f / m (0 at fixed components and massless nodes). */
+ * (either the committed or the trial arrays of the points) with gravity
+ * at time t (its ramp): f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip),
+ * and the nodal acceleration A = f / m (0 at fixed components and
+ * massless nodes). */
 static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma, const double *vol,
-                        double *A) {
+                        double t, double *A) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_points *P = &pb->pts;
   const mpgm_nodes *nd = &pb->nodes;
@@ -116,7 +118,8 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
   mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
   double *f = d->f;
   memset(f, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
-  const double gx = pb->scene->gravity[0], gy = pb->scene->gravity[1];
+  const double gf = mpgm_gravity_factor(pb, t);
+  const double gx = gf * pb->scene->gravity[0], gy = gf * pb->scene->gravity[1];
   for (int p = 0; p < P->n; p++) { /* 2-D only: components written out */
     const double *sg = sigma + MPGM_NSTRESS * p, m = P->mass[p], v = vol[p];
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
@@ -159,7 +162,9 @@ static void move_points(mpgm_problem *pb, const double *V, const double *A, doub
   const mpgm_conn *C = &pb->conn;
   const double dt = pb->dt, c2 = c * dt * dt;
   const int m = P->n + P->nprobe + P->nsurf;
-  const double gx = pb->scene->gravity[0], gy = pb->scene->gravity[1];
+  /* the work of gravity, at its value in the middle of the step */
+  const double gf = mpgm_gravity_factor(pb, pb->t + 0.5 * dt);
+  const double gx = gf * pb->scene->gravity[0], gy = gf * pb->scene->gravity[1];
   double wext = 0.0;
   for (int p = 0; p < m; p++) { /* 2-D only: components written out */
     double a[MPGM_DIM] = {0}, w[MPGM_DIM] = {0};
@@ -190,7 +195,7 @@ static int fe_step(void *self, mpgm_problem *pb) {
   double *V = nd->v_new, *A = nd->a_new;
   zero_fixed(nd, nd->v);
   MPGM_CALL(stress(pb, nd->v));
-  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma_t, pb->pts.vol_t, A));
+  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma_t, pb->pts.vol_t, pb->t + pb->dt, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
   commit_stress(pb);
   move_points(pb, V, A, 0.0);
@@ -202,7 +207,7 @@ static int fe_step(void *self, mpgm_problem *pb) {
 static int usl_step(void *self, mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
   double *V = nd->v_new, *A = nd->a_new;
-  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma, pb->pts.vol, A));
+  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma, pb->pts.vol, pb->t, A));
   zero_fixed(nd, nd->v);
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
   MPGM_CALL(stress(pb, V));
@@ -213,7 +218,8 @@ static int usl_step(void *self, mpgm_problem *pb) {
 
 /* npc: the predictor of eq 30, projected from the points, v_pred =
  * sum_p N m_p (v_p + (1 - gamma) dt a_p) / m_I; the stress from it; the
- * corrector V = v_pred + gamma dt A (eq 31); the points by eqs 32-34. */
+ * corrector V = v_pred + gamma dt A (eq 31); the points' velocity and
+ * acceleration by eqs 32-33, their positions by time.npc_position. */
 static int npc_step(void *self, mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   mpgm_nodes *nd = &pb->nodes;
@@ -239,10 +245,12 @@ static int npc_step(void *self, mpgm_problem *pb) {
   }
   mpgm_timer_stop(ctx, MPGM_T_MASS);
   MPGM_CALL(stress(pb, V));
-  MPGM_CALL(nodal_forces(pb, self, P->sigma_t, P->vol_t, A));
+  MPGM_CALL(nodal_forces(pb, self, P->sigma_t, P->vol_t, pb->t + pb->dt, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] += g * dt * A[i];
   commit_stress(pb);
-  move_points(pb, V, A, 0.5);
+  /* newmark: the points move by what their strain used, dt v_pred =
+   * dt V - gamma dt^2 A; eq34: dt V + dt^2 A / 2 (003's eq 34 and code) */
+  move_points(pb, V, A, pb->scene->npc_eq34 ? 0.5 : -g);
   return 0;
 }
 

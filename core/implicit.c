@@ -19,8 +19,10 @@ static void commit(mpgm_problem *pb) {
   const int move = pb->fx.geometric, inertia = pb->fx.inertia;
   const int newmark_pv = pb->fe->point_velocity == MPGM_PV_NEWMARK;
   const int m = P->n + P->nprobe + P->nsurf;
-  const double gx = pb->scene->gravity[0], gy = pb->scene->gravity[1];
-  double wext = 0.0; /* work of gravity (dynamic: in full) */
+  /* work of gravity (dynamic), at its value in the middle of the step */
+  const double gf = inertia ? mpgm_gravity_factor(pb, pb->t + 0.5 * pb->dt) : 0.0;
+  const double gx = gf * pb->scene->gravity[0], gy = gf * pb->scene->gravity[1];
+  double wext = 0.0;
   /* 2-D only: the points' increments written out per component (3-D: a
    * third component) */
   for (int p = 0; p < m; p++) {
@@ -134,7 +136,7 @@ static int initial_acceleration(mpgm_problem *pb) {
   const mpgm_conn *C = &pb->conn;
   mpgm_points *P = &pb->pts;
   memset(nd->du, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
-  MPGM_CALL(mpgm_body_force(pb));
+  MPGM_CALL(mpgm_body_force(pb, 0.0)); /* the first step starts at t = 0 */
   MPGM_CALL(mpgm_eval_points(pb));
   MPGM_CALL(mpgm_assemble_mass(pb));
   if (!pb->solver->analysed) MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));

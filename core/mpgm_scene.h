@@ -8,6 +8,8 @@
 #ifndef MPGM_SCENE_H
 #define MPGM_SCENE_H
 
+#include <math.h>
+
 #include "mpgm_base.h"
 #include "mpgm_integrator.h"
 #include "mpgm_material.h"
@@ -191,6 +193,10 @@ typedef struct mpgm_scene {
                                  max(max |v_p|, max c_p) each step      */
   double npc_gamma;         /**< explicit npc: gamma of the predictor
                                  and corrector (003 eqs 30-31)          */
+  int npc_eq34;             /**< explicit npc: 1: the points move by 003's
+                                 eq 34, dt V + dt^2 A / 2 with the
+                                 corrected V; 0 ("newmark"): by dt v_pred,
+                                 the displacement their strain used     */
   /* solver */
   const mpgm_solver_type *solver; /**< solver.linear ("auto": the composite
                                  Cholesky / LU backend)               */
@@ -227,6 +233,10 @@ typedef struct mpgm_scene {
   int nprobe;
   mpgm_scene_probe *probes;
   double gravity[MPGM_DIM]; /**< [m/s^2]                               */
+  double gravity_ramp;      /**< dynamic: period T [s] of the ramp of
+                                 Molinos et al. 2021 eq 45, gravity times
+                                 (1 - cos(2 pi t / T)) / 2 until T/2, then
+                                 in full (0: in full from t = 0)       */
   mpgm_reference reference; /**< reference solution; type NULL if none  */
   /* output */
   char out_dir[MPGM_PATH_LEN];
@@ -277,6 +287,14 @@ int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[MPGM_DIM],
 
 /** 1 when a scene boundary selects the node at X (plane within tol, or box). */
 int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[MPGM_DIM]);
+
+/** The factor of gravity at time t of a dynamic run: the ramp of
+ *  gravity_ramp (eq 45 of Molinos et al. 2021), 1 without one. */
+static inline double mpgm_gravity_ramp(const mpgm_scene *s, double t) {
+  const double T = s->gravity_ramp;
+  if (!(T > 0.0) || t >= 0.5 * T) return 1.0;
+  return 0.5 * (1.0 - cos(6.283185307179586 * t / T));
+}
 
 #ifdef __cplusplus
 }

@@ -43,7 +43,7 @@ int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
   memset(&pb->last, 0, sizeof pb->last);
   nt->warm = warm;
   nt->res_prev = INFINITY;
-  if (!warm) MPGM_CALL(mpgm_body_force(pb));
+  if (!warm) MPGM_CALL(mpgm_body_force(pb, pb->t + pb->dt));
   pb->lift = predictor(pb, warm) ? pb->dubar : NULL;
   /* |f_ext| over the free equations (held contact components have
    * numbered, constrained equations) */

@@ -22,6 +22,8 @@ typedef struct mpgm_output {
   double *hist;   /**< probe history rows: step, time, columns     */
   int nstep, capstep;
   double *steps;  /**< per converged step: STEP_COLS values         */
+  double ref_acc[MPGM_REF_MAXACC]; /**< what the scene's reference kind
+                     keeps of the points (its observe)               */
 } mpgm_output;
 
 /** Open the results folder dir of problem pb: DIR/vtk (emptied of earlier

@@ -9,6 +9,7 @@
 #ifndef MPGM_SCENE_IO_H
 #define MPGM_SCENE_IO_H
 
+#include "mpgm_data.h"
 #include "mpgm_scene.h"
 
 #ifdef __cplusplus
@@ -43,11 +44,16 @@ void mpgm_scene_destroy(mpgm_scene **s);
 char *mpgm_scene_resolved_json(const mpgm_scene *s);
 /** Metrics of the scene's reference (none when s has no reference block).
  *  nrow, ncol, hist: the probe history (layout above; ncol = 2 + 2 nprobe).
- *  metrics_cjson: the cJSON object the metrics are added to.
+ *  acc: what the kind's observe kept (MPGM_REF_MAXACC doubles; may be
+ *  NULL). metrics_cjson: the cJSON object the metrics are added to.
  *  Returns 0; MPGM_ERR_INPUT (nothing added) when the history is empty or
  *  narrower than the reference's probe columns. */
 int mpgm_reference_metrics(const mpgm_scene *s, int nrow, int ncol, const double *hist,
-                           void *metrics_cjson);
+                           const double *acc, void *metrics_cjson);
+/** The material points P at time t after a step of dt (t = 0: dt = 0), for
+ *  a reference kind that observes them (no-op otherwise): into acc. */
+void mpgm_reference_observe(const mpgm_scene *s, double t, double dt, const mpgm_points *P,
+                            double *acc);
 
 #ifdef __cplusplus
 }

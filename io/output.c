@@ -12,6 +12,7 @@
 
 #include "mpgm_file.h"
 #include "mpgm_mtx.h"
+#include "mpgm_scene_io.h"
 #include "mpgm_vtk.h"
 
 /* steps.csv: 9 columns, and 8 of energy and momentum in dynamic runs (all
@@ -98,6 +99,7 @@ int mpgm_output_save(const mpgm_output *o, mpgm_ctx *ctx, mpgm_blob *b) {
   const int n[5] = {o->nvtk, o->files, o->nrow, o->nstep, 2 + o->ncol};
   MPGM_CALL(mpgm_blob_put(ctx, b, "out.counts", n, sizeof n));
   MPGM_CALL(mpgm_blob_put(ctx, b, "out.mtx", &o->mtx_written, sizeof o->mtx_written));
+  MPGM_CALL(mpgm_blob_put(ctx, b, "out.ref_acc", o->ref_acc, sizeof o->ref_acc));
   MPGM_CALL(mpgm_blob_put(ctx, b, "out.probes", o->hist, sizeof(double) * (size_t)(o->nrow * n[4])));
   MPGM_CALL(mpgm_blob_put(ctx, b, "out.steps", o->steps, sizeof(double) * (size_t)(o->nstep * STEP_COLS)));
   MPGM_CALL(mpgm_pvd_save(o->pvd_points, ctx, b, "out.pvd_points"));
@@ -114,6 +116,7 @@ int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, co
   MPGM_CALL(output_open(ctx, o, pb, dir, n[0]));
   o->nvtk = n[0], o->files = n[1];
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.mtx", &o->mtx_written, sizeof o->mtx_written));
+  MPGM_CALL(mpgm_blob_get(ctx, b, "out.ref_acc", o->ref_acc, sizeof o->ref_acc));
   double *row;
   for (int i = 0; i < n[2]; i++) MPGM_CALL(table_push(ctx, &o->hist, &o->nrow, &o->caprow, n[4], &row));
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.probes", o->hist, sizeof(double) * (size_t)(n[2] * n[4])));
@@ -244,6 +247,7 @@ int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem 
   const mpgm_points *P = mpgm_problem_points(pb);
   row[0] = (double)r.step;
   row[1] = o->scene->analysis == MPGM_ANALYSIS_STATIC ? r.lambda : r.t;
+  mpgm_reference_observe(o->scene, row[1], r.step ? r.dt : 0.0, P, o->ref_acc);
   const int p0 = P->n;
   for (int k = 0; k < P->nprobe; k++) {
     row[2 + 2 * k] = P->u[2 * (p0 + k)];

@@ -124,7 +124,7 @@ static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o)
   }
   if (mpgm_problem_effects(pb)->plasticity)
     cJSON_AddNumberToObject(m, "eps_p_max", mpgm_points_plastic_strain(P, s->mats, NULL));
-  (void)mpgm_reference_metrics(s, o->nrow, 2 + o->ncol, o->hist, m);
+  (void)mpgm_reference_metrics(s, o->nrow, 2 + o->ncol, o->hist, o->ref_acc, m);
 }
 
 /* summary.json "newton_last_step". */

@@ -415,9 +415,9 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
  * integrator family), the CFL number, the predictor's gamma. The keys are
  * refused with the other analyses, whose integrator ignores them. */
 static int read_explicit(jr_node *tm, mpgm_scene *s) {
-  static const char *const keys[] = {"scheme", "cfl", "npc_gamma"};
+  static const char *const keys[] = {"scheme", "cfl", "npc_gamma", "npc_position"};
   if (s->analysis != MPGM_ANALYSIS_EXPLICIT) {
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < 4; i++)
       if (jr_raw(tm, keys[i]) || jr_override_json(tm, keys[i]))
         return jr_fail(tm, keys[i], "only with time.analysis \"explicit\", found \"%s\"",
                        analysis_names[s->analysis]);
@@ -439,6 +439,8 @@ static int read_explicit(jr_node *tm, mpgm_scene *s) {
   s->integrator = ex[k];
   MPGM_CALL(jr_num(tm, "cfl", 0.1, 0.0, 1.0, 1, 0, &s->cfl));
   MPGM_CALL(jr_num(tm, "npc_gamma", 0.5, 0.0, 1.0, 0, 0, &s->npc_gamma));
+  static const char *const position_names[] = {"newmark", "eq34", NULL};
+  MPGM_CALL(jr_enum(tm, "npc_position", position_names, 1, &s->npc_eq34));
   return 0;
 }
 
@@ -560,6 +562,10 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(mpgm_scene_read_obstacles(root, s));
   const double g0[2] = {0, 0};
   MPGM_CALL(jr_vec2(root, "gravity", g0, s->gravity));
+  MPGM_CALL(jr_num(root, "gravity_ramp", 0.0, 0.0, INFINITY, 0, 0, &s->gravity_ramp));
+  if (s->gravity_ramp > 0.0 && s->analysis == MPGM_ANALYSIS_STATIC)
+    return jr_fail(root, "gravity_ramp", "ramps gravity in time: expected time.analysis \"dynamic\" "
+                   "or \"explicit\" (static runs ramp it with the load factor), found \"static\"");
   MPGM_CALL(read_probes(root, s));
   MPGM_CALL(mpgm_reference_read(root, s));
   MPGM_CALL(read_output(root, s));

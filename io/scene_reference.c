@@ -54,14 +54,22 @@ int mpgm_reference_read(jr_node *root, mpgm_scene *s) {
   return 0;
 }
 
+void mpgm_reference_observe(const mpgm_scene *s, double t, double dt, const mpgm_points *P,
+                            double *acc) {
+  const mpgm_reference *ref = &s->reference;
+  if (!ref->type || !ref->type->observe) return;
+  const mpgm_ref_points pts = {.n = P->n, .x0 = P->x0, .x = P->x, .v = P->v, .sigma = P->sigma};
+  ref->type->observe(ref, t, dt, &pts, acc);
+}
+
 int mpgm_reference_metrics(const mpgm_scene *s, int nrow, int ncol, const double *hist,
-                           void *metrics_cjson) {
+                           const double *acc, void *metrics_cjson) {
   const mpgm_reference *ref = &s->reference;
   if (!ref->type) return 0;
   if (nrow < 1 || !hist || !metrics_cjson || ref->probe < 0 || ncol < 4 + 2 * ref->probe)
     return MPGM_ERR_INPUT;
   mpgm_metric m[MPGM_REF_MAXMETRIC];
-  const int n = ref->type->metrics(ref, nrow, ncol, hist, m);
+  const int n = ref->type->metrics(ref, nrow, ncol, hist, acc, m);
   for (int i = 0; i < n && i < MPGM_REF_MAXMETRIC; i++)
     cJSON_AddNumberToObject((cJSON *)metrics_cjson, m[i].name, m[i].value);
   return 0;

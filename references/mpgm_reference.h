@@ -23,8 +23,10 @@
 extern "C" {
 #endif
 
-#define MPGM_REF_MAXPARAM 4   /**< numeric parameters of a kind      */
-#define MPGM_REF_MAXMETRIC 8  /**< metrics a kind may produce        */
+#define MPGM_REF_MAXPARAM 6   /**< numeric parameters of a kind      */
+#define MPGM_REF_MAXMETRIC 10 /**< metrics a kind may produce        */
+#define MPGM_REF_MAXACC 8     /**< doubles a kind may accumulate over
+                                   the run (observe)                  */
 
 typedef struct mpgm_reference_type mpgm_reference_type;
 
@@ -37,6 +39,16 @@ typedef struct mpgm_reference {
   double x0[2];   /**< the probe's initial position [m] (its material
                        coordinate)                                      */
 } mpgm_reference;
+
+/** The material points as a kind's observe sees them after a step (2-D:
+ *  2 doubles per vector, stresses {xx, yy, xy, zz}). */
+typedef struct mpgm_ref_points {
+  int n;                /**< material points                             */
+  const double *x0;     /**< initial positions (material coordinates) [m] */
+  const double *x;      /**< positions [m]                               */
+  const double *v;      /**< velocities [m/s]                            */
+  const double *sigma;  /**< Cauchy stresses [Pa]                        */
+} mpgm_ref_points;
 
 /** One metric: name (static string) and value. */
 typedef struct mpgm_metric {
@@ -55,7 +67,13 @@ struct mpgm_reference_type {
    *  columns exist, the caller checks). Writes at most MPGM_REF_MAXMETRIC
    *  entries of out and returns how many. No allocation. */
   int (*metrics)(const mpgm_reference *r, int nrow, int ncol, const double *hist,
-                 mpgm_metric *out);
+                 const double *acc, mpgm_metric *out);
+  /** Optional: the material points at time t, after a step of dt (and at
+   *  t = 0 with dt = 0), for metrics of whole fields; what it keeps goes
+   *  into acc (MPGM_REF_MAXACC doubles, 0 at the start, carried across a
+   *  restart), which metrics then gets (else acc is NULL or zeros). */
+  void (*observe)(const mpgm_reference *r, double t, double dt, const mpgm_ref_points *pts,
+                  double *acc);
 };
 
 /** All kinds, NULL-terminated (for docs and error messages). */

@@ -43,7 +43,8 @@ static double top_displacement(const mpgm_reference *r, double t) {
  * and over rows 1..nrow-1: error_rms, error_max (against w(t)) and
  * relative_error_max = error_max / top_amplitude_ref. */
 static int column_wave_metrics(const mpgm_reference *r, int nrow, int ncol, const double *hist,
-                               mpgm_metric *out) {
+                               const double *acc, mpgm_metric *out) {
+  (void)acc;
   const double H = r->param[0], M = r->param[1], rho = r->param[2], g = r->param[3];
   const int col = 2 + 2 * r->probe + r->component;
   const double amp_ref = rho * g * H * H / M;

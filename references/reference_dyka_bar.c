@@ -16,7 +16,9 @@
  * ct = 7L/4 to 9L/4, and so on (period 4L/c).
  *
  * The probe's material coordinate is its initial x (the scene puts the
- * free end at x = 0 and the held end at x = L). */
+ * free end at x = 0 and the held end at x = L); so is every point's in the
+ * velocity RMS of eq 44, sqrt(mean_p |v_p - v(X_p, t)|^2), kept at the
+ * first step that ends at or after t1 and at the end. */
 #include <math.h>
 
 #include "mpgm_reference.h"
@@ -26,6 +28,8 @@ static const mpgm_param_spec params[] = {
     {"modulus", "Pa", NAN, 0.0, INFINITY, 1, 0, "Young's modulus E (nu = 0: the 1-D modulus)"},
     {"density", "kg/m^3", NAN, 0.0, INFINITY, 1, 0, "density rho"},
     {"v0", "m/s", NAN, -INFINITY, INFINITY, 0, 0, "initial velocity of the quarter X < L/4"},
+    {"t1", "s", 1e-5, 0.0, INFINITY, 1, 0,
+     "time of the first velocity RMS (eq 44; the second is at the end of the run)"},
 };
 
 /* Fi(y) = integral_0^y f, f the extended initial velocity (above). */
@@ -40,18 +44,48 @@ static double fi(double L, double v0, double y) {
   return sum;
 }
 
+/* f, the extended initial velocity, at y. */
+static double f_ext(double L, double v0, double y) {
+  const double P = 4.0 * L;
+  y -= P * floor(y / P);
+  return y < 0.25 * L ? v0 : y < 1.75 * L ? 0.0 : y < 2.25 * L ? -v0 : y < 3.75 * L ? 0.0 : v0;
+}
+
+/* acc: [0] RMS at t1, [1] the time it was taken (0: not yet), [2] RMS at
+ * the last step, [3] its time. */
+static void dyka_bar_observe(const mpgm_reference *r, double t, double dt,
+                             const mpgm_ref_points *pts, double *acc) {
+  (void)dt;
+  const double L = r->param[0], c = sqrt(r->param[1] / r->param[2]), v0 = r->param[3];
+  double sum = 0.0;
+  for (int p = 0; p < pts->n; p++) {
+    const double X = pts->x0[2 * p];
+    const double ex = 0.5 * (f_ext(L, v0, X - c * t) + f_ext(L, v0, X + c * t));
+    const double dx = pts->v[2 * p] - ex, dy = pts->v[2 * p + 1];
+    sum += dx * dx + dy * dy;
+  }
+  const double rms = pts->n ? sqrt(sum / pts->n) : 0.0;
+  if (acc[1] == 0.0 && t >= r->param[4] * (1.0 - 1e-9)) {
+    acc[0] = rms;
+    acc[1] = t;
+  }
+  acc[2] = rms;
+  acc[3] = t;
+}
+
 /* Displacement u(X, t) of the material point X. */
 static double displacement(const mpgm_reference *r, double X, double t) {
   const double L = r->param[0], c = sqrt(r->param[1] / r->param[2]), v0 = r->param[3];
   return (fi(L, v0, X + c * t) - fi(L, v0, X - c * t)) / (2.0 * c);
 }
 
-/* metrics, against u(X_probe, t) over rows 1..nrow-1: error_rms,
- * error_max and both relative to the free end's travel |v0| L / (4c)
- * (relative_error_rms, relative_error_max); wave_speed = c; stress_jump =
- * rho c |v0| / 2. */
+/* metrics: velocity_rms_t1 (with the time it was taken) and
+ * velocity_rms_end (eq 44, m/s); against u(X_probe, t) over rows
+ * 1..nrow-1: error_rms, error_max and both relative to the free end's
+ * travel |v0| L / (4c) (relative_error_rms, relative_error_max);
+ * wave_speed = c; stress_jump = rho c |v0| / 2. */
 static int dyka_bar_metrics(const mpgm_reference *r, int nrow, int ncol, const double *hist,
-                            mpgm_metric *out) {
+                            const double *acc, mpgm_metric *out) {
   const double L = r->param[0], c = sqrt(r->param[1] / r->param[2]), v0 = r->param[3];
   const int col = 2 + 2 * r->probe + r->component;
   double sum = 0.0, emax = 0.0;
@@ -63,6 +97,11 @@ static int dyka_bar_metrics(const mpgm_reference *r, int nrow, int ncol, const d
   }
   const double travel = fabs(v0) * L / (4.0 * c);
   int n = 0;
+  if (acc && acc[1] > 0.0) {
+    out[n++] = (mpgm_metric){"velocity_rms_t1", acc[0]};
+    out[n++] = (mpgm_metric){"velocity_rms_t1_time", acc[1]};
+  }
+  if (acc && acc[3] > 0.0) out[n++] = (mpgm_metric){"velocity_rms_end", acc[2]};
   out[n++] = (mpgm_metric){"wave_speed", c};
   out[n++] = (mpgm_metric){"stress_jump", 0.5 * r->param[2] * c * fabs(v0)};
   if (nrow >= 2) {
@@ -83,4 +122,5 @@ const mpgm_reference_type mpgm_reference_dyka_bar = {
     .nparam = (int)(sizeof params / sizeof params[0]),
     .params = params,
     .metrics = dyka_bar_metrics,
+    .observe = dyka_bar_observe,
 };

@@ -9,7 +9,8 @@
   X(mpgm_reference_probe_value)                                                \
   X(mpgm_reference_rolling_disk)                                               \
   X(mpgm_reference_column_wave)                                                \
-  X(mpgm_reference_dyka_bar)
+  X(mpgm_reference_dyka_bar)                                                   \
+  X(mpgm_reference_rigid_block)
 
 #define MPGM_DECLARE(t) extern const mpgm_reference_type t;
 MPGM_REFERENCE_LIST(MPGM_DECLARE)

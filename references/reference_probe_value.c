@@ -13,7 +13,8 @@ static const mpgm_param_spec params[] = {
 /* metrics: reference_value, error = |u_final - value|, relative_error =
  * error / |value| (left out when value = 0) */
 static int probe_value_metrics(const mpgm_reference *r, int nrow, int ncol, const double *hist,
-                               mpgm_metric *out) {
+                               const double *acc, mpgm_metric *out) {
+  (void)acc;
   const double value = r->param[0];
   const double u = hist[(size_t)ncol * (nrow - 1) + 2 + 2 * r->probe + r->component];
   const double err = fabs(u - value);

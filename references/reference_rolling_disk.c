@@ -23,7 +23,8 @@ static const mpgm_param_spec params[] = {
  * error_rms = sqrt(mean (u_ref - u)^2), error_max = max |u_ref - u|
  * (when there is such a row). */
 static int rolling_disk_metrics(const mpgm_reference *r, int nrow, int ncol, const double *hist,
-                                mpgm_metric *out) {
+                                const double *acc, mpgm_metric *out) {
+  (void)acc;
   const double alpha = r->param[0] * deg, g = r->param[1];
   const double k2 = g * sin(alpha) / 3.0, ca = cos(alpha); /* s_ref = k2 t^2 */
   const int col = 2 + 2 * r->probe;

@@ -206,8 +206,13 @@ void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only);
  *  spring pulls; at most one change per tracer and step. Returns 1 when
  *  the set changed. */
 int mpgm_cpoints_update(mpgm_problem *pb);
-/** External force (gravity times load factor) into pb->fext. */
-int mpgm_body_force(mpgm_problem *pb);
+/** The factor of gravity at time t: static, the load factor; dynamic, the
+ *  scene's ramp (gravity_ramp; 1 without one). */
+static inline double mpgm_gravity_factor(const mpgm_problem *pb, double t) {
+  return pb->fx.inertia ? mpgm_gravity_ramp(pb->scene, t) : pb->lambda;
+}
+/** External force (gravity times its factor at time t) into pb->fext. */
+int mpgm_body_force(mpgm_problem *pb, double t);
 
 
 /** The local indices 0 .. nk - 1 of nodes[] in increasing node number

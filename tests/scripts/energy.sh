@@ -14,6 +14,11 @@
 # 3. Momentum: a free block in flight (no support, no gravity) keeps the
 #    momentum of its points, and the nodes carry the same, to round-off, for
 #    every explicit scheme and implicit MPM.
+# 4. gravity_ramp: the block falls under the ramped gravity as the double
+#    integral of eq 45 says: implicit Newmark to 1e-3 of the fall (measured
+#    1.1e-4); explicit usl to 2e-3 at CFL 0.1 and of second order (6.4e-4,
+#    1.2e-4 at 0.05), fe and npc of first order (7.3 and 3.5 % at 0.1), and
+#    npc with eq 34's positions 3 times npc's (10.8 %).
 #
 # usage: energy.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
@@ -98,6 +103,65 @@ bad = [r for r in rows if abs(r['momentum_x'] - 2000) > 1e-9 * 2000 or abs(r['mo
 print(f'{len(rows)} steps, {len(bad)} off' + (f': step {bad[0][\"step\"]:.0f}, {bad[0]}' if bad else ''))
 sys.exit(1 if bad else 0)"
 done
+
+# ---- 4: the gravity ramp (eq 45 of Molinos et al. 2021) --------------------------
+# a free block falls by (g/2) (t^2/2 - (T/2pi)^2 (1 - cos(2 pi t / T))) while
+# gravity ramps in (t <= T/2), on top of its own start velocity 0.5 m/s up;
+# ramp_error prints the largest deviation over the fall at T/2
+ramp_error() {
+  python3 -c '
+import csv, math, sys
+T, g = 0.2, 9.81
+fall = 0.5 * g * (T * T / 8 - 2 * (T / (2 * math.pi)) ** 2)
+worst = 0.0
+for r in csv.DictReader(open(sys.argv[1])):
+    t = float(r["time"])
+    want = 0.5 * t - 0.5 * g * (0.5 * t * t - (T / (2 * math.pi)) ** 2 * (1 - math.cos(2 * math.pi * t / T)))
+    worst = max(worst, abs(float(r["c_uy"]) - want))
+print("%.4g" % (worst / fall))' "$work/$1/probes.csv"
+}
+ramp=(--set time.end=0.1 --set gravity=[0,-9.81] --set gravity_ramp=0.2 --set 'probes={"c":[1.5,1.5]}')
+run ramp_implicit "$work/free_block.json" --set time.analysis=dynamic --set time.dt=0.001 "${ramp[@]}"
+if [ $rc -eq 0 ]; then
+  e=$(ramp_error ramp_implicit)
+  if python3 -c "import sys; sys.exit(0 if $e < 1e-3 else 1)"; then
+    pass "ramp, implicit Newmark (dt = T/200): the fall deviates by $e of itself (< 1e-3)"
+  else
+    fail "ramp, implicit Newmark: deviation $e of the fall, expected < 1e-3"
+  fi
+fi
+# explicit: usl is of second order here, fe and npc of first (eq 33 moves
+# the points' velocity by the new acceleration alone); npc's eq 34 moves the
+# points dt^2 a farther per step than the newmark positions
+for v in "usl newmark" "npc newmark" "npc eq34" "fe newmark"; do
+  read -r s pos <<< "$v"
+  for c in 0.1 0.05; do
+    run "ramp_${s}_${pos}_$c" "$work/free_block.json" --set time.scheme=$s \
+      --set time.npc_position=$pos --set time.cfl=$c "${ramp[@]}"
+  done
+done
+e_usl=$(ramp_error ramp_usl_newmark_0.1); e_usl2=$(ramp_error ramp_usl_newmark_0.05)
+e_npc=$(ramp_error ramp_npc_newmark_0.1); e_npc2=$(ramp_error ramp_npc_newmark_0.05)
+e_34=$(ramp_error ramp_npc_eq34_0.1); e_fe=$(ramp_error ramp_fe_newmark_0.1)
+e_fe2=$(ramp_error ramp_fe_newmark_0.05)
+if python3 -c "import sys; sys.exit(0 if $e_usl < 2e-3 and $e_usl / $e_usl2 > 3.5 else 1)"; then
+  pass "ramp, usl: deviation $e_usl at CFL 0.1, $e_usl2 at 0.05 (second order)"
+else
+  fail "ramp, usl: deviation $e_usl at CFL 0.1, $e_usl2 at 0.05: expected < 2e-3 and second order"
+fi
+for v in "npc $e_npc $e_npc2 0.05" "fe $e_fe $e_fe2 0.1"; do
+  read -r s a b lim <<< "$v"
+  if python3 -c "import sys; r = $a / $b; sys.exit(0 if $a < $lim and 1.8 < r < 2.2 else 1)"; then
+    pass "ramp, $s: deviation $a at CFL 0.1, $b at 0.05 (first order, below $lim)"
+  else
+    fail "ramp, $s: deviation $a at CFL 0.1, $b at 0.05: expected first order below $lim"
+  fi
+done
+if python3 -c "import sys; sys.exit(0 if $e_34 > 2.5 * $e_npc else 1)"; then
+  pass "ramp, npc: eq 34's positions deviate $e_34, the newmark positions $e_npc"
+else
+  fail "ramp, npc: eq 34's positions deviate $e_34, the newmark positions $e_npc: expected about 3x"
+fi
 
 echo "energy: $npass passed, $nfail failed"
 [ $nfail -eq 0 ]

@@ -61,7 +61,14 @@ SCENES = {
                     "bodies": [BLOCK], "boundaries": [{"y": 0.0, "condition": "contact"}]},
     # MPM, explicit: the keys of the explicit schemes
     "mpm_explicit": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
-                     "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK]},
+                     "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK], "probes": {"c": [1.0, 0.5]},
+                     "reference": {"kind": "dyka_bar", "probe": "c", "component": "x", "length": 2.0,
+                                   "modulus": 3.1e7, "density": 2385.7, "v0": -1.0}},
+    # the rigid_block reference's defaults
+    "mpm_block": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
+                  "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK], "probes": {"c": [1.0, 0.5]},
+                  "reference": {"kind": "rigid_block", "probe": "c", "height": 1.0, "density": 2385.7,
+                                "from": 0.0}},
 }
 
 

@@ -304,7 +304,7 @@ static void test_rolling_disk(void) {
   /* exact rolling: every error is 0 */
   rolling_history(h, alpha, g, dt, 0.0, 0.0);
   cJSON *m = cJSON_CreateObject();
-  mpgm_test(mpgm_reference_metrics(&s, NROW, NCOL, h, m) == 0, "rolling_disk: metrics return 0");
+  mpgm_test(mpgm_reference_metrics(&s, NROW, NCOL, h, NULL, m) == 0, "rolling_disk: metrics return 0");
   const double sref1 = acc * 1.0 * 1.0;
   mpgm_test_rel(metric(m, "s_ref_final"), sref1, TEST_TOL1, "rolling_disk exact: s_ref_final = g sin60 / 3");
   mpgm_test_rel(sref1, 2.8319030703751142, TEST_TOL1, "rolling_disk: s_ref(1 s) = 2.8319030703751142 m");
@@ -318,7 +318,7 @@ static void test_rolling_disk(void) {
   const double d = 0.0371;
   rolling_history(h, alpha, g, dt, 0.0, d);
   m = cJSON_CreateObject();
-  mpgm_reference_metrics(&s, NROW, NCOL, h, m);
+  mpgm_reference_metrics(&s, NROW, NCOL, h, NULL, m);
   mpgm_test_rel(metric(m, "s_final"), sref1 + d, TEST_TOL1, "rolling_disk offset: s_final");
   mpgm_test_rel(metric(m, "s_error"), d / sref1, TEST_TOL3, "rolling_disk offset: s_error = d / s_ref_final");
   mpgm_test_rel(metric(m, "error"), sqrt((double)(NROW - 1)) * d * ca, TEST_TOL4,
@@ -330,7 +330,7 @@ static void test_rolling_disk(void) {
   const double e = -0.0625;
   rolling_history(h, alpha, g, dt, e, 0.0);
   m = cJSON_CreateObject();
-  mpgm_reference_metrics(&s, NROW, NCOL, h, m);
+  mpgm_reference_metrics(&s, NROW, NCOL, h, NULL, m);
   const double N = NROW - 1; /* sum_{k=1}^N k^4 = N(N+1)(2N+1)(3N^2+3N-1)/30 */
   const double s4 = N * (N + 1) * (2 * N + 1) * (3 * N * N + 3 * N - 1) / 30.0 * pow(dt, 4);
   mpgm_test_rel(metric(m, "error"), fabs(e) * acc * ca * sqrt(s4), TEST_TOL4, "rolling_disk scaled: error");
@@ -341,14 +341,14 @@ static void test_rolling_disk(void) {
   cJSON_Delete(m);
   /* only the initial row: s values, no error over steps */
   m = cJSON_CreateObject();
-  mpgm_reference_metrics(&s, 1, NCOL, h, m);
+  mpgm_reference_metrics(&s, 1, NCOL, h, NULL, m);
   mpgm_test(cJSON_GetObjectItem(m, "s_final") && !cJSON_GetObjectItem(m, "error") &&
                 !cJSON_GetObjectItem(m, "s_error"),
             "rolling_disk, row 0 only: s_final, no error, no s_error");
   cJSON_Delete(m);
   /* history narrower than the probe's columns: error, nothing added */
   m = cJSON_CreateObject();
-  mpgm_test(mpgm_reference_metrics(&s, NROW, 4, h, m) != 0 && m->child == NULL,
+  mpgm_test(mpgm_reference_metrics(&s, NROW, 4, h, NULL, m) != 0 && m->child == NULL,
             "rolling_disk: history without the probe's columns is refused, nothing added");
   cJSON_Delete(m);
   free(h);
@@ -365,7 +365,7 @@ static void test_probe_value(void) {
   s.reference.param[0] = -0.67437;
   const double h[3 * NCOL] = {0, 0, 0, 0, 0, 0, 1, 0.5, 9, 9, -0.01, -0.3, 2, 1.0, 9, 9, -0.0315, -0.66912};
   cJSON *m = cJSON_CreateObject();
-  mpgm_test(mpgm_reference_metrics(&s, 3, NCOL, h, m) == 0, "probe_value: metrics return 0");
+  mpgm_test(mpgm_reference_metrics(&s, 3, NCOL, h, NULL, m) == 0, "probe_value: metrics return 0");
   mpgm_test_rel(metric(m, "reference_value"), -0.67437, TEST_TOL0, "probe_value: reference_value");
   mpgm_test_rel(metric(m, "error"), 0.67437 - 0.66912, TEST_TOL2, "probe_value: error = |u_final - value|");
   mpgm_test_rel(metric(m, "relative_error"), (0.67437 - 0.66912) / 0.67437, TEST_TOL2,
@@ -374,13 +374,13 @@ static void test_probe_value(void) {
   s.reference.component = 0;
   s.reference.param[0] = 0.0;
   m = cJSON_CreateObject();
-  mpgm_reference_metrics(&s, 3, NCOL, h, m);
+  mpgm_reference_metrics(&s, 3, NCOL, h, NULL, m);
   mpgm_test_rel(metric(m, "error"), 0.0315, TEST_TOL1, "probe_value x, value 0: error = |ux|");
   mpgm_test(!cJSON_GetObjectItem(m, "relative_error"), "probe_value, value 0: no relative_error");
   cJSON_Delete(m);
   s.reference.type = NULL;
   m = cJSON_CreateObject();
-  mpgm_test(mpgm_reference_metrics(&s, 3, NCOL, h, m) == 0 && m->child == NULL,
+  mpgm_test(mpgm_reference_metrics(&s, 3, NCOL, h, NULL, m) == 0 && m->child == NULL,
             "no reference: nothing added");
   cJSON_Delete(m);
   int nk = 0;
@@ -424,7 +424,7 @@ static void test_column_wave(void) {
       row[5] = column_series(H, M, rho, g, k * dt) + (shift && k ? 1e-3 : 0.0);
     }
     cJSON *m = cJSON_CreateObject();
-    mpgm_test(mpgm_reference_metrics(&s, NROW, NCOL, h, m) == 0, "column_wave: metrics return 0");
+    mpgm_test(mpgm_reference_metrics(&s, NROW, NCOL, h, NULL, m) == 0, "column_wave: metrics return 0");
     const double amp = rho * g * H * H / M;
     mpgm_test_rel(metric(m, "top_amplitude_ref"), amp, TEST_TOL1, "column_wave: amplitude rho g H^2 / M");
     mpgm_test_rel(metric(m, "period_ref"), T, TEST_TOL1, "column_wave: period 4 H / c");
