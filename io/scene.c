@@ -440,7 +440,7 @@ static int read_explicit(jr_node *tm, mpgm_scene *s) {
   MPGM_CALL(jr_num(tm, "cfl", 0.1, 0.0, 1.0, 1, 0, &s->cfl));
   MPGM_CALL(jr_num(tm, "npc_gamma", 0.5, 0.0, 1.0, 0, 0, &s->npc_gamma));
   static const char *const position_names[] = {"newmark", "eq34", NULL};
-  MPGM_CALL(jr_enum(tm, "npc_position", position_names, 1, &s->npc_eq34));
+  MPGM_CALL(jr_enum(tm, "npc_position", position_names, 0, &s->npc_eq34));
   return 0;
 }
 

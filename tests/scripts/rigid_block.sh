@@ -5,9 +5,9 @@
 # by eq 45 over T = 20 s. The block settles by a third of its height, so its
 # points cross cells. Each run must reach 20 s with finite stresses; from
 # t = 10 s (the ramp done) the top must oscillate about the settlement at
-# rest of the rate-form elastic block, 33.2 m, within 2 % (measured 0.03 and
-# 1.2 %), and the bottom row's sigma_yy, averaged over that window, must be
-# rho0 g (H0 - Y) within 3 % (measured 0.2 and 2.2 %: the window holds
+# rest of the rate-form elastic block, 33.2 m, within 2 % (measured 1.6 and
+# 0.9 %), and the bottom row's sigma_yy, averaged over that window, must be
+# rho0 g (H0 - Y) within 3 % (measured 0.2 and 1.4 %: the window holds
 # about 1.2 periods of the block's oscillation, of +-40 %).
 # usage: rigid_block.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
