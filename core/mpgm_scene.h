@@ -165,6 +165,10 @@ typedef struct mpgm_scene {
                                  this times h to a lower-numbered free
                                  node is left out of the step (0: off)  */
   int node_motion;          /**< mpgm_node_motion (GMM, finite strain)  */
+  int layout_centres;       /**< mesh.layout: 1 "centres" (points at the
+                                 centres of ppc equal sub-cells of a quad,
+                                 as uGIMP wants), 0 "gauss" (the Gauss
+                                 points)                                 */
   double dom_min[MPGM_DIM], dom_max[MPGM_DIM]; /**< domain box [m]     */
   /* kinematics and time */
   int kinematics;           /**< mpgm_kinematics                       */

@@ -66,6 +66,8 @@ int mpgm_clouds_create(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_clouds **out) {
   c->shape = s->shape;
   c->par = s->shape_par;
   c->par.h = s->h;
+  if (s->shape->grid_only && !(c->par.half_width > 0.0))
+    c->par.half_width = s->h / (2.0 * sqrt((double)s->ppc));
   MPGM_CHECK(ctx, mpgm_shape_support_radius(s->shape, &c->par, &c->r0) == 0 && c->r0 > 0.0,
              MPGM_ERR_INPUT, "%s: shape: no support radius for kind \"%s\" (h = %g)", s->file,
              s->shape->name, s->h);
@@ -289,8 +291,11 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
     }
     if (n == 0) info.msg = "no node within the support radius";
     /* a point with no node within its support is not enlarged: the
-     * nearest node may be across the domain */
-    if (err != MPGM_ERR_SHAPE || enl >= c->max_enlarge || n == 0) break;
+     * nearest node may be across the domain; nor one whose grid lacks
+     * nodes (uGIMP: more nodes cannot supply them) */
+    if (err != MPGM_ERR_SHAPE || enl >= c->max_enlarge || n == 0 ||
+        info.reason == MPGM_SHAPE_OFF_GRID)
+      break;
     /* enlarge: the next-nearest node outside the cloud */
     const double t0 = mpgm_wtime();
     double dn2;

@@ -7,12 +7,17 @@
 #include "mpgm_discretisation.h"
 #include "mpgm_grid.h"
 
+int mpgm_points_rule(const mpgm_scene *s, int cell, double *xi, double *w) {
+  if (s->layout_centres && cell == MPGM_CELL_Q4) return mpgm_fe_centres(s->ppc, xi, w);
+  return mpgm_fe_gauss(cell, s->ppc, xi, w);
+}
+
 int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
                      void (*xy)(const void *grid, int c, double *xn), const void *grid,
                      int *owner, double *x, int *count) {
   double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
   *count = 0;
-  if (mpgm_fe_gauss(cell, s->ppc, gxi, gw)) return MPGM_ERR_INPUT;
+  if (mpgm_points_rule(s, cell, gxi, gw)) return MPGM_ERR_INPUT;
   const int nn = mpgm_fe_nnode(cell);
   double N[MPGM_FE_MAXNODE * 9];
   for (int q = 0; q < s->ppc; q++) mpgm_fe_ref(cell, gxi + MPGM_DIM * q, N + nn * q, NULL);
@@ -50,7 +55,7 @@ static void grid_cell_xy(const void *grid, int c, double *xn) {
 int mpgm_grid_fill(mpgm_ctx *ctx, const mpgm_grid *g, const mpgm_scene *s, mpgm_fill *f) {
   memset(f, 0, sizeof *f);
   double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
-  MPGM_CHECK(ctx, mpgm_fe_gauss(g->cell, s->ppc, gxi, gw) == 0, MPGM_ERR_INPUT,
+  MPGM_CHECK(ctx, mpgm_points_rule(s, g->cell, gxi, gw) == 0, MPGM_ERR_INPUT,
              "%s: mesh.ppc: no Gauss rule of %d points", s->file, s->ppc);
   /* a point's volume: cell area x Gauss weight / reference area (2-D only:
    * areas of Q4 and T3 cells, per unit thickness) */

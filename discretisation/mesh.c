@@ -61,7 +61,7 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
   memcpy(nd->X, m->X, sizeof(double) * MPGM_DIM * (size_t)m->nnode);
   memcpy(nd->x, m->X, sizeof(double) * MPGM_DIM * (size_t)m->nnode);
   double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
-  MPGM_CALL(mpgm_fe_gauss(m->cell, s->ppc, gxi, gw));
+  MPGM_CALL(mpgm_points_rule(s, m->cell, gxi, gw));
   int p = 0;
   for (int c = 0; c < m->ncell; c++) {
     const int b = m->cbody[c];

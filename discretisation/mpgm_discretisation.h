@@ -23,6 +23,10 @@ extern "C" {
  *  MPGM_DIM per entry [m]; *count the entries that belong to a body.
  *  Returns 0, or MPGM_ERR_INPUT when the cell kind has no rule of s->ppc
  *  points. */
+/** Where a cell's points lie, in local coordinates, with their weights:
+ *  the Gauss rule of mesh.ppc points, or (mesh.layout "centres", quads)
+ *  the centres of ppc equal sub-squares. 0 or MPGM_ERR_INPUT. */
+int mpgm_points_rule(const mpgm_scene *s, int cell, double *xi, double *w);
 int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
                      void (*xy)(const void *grid, int c, double *xn), const void *grid,
                      int *owner, double *x, int *count);

@@ -55,6 +55,9 @@ static int check_shape(mpgm_ctx *ctx, const mpgm_scene *s) {
   const mpgm_frontend_type *fe = s->frontend;
   const int cell = s->shape->needs_cell;
   const unsigned need = cell ? MPGM_FE_SHAPE_CELL : MPGM_FE_SHAPE_CLOUD;
+  if (s->shape->grid_only && fe->persistent_nodes)
+    return fail(ctx, s, "shape.kind", "\"%s\" needs the regular background grid of method mpm; "
+                "method %s's nodes are its own", s->shape->name, fe->name);
   if (fe->shapes & need) return 0;
   char k[128], m[128];
   return fail(ctx, s, "shape.kind",

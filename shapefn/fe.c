@@ -73,6 +73,19 @@ int mpgm_fe_gauss(int cell, int npts, double *xi, double *w) {
   return 0;
 }
 
+int mpgm_fe_centres(int npts, double *xi, double *w) {
+  const int n = npts == 1 ? 1 : npts == 4 ? 2 : npts == 9 ? 3 : 0;
+  if (!n) return MPGM_ERR_INPUT;
+  /* eta-major order, as the Gauss rule */
+  for (int j = 0, k = 0; j < n; j++)
+    for (int i = 0; i < n; i++, k++) {
+      xi[2 * k] = -1.0 + (2.0 * i + 1.0) / n;
+      xi[2 * k + 1] = -1.0 + (2.0 * j + 1.0) / n;
+      w[k] = 4.0 / npts;
+    }
+  return 0;
+}
+
 int mpgm_fe_eval(int cell, const double *xn, const double xi[2], double *N,
                  double *dN, double *detJ) {
   const int nn = mpgm_fe_nnode(cell);

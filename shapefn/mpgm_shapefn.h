@@ -66,6 +66,9 @@ typedef struct mpgm_shape_params {
   double dilation;    /**< R / h when radius = 0; default 2.0                */
   int order;          /**< MLS basis: 1 linear (default, also for 0),
                            2 quadratic                                        */
+  /* uGIMP */
+  double half_width;  /**< half side lp of a particle's square [m] (required,
+                           0 < lp <= h / 2; MPM: h / (2 sqrt(ppc)))          */
 } mpgm_shape_params;
 
 /** Why an evaluation failed (mpgm_shape_info.reason). */
@@ -79,8 +82,11 @@ typedef enum {
                                  condition number > max_cond                  */
   MPGM_SHAPE_OUTSIDE_HULL,  /**< LME: point outside the convex hull of the
                                  nodes in its support                         */
-  MPGM_SHAPE_NOT_CONVERGED  /**< LME: Newton on lambda hit max_newton or the
+  MPGM_SHAPE_NOT_CONVERGED, /**< LME: Newton on lambda hit max_newton or the
                                  line search stalled                           */
+  MPGM_SHAPE_OFF_GRID       /**< uGIMP: the weights do not sum to 1: nodes
+                                 within h + lp of the point are missing (the
+                                 grid ends there)                             */
 } mpgm_shape_reason;
 
 /** Short fixed description of a reason ("point outside the convex hull of
@@ -129,6 +135,8 @@ typedef struct mpgm_shapefn_type {
   int needs_cell;   /**< 1: connectivity comes from cells (FEM, MPM only);
                          0: meshfree, the caller gives a cloud of nodes
                          within mpgm_shape_support_radius of the point     */
+  int grid_only;    /**< 1: the nodes must be a regular grid of spacing
+                         h (uGIMP: the background grid of MPM)           */
   /** N (q->n values) and dN (2 per node: d/dx, d/dy) at the point.
    *  Returns 0, MPGM_ERR_JACOBIAN (inverted cell), MPGM_ERR_SHAPE
    *  (recoverable; reason in q->info) or MPGM_ERR_INPUT. Nodes outside the
@@ -189,6 +197,10 @@ void mpgm_fe_ref(int cell, const double xi[2], double *N, double *dNdxi);
  *  xi: 2 per point; w: weights (sum = reference area: 1/2 or 4).
  *  Returns 0 or MPGM_ERR_INPUT for an unsupported count. */
 int mpgm_fe_gauss(int cell, int npts, double *xi, double *w);
+/** Sub-cell centres of a Q4: npts = n^2 (1, 4 or 9) points at the centres
+ *  of n x n equal squares, weight 4 / npts each (the midpoint rule on the
+ *  sub-cells). Returns 0 or MPGM_ERR_INPUT for other counts. */
+int mpgm_fe_centres(int npts, double *xi, double *w);
 /** N and spatial gradients at local xi of a cell with node coordinates xn;
  *  detJ (may be NULL) receives det(dx/dxi). MPGM_ERR_JACOBIAN if detJ <= 0. */
 int mpgm_fe_eval(int cell, const double *xn, const double xi[2], double *N,

@@ -5,7 +5,8 @@
 
 #include <string.h>
 
-#define MPGM_SHAPEFN_LIST(X) X(mpgm_shapefn_fe) X(mpgm_shapefn_mls) X(mpgm_shapefn_lme)
+#define MPGM_SHAPEFN_LIST(X) \
+  X(mpgm_shapefn_fe) X(mpgm_shapefn_mls) X(mpgm_shapefn_lme) X(mpgm_shapefn_ugimp)
 
 #define MPGM_DECLARE(t) extern const mpgm_shapefn_type t;
 MPGM_SHAPEFN_LIST(MPGM_DECLARE)
@@ -40,6 +41,9 @@ const char *mpgm_shape_reason_str(int reason) {
   case MPGM_SHAPE_ILL_COND: return "moment matrix or Hessian singular or ill-conditioned";
   case MPGM_SHAPE_OUTSIDE_HULL: return "point outside the convex hull of its cloud";
   case MPGM_SHAPE_NOT_CONVERGED: return "Newton on the LME multiplier did not converge";
+  case MPGM_SHAPE_OFF_GRID:
+    return "uGIMP: the point's square reaches nodes the grid does not have (widen mesh.domain by a "
+           "cell, or use mesh.layout \"centres\")";
   default: return "unknown shape-function failure";
   }
 }

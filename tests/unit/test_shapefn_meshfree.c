@@ -1,9 +1,10 @@
 /* test_shapefn_meshfree.c -- conformance suite of the shape-function family
  * run over every kind in mpgm_shapefn_types(): FE through its cells (T3,
  * Q4; brief, test_shapefn.c covers FE in depth), MLS with linear and
- * quadratic basis, LME. On a regular grid and on randomly perturbed,
- * rotated node sets, at random points, with the cloud found by brute-force
- * radius search within mpgm_shape_support_radius:
+ * quadratic basis, LME, uGIMP (regular grid only; test_ugimp.c has the
+ * rest). On a regular grid and on randomly perturbed, rotated node sets,
+ * at random points, with the cloud found by brute-force radius search
+ * within mpgm_shape_support_radius:
  *
  *   - partition of unity, linear reproduction sum N_a x_a = x,
  *     sum grad N_a = 0 and sum x_a (x) grad N_a = I (MLS quadratic: also
@@ -616,6 +617,7 @@ static void check_defaults(const variant *mls1, const variant *lme) {
 int main(void) {
   const mpgm_shapefn_type *const *all = mpgm_shapefn_types();
   const mpgm_shapefn_type *mls = mpgm_shapefn_type_find("mls"), *lme = mpgm_shapefn_type_find("lme");
+  const mpgm_shapefn_type *ugimp = mpgm_shapefn_type_find("ugimp");
   mpgm_test(mls && lme && !mls->needs_cell && !lme->needs_cell && mls->support_radius &&
                 lme->support_radius,
             "mls and lme registered as meshfree kinds");
@@ -624,7 +626,9 @@ int main(void) {
   variant vmls2 = {.t = mls, .par = {.h = H, .order = 2}, .label = "mls quadratic"};
   variant vlme = {.t = lme, .par = {.h = H}, .label = "lme"};
   variant vlme_g = {.t = lme, .par = {.h = H, .gamma = 4.0}, .label = "lme gamma 4"};
-  const variant *mf[4] = {&vmls1, &vmls2, &vlme, &vlme_g};
+  /* uGIMP: regular grids only (its weights are those of a grid of spacing h) */
+  variant vug = {.t = ugimp, .par = {.h = H, .half_width = 0.25 * H}, .label = "ugimp"};
+  const variant *mf[5] = {&vmls1, &vmls2, &vlme, &vlme_g, &vug};
   static nodeset sets[3];
   rng r = {0x9E3779B97F4A7C15ULL};
   const double th[3] = {0.0, 0.0, 0.7311};
@@ -642,9 +646,9 @@ int main(void) {
       continue;
     }
     nmesh++;
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < 5; k++) {
       if (mf[k]->t != t) continue;
-      for (int is = 0; is < 3; is++)
+      for (int is = 0; is < (t->grid_only ? 1 : 3); is++)
         for (int p = 0; p < N_POINTS; p++) {
           double x[2];
           grid_point(th[is], uniform(&r, 2.0, NX - 3.0), uniform(&r, 2.0, NY - 3.0), x);
