@@ -30,8 +30,11 @@ typedef struct mpm_data {
   double *gm, *gq, *gf;/**< per grid node: mass; MPGM_DIM each: momentum,
                             inertia force                                 */
   unsigned char *light;/**< per grid node: light (no equation this step)    */
-  /* meshfree shape functions (shape.kind mls / lme): clouds of grid nodes */
+  /* meshfree shape functions (shape.kind mls / lme): clouds of grid nodes;
+   * grid kinds (ugimp) take the 4 x 4 grid nodes around a point directly */
   int meshfree;
+  int gridfn;          /**< a grid kind: no clouds, no kd-tree              */
+  mpgm_shape_params gpar; /**< its parameters (h, the particle half-width)  */
   double *gx;          /**< the grid nodes' positions, MPGM_DIM each [m]    */
   mpgm_kdtree *tree;   /**< over gx: the candidates of the clouds           */
   mpgm_clouds *clouds; /**< the clouds and their shape functions            */
@@ -120,7 +123,12 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
   MPGM_ALLOC(ctx, d->perm, m);
   MPGM_ALLOC(ctx, d->pscr, MPGM_DIM * (size_t)m);
   d->meshfree = !s->shape->needs_cell;
-  if (d->meshfree) { /* clouds of grid nodes: the grid's nodes never move */
+  d->gridfn = s->shape->grid_only;
+  if (d->gridfn) {
+    d->gpar = s->shape_par;
+    d->gpar.h = s->h;
+    if (!(d->gpar.half_width > 0.0)) d->gpar.half_width = s->h / (2.0 * sqrt((double)s->ppc));
+  } else if (d->meshfree) { /* clouds of grid nodes: the grid's nodes never move */
     MPGM_ALLOC(ctx, d->gx, MPGM_DIM * (size_t)g->nnode);
     for (int i = 0; i < g->nnode; i++) mpgm_grid_node(g, i, d->gx + MPGM_DIM * i);
     MPGM_CALL(mpgm_kdtree_create(ctx, d->gx, g->nnode, 0, &d->tree));
@@ -254,7 +262,7 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
     MPGM_CALL(mpgm_points_sort(ctx, v->pool, P, d->pcell, g->ncell, d->perm));
     /* the front end's own per-particle data moves along */
     permute(d->pxi, d->pscr, d->perm, np, MPGM_DIM);
-    if (d->meshfree) mpgm_clouds_permute(d->clouds, d->perm, np, d->pscr); /* LME warm starts */
+    if (d->clouds) mpgm_clouds_permute(d->clouds, d->perm, np, d->pscr); /* LME warm starts */
     for (int p = 0; p < np; p++) d->pscr[p] = d->pcell[d->perm[p]];
     for (int p = 0; p < np; p++) d->pcell[p] = (int)d->pscr[p];
   }
@@ -293,6 +301,71 @@ static int cell_shape(const mpgm_fe_view *v, mpm_data *d) {
     MPGM_CALL(v->scene->shape->eval(&q, C->N + k, C->dN + MPGM_DIM * k));
     for (int a = 0; a < nn; a++) C->node[k + a] = nodes[a]; /* grid ids for now */
     k += nn;
+  }
+  C->ptr[m] = k;
+  return 0;
+}
+
+/* A grid kind's functions (uGIMP) at a point from the grid nodes of the
+ * 4 x 4 block around its square (every node within h + lp < 1.5 h), the
+ * zero ones dropped, into C at *k (grid node ids); 0, or the evaluation's
+ * error with the reason in *why. */
+static int grid_point(const mpgm_fe_view *v, const mpm_data *d, const double x[MPGM_DIM], int *k,
+                      const char **why) {
+  const mpgm_grid *g = &d->g;
+  mpgm_conn *C = v->conn;
+  const int i0 = (int)floor((x[0] - g->min[0]) / g->h), j0 = (int)floor((x[1] - g->min[1]) / g->h);
+  int id[16];
+  double xn[MPGM_DIM * 16], N[16], dN[MPGM_DIM * 16];
+  int n = 0;
+  for (int j = j0 - 1; j <= j0 + 2; j++)
+    for (int i = i0 - 1; i <= i0 + 2; i++) {
+      if (i < 0 || j < 0 || i > g->nx || j > g->ny) continue;
+      id[n] = j * (g->nx + 1) + i;
+      mpgm_grid_node(g, id[n], xn + MPGM_DIM * n);
+      n++;
+    }
+  mpgm_shape_info info = {0};
+  /* 2-D only: the query's position written out (mpgm_shapefn.h) */
+  const mpgm_shape_query q = {.n = n, .xn = xn, .xp = {x[0], x[1]}, .cell = -1, .par = &d->gpar,
+                              .info = &info};
+  const int err = n ? v->scene->shape->eval(&q, N, dN) : MPGM_ERR_SHAPE;
+  *why = n ? info.msg : "no grid node near";
+  if (err) return err;
+  MPGM_CALL(mpgm_conn_grow(v->ctx, C, *k, *k + n));
+  for (int a = 0; a < n; a++) {
+    if (N[a] == 0.0 && dN[MPGM_DIM * a] == 0.0 && dN[MPGM_DIM * a + 1] == 0.0) continue;
+    C->node[*k] = id[a];
+    C->N[*k] = N[a];
+    C->dN[MPGM_DIM * *k] = dN[MPGM_DIM * a];
+    C->dN[MPGM_DIM * *k + 1] = dN[MPGM_DIM * a + 1];
+    (*k)++;
+  }
+  return 0;
+}
+
+/* A grid kind's functions at every point: a probe or surface point whose
+ * evaluation fails gets none (it is carried, or not enforced); a material
+ * point's failure is the step's (recoverable) failure. */
+static int grid_shape(const mpgm_fe_view *v, mpm_data *d) {
+  const mpgm_points *P = v->pts;
+  mpgm_conn *C = v->conn;
+  const int ms = P->n + P->nprobe, m = ms + P->nsurf;
+  int k = 0;
+  for (int p = 0; p < m; p++) {
+    C->ptr[p] = k;
+    if (p >= ms && mpgm_cpoints_unenforced(v->cp, p - ms)) continue; /* no shape functions */
+    if (p >= P->n && p < ms && d->pcell[p] < 0) continue;             /* a probe carried */
+    const char *why = NULL;
+    const int err = grid_point(v, d, P->x + MPGM_DIM * p, &k, &why);
+    if (!err) continue;
+    if (err != MPGM_ERR_SHAPE) return err;
+    if (p >= ms) mpgm_cpoints_unenforce(v->cp, p - ms);
+    if (p >= P->n) continue;
+    MPGM_ERROR(v->ctx, err, "step %ld: %s shape functions failed at point %d (body \"%s\", "
+               "started at (%g, %g)) at (%g, %g): %s", d->step, v->scene->shape->name, P->id[p],
+               v->scene->bodies[P->body[p]].name, P->x0[MPGM_DIM * p], P->x0[MPGM_DIM * p + 1],
+               P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], why ? why : "?");
   }
   C->ptr[m] = k;
   return 0;
@@ -410,7 +483,9 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(locate(v, d));
   /* meshfree kinds (LME-MPM, MLS-MPM): the clouds of grid nodes at the
    * undeformed grid, ids of grid nodes (discretisation/clouds.c) */
-  MPGM_CALL(d->meshfree ? mpgm_clouds_build(d->clouds, v, d->tree, NULL, v->conn) : cell_shape(v, d));
+  MPGM_CALL(d->gridfn     ? grid_shape(v, d)
+            : d->meshfree ? mpgm_clouds_build(d->clouds, v, d->tree, NULL, v->conn)
+                          : cell_shape(v, d));
   memset(d->light, 0, (size_t)d->g.nnode);
   mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->min_node_mass, d->gm, d->light);
   MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));
@@ -444,14 +519,14 @@ static int mpm_save(const void *self, mpgm_ctx *ctx, mpgm_blob *b) {
   const mpm_data *d = self;
   MPGM_CALL(mpgm_blob_put(ctx, b, "mpm.gfree", d->gfree, (size_t)d->g.nnode));
   MPGM_CALL(mpgm_blob_put(ctx, b, "mpm.step", &d->step, sizeof d->step));
-  return d->meshfree ? mpgm_clouds_save(d->clouds, ctx, b) : 0;
+  return d->clouds ? mpgm_clouds_save(d->clouds, ctx, b) : 0;
 }
 
 static int mpm_restore(void *self, mpgm_ctx *ctx, mpgm_blob *b) {
   mpm_data *d = self;
   MPGM_CALL(mpgm_blob_get(ctx, b, "mpm.gfree", d->gfree, (size_t)d->g.nnode));
   MPGM_CALL(mpgm_blob_get(ctx, b, "mpm.step", &d->step, sizeof d->step));
-  return d->meshfree ? mpgm_clouds_restore(d->clouds, ctx, b) : 0;
+  return d->clouds ? mpgm_clouds_restore(d->clouds, ctx, b) : 0;
 }
 
 const mpgm_frontend_type mpgm_frontend_mpm = {
