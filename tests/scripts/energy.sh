@@ -19,6 +19,8 @@
 #    1.1e-4); explicit usl to 2e-3 at CFL 0.1 and of second order (6.4e-4,
 #    1.2e-4 at 0.05), fe and npc of first order (7.3 and 3.5 % at 0.1), and
 #    npc with eq 34's positions 3 times npc's (10.8 %).
+# 5. cases/colliding_discs.json: the discs bounce apart, keep zero momentum
+#    and end within 5 % of their energy, for npc, fe and usl.
 #
 # usage: energy.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
@@ -162,6 +164,33 @@ if python3 -c "import sys; sys.exit(0 if $e_34 > 2.5 * $e_npc else 1)"; then
 else
   fail "ramp, npc: eq 34's positions deviate $e_34, the newmark positions $e_npc: expected about 3x"
 fi
+
+# ---- 5: colliding discs ---------------------------------------------------------------
+# cases/colliding_discs.json: the discs meet at t = 1.53 s and bounce apart
+# (the lower centre's x displacement peaks, then falls back by at least 60 %
+# of its peak; measured 86-89 %); the momentum stays 0; the total energy at
+# 3.5 s within 5 % of its start (measured npc -3.2 %, fe +0.4 %, usl -3.6 %)
+for s in npc fe usl; do
+  run "discs_$s" "$src/cases/colliding_discs.json" --set time.scheme=$s
+  [ $rc -eq 0 ] || continue
+  if out=$(python3 -c '
+import csv, sys
+d = sys.argv[1]
+rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(d + "/steps.csv"))]
+pr = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(d + "/probes.csv"))]
+e0, e1 = rows[0]["energy_total"], rows[-1]["energy_total"]
+peak = max(r["lower_centre_ux"] for r in pr)
+tpeak = [r["time"] for r in pr if r["lower_centre_ux"] == peak][0]
+back = (peak - pr[-1]["lower_centre_ux"]) / peak
+p = max(max(abs(r["momentum_x"]), abs(r["momentum_y"])) for r in rows)
+print("peak at t = %.2f s, back by %.0f %% of it; energy %+.2f %%; |momentum| <= %.1e" %
+      (tpeak, 100 * back, 100 * (e1 / e0 - 1), p))
+sys.exit(0 if back > 0.6 and abs(e1 / e0 - 1) < 0.05 and p < 1e-10 else 1)' "$work/discs_$s" 2>&1); then
+    pass "discs_$s: the discs bounce apart ($out)"
+  else
+    fail "discs_$s: $out"
+  fi
+done
 
 echo "energy: $npass passed, $nfail failed"
 [ $nfail -eq 0 ]
