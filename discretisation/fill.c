@@ -101,5 +101,11 @@ void mpgm_probes_place(mpgm_points *P, const mpgm_scene *s) {
   for (int k = 0; k < s->nprobe; k++) {
     const int p = P->n + k;
     for (int d = 0; d < MPGM_DIM; d++) P->x[MPGM_DIM * p + d] = P->x0[MPGM_DIM * p + d] = s->probes[k].x[d];
+    /* the initial velocity of the first body that holds it (0 in none): a
+     * front end that advances the probe's velocity by increments (MPM)
+     * must start it where the material is */
+    int b = 0;
+    while (b < s->nbody && !mpgm_body_contains(&s->bodies[b], s->probes[k].x)) b++;
+    for (int d = 0; d < MPGM_DIM; d++) P->v[MPGM_DIM * p + d] = b < s->nbody ? s->bodies[b].velocity[d] : 0.0;
   }
 }

@@ -93,7 +93,7 @@ void mpgm_fill_free(mpgm_fill *f);
 /** State doubles per point: the most any material of the scene needs. */
 int mpgm_scene_nstate(const mpgm_scene *s);
 /** The probes at their reference positions (points P->n .. P->n +
- *  nprobe - 1). */
+ *  nprobe - 1), with the initial velocity of the first body holding each. */
 void mpgm_probes_place(mpgm_points *P, const mpgm_scene *s);
 
 /** The light-node rule, 1: the mass m_I = sum_p N_Ip m_p of each of the

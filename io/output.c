@@ -85,7 +85,8 @@ static int output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, co
     MPGM_CALL(mpgm_mkdir_p(ctx, o->matrices_dir));
     if (keep == 0) MPGM_CALL(mpgm_remove_files(ctx, o->matrices_dir, "step", ".mtx"));
   }
-  o->ncol = 2 * mpgm_problem_points(pb)->nprobe;
+  /* ux, uy of every probe; dynamic runs add vx, vy of every probe */
+  o->ncol = (scene->analysis == MPGM_ANALYSIS_STATIC ? 2 : 4) * mpgm_problem_points(pb)->nprobe;
   o->scene = scene;
   return 0;
 }
@@ -110,10 +111,9 @@ int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, co
                        mpgm_blob *b) {
   int n[5];
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.counts", n, sizeof n));
-  MPGM_CHECK(ctx, n[0] >= 0 && n[2] >= 0 && n[3] >= 0 && n[4] == 2 + 2 * mpgm_problem_points(pb)->nprobe,
-             MPGM_ERR_INPUT, "checkpoint: output of %d probe columns, this scene has %d", n[4] - 2,
-             2 * mpgm_problem_points(pb)->nprobe);
   MPGM_CALL(output_open(ctx, o, pb, dir, n[0]));
+  MPGM_CHECK(ctx, n[0] >= 0 && n[2] >= 0 && n[3] >= 0 && n[4] == 2 + o->ncol, MPGM_ERR_INPUT,
+             "checkpoint: output of %d probe columns, this scene has %d", n[4] - 2, o->ncol);
   o->nvtk = n[0], o->files = n[1];
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.mtx", &o->mtx_written, sizeof o->mtx_written));
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.ref_acc", o->ref_acc, sizeof o->ref_acc));
@@ -253,19 +253,31 @@ int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem 
     row[2 + 2 * k] = P->u[2 * (p0 + k)];
     row[3 + 2 * k] = P->u[2 * (p0 + k) + 1];
   }
+  if (o->ncol > 2 * P->nprobe)
+    for (int k = 0; k < P->nprobe; k++) {
+      row[2 + 2 * P->nprobe + 2 * k] = P->v[2 * (p0 + k)];
+      row[3 + 2 * P->nprobe + 2 * k] = P->v[2 * (p0 + k) + 1];
+    }
   return 0;
 }
 
 int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o) {
   const mpgm_scene *sc = o->scene;
-  char header[64 + 2 * (MPGM_NAME_LEN + 8) * 32];
-  size_t n = (size_t)snprintf(header, sizeof header, "step,%s",
+  const size_t cap = 64 + 4 * (MPGM_NAME_LEN + 8) * (size_t)sc->nprobe;
+  char *header;
+  MPGM_ALLOC(ctx, header, cap);
+  size_t n = (size_t)snprintf(header, cap, "step,%s",
                               sc->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
-  for (int k = 0; k < sc->nprobe && n < sizeof header; k++)
-    n += (size_t)snprintf(header + n, sizeof header - n, ",%s_ux,%s_uy", sc->probes[k].name,
+  for (int k = 0; k < sc->nprobe && n < cap; k++)
+    n += (size_t)snprintf(header + n, cap - n, ",%s_ux,%s_uy", sc->probes[k].name,
                           sc->probes[k].name);
-  if (n < sizeof header - 1) strcat(header, "\n");
-  return write_table(ctx, o, "probes.csv", header, o->hist, o->nrow, 2 + o->ncol, 2 + o->ncol);
+  for (int k = 0; o->ncol > 2 * sc->nprobe && k < sc->nprobe && n < cap; k++)
+    n += (size_t)snprintf(header + n, cap - n, ",%s_vx,%s_vy", sc->probes[k].name,
+                          sc->probes[k].name);
+  if (n < cap - 1) strcat(header, "\n");
+  const int err = write_table(ctx, o, "probes.csv", header, o->hist, o->nrow, 2 + o->ncol, 2 + o->ncol);
+  free(header);
+  return err;
 }
 
 int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {

@@ -9,7 +9,9 @@
 #    (measured: 2.27, 2.58, 2.37 %).
 # 2. Convergence: at h = L/20 the error is about twice that at L/40 (the
 #    solution has jumps: first order; measured ratios 1.87, 1.87, 1.82), and
-#    npc is below fe on both meshes (Molinos et al. 2021, Fig. 6).
+#    npc is below fe on both meshes (Molinos et al. 2021, Fig. 6). The free
+#    end's velocity under npc (probes.csv) is the square wave: its jumps at
+#    ct/L = 0.25, 1.75, 2.25 within two cells' travel time.
 # 3. The step is the CFL condition's: dt = 0.1 h / c at the first step
 #    (steps.csv), and time.dt fixes it instead.
 # 4. Threads 1 and 2 give the same probes.csv to the bit.
@@ -99,6 +101,30 @@ for n in 20 40; do
     fail "h = L/$n: npc ($a) not below fe ($b)"
   fi
 done
+
+# the free end's velocity under npc is the square wave: -v0 ... 0 at
+# ct/L = 0.25, 0 ... +5 m/s at 1.75, back to 0 at 2.25 (probes.csv, the
+# half-way crossings), each within two cells' travel time (2h/c: 0.05 in
+# ct/L at L/40) plus the probe's distance from the end
+if out=$(python3 -c '
+import csv, math, sys
+c, L, h = math.sqrt(200e9 / 7833), 0.1333, 0.1333 / 40
+rows = [(float(r["time"]) * c / L, float(r["free_end_vx"])) for r in csv.DictReader(open(sys.argv[1]))]
+def first(after, test):
+    return next((s for s, v in rows if s > after and test(v)), None)
+t1 = first(0.0, lambda v: v > -2.5)
+t2 = first(t1 or 0, lambda v: v > 2.5)
+t3 = first(t2 or 0, lambda v: v < 2.5)
+tol = 2 * h / L + 0.21 * h / L
+got = [t1, t2, t3]
+print("jumps at ct/L = " + ", ".join("%.3f" % t if t is not None else "none" for t in got) +
+      " (0.25, 1.75, 2.25 within %.3f); v(0) = %g" % (tol, rows[0][1]))
+ok = all(t is not None and abs(t - w) <= tol for t, w in zip(got, (0.25, 1.75, 2.25)))
+sys.exit(0 if ok and rows[0][1] == -5.0 else 1)' "$work/npc_40/probes.csv" 2>&1); then
+  pass "npc, h = L/40: the free end's velocity is the square wave ($out)"
+else
+  fail "npc, free-end velocity: $out"
+fi
 
 # ---- 3: the step --------------------------------------------------------------
 python3 - "$work/npc_40/steps.csv" <<'EOF' && pass "the CFL step: dt = 0.1 h / c" || fail "the CFL step (above)"
