@@ -24,6 +24,7 @@
 typedef struct explicit_data {
   double *f;   /**< MPGM_DIM per node: f_ext - f_int [N]               */
   double *mod; /**< per material: P-wave modulus lambda + 2 mu [Pa]    */
+  int warned;  /**< a fixed time.dt above the CFL limit was reported    */
 } explicit_data;
 
 static void explicit_destroy(void *self) {
@@ -65,11 +66,11 @@ static int explicit_create(mpgm_problem *pb, void **self) {
 
 /* CFL condition (Molinos et al. 2021, eq 43): dt = cfl h / max(max_p |v_p|,
  * max_p c_p), c_p = sqrt((lambda + 2 mu) / rho_p) with the point's current
- * density; a fixed time.dt when the scene gives one. */
+ * density; a fixed time.dt when the scene gives one (a warning, once, when
+ * it is above h / max speed, where no explicit scheme is stable). */
 static double explicit_dt_limit(void *self, const mpgm_problem *pb) {
-  const explicit_data *d = self;
+  explicit_data *d = self;
   const mpgm_scene *s = pb->scene;
-  if (s->dt > 0.0) return INFINITY;
   const mpgm_points *P = &pb->pts;
   double vmax = 0.0, c2max = 0.0;
   for (int p = 0; p < P->n; p++) {
@@ -78,6 +79,16 @@ static double explicit_dt_limit(void *self, const mpgm_problem *pb) {
     c2max = fmax(c2max, d->mod[P->mat[p]] * P->vol[p] / P->mass[p]);
   }
   const double speed = fmax(vmax, sqrt(c2max));
+  if (s->dt > 0.0) {
+    if (!d->warned && speed > 0.0 && s->dt > s->h / speed) {
+      d->warned = 1;
+      mpgm_log(pb->ctx, MPGM_LOG_WARNING, "time.dt = %g s is %.3g times h / c = %g s (c = %g m/s, "
+               "the fastest wave or point at step %ld): above it explicit schemes are unstable; "
+               "leave time.dt out to take each step from time.cfl", s->dt, s->dt * speed / s->h,
+               s->h / speed, speed, pb->step + 1);
+    }
+    return INFINITY;
+  }
   return speed > 0.0 ? s->cfl * s->h / speed : INFINITY;
 }
 
