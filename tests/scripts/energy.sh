@@ -166,7 +166,8 @@ else
 fi
 
 # ---- 5: colliding discs ---------------------------------------------------------------
-# cases/colliding_discs.json: the discs meet at t = 1.53 s and bounce apart
+# cases/colliding_discs.json: the discs meet on the grid from t = 1.1 s
+# (they would touch at 1.53 s) and bounce apart
 # (the lower centre's x displacement peaks, then falls back by at least 60 %
 # of its peak; measured 86-89 %); the momentum stays 0; the total energy at
 # 3.5 s within 5 % of its start (measured npc -3.2 %, fe +0.4 %, usl -3.6 %)
