@@ -95,6 +95,20 @@ def dyka():
                 total += 1
                 below += float(a.split()[0]) < float(b.split()[0])
     print(f"\nnpc below fe in {below} of {total} (shape, mesh) pairs.\n")
+    # where the points cross cells (the finest mesh: their travel is a third of a cell)
+    h = hs[-1]
+    def val(s, sc):
+        c = cell.get((s[0], s[1], sc, h), "")
+        return float(c.split()[0]) if c and c[0].isdigit() else None
+    parts = []
+    for sc in ("npc", "fe", "usl"):
+        q, u, l4, l08 = (val(s, sc) for s in shapes)
+        if None in (q, u, l4, l08):
+            continue
+        parts.append(f"{sc}: Q4 {q:.3f}, uGIMP {u:.3f}, LME γ 4 {l4:.3f} ({'at or below' if l4 <= u else 'above'} "
+                     f"uGIMP), LME γ 0.8 {l08:.3f} ({'at or below' if l08 <= u else 'above'})")
+    if parts:
+        print(f"At n = {0.1333 / h:.0f}, where the points cross cells: " + "; ".join(parts) + ".\n")
     print("![Dyka: error against h](img/dyka_bar_error_h.png)\n")
     print("![Dyka: error against wall time](img/dyka_bar_error_time.png)\n")
 
