@@ -35,13 +35,6 @@ static void explicit_destroy(void *self) {
   free(d);
 }
 
-/* The value of material parameter `name`, or NAN when it has none. */
-static double param(const mpgm_material *m, const char *name) {
-  for (int i = 0; i < m->type->nparam; i++)
-    if (strcmp(m->type->params[i].name, name) == 0) return m->param[i];
-  return NAN;
-}
-
 static int explicit_create(mpgm_problem *pb, void **self) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
@@ -52,7 +45,7 @@ static int explicit_create(mpgm_problem *pb, void **self) {
   MPGM_ALLOC(ctx, d->mod, s->nmat + 1);
   for (int i = 0; i < s->nmat; i++) {
     const mpgm_material *m = &s->mats[i];
-    const double E = param(m, "E"), nu = param(m, "nu");
+    const double E = mpgm_material_param(m, "E"), nu = mpgm_material_param(m, "nu");
     MPGM_CHECK(ctx, isfinite(E) && isfinite(nu), MPGM_ERR_INPUT,
                "%s: materials.%s: type \"%s\" has no E and nu, from which an explicit run takes "
                "the wave speed of its CFL condition", s->file, m->name, m->type->name);

@@ -57,10 +57,8 @@ static int read_contact_points(jr_node *b, const mpgm_scene *s, mpgm_scene_bound
   MPGM_CALL(jr_num(b, "penalty", 2.0, 0.0, 1e12, 1, 0, &factor));
   MPGM_CALL(jr_num(b, "spacing", 0.5 * s->h, 0.0, INFINITY, 1, 0, &bc->spacing));
   /* the penalty scales with the stiffest material */
-  double E = 0.0;
-  for (int i = 0; i < s->nmat; i++)
-    for (int k = 0; k < s->mats[i].type->nparam; k++)
-      if (strcmp(s->mats[i].type->params[k].name, "E") == 0) E = fmax(E, s->mats[i].param[k]);
+  double E = 0.0; /* fmax ignores the NAN of a material without E */
+  for (int i = 0; i < s->nmat; i++) E = fmax(E, mpgm_material_param(&s->mats[i], "E"));
   if (!(E > 0.0))
     return jr_fail(b, "penalty", "expected a material with a Young's modulus \"E\" (the penalty is "
                    "a multiple of the largest), found none");

@@ -2,6 +2,7 @@
  * Adding a material: write its .c, add one line to MPGM_MATERIAL_LIST. */
 #include "mpgm_material.h"
 
+#include <math.h>
 #include <string.h>
 
 #define MPGM_MATERIAL_LIST(X)                                                  \
@@ -21,6 +22,12 @@ static const mpgm_material_type *const all_types[] = {
 /** All material implementations, NULL-terminated. */
 const mpgm_material_type *const *mpgm_material_types(void) {
   return all_types;
+}
+
+double mpgm_material_param(const mpgm_material *m, const char *name) {
+  for (int i = 0; i < m->type->nparam; i++)
+    if (strcmp(m->type->params[i].name, name) == 0) return m->param[i];
+  return NAN;
 }
 
 /** The implementation with scene name `name`; NULL if none (or name NULL). */

@@ -90,6 +90,10 @@ struct mpgm_material_type {
 /** Find an implementation by scene name; NULL if none. */
 const mpgm_material_type *mpgm_material_type_find(const char *name);
 
+/** The value of m's parameter `name` (its type's params table, e.g. "E"),
+ *  NAN when the type has no such parameter. */
+double mpgm_material_param(const mpgm_material *m, const char *name);
+
 /** All implementations, NULL-terminated (for docs and error messages). */
 const mpgm_material_type *const *mpgm_material_types(void);
 
