@@ -66,8 +66,6 @@ int mpgm_clouds_create(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_clouds **out) {
   c->shape = s->shape;
   c->par = s->shape_par;
   c->par.h = s->h;
-  if (s->shape->grid_only && !(c->par.half_width > 0.0))
-    c->par.half_width = s->h / (2.0 * sqrt((double)s->ppc));
   MPGM_CHECK(ctx, mpgm_shape_support_radius(s->shape, &c->par, &c->r0) == 0 && c->r0 > 0.0,
              MPGM_ERR_INPUT, "%s: shape: no support radius for kind \"%s\" (h = %g)", s->file,
              s->shape->name, s->h);

@@ -540,6 +540,8 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_end(&sh));
 
   MPGM_CALL(read_mesh(root, s));
+  /* uGIMP: a particle's square is its share of its cell, ppc to a cell */
+  if (s->shape->grid_only) s->shape_par.half_width = s->h / (2.0 * sqrt((double)s->ppc));
   MPGM_CALL(jr_enum(root, "kinematics", kin_names, MPGM_KIN_FINITE, &s->kinematics));
   MPGM_CALL(jr_int(root, "threads", 0, 0, 256, &s->loop_threads));
 

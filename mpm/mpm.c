@@ -124,10 +124,9 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
   MPGM_ALLOC(ctx, d->pscr, MPGM_DIM * (size_t)m);
   d->meshfree = !s->shape->needs_cell;
   d->gridfn = s->shape->grid_only;
-  if (d->gridfn) {
+  if (d->gridfn) { /* h and the particle half-width (scene load) */
     d->gpar = s->shape_par;
     d->gpar.h = s->h;
-    if (!(d->gpar.half_width > 0.0)) d->gpar.half_width = s->h / (2.0 * sqrt((double)s->ppc));
   } else if (d->meshfree) { /* clouds of grid nodes: the grid's nodes never move */
     MPGM_ALLOC(ctx, d->gx, MPGM_DIM * (size_t)g->nnode);
     for (int i = 0; i < g->nnode; i++) mpgm_grid_node(g, i, d->gx + MPGM_DIM * i);

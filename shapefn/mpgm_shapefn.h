@@ -68,7 +68,7 @@ typedef struct mpgm_shape_params {
                            2 quadratic                                        */
   /* uGIMP */
   double half_width;  /**< half side lp of a particle's square [m] (required,
-                           0 < lp <= h / 2; MPM: h / (2 sqrt(ppc)))          */
+                           0 < lp <= h / 2; a scene sets h / (2 sqrt(ppc)))  */
 } mpgm_shape_params;
 
 /** Why an evaluation failed (mpgm_shape_info.reason). */
