@@ -32,23 +32,28 @@ static const mpgm_param_spec params[] = {
      "time of the first velocity RMS (eq 44; the second is at the end of the run)"},
 };
 
-/* Fi(y) = integral_0^y f, f the extended initial velocity (above). */
+/* The extended initial velocity over one period [0, 4L): SIGN[i] v0 on
+ * [FROM[i] L, TO[i] L), 0 elsewhere (above). */
+static const double FROM[3] = {0.0, 1.75, 3.75}, TO[3] = {0.25, 2.25, 4.0}, SIGN[3] = {1, -1, 1};
+
+/* y reduced to one period, [0, 4L). */
+static double period(double L, double y) { return y - 4.0 * L * floor(y / (4.0 * L)); }
+
+/* Fi(y) = integral_0^y f (f has zero mean over a period: Fi is periodic). */
 static double fi(double L, double v0, double y) {
-  const double P = 4.0 * L;
-  y -= P * floor(y / P); /* [0, 4L) */
-  const double a[3] = {0.0, 1.75 * L, 3.75 * L}, b[3] = {0.25 * L, 2.25 * L, 4.0 * L};
-  const double s[3] = {v0, -v0, v0};
+  y = period(L, y);
   double sum = 0.0;
   for (int i = 0; i < 3; i++)
-    if (y > a[i]) sum += s[i] * (fmin(y, b[i]) - a[i]);
+    if (y > FROM[i] * L) sum += SIGN[i] * v0 * (fmin(y, TO[i] * L) - FROM[i] * L);
   return sum;
 }
 
 /* f, the extended initial velocity, at y. */
 static double f_ext(double L, double v0, double y) {
-  const double P = 4.0 * L;
-  y -= P * floor(y / P);
-  return y < 0.25 * L ? v0 : y < 1.75 * L ? 0.0 : y < 2.25 * L ? -v0 : y < 3.75 * L ? 0.0 : v0;
+  y = period(L, y);
+  for (int i = 0; i < 3; i++)
+    if (y >= FROM[i] * L && y < TO[i] * L) return SIGN[i] * v0;
+  return 0.0;
 }
 
 /* acc: [0] RMS at t1, [1] the time it was taken (0: not yet), [2] RMS at
