@@ -64,6 +64,7 @@ static int explicit_create(mpgm_problem *pb, void **self) {
 static double explicit_dt_limit(void *self, const mpgm_problem *pb) {
   explicit_data *d = self;
   const mpgm_scene *s = pb->scene;
+  if (s->dt > 0.0 && d->warned) return INFINITY; /* nothing more to watch */
   const mpgm_points *P = &pb->pts;
   double vmax = 0.0, c2max = 0.0;
   for (int p = 0; p < P->n; p++) {

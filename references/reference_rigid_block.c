@@ -30,17 +30,22 @@ static const mpgm_param_spec params[] = {
      "(0: not computed)"},
 };
 
-enum { SUM, TIME, MIN, MAX, SEEN, BAD, ROW };
+enum { SUM, TIME, MIN, MAX, SEEN, BAD, ROW, YMIN };
 
 /* acc: [SUM] the time integral of the row's mean ratio over the window,
  * [TIME] the window's length so far, [MIN]/[MAX] the row's mean ratio's
  * extremes there, [SEEN] 1 once a sample was taken, [BAD] 1 when a stress
- * was not finite, [ROW] the number of points in the bottom row. */
+ * was not finite, [ROW] the number of points in the bottom row (0 before
+ * the first call), [YMIN] the lowest initial height (found at that call:
+ * the points' initial positions do not change). */
 static void rigid_block_observe(const mpgm_reference *r, double t, double dt,
                                 const mpgm_ref_points *pts, double *acc) {
   const double H = r->param[0], rho = r->param[1], g = r->param[2];
-  double ymin = INFINITY;
-  for (int p = 0; p < pts->n; p++) ymin = fmin(ymin, pts->x0[2 * p + 1]);
+  if (acc[ROW] == 0.0) {
+    acc[YMIN] = INFINITY;
+    for (int p = 0; p < pts->n; p++) acc[YMIN] = fmin(acc[YMIN], pts->x0[2 * p + 1]);
+  }
+  const double ymin = acc[YMIN];
   double sum = 0.0;
   int n = 0;
   for (int p = 0; p < pts->n; p++) {
