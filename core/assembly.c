@@ -253,7 +253,8 @@ static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb) 
 typedef struct {
   mpgm_problem *pb;
   int want_K, half, inertia, geo;
-  int mass_only; /* K = M (consistent mass), no material or geometric term */
+  int mass_only; /* K = M, no material or geometric term */
+  int lumped;    /* time.mass lumped: M = diag sum_p m_p N_Ip */
   double kdyn;
   const double *lift, *an;
   int t0; /* first task of the running phase */
@@ -272,7 +273,7 @@ static inline void point_residual(const asm_job *j, int p) {
   /* 2-D only: a_p, sigma grad N and the force written out per component
    * (3-D: a third component, sigma's xz, yz, zz terms) */
   double ap[MPGM_DIM] = {0};
-  if (j->inertia)
+  if (j->inertia && !j->lumped)
     for (int k = k0; k < k0 + nk; k++) {
       ap[0] += C->N[k] * an[MPGM_DIM * C->node[k]];
       ap[1] += C->N[k] * an[MPGM_DIM * C->node[k] + 1];
@@ -281,6 +282,10 @@ static inline void point_residual(const asm_job *j, int p) {
     const int I = C->node[k0 + a];
     const double gx = C->g[MPGM_DIM * (k0 + a)], gy = C->g[MPGM_DIM * (k0 + a) + 1];
     double f0 = v * (s[0] * gx + s[2] * gy), f1 = v * (s[2] * gx + s[1] * gy);
+    if (j->lumped) { /* m_p N_a a_a: the row sum of the consistent term */
+      ap[0] = an[MPGM_DIM * I];
+      ap[1] = an[MPGM_DIM * I + 1];
+    }
     if (j->inertia) {
       f0 += m * C->N[k0 + a] * ap[0];
       f1 += m * C->N[k0 + a] * ap[1];
@@ -324,7 +329,8 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
       for (int a = 0; a < (half ? b + 1 : nk); a++) {
         const double gx = C->g[MPGM_DIM * (k0 + a)], gy = C->g[MPGM_DIM * (k0 + a) + 1];
         double diag = geo ? v * (gx * sh0 + gy * sh1) : 0.0;
-        if (inertia) diag += kdyn * m * C->N[k0 + a] * C->N[k0 + b];
+        if (inertia && (!j->lumped || a == b))
+          diag += kdyn * m * C->N[k0 + a] * (j->lumped ? 1.0 : C->N[k0 + b]);
         const double kab[MPGM_BLOCK] = {
             v * (gx * DB[0][0] + gy * DB[2][0]) + diag, v * (gx * DB[0][1] + gy * DB[2][1]),
             v * (gy * DB[1][0] + gx * DB[2][0]), v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
@@ -421,7 +427,8 @@ static void assemble_task(void *arg, int task, int tid) {
  * f_int and K = M (mpgm_assemble_mass). */
 static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
   mpgm_ctx *ctx = pb->ctx;
-  asm_job j = {.pb = pb, .want_K = want_K, .inertia = pb->fx.inertia, .geo = pb->fx.geometric};
+  asm_job j = {.pb = pb, .want_K = want_K, .inertia = pb->fx.inertia, .geo = pb->fx.geometric,
+               .lumped = pb->scene->lumped_mass};
   if (mass_only) {
     /* the inertia term of R vanishes with a = 0; the mass term of K is
      * kept with unit weight */
@@ -481,7 +488,7 @@ int mpgm_reactions(mpgm_problem *pb, double *r) {
   const mpgm_points *P = &pb->pts;
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
-  const int inertia = pb->fx.inertia;
+  const int inertia = pb->fx.inertia, lumped = pb->scene->lumped_mass;
   const double f = mpgm_gravity_factor(pb, pb->t + pb->dt);
   /* 2-D only: gravity, a_p and the forces written out per component, as
    * in point_residual (3-D: a third component) */
@@ -491,7 +498,7 @@ int mpgm_reactions(mpgm_problem *pb, double *r) {
   for (int p = 0; p < P->n; p++) {
     const double *s = P->sigma_t + MPGM_NSTRESS * p, v = P->vol_t[p], m = P->mass[p];
     double ap[MPGM_DIM] = {0};
-    if (inertia)
+    if (inertia && !lumped)
       for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
         ap[0] += C->N[k] * nd->a_new[MPGM_DIM * C->node[k]];
         ap[1] += C->N[k] * nd->a_new[MPGM_DIM * C->node[k] + 1];
@@ -499,6 +506,10 @@ int mpgm_reactions(mpgm_problem *pb, double *r) {
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       if (!nd->fix[MPGM_DIM * I] && !nd->fix[MPGM_DIM * I + 1]) continue;
+      if (inertia && lumped) {
+        ap[0] = nd->a_new[MPGM_DIM * I];
+        ap[1] = nd->a_new[MPGM_DIM * I + 1];
+      }
       const double gx = C->g[MPGM_DIM * k], gy = C->g[MPGM_DIM * k + 1], mN = m * C->N[k];
       r[MPGM_DIM * I] += v * (s[0] * gx + s[2] * gy) + mN * (ap[0] - g[0]);
       r[MPGM_DIM * I + 1] += v * (s[2] * gx + s[1] * gy) + mN * (ap[1] - g[1]);

@@ -111,11 +111,13 @@ static int stress(mpgm_problem *pb, const double *vel) {
 
 /* Nodal force f = f_ext - f_int of the stress sigma on the volumes vol
  * (either the committed or the trial arrays of the points) with gravity
- * at time t (its ramp): f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip),
- * and the nodal acceleration A = f / m (0 at fixed components and
- * massless nodes). */
+ * at time t (its ramp): f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip);
+ * with time.local_damping alpha, Cundall's local damping f -= alpha |f|
+ * sign(vel) per component, vel the nodal velocity the scheme has at this
+ * point of the step; the nodal acceleration A = f / m (0 at fixed
+ * components and massless nodes). */
 static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma, const double *vol,
-                        double t, double *A) {
+                        double t, const double *vel, double *A) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_points *P = &pb->pts;
   const mpgm_nodes *nd = &pb->nodes;
@@ -134,6 +136,10 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
       f[MPGM_DIM * I + 1] += m * N * gy - v * (sg[2] * ax + sg[1] * ay);
     }
   }
+  const double alpha = pb->scene->local_damping;
+  if (alpha > 0.0)
+    for (int i = 0; i < MPGM_DIM * nd->n; i++)
+      if (vel[i] != 0.0) f[i] -= alpha * fabs(f[i]) * (vel[i] > 0.0 ? 1.0 : -1.0);
   for (int i = 0; i < MPGM_DIM * nd->n; i++) {
     const double m = nd->mass[i / MPGM_DIM];
     A[i] = nd->fix[i] || !(m > 0.0) ? 0.0 : f[i] / m;
@@ -200,7 +206,7 @@ static int fe_step(void *self, mpgm_problem *pb) {
   double *V = nd->v_new, *A = nd->a_new;
   zero_fixed(nd, nd->v);
   MPGM_CALL(stress(pb, nd->v));
-  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma_t, pb->pts.vol_t, pb->t + pb->dt, A));
+  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma_t, pb->pts.vol_t, pb->t + pb->dt, nd->v, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
   commit_stress(pb);
   move_points(pb, V, A, 0.0);
@@ -212,7 +218,7 @@ static int fe_step(void *self, mpgm_problem *pb) {
 static int usl_step(void *self, mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
   double *V = nd->v_new, *A = nd->a_new;
-  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma, pb->pts.vol, pb->t, A));
+  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma, pb->pts.vol, pb->t, nd->v, A));
   zero_fixed(nd, nd->v);
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
   MPGM_CALL(stress(pb, V));
@@ -250,7 +256,7 @@ static int npc_step(void *self, mpgm_problem *pb) {
   }
   mpgm_timer_stop(ctx, MPGM_T_MASS);
   MPGM_CALL(stress(pb, V));
-  MPGM_CALL(nodal_forces(pb, self, P->sigma_t, P->vol_t, pb->t + pb->dt, A));
+  MPGM_CALL(nodal_forces(pb, self, P->sigma_t, P->vol_t, pb->t + pb->dt, V, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] += g * dt * A[i];
   commit_stress(pb);
   /* newmark: the points move by what their strain used, dt v_pred =

@@ -184,6 +184,10 @@ typedef struct mpgm_scene {
                                  in a row converge at a cut size, the
                                  step doubles back (up to dt or
                                  1 / load_steps)                       */
+  int lumped_mass;          /**< dynamic: 1: the inertia of the implicit
+                                 Newmark step with the row-sum (lumped)
+                                 mass, diag sum_p m_p N_Ip, as the explicit
+                                 schemes; 0: the consistent mass        */
   int initial_accel;        /**< dynamic: 1: a_0 from M a_0 = f_ext -
                                  f_int(sigma_0) before the first step;
                                  0: a_0 = 0                          */
@@ -197,6 +201,10 @@ typedef struct mpgm_scene {
                                  max(max |v_p|, max c_p) each step      */
   double npc_gamma;         /**< explicit npc: gamma of the predictor
                                  and corrector (003 eqs 30-31)          */
+  double local_damping;     /**< explicit: Cundall's local damping factor
+                                 alpha in [0, 1): each free nodal force
+                                 component loses alpha |f| against the
+                                 node's velocity (0: none)              */
   int npc_eq34;             /**< explicit npc: 1: the points move by 003's
                                  eq 34, dt V + dt^2 A / 2 with the
                                  corrected V; 0 ("newmark"): by dt v_pred,

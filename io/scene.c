@@ -420,9 +420,10 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
  * integrator family), the CFL number, the predictor's gamma. The keys are
  * refused with the other analyses, whose integrator ignores them. */
 static int read_explicit(jr_node *tm, mpgm_scene *s) {
-  static const char *const keys[] = {"scheme", "cfl", "npc_gamma", "npc_position"};
+  static const char *const keys[] = {"scheme", "cfl", "npc_gamma", "npc_position",
+                                     "local_damping"};
   if (s->analysis != MPGM_ANALYSIS_EXPLICIT) {
-    for (int i = 0; i < 4; i++)
+    for (int i = 0; i < 5; i++)
       if (jr_raw(tm, keys[i]) || jr_override_json(tm, keys[i]))
         return jr_fail(tm, keys[i], "only with time.analysis \"explicit\", found \"%s\"",
                        analysis_names[s->analysis]);
@@ -446,6 +447,7 @@ static int read_explicit(jr_node *tm, mpgm_scene *s) {
   MPGM_CALL(jr_num(tm, "npc_gamma", 0.5, 0.0, 1.0, 0, 0, &s->npc_gamma));
   static const char *const position_names[] = {"newmark", "eq34", NULL};
   MPGM_CALL(jr_enum(tm, "npc_position", position_names, 0, &s->npc_eq34));
+  MPGM_CALL(jr_num(tm, "local_damping", 0.0, 0.0, 1.0, 0, 1, &s->local_damping));
   return 0;
 }
 
@@ -467,6 +469,11 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_enum(&tm, "predictor", predictor_names, 0, &s->predictor_velocity));
   MPGM_CALL(jr_int(&tm, "max_cuts", 0, 0, 30, &s->max_cuts));
   MPGM_CALL(jr_int(&tm, "grow_after", 4, 1, 1000000, &s->grow_after));
+  static const char *const mass_names[] = {"consistent", "lumped", NULL};
+  if (s->analysis != MPGM_ANALYSIS_DYNAMIC && (jr_raw(&tm, "mass") || jr_override_json(&tm, "mass")))
+    return jr_fail(&tm, "mass", "only with time.analysis \"dynamic\" (explicit schemes always "
+                   "lump the mass), found \"%s\"", analysis_names[s->analysis]);
+  MPGM_CALL(jr_enum(&tm, "mass", mass_names, 0, &s->lumped_mass));
   static const char *const accel_names[] = {"zero", "equilibrium", NULL};
   MPGM_CALL(jr_enum(&tm, "initial_acceleration", accel_names, 1, &s->initial_accel));
   MPGM_CALL(read_explicit(&tm, s));

@@ -144,11 +144,11 @@ def expected(text, resolved):
         if analysis != "static":
             raise LookupError("required here")
         return float(m.group(2))
-    m = re.fullmatch(r"explicit: (.+)", t)
-    if m:  # a key of explicit analysis only
-        if resolved.get("time", {}).get("analysis") != "explicit":
-            raise LookupError("explicit only")
-        t = m.group(1)
+    m = re.fullmatch(r"(explicit|dynamic): (.+)", t)
+    if m:  # a key of explicit (implicit dynamic) analysis only
+        if resolved.get("time", {}).get("analysis") != m.group(1):
+            raise LookupError(m.group(1) + " only")
+        t = m.group(2)
     m = re.fullmatch(r"(\S+) \(off\)", t)
     if m:
         t = m.group(1)
