@@ -135,6 +135,8 @@ typedef enum {
                                  node-steps whose functions at the node
                                  failed; the node moved with its own
                                  coefficient                             */
+  MPGM_C_DOMAIN_CLAMPS,     /**< CPDI: domain corners beyond the grid
+                                 pulled back onto its edge (corner-steps) */
   MPGM_C_COUNT
 } mpgm_counter_id;
 
