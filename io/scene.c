@@ -473,7 +473,8 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   if (s->analysis != MPGM_ANALYSIS_DYNAMIC && (jr_raw(&tm, "mass") || jr_override_json(&tm, "mass")))
     return jr_fail(&tm, "mass", "only with time.analysis \"dynamic\" (explicit schemes always "
                    "lump the mass), found \"%s\"", analysis_names[s->analysis]);
-  MPGM_CALL(jr_enum(&tm, "mass", mass_names, 0, &s->lumped_mass));
+  if (s->analysis == MPGM_ANALYSIS_DYNAMIC)
+    MPGM_CALL(jr_enum(&tm, "mass", mass_names, 0, &s->lumped_mass));
   static const char *const accel_names[] = {"zero", "equilibrium", NULL};
   MPGM_CALL(jr_enum(&tm, "initial_acceleration", accel_names, 1, &s->initial_accel));
   MPGM_CALL(read_explicit(&tm, s));
