@@ -1,5 +1,6 @@
 /* data.c -- the data model: allocation of points, nodes and connectivity,
  * their reordering, and the effects of a scene (mpgm_data.h). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,6 +24,7 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsur
   MPGM_ALLOC(ctx, p->F, MPGM_TENSOR * m);
   MPGM_ALLOC(ctx, p->sigma, MPGM_NSTRESS * m);
   MPGM_ALLOC(ctx, p->S0, MPGM_NSTRESS * m);
+  MPGM_ALLOC(ctx, p->r0, 2 * MPGM_DIM * m);
   MPGM_ALLOC(ctx, p->state, (size_t)nstate * m);
   MPGM_ALLOC(ctx, p->mat, m);
   MPGM_ALLOC(ctx, p->body, m);
@@ -49,6 +51,11 @@ void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double
   P->x[MPGM_DIM * p + 1] = P->x0[MPGM_DIM * p + 1] = y;
   P->vol[p] = P->vol0[p] = vol;
   P->mass[p] = mat->density * vol;
+  /* the domain: a square of the point's volume (a layout may set another) */
+  const double hs = 0.5 * sqrt(vol);
+  double *r0 = P->r0 + 2 * MPGM_DIM * p;
+  r0[0] = r0[3] = hs;
+  r0[1] = r0[2] = 0.0;
   P->v[MPGM_DIM * p] = bd->velocity[0];
   P->v[MPGM_DIM * p + 1] = bd->velocity[1];
   P->mat[p] = bd->material;
@@ -123,6 +130,7 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *
       {(void **)&p->vol0, 1},              {(void **)&p->vol, 1},
       {(void **)&p->F, MPGM_TENSOR},       {(void **)&p->sigma, MPGM_NSTRESS},
       {(void **)&p->S0, MPGM_NSTRESS},     {(void **)&p->state, p->nstate},
+      {(void **)&p->r0, 2 * MPGM_DIM},
       {(void **)&p->mat, -1},              {(void **)&p->body, -1},
       {(void **)&p->id, -1}};
   enum { NARR = sizeof arr / sizeof arr[0] };
@@ -154,7 +162,7 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *
 
 void mpgm_points_free(mpgm_points *p) {
   void *arr[] = {p->x, p->x0, p->u, p->v, p->a, p->mass, p->vol0, p->vol, p->F,
-                 p->sigma, p->S0, p->state, p->mat, p->body, p->id, p->F_t, p->dF_t, p->sigma_t,
+                 p->sigma, p->S0, p->r0, p->state, p->mat, p->body, p->id, p->F_t, p->dF_t, p->sigma_t,
                  p->D_t, p->state_t, p->vol_t};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   memset(p, 0, sizeof *p);

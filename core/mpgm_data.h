@@ -39,6 +39,11 @@ typedef struct mpgm_points {
                        point                                           */
   double *sigma;  /**< committed Cauchy stress {xx, yy, xy, zz} [Pa],
                        MPGM_NSTRESS per point                          */
+  double *r0;     /**< initial half-axes r1, r2 of the point's domain,
+                       2 MPGM_DIM per point [m] (a square of the point's
+                       volume, or the layout's shape): the parallelogram
+                       x +- r1 +- r2; now F r0 (shape kinds with a
+                       domain: CPDI)                                   */
   double *S0;     /**< initial (pre-)stress {xx, yy, xy, zz} [Pa] at the
                        initial configuration, pushed forward with F
                        (MPGM_NSTRESS per point)                        */

@@ -395,7 +395,10 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&mesh, "min_node_distance", 0.0, 0.0, 1.0, 0, 1, &s->min_node_distance));
   MPGM_CALL(jr_enum(&mesh, "node_motion", node_motion_names, MPGM_NODES_COEFFICIENT, &s->node_motion));
   static const char *const layout_names[] = {"gauss", "centres", NULL};
-  MPGM_CALL(jr_enum(&mesh, "layout", layout_names, 0, &s->layout_centres));
+  /* a kind with particle domains (CPDI) tiles the body with them: the
+   * sub-cell squares of quads */
+  const int centres = s->shape->domain && s->cell == MPGM_CELL_Q4;
+  MPGM_CALL(jr_enum(&mesh, "layout", layout_names, centres, &s->layout_centres));
   if (s->layout_centres && s->cell != MPGM_CELL_Q4)
     return jr_fail(&mesh, "layout", "\"centres\" splits a square cell into ppc equal squares: "
                    "expected cell \"quad\", found \"tri\"");

@@ -127,6 +127,10 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
   if (d->gridfn) { /* h and the particle half-width (scene load) */
     d->gpar = s->shape_par;
     d->gpar.h = s->h;
+    for (int i = 0; i < MPGM_DIM; i++) { /* CPDI: corners stay on the grid */
+      d->gpar.grid_lo[i] = g->min[i];
+      d->gpar.grid_hi[i] = g->max[i];
+    }
   } else if (d->meshfree) { /* clouds of grid nodes: the grid's nodes never move */
     MPGM_ALLOC(ctx, d->gx, MPGM_DIM * (size_t)g->nnode);
     for (int i = 0; i < g->nnode; i++) mpgm_grid_node(g, i, d->gx + MPGM_DIM * i);
@@ -305,20 +309,35 @@ static int cell_shape(const mpgm_fe_view *v, mpm_data *d) {
   return 0;
 }
 
-/* A grid kind's functions (uGIMP) at a point from the grid nodes of the
- * 4 x 4 block around its square (every node within h + lp < 1.5 h), the
+/* A grid kind's functions at a point from the grid nodes that may reach
+ * it: uGIMP the 4 x 4 block around its square (every node within h + lp
+ * < 1.5 h); a kind with a domain (CPDI; dom: its half-axes r1, r2, or
+ * NULL for a tracer) every node within h of the domain's bounding box. The
  * zero ones dropped, into C at *k (grid node ids); 0, or the evaluation's
  * error with the reason in *why. */
-static int grid_point(const mpgm_fe_view *v, const mpm_data *d, const double x[MPGM_DIM], int *k,
-                      const char **why) {
+static int grid_point(const mpgm_fe_view *v, const mpm_data *d, const double x[MPGM_DIM],
+                      const double *dom, int *k, const char **why) {
   const mpgm_grid *g = &d->g;
   mpgm_conn *C = v->conn;
-  const int i0 = (int)floor((x[0] - g->min[0]) / g->h), j0 = (int)floor((x[1] - g->min[1]) / g->h);
-  int id[16];
-  double xn[MPGM_DIM * 16], N[16], dN[MPGM_DIM * 16];
+  int i0 = (int)floor((x[0] - g->min[0]) / g->h) - 1, j0 = (int)floor((x[1] - g->min[1]) / g->h) - 1;
+  int i1 = i0 + 3, j1 = j0 + 3;
+  if (v->scene->shape->domain) { /* 2-D only: the box's extents in x and y */
+    const double ex = dom ? fabs(dom[0]) + fabs(dom[2]) : 0.0;
+    const double ey = dom ? fabs(dom[1]) + fabs(dom[3]) : 0.0;
+    i0 = (int)floor((x[0] - ex - g->min[0]) / g->h);
+    i1 = (int)floor((x[0] + ex - g->min[0]) / g->h) + 1;
+    j0 = (int)floor((x[1] - ey - g->min[1]) / g->h);
+    j1 = (int)floor((x[1] + ey - g->min[1]) / g->h) + 1;
+    if ((long)(i1 - i0 + 1) * (j1 - j0 + 1) > MPGM_SHAPE_MAXNODE) {
+      *why = "the particle's domain spans more grid nodes than a point may have (MPGM_SHAPE_MAXNODE)";
+      return MPGM_ERR_SHAPE;
+    }
+  }
+  int id[MPGM_SHAPE_MAXNODE];
+  double xn[MPGM_DIM * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE], dN[MPGM_DIM * MPGM_SHAPE_MAXNODE];
   int n = 0;
-  for (int j = j0 - 1; j <= j0 + 2; j++)
-    for (int i = i0 - 1; i <= i0 + 2; i++) {
+  for (int j = j0; j <= j1; j++)
+    for (int i = i0; i <= i1; i++) {
       if (i < 0 || j < 0 || i > g->nx || j > g->ny) continue;
       id[n] = j * (g->nx + 1) + i;
       mpgm_grid_node(g, id[n], xn + MPGM_DIM * n);
@@ -327,10 +346,11 @@ static int grid_point(const mpgm_fe_view *v, const mpm_data *d, const double x[M
   mpgm_shape_info info = {0};
   /* 2-D only: the query's position written out (mpgm_shapefn.h) */
   const mpgm_shape_query q = {.n = n, .xn = xn, .xp = {x[0], x[1]}, .cell = -1, .par = &d->gpar,
-                              .info = &info};
+                              .info = &info, .domain = dom};
   const int err = n ? v->scene->shape->eval(&q, N, dN) : MPGM_ERR_SHAPE;
   *why = n ? info.msg : "no grid node near";
   if (err) return err;
+  if (info.clamped) mpgm_count(v->ctx, MPGM_C_DOMAIN_CLAMPS, info.clamped);
   MPGM_CALL(mpgm_conn_grow(v->ctx, C, *k, *k + n));
   for (int a = 0; a < n; a++) {
     if (N[a] == 0.0 && dN[MPGM_DIM * a] == 0.0 && dN[MPGM_DIM * a + 1] == 0.0) continue;
@@ -356,7 +376,16 @@ static int grid_shape(const mpgm_fe_view *v, mpm_data *d) {
     if (p >= ms && mpgm_cpoints_unenforced(v->cp, p - ms)) continue; /* no shape functions */
     if (p >= P->n && p < ms && d->pcell[p] < 0) continue;             /* a probe carried */
     const char *why = NULL;
-    const int err = grid_point(v, d, P->x + MPGM_DIM * p, &k, &why);
+    double r[2 * MPGM_DIM], *dom = NULL;
+    if (p < P->n && v->scene->shape->domain) { /* r_k = F r_k^0; 2-D only: written out */
+      const double *F = P->F + MPGM_TENSOR * p, *r0 = P->r0 + 2 * MPGM_DIM * p;
+      for (int c = 0; c < 2; c++) {
+        r[2 * c] = F[0] * r0[2 * c] + F[1] * r0[2 * c + 1];
+        r[2 * c + 1] = F[2] * r0[2 * c] + F[3] * r0[2 * c + 1];
+      }
+      dom = r;
+    }
+    const int err = grid_point(v, d, P->x + MPGM_DIM * p, dom, &k, &why);
     if (!err) continue;
     if (err != MPGM_ERR_SHAPE) return err;
     if (p >= ms) mpgm_cpoints_unenforce(v->cp, p - ms);

@@ -69,6 +69,11 @@ typedef struct mpgm_shape_params {
   /* uGIMP */
   double half_width;  /**< half side lp of a particle's square [m] (required,
                            0 < lp <= h / 2; a scene sets h / (2 sqrt(ppc)))  */
+  /* CPDI */
+  double grid_lo[2], grid_hi[2]; /**< the grid's box [m]: a domain corner
+                           beyond it is pulled back onto its edge (the
+                           point itself must lie inside); no box when
+                           grid_hi <= grid_lo                               */
 } mpgm_shape_params;
 
 /** Why an evaluation failed (mpgm_shape_info.reason). */
@@ -84,9 +89,10 @@ typedef enum {
                                  nodes in its support                         */
   MPGM_SHAPE_NOT_CONVERGED, /**< LME: Newton on lambda hit max_newton or the
                                  line search stalled                           */
-  MPGM_SHAPE_OFF_GRID       /**< uGIMP: the weights do not sum to 1: nodes
-                                 within h + lp of the point are missing (the
-                                 grid ends there)                             */
+  MPGM_SHAPE_OFF_GRID       /**< uGIMP, CPDI: the weights do not sum to 1:
+                                 nodes within h + lp of the point (of a
+                                 domain corner) are missing (the grid ends
+                                 there)                                       */
 } mpgm_shape_reason;
 
 /** Short fixed description of a reason ("point outside the convex hull of
@@ -102,6 +108,7 @@ typedef struct mpgm_shape_info {
   int nsupport;   /**< nodes inside the support (N may be non-zero)        */
   double cond;    /**< condition number of J (LME) or M (MLS); 0 for FE    */
   double residual;/**< LME: final |r| / h                                  */
+  int clamped;    /**< CPDI: domain corners pulled back onto the grid box  */
 } mpgm_shape_info;
 
 /* Failure handling by the caller (the GMM front end; Iaconeta et al. 2017,
@@ -126,6 +133,10 @@ typedef struct mpgm_shape_query {
                          converged multiplier on success (untouched on
                          failure). Ignored by other kinds.                */
   mpgm_shape_info *info; /**< optional out: reason and counters          */
+  const double *domain;  /**< kinds with a particle domain (cpdi): its
+                              half-axes r1, r2 (2 each) [m], the
+                              parallelogram xp + s1 r1 + s2 r2, |s| <= 1;
+                              NULL: a point without domain (a tracer)     */
 } mpgm_shape_query;
 
 /** A shape-function kind. */
@@ -136,7 +147,10 @@ typedef struct mpgm_shapefn_type {
                          0: meshfree, the caller gives a cloud of nodes
                          within mpgm_shape_support_radius of the point     */
   int grid_only;    /**< 1: the nodes must be a regular grid of spacing
-                         h (uGIMP: the background grid of MPM)           */
+                         h (uGIMP, CPDI: the background grid of MPM)     */
+  int domain;       /**< 1: the kind averages over the particle's domain
+                         (q->domain; CPDI): the caller gives the nodes
+                         within h of the domain's bounding box           */
   /** N (q->n values) and dN (2 per node: d/dx, d/dy) at the point.
    *  Returns 0, MPGM_ERR_JACOBIAN (inverted cell), MPGM_ERR_SHAPE
    *  (recoverable; reason in q->info) or MPGM_ERR_INPUT. Nodes outside the

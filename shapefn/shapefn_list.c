@@ -6,7 +6,8 @@
 #include <string.h>
 
 #define MPGM_SHAPEFN_LIST(X) \
-  X(mpgm_shapefn_fe) X(mpgm_shapefn_mls) X(mpgm_shapefn_lme) X(mpgm_shapefn_ugimp)
+  X(mpgm_shapefn_fe) X(mpgm_shapefn_mls) X(mpgm_shapefn_lme) X(mpgm_shapefn_ugimp) \
+  X(mpgm_shapefn_cpdi)
 
 #define MPGM_DECLARE(t) extern const mpgm_shapefn_type t;
 MPGM_SHAPEFN_LIST(MPGM_DECLARE)
@@ -36,14 +37,14 @@ const char *mpgm_shape_reason_str(int reason) {
   switch (reason) {
   case MPGM_SHAPE_OK: return "ok";
   case MPGM_SHAPE_BAD_INPUT: return "bad query (node count, missing length scale or cell)";
-  case MPGM_SHAPE_INVERTED: return "inverted cell (det J <= 0)";
+  case MPGM_SHAPE_INVERTED: return "inverted cell or particle domain (det J <= 0)";
   case MPGM_SHAPE_TOO_FEW: return "too few nodes in the support for the basis";
   case MPGM_SHAPE_ILL_COND: return "moment matrix or Hessian singular or ill-conditioned";
   case MPGM_SHAPE_OUTSIDE_HULL: return "point outside the convex hull of its cloud";
   case MPGM_SHAPE_NOT_CONVERGED: return "Newton on the LME multiplier did not converge";
   case MPGM_SHAPE_OFF_GRID:
-    return "uGIMP: the point's square reaches nodes the grid does not have (widen mesh.domain by a "
-           "cell, or use mesh.layout \"centres\")";
+    return "uGIMP, CPDI: the point's square (domain) reaches nodes the grid does not have (widen "
+           "mesh.domain by a cell; uGIMP: or use mesh.layout \"centres\")";
   default: return "unknown shape-function failure";
   }
 }

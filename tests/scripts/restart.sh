@@ -24,6 +24,8 @@
 #                 a quartered step that grows back after it
 #   fem_static    the cantilever, static (load steps)
 #   mpm_explicit  Dyka's bar, explicit npc (energy columns included)
+#   mpm_cpdi      MPM column collapse with CPDI (the points' initial domains
+#                 are kept and reordered with them)
 #   mpm_threads   the MPM block, B started on two threads and continued on
 #                 one (threads may change at a restart), A on one
 # Then the refusals, each with exit 2 and a message that says why: a
@@ -109,6 +111,8 @@ one_case fem_static "$src/cases/cantilever.json" --set time.load_steps=6 \
   --set output.checkpoint_every=2
 one_case mpm_explicit "$src/cases/dyka_bar.json" --set output.checkpoint_every=150 \
   --set output.every=200
+one_case mpm_cpdi "$src/cases/column_collapse.json" --set shape.kind=cpdi --set mesh.h=0.2 \
+  --set time.end=0.3 --set output.checkpoint_every=5 --set output.times=[0.1]
 # threads may change at a restart (the bits do not depend on them): A on
 # one thread, B started on two and continued on one
 restart_sets=(--set threads=1)

@@ -144,6 +144,10 @@ def expected(text, resolved):
         if analysis != "static":
             raise LookupError("required here")
         return float(m.group(2))
+    m = re.fullmatch(r'(`"\w+"`); (`"\w+"`) with `shape\.kind` `"cpdi"` on quads', t)
+    if m:  # a default that follows the shape kind
+        cpdi = resolved.get("shape", {}).get("kind") == "cpdi" and cell == "quad"
+        t = m.group(2 if cpdi else 1)
     m = re.fullmatch(r"(explicit|dynamic): (.+)", t)
     if m:  # a key of explicit (implicit dynamic) analysis only
         if resolved.get("time", {}).get("analysis") != m.group(1):

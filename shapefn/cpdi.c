@@ -1,0 +1,138 @@
+/* cpdi.c -- convected particle domain interpolation (Sadeghirad, Brannon &
+ * Burghardt 2011, "CPDI1"; as Tran et al. 2019 write it, eqs 21-24): the
+ * "cpdi" kind.
+ *
+ * A particle carries a parallelogram domain, x_p + s1 r1 + s2 r2 with
+ * |s1|, |s2| <= 1, whose half-axes follow the material, r_k = F_p r_k^0.
+ * Its corners, numbered counter-clockwise,
+ *
+ *   x_1 = x_p - r1 - r2,  x_2 = x_p + r1 - r2,  x_3 = x_p + r1 + r2,
+ *   x_4 = x_p - r1 + r2,
+ *
+ * carry the values of the grid's bilinear hats phi_I, and over the domain
+ * phi_I is replaced by the bilinear interpolant of those four values. Its
+ * mean over the domain (volume V = 4 |r1 x r2|) and the mean of its
+ * gradient are
+ *
+ *   N_Ip    = (1/4) sum_c phi_I(x_c),
+ *   dN_Ip/dx = (1/V) [(phi_1 - phi_3)(r1y - r2y) + (phi_2 - phi_4)(r1y + r2y)],
+ *   dN_Ip/dy = (1/V) [(phi_1 - phi_3)(r2x - r1x) - (phi_2 - phi_4)(r1x + r2x)],
+ *
+ * with phi_c = phi_I(x_c). The factor is 1/V with V the full domain (4
+ * times the parallelogram of r1, r2): with it, sum_I dN_Ip x_I = identity,
+ * the gradient of a linear field is exact (tests/unit/test_cpdi.c; the
+ * derivation is in docs/theory.md, "CPDI"). Both sums use the hats, which
+ * reproduce linear fields, at points the bilinear map reaches linearly.
+ *
+ * Nodes: the caller gives the grid nodes whose hats may reach a corner (MPM
+ * takes every node within h of the domain's bounding box). A corner beyond
+ * the grid's box (par->grid_lo, grid_hi; a point on a support at the
+ * grid's edge has its domain's edge there, and the smallest shear or
+ * rounding takes a corner past it) is pulled back onto the box's edge,
+ * counted in info->clamped: the corner values still sum to 1 (momentum is
+ * kept), linear reproduction is lost at that point only. Each corner's hats
+ * must sum to 1; a corner where the grid has no node (no box given) fails
+ * with MPGM_SHAPE_OFF_GRID, a domain with r1 x r2 <= 0 (turned inside out)
+ * with MPGM_SHAPE_INVERTED. A query without a domain (probes and surface
+ * tracers, which have none) gets the hats and their gradients at x_p. */
+#include "mpgm_shapefn_impl.h"
+
+#include <math.h>
+
+/* The bilinear hat of the node at offset (dx, dy) = x - x_I on a grid of
+ * spacing h, and (grad) its gradient (the one-sided value at a kink,
+ * consistently from the side of the lower node). */
+static inline double hat(double dx, double dy, double h, double *gx, double *gy) {
+  const double ax = fabs(dx), ay = fabs(dy);
+  if (ax >= h || ay >= h) {
+    if (gx) *gx = *gy = 0.0;
+    return 0.0;
+  }
+  const double wx = 1.0 - ax / h, wy = 1.0 - ay / h;
+  if (gx) {
+    *gx = (dx >= 0.0 ? -1.0 : 1.0) / h * wy;
+    *gy = (dy >= 0.0 ? -1.0 : 1.0) / h * wx;
+  }
+  return wx * wy;
+}
+
+static int cpdi_radius(const mpgm_shape_params *par, double *R) {
+  *R = 0.0;
+  if (!par || !(par->h > 0.0)) return MPGM_ERR_INPUT;
+  *R = sqrt(2.0) * par->h; /* a point's own hats; a domain reaches farther */
+  return 0;
+}
+
+/* Without a domain: the hats at x_p. */
+static int point_eval(const mpgm_shape_query *q, double *N, double *dN) {
+  const double h = q->par->h;
+  double sum = 0.0;
+  int nsup = 0;
+  for (int a = 0; a < q->n; a++) {
+    N[a] = hat(q->xp[0] - q->xn[2 * a], q->xp[1] - q->xn[2 * a + 1], h, dN + 2 * a, dN + 2 * a + 1);
+    sum += N[a];
+    nsup += N[a] > 0.0;
+  }
+  if (nsup == 0) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_TOO_FEW);
+  if (!(fabs(sum - 1.0) <= 1e-9)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OFF_GRID);
+  mpgm_shape_ok(q, 0, nsup, 0.0, 0.0);
+  return 0;
+}
+
+static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
+  MPGM_CALL(mpgm_shape_check_cloud(q, N, dN));
+  if (!q->par || !(q->par->h > 0.0))
+    return mpgm_shape_fail(q, N, dN, MPGM_ERR_INPUT, MPGM_SHAPE_BAD_INPUT);
+  if (!q->domain) return point_eval(q, N, dN);
+  const double h = q->par->h, *r = q->domain; /* r1 = (r[0], r[1]), r2 = (r[2], r[3]) */
+  const double cross = r[0] * r[3] - r[1] * r[2];
+  if (!(cross > 0.0)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_INVERTED);
+  const double V = 4.0 * cross;
+  static const double s[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  const double *lo = q->par->grid_lo, *hi = q->par->grid_hi;
+  const int box = hi[0] > lo[0] && hi[1] > lo[1];
+  double xc[4][2];
+  int clamped = 0;
+  for (int c = 0; c < 4; c++) {
+    xc[c][0] = q->xp[0] + s[c][0] * r[0] + s[c][1] * r[2];
+    xc[c][1] = q->xp[1] + s[c][0] * r[1] + s[c][1] * r[3];
+    for (int i = 0; i < 2 && box; i++) {
+      const double v = fmin(fmax(xc[c][i], lo[i]), hi[i]);
+      clamped += v != xc[c][i];
+      xc[c][i] = v;
+    }
+  }
+  double sum[4] = {0.0, 0.0, 0.0, 0.0};
+  int nsup = 0;
+  for (int a = 0; a < q->n; a++) {
+    double phi[4];
+    for (int c = 0; c < 4; c++) {
+      phi[c] = hat(xc[c][0] - q->xn[2 * a], xc[c][1] - q->xn[2 * a + 1], h, NULL, NULL);
+      sum[c] += phi[c];
+    }
+    const double d13 = phi[0] - phi[2], d24 = phi[1] - phi[3];
+    N[a] = 0.25 * (phi[0] + phi[1] + phi[2] + phi[3]);
+    dN[2 * a] = (d13 * (r[1] - r[3]) + d24 * (r[1] + r[3])) / V;
+    dN[2 * a + 1] = (d13 * (r[2] - r[0]) - d24 * (r[0] + r[2])) / V;
+    nsup += N[a] > 0.0;
+  }
+  if (nsup == 0) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_TOO_FEW);
+  /* a corner whose hats do not sum to 1 lies where the grid has no node */
+  for (int c = 0; c < 4; c++)
+    if (!(fabs(sum[c] - 1.0) <= 1e-9)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OFF_GRID);
+  mpgm_shape_ok(q, 0, nsup, 0.0, 0.0);
+  if (q->info) q->info->clamped = clamped;
+  return 0;
+}
+
+const mpgm_shapefn_type mpgm_shapefn_cpdi = {
+    .name = "cpdi",
+    .doc = "convected particle domain interpolation (CPDI1, Sadeghirad et al. 2011): bilinear "
+           "hats averaged over the particle's parallelogram r_k = F r_k^0 from its corners; "
+           "regular grids only (method mpm)",
+    .needs_cell = 0,
+    .grid_only = 1,
+    .domain = 1,
+    .eval = cpdi_eval,
+    .support_radius = cpdi_radius,
+};

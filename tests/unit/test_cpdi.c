@@ -1,0 +1,209 @@
+/* test_cpdi.c -- the "cpdi" shape-function kind (shapefn/cpdi.c):
+ *
+ *   - partition of unity and linear reproduction under a general F (the
+ *     domain stretched, sheared and turned): sum N = 1, sum N x_I = x_p,
+ *     sum grad N = 0 and sum grad N (x) x_I = identity, so the gradient of
+ *     a linear field is exact: the factor 1/V of the gradient (V = 4 |r1 x
+ *     r2|) is the right one, and a factor of 1/(2V) or 2/V (printed forms
+ *     of the formula differ) would give a gradient off by that factor;
+ *   - N and grad N equal the domain averages of the bilinear interpolant
+ *     of the corner values and of its gradient, by Gauss quadrature over
+ *     the parallelogram (an independent construction of the closed form);
+ *   - inside one cell, where the hats are bilinear, CPDI's average is
+ *     exact: an axis-aligned square gives uGIMP's weights;
+ *   - without a domain (tracers) the kind gives the hats at x_p;
+ *   - a corner off the grid fails with MPGM_SHAPE_OFF_GRID, a domain
+ *     turned inside out with MPGM_SHAPE_INVERTED (N = dN = 0, no NaN);
+ *     with the grid's box given, a corner beyond it is pulled back onto
+ *     its edge and counted, and N, grad N still sum to 1 and 0.
+ */
+#include "mpgm_shapefn.h"
+#include "mpgm_test.h"
+
+#include <math.h>
+#include <stdio.h>
+
+static const double H = 0.25;
+enum { R = 4, NG = (2 * R + 1) * (2 * R + 1) }; /* nodes (i h, j h), |i|, |j| <= R */
+
+static void grid(double *xn) {
+  for (int j = -R, n = 0; j <= R; j++)
+    for (int i = -R; i <= R; i++, n++) {
+      xn[2 * n] = i * H;
+      xn[2 * n + 1] = j * H;
+    }
+}
+
+static int eval(const char *kind, const double xp[2], const double *dom, double lp, double *N,
+                double *dN, int *reason) {
+  static double xn[2 * NG];
+  grid(xn);
+  const mpgm_shape_params par = {.h = H, .half_width = lp};
+  mpgm_shape_info info = {0};
+  const mpgm_shape_query q = {.n = NG, .xn = xn, .xp = {xp[0], xp[1]}, .cell = -1, .par = &par,
+                              .info = &info, .domain = dom};
+  const int err = mpgm_shapefn_type_find(kind)->eval(&q, N, dN);
+  if (reason) *reason = info.reason;
+  return err;
+}
+
+/* r = F r0 for r0 = (a, 0), (0, b) */
+static void domain(const double F[4], double a, double b, double r[4]) {
+  r[0] = F[0] * a;
+  r[1] = F[2] * a;
+  r[2] = F[1] * b;
+  r[3] = F[3] * b;
+}
+
+static double hat1(double d) { return fmax(0.0, 1.0 - fabs(d) / H); }
+
+/* the hat of node a at x */
+static double hatn(int a, const double x[2]) {
+  const double xi = (a % (2 * R + 1) - R) * H, yi = (a / (2 * R + 1) - R) * H;
+  return hat1(x[0] - xi) * hat1(x[1] - yi);
+}
+
+static void check_reproduction(void) {
+  const double Fs[3][4] = {{1.3, 0.4, -0.2, 0.8}, {0.6, -0.5, 0.7, 1.1}, {1.0, 0.0, 0.0, 1.0}};
+  const double xps[3][2] = {{0.013, -0.071}, {0.2, 0.25}, {-0.31, 0.17}};
+  double worst[4] = {0, 0, 0, 0};
+  for (int f = 0; f < 3; f++)
+    for (int k = 0; k < 3; k++) {
+      double r[4], N[NG], dN[2 * NG], xn[2 * NG];
+      domain(Fs[f], 0.11, 0.07, r);
+      grid(xn);
+      if (eval("cpdi", xps[k], r, 0.0, N, dN, NULL)) {
+        mpgm_test(0, "cpdi: F %d, point %d evaluates", f, k);
+        continue;
+      }
+      double s = 0, x[2] = {0, 0}, g[2] = {0, 0}, G[4] = {0, 0, 0, 0};
+      for (int a = 0; a < NG; a++) {
+        s += N[a];
+        for (int i = 0; i < 2; i++) {
+          x[i] += N[a] * xn[2 * a + i];
+          g[i] += dN[2 * a + i];
+          for (int j = 0; j < 2; j++) G[2 * i + j] += xn[2 * a + i] * dN[2 * a + j];
+        }
+      }
+      worst[0] = fmax(worst[0], fabs(s - 1.0));
+      worst[1] = fmax(worst[1], fmax(fabs(x[0] - xps[k][0]), fabs(x[1] - xps[k][1])));
+      worst[2] = fmax(worst[2], fmax(fabs(g[0]), fabs(g[1])) * H);
+      worst[3] = fmax(worst[3], fmax(fmax(fabs(G[0] - 1), fabs(G[3] - 1)), fmax(fabs(G[1]), fabs(G[2]))));
+    }
+  mpgm_test(worst[0] < 1e-13, "cpdi: sum N = 1 under stretch, shear and turn (%.1e)", worst[0]);
+  mpgm_test(worst[1] < 1e-13, "cpdi: sum N x_I = x_p (%.1e m)", worst[1]);
+  mpgm_test(worst[2] < 1e-13, "cpdi: sum grad N = 0 (%.1e, times h)", worst[2]);
+  mpgm_test(worst[3] < 1e-13, "cpdi: sum x_I (x) grad N = identity: a linear field's gradient "
+            "exact with the factor 1/V, V = 4 |r1 x r2| (%.1e)", worst[3]);
+}
+
+/* N and grad N against Gauss quadrature (5 x 5 per cell of a 16 x 16
+ * subdivision of the parallelogram) of the corner values' bilinear
+ * interpolant and of its gradient. */
+static void check_quadrature(void) {
+  const double F[4] = {1.2, 0.5, -0.3, 0.9}, xp[2] = {0.04, -0.09};
+  double r[4], N[NG], dN[2 * NG];
+  domain(F, 0.13, 0.09, r);
+  if (eval("cpdi", xp, r, 0.0, N, dN, NULL)) {
+    mpgm_test(0, "cpdi: quadrature point evaluates");
+    return;
+  }
+  const double det = r[0] * r[3] - r[1] * r[2];
+  const double gs[5] = {-0.906179845938664, -0.538469310105683, 0.0, 0.538469310105683,
+                        0.906179845938664};
+  const double gw[5] = {0.236926885056189, 0.478628670499366, 0.568888888888889,
+                        0.478628670499366, 0.236926885056189};
+  const double sc[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  double worstN = 0, worstG = 0;
+  for (int a = 0; a < NG; a++) {
+    double phi[4];
+    for (int c = 0; c < 4; c++) {
+      const double x[2] = {xp[0] + sc[c][0] * r[0] + sc[c][1] * r[2],
+                           xp[1] + sc[c][0] * r[1] + sc[c][1] * r[3]};
+      phi[c] = hatn(a, x);
+    }
+    double m = 0, g1 = 0, g2 = 0, w = 0; /* over s in [-1, 1]^2 */
+    for (int i = 0; i < 5; i++)
+      for (int j = 0; j < 5; j++) {
+        const double s1 = gs[i], s2 = gs[j], wt = gw[i] * gw[j];
+        double v = 0, d1 = 0, d2 = 0;
+        for (int c = 0; c < 4; c++) {
+          v += phi[c] * (1 + sc[c][0] * s1) * (1 + sc[c][1] * s2) / 4;
+          d1 += phi[c] * sc[c][0] * (1 + sc[c][1] * s2) / 4;
+          d2 += phi[c] * (1 + sc[c][0] * s1) * sc[c][1] / 4;
+        }
+        m += wt * v;
+        g1 += wt * d1;
+        g2 += wt * d2;
+        w += wt;
+      }
+    m /= w;
+    g1 /= w;
+    g2 /= w;
+    /* grad_x = J^-T grad_s, J = [r1 r2] (columns) */
+    const double gx = (r[3] * g1 - r[1] * g2) / det, gy = (-r[2] * g1 + r[0] * g2) / det;
+    worstN = fmax(worstN, fabs(m - N[a]));
+    worstG = fmax(worstG, fmax(fabs(gx - dN[2 * a]), fabs(gy - dN[2 * a + 1])) * H);
+  }
+  mpgm_test(worstN < 1e-14, "cpdi: N = the domain mean of the corners' interpolant (%.1e)", worstN);
+  mpgm_test(worstG < 1e-13, "cpdi: grad N = its mean gradient (%.1e, times h)", worstG);
+}
+
+/* an axis-aligned square inside one cell: uGIMP's weights */
+static void check_ugimp(void) {
+  const double lp = H / 4, xp[2] = {0.1, 0.12}, r[4] = {lp, 0, 0, lp};
+  double N1[NG], d1[2 * NG], N2[NG], d2[2 * NG];
+  const int e1 = eval("cpdi", xp, r, 0.0, N1, d1, NULL), e2 = eval("ugimp", xp, NULL, lp, N2, d2, NULL);
+  double w = 0;
+  for (int a = 0; a < NG; a++) w = fmax(w, fmax(fabs(N1[a] - N2[a]), H * fmax(fabs(d1[2 * a] - d2[2 * a]), fabs(d1[2 * a + 1] - d2[2 * a + 1]))));
+  mpgm_test(!e1 && !e2 && w < 1e-14, "cpdi: a square inside a cell gives uGIMP's N and grad N (%.1e)", w);
+}
+
+static void check_point_and_failures(void) {
+  const double xp[2] = {0.03, 0.11};
+  double N[NG], dN[2 * NG];
+  int reason = 0, err = eval("cpdi", xp, NULL, 0.0, N, dN, &reason);
+  double w = 0;
+  for (int a = 0; a < NG; a++) w = fmax(w, fabs(N[a] - hatn(a, xp)));
+  mpgm_test(!err && w < 1e-15, "cpdi: no domain: the hats at x_p (%.1e)", w);
+  /* a corner beyond the last node (R h = 1 m) */
+  const double far[2] = {0.95, 0.0}, r[4] = {0.1, 0, 0, 0.1};
+  err = eval("cpdi", far, r, 0.0, N, dN, &reason);
+  int finite = 1;
+  for (int a = 0; a < NG; a++) finite = finite && N[a] == 0.0 && dN[2 * a] == 0.0;
+  mpgm_test(err == MPGM_ERR_SHAPE && reason == MPGM_SHAPE_OFF_GRID && finite,
+            "cpdi: a corner off the grid fails with OFF_GRID (err %d, reason %d), N = 0", err, reason);
+  const double inv[4] = {0.1, 0, 0, -0.1}, mid[2] = {0, 0};
+  err = eval("cpdi", mid, inv, 0.0, N, dN, &reason);
+  mpgm_test(err == MPGM_ERR_SHAPE && reason == MPGM_SHAPE_INVERTED,
+            "cpdi: an inverted domain fails with INVERTED (err %d, reason %d)", err, reason);
+  /* the grid's box: the corner at x = 1.05 is pulled back to 1 */
+  static double xn[2 * NG];
+  grid(xn);
+  const mpgm_shape_params bp = {.h = H, .grid_lo = {-R * H, -R * H}, .grid_hi = {R * H, R * H}};
+  mpgm_shape_info info = {0};
+  const mpgm_shape_query qb = {.n = NG, .xn = xn, .xp = {far[0], far[1]}, .cell = -1, .par = &bp,
+                               .info = &info, .domain = r};
+  err = mpgm_shapefn_type_find("cpdi")->eval(&qb, N, dN);
+  double sN = 0, sg = 0;
+  for (int a = 0; a < NG; a++) {
+    sN += N[a];
+    sg += dN[2 * a] + dN[2 * a + 1];
+  }
+  mpgm_test(!err && info.clamped == 2 && fabs(sN - 1) < 1e-14 && fabs(sg) * H < 1e-13,
+            "cpdi: with the grid's box, 2 corners pulled back (%d), sum N - 1 = %.1e, sum grad N = "
+            "%.1e", info.clamped, sN - 1, sg);
+  const mpgm_shape_query q = {.n = 1, .xn = mid, .xp = {0, 0}, .cell = -1, .par = NULL};
+  mpgm_test(mpgm_shapefn_type_find("cpdi")->eval(&q, N, dN) == MPGM_ERR_INPUT,
+            "cpdi: no length scale is MPGM_ERR_INPUT");
+}
+
+int main(void) {
+  mpgm_test(mpgm_shapefn_type_find("cpdi") != NULL, "cpdi registered");
+  if (!mpgm_shapefn_type_find("cpdi")) return mpgm_test_summary();
+  check_reproduction();
+  check_quadrature();
+  check_ugimp();
+  check_point_and_failures();
+  return mpgm_test_summary();
+}
