@@ -279,6 +279,7 @@ void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
     fx->contact_points |= mpgm_bc_at_points(&s->bcs[i]);
   }
   for (int i = 0; i < s->nbody; i++) fx->prestress |= s->bodies[i].geostatic;
+  fx->manufactured = s->manufactured;
   fx->tangent = !s->integrator || s->integrator->implicit;
 }
 

@@ -108,6 +108,8 @@ typedef struct mpgm_effects {
   int contact_points; /**< unilateral contact at surface points (penalty,
                            active set; core/contact_points.c)          */
   int prestress;      /**< a body has a geostatic initial stress         */
+  int manufactured;   /**< a manufactured solution's body force b(X, t)
+                           on every point (scene "manufactured")         */
   int tangent;        /**< an implicit integrator: a tangent is assembled
                            and factorised (explicit schemes: 0)         */
 } mpgm_effects;

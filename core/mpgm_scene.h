@@ -13,6 +13,7 @@
 #include "mpgm_base.h"
 #include "mpgm_integrator.h"
 #include "mpgm_material.h"
+#include "mpgm_mms.h"
 #include "mpgm_reference.h"
 #include "mpgm_shapefn.h"
 #include "mpgm_solver.h"
@@ -249,6 +250,12 @@ typedef struct mpgm_scene {
                                  Molinos et al. 2021 eq 45, gravity times
                                  (1 - cos(2 pi t / T)) / 2 until T/2, then
                                  in full (0: in full from t = 0)       */
+  int manufactured;         /**< "manufactured": a manufactured solution
+                                 drives the run (body force b(X, t) on
+                                 every point, initial velocity) and is
+                                 the reference of its errors           */
+  mpgm_mms mms;             /**< its parameters (E, nu, rho0 from the
+                                 scene's one material)                 */
   mpgm_reference reference; /**< reference solution; type NULL if none  */
   /* output */
   char out_dir[MPGM_PATH_LEN];

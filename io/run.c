@@ -27,6 +27,7 @@ void *mpgm_effects_json(const mpgm_effects *fx) {
   cJSON_AddBoolToObject(e, "contact", fx->contact);
   cJSON_AddBoolToObject(e, "contact_points", fx->contact_points);
   cJSON_AddBoolToObject(e, "initial_stress", fx->prestress);
+  cJSON_AddBoolToObject(e, "manufactured_source", fx->manufactured);
   return e;
 }
 
