@@ -158,8 +158,9 @@ int mpgm_body_force(mpgm_problem *pb, double t) {
   mpgm_ctx *ctx = pb->ctx;
   const int n = pb->nodes.ndof;
   memset(pb->fext, 0, sizeof(double) * (size_t)n);
-  if (!pb->fx.gravity) return 0;
+  if (!pb->fx.gravity && !pb->fx.manufactured) return 0;
   mpgm_timer_start(ctx, MPGM_T_BODYFORCE);
+  const double *b = pb->fx.manufactured ? mpgm_mms_forces(pb, t) : NULL;
   /* static: gravity grows with the load factor; dynamic: it acts in full
    * from the start unless the scene ramps it (gravity_ramp); prescribed
    * displacements ramp over the run. 2-D only: gx, gy written out (3-D: a
@@ -171,11 +172,12 @@ int mpgm_body_force(mpgm_problem *pb, double t) {
   const int *dof = pb->nodes.dof;
   for (int p = 0; p < pb->pts.n; p++) {
     const double m = pb->pts.mass[p];
+    const double bx = gx + (b ? b[MPGM_DIM * p] : 0.0), by = gy + (b ? b[MPGM_DIM * p + 1] : 0.0);
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       const double w = m * C->N[k];
-      if (dof[MPGM_DIM * I] >= 0) pb->fext[dof[MPGM_DIM * I]] += w * gx;
-      if (dof[MPGM_DIM * I + 1] >= 0) pb->fext[dof[MPGM_DIM * I + 1]] += w * gy;
+      if (dof[MPGM_DIM * I] >= 0) pb->fext[dof[MPGM_DIM * I]] += w * bx;
+      if (dof[MPGM_DIM * I + 1] >= 0) pb->fext[dof[MPGM_DIM * I + 1]] += w * by;
     }
   }
   mpgm_count(ctx, MPGM_C_BODY_FORCE, 1);

@@ -126,9 +126,11 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
   double *f = d->f;
   memset(f, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   const double gf = mpgm_gravity_factor(pb, t);
-  const double gx = gf * pb->scene->gravity[0], gy = gf * pb->scene->gravity[1];
+  const double *b = pb->fx.manufactured ? mpgm_mms_forces(pb, t) : NULL;
   for (int p = 0; p < P->n; p++) { /* 2-D only: components written out */
     const double *sg = sigma + MPGM_NSTRESS * p, m = P->mass[p], v = vol[p];
+    const double gx = gf * pb->scene->gravity[0] + (b ? b[MPGM_DIM * p] : 0.0);
+    const double gy = gf * pb->scene->gravity[1] + (b ? b[MPGM_DIM * p + 1] : 0.0);
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       const double N = C->N[k], ax = C->dN[MPGM_DIM * k], ay = C->dN[MPGM_DIM * k + 1];
@@ -176,6 +178,8 @@ static void move_points(mpgm_problem *pb, const double *V, const double *A, doub
   /* the work of gravity, at its value in the middle of the step */
   const double gf = mpgm_gravity_factor(pb, pb->t + 0.5 * dt);
   const double gx = gf * pb->scene->gravity[0], gy = gf * pb->scene->gravity[1];
+  /* a manufactured body force's work, the same */
+  const double *b = pb->fx.manufactured ? mpgm_mms_forces(pb, pb->t + 0.5 * dt) : NULL;
   double wext = 0.0;
   for (int p = 0; p < m; p++) { /* 2-D only: components written out */
     double a[MPGM_DIM] = {0}, w[MPGM_DIM] = {0};
@@ -193,7 +197,9 @@ static void move_points(mpgm_problem *pb, const double *V, const double *A, doub
       P->x[MPGM_DIM * p + q] += w[q];
       P->u[MPGM_DIM * p + q] += w[q];
     }
-    if (p < P->n) wext += P->mass[p] * (gx * w[0] + gy * w[1]);
+    if (p >= P->n) continue;
+    wext += P->mass[p] * (gx * w[0] + gy * w[1]);
+    if (b) wext += P->mass[p] * (b[MPGM_DIM * p] * w[0] + b[MPGM_DIM * p + 1] * w[1]);
   }
   pb->work_ext += wext;
   mpgm_timer_stop(ctx, MPGM_T_UPDATE);

@@ -23,6 +23,8 @@ static void commit(mpgm_problem *pb) {
   const double gf = inertia ? mpgm_gravity_factor(pb, pb->t + 0.5 * pb->dt) : 0.0;
   const double gx = gf * pb->scene->gravity[0], gy = gf * pb->scene->gravity[1];
   double wext = 0.0;
+  /* a manufactured body force's work, the same */
+  const double *b = pb->fx.manufactured && inertia ? mpgm_mms_forces(pb, pb->t + 0.5 * pb->dt) : NULL;
   /* 2-D only: the points' increments written out per component (3-D: a
    * third component) */
   for (int p = 0; p < m; p++) {
@@ -40,6 +42,7 @@ static void commit(mpgm_problem *pb) {
     P->u[MPGM_DIM * p] += d[0];
     P->u[MPGM_DIM * p + 1] += d[1];
     if (p < P->n) wext += P->mass[p] * (gx * d[0] + gy * d[1]);
+    if (p < P->n && b) wext += P->mass[p] * (b[MPGM_DIM * p] * d[0] + b[MPGM_DIM * p + 1] * d[1]);
     if (move) {
       P->x[MPGM_DIM * p] += d[0];
       P->x[MPGM_DIM * p + 1] += d[1];

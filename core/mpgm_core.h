@@ -181,6 +181,12 @@ typedef struct mpgm_energy {
 } mpgm_energy;
 void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e);
 
+/** With a manufactured solution (scene "manufactured"): the RMS errors of
+ *  Tran et al. 2019 eq 47 over the material points at the current time,
+ *  err = {displacement [m], velocity [m/s], Cauchy stress [Pa] (the
+ *  in-plane tensor's Frobenius norm)}; returns 1. Without one: 0, NaNs. */
+int mpgm_problem_mms_errors(const mpgm_problem *pb, double err[3]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -81,6 +81,7 @@ static int setup(mpgm_problem *pb) {
   mpgm_timer_stop(ctx, MPGM_T_SHAPE);
   MPGM_CALL(err);
   if (pb->fx.prestress) MPGM_CALL(initial_stress(pb));
+  if (pb->fx.manufactured) MPGM_CALL(mpgm_mms_setup(pb));
   mpgm_nodes_number(&pb->nodes);
   MPGM_CALL(vectors(pb));
   if (pb->fx.contact_points) MPGM_CALL(mpgm_cpoints_setup(pb));
@@ -134,7 +135,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   void *arr[] = {pb->K.colptr, pb->K.rowind, pb->K.val, pb->scatter, pb->scatter_ptr, pb->order,
                  pb->grp_ptr, pb->nbr, pb->nbr_ptr, pb->nbr_off, pb->node_order, pb->perm,
                  pb->kloc, pb->kbatch, pb->kslot, pb->task_grp, pb->task_pts, pb->R, pb->fext,
-                 pb->delta, pb->dubar, pb->react, pb->cflip, pb->fix_factored};
+                 pb->delta, pb->dubar, pb->react, pb->cflip, pb->fix_factored, pb->mms_b};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   mpgm_pool_destroy(&pb->pool);
   mpgm_cpoints_free(&pb->cp);

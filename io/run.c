@@ -125,6 +125,12 @@ static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o)
   }
   if (mpgm_problem_effects(pb)->plasticity)
     cJSON_AddNumberToObject(m, "eps_p_max", mpgm_points_plastic_strain(P, s->mats, NULL));
+  double e[3];
+  if (mpgm_problem_mms_errors(pb, e)) { /* eq 47 of Tran et al. 2019 */
+    cJSON_AddNumberToObject(m, "mms_u_rms", e[0]);
+    cJSON_AddNumberToObject(m, "mms_v_rms", e[1]);
+    cJSON_AddNumberToObject(m, "mms_sigma_rms", e[2]);
+  }
   (void)mpgm_reference_metrics(s, o->nrow, 2 + o->ncol, o->hist, o->ref_acc, m);
 }
 

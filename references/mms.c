@@ -1,6 +1,6 @@
 /* mms.c -- the manufactured solutions of 004 section 4 (mpgm_mms.h):
  * motion, Cauchy stress and body force in closed form, derived from the
- * motion and the neo-Hookean law (docs/theory.md, section 20; the printed
+ * motion and the neo-Hookean law (docs/theory.md, section 21; the printed
  * body forces of 004 carry misprints and are not used).
  *
  * Small amplitudes lose nothing to cancellation: stretches enter as

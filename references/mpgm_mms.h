@@ -1,7 +1,7 @@
 /* mpgm_mms.h -- the three manufactured solutions of Tran, Solowski, Berzins
  * & Guilkey (2019), CPLS MPM, section 4 (seed 004): axis-aligned vibration
  * (4.2), ring expansion (4.3) and generalized vortex (4.4). Derivation and
- * the misprints of the paper: docs/theory.md, section 20.
+ * the misprints of the paper: docs/theory.md, section 21.
  *
  * Pure functions of the material point X [m] and the time t [s]; 2-D plane
  * strain (F_zz = 1), the compressible neo-Hookean law of

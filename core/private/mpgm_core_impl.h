@@ -77,7 +77,11 @@ struct mpgm_problem {
                           schemes assemble no matrix)                  */
   double work_int;   /**< dynamic: work of the stresses so far [J] (per
                           unit thickness; energy.c)                     */
-  double work_ext;   /**< dynamic: work of gravity so far [J]             */
+  double work_ext;   /**< dynamic: work of gravity (and of a manufactured
+                          solution's body force) so far [J]             */
+  double *mms_b;     /**< manufactured solution: the body force per unit
+                          mass at each material point, MPGM_DIM each,
+                          at the time of the last mpgm_mms_forces       */
   int resumed;       /**< restored from a checkpoint (mpgm_problem_restore):
                           the run continues its step control and result */
   /* linear system */
@@ -232,6 +236,12 @@ static inline void mpgm_argsort_nodes(const int *nodes, int nk, int *srt) {
  *  points' trial arrays against the committed ones) to pb->work_int
  *  (energy.c). */
 void mpgm_work_internal(mpgm_problem *pb);
+
+/** Manufactured solution (manufactured.c): the points' velocity and
+ *  acceleration at t = 0 and the body-force array; then the body force
+ *  per unit mass at every material point at time t (pb->mms_b). */
+int mpgm_mms_setup(mpgm_problem *pb);
+const double *mpgm_mms_forces(mpgm_problem *pb, double t);
 
 /** The view of the problem a front end gets (mpgm_frontend.h). */
 void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v);

@@ -69,6 +69,16 @@ SCENES = {
                   "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK], "probes": {"c": [1.0, 0.5]},
                   "reference": {"kind": "rigid_block", "probe": "c", "height": 1.0, "density": 2385.7,
                                 "from": 0.0}},
+    # manufactured solutions: the vibration's L, the ring's and the vortex's radii
+    "mpm_mms_vib": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
+                    "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK],
+                    "manufactured": {"solution": "vibration", "A": 0.01}},
+    "mpm_mms_ring": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
+                     "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK],
+                     "manufactured": {"solution": "ring", "A": 0.01}},
+    "mpm_mms_vortex": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
+                       "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK],
+                       "manufactured": {"solution": "vortex", "A": 0.01}},
 }
 
 
@@ -78,7 +88,8 @@ def read_tables(path):
     rows, prefix, header, owner = [], None, None, None
     sections = {"Top level": "", "mesh": "mesh", "shape": "shape", "time": "time", "solver": "solver",
                 "materials": "materials", "bodies": "bodies.0", "boundaries": "boundaries.0",
-                "obstacles": "obstacles.0", "reference": "reference", "output": "output"}
+                "obstacles": "obstacles.0", "reference": "reference", "output": "output",
+                "manufactured": "manufactured"}
     for n, line in enumerate(open(path, encoding="utf-8"), 1):
         line = line.rstrip("\n")
         m = re.match(r"^## (.*)$", line)
@@ -148,6 +159,12 @@ def expected(text, resolved):
     if m:  # a default that follows the shape kind
         cpdi = resolved.get("shape", {}).get("kind") == "cpdi" and cell == "quad"
         t = m.group(2 if cpdi else 1)
+    m = re.fullmatch(r"`ring`: (\S+); `vortex`: (\S+)", t)
+    if m:  # the manufactured ring's and vortex's defaults
+        sol = resolved.get("manufactured", {}).get("solution")
+        if sol not in ("ring", "vortex"):
+            raise LookupError("ring and vortex only")
+        t = m.group(1 if sol == "ring" else 2)
     m = re.fullmatch(r"(explicit|dynamic): (.+)", t)
     if m:  # a key of explicit (implicit dynamic) analysis only
         if resolved.get("time", {}).get("analysis") != m.group(1):
