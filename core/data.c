@@ -25,6 +25,7 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsur
   MPGM_ALLOC(ctx, p->sigma, MPGM_NSTRESS * m);
   MPGM_ALLOC(ctx, p->S0, MPGM_NSTRESS * m);
   MPGM_ALLOC(ctx, p->r0, 2 * MPGM_DIM * m);
+  MPGM_ALLOC(ctx, p->L, MPGM_TENSOR * m);
   MPGM_ALLOC(ctx, p->state, (size_t)nstate * m);
   MPGM_ALLOC(ctx, p->mat, m);
   MPGM_ALLOC(ctx, p->body, m);
@@ -130,7 +131,7 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *
       {(void **)&p->vol0, 1},              {(void **)&p->vol, 1},
       {(void **)&p->F, MPGM_TENSOR},       {(void **)&p->sigma, MPGM_NSTRESS},
       {(void **)&p->S0, MPGM_NSTRESS},     {(void **)&p->state, p->nstate},
-      {(void **)&p->r0, 2 * MPGM_DIM},
+      {(void **)&p->r0, 2 * MPGM_DIM},     {(void **)&p->L, MPGM_TENSOR},
       {(void **)&p->mat, -1},              {(void **)&p->body, -1},
       {(void **)&p->id, -1}};
   enum { NARR = sizeof arr / sizeof arr[0] };
@@ -162,7 +163,7 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *
 
 void mpgm_points_free(mpgm_points *p) {
   void *arr[] = {p->x, p->x0, p->u, p->v, p->a, p->mass, p->vol0, p->vol, p->F,
-                 p->sigma, p->S0, p->r0, p->state, p->mat, p->body, p->id, p->F_t, p->dF_t, p->sigma_t,
+                 p->sigma, p->S0, p->r0, p->L, p->state, p->mat, p->body, p->id, p->F_t, p->dF_t, p->sigma_t,
                  p->D_t, p->state_t, p->vol_t};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   memset(p, 0, sizeof *p);

@@ -156,10 +156,15 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
   return 0;
 }
 
-/* Commit the stress update of the step (trial -> committed arrays). */
+/* Commit the stress update of the step (trial -> committed arrays); CPLS
+ * keeps the step's velocity gradient L = (dF - I) / dt for its corners. */
 static void commit_stress(mpgm_problem *pb) {
   mpgm_points *P = &pb->pts;
   mpgm_work_internal(pb);
+  if (pb->scene->shape->velocity_ls)
+    for (int p = 0; p < P->n; p++)
+      for (int i = 0; i < MPGM_TENSOR; i++) /* 2-D only: I's diagonal at 0 and 3 */
+        P->L[MPGM_TENSOR * p + i] = (P->dF_t[MPGM_TENSOR * p + i] - (i == 0 || i == 3)) / pb->dt;
   memcpy(P->F, P->F_t, sizeof(double) * MPGM_TENSOR * (size_t)P->n);
   memcpy(P->sigma, P->sigma_t, sizeof(double) * MPGM_NSTRESS * (size_t)P->n);
   memcpy(P->vol, P->vol_t, sizeof(double) * (size_t)P->n);

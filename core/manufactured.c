@@ -25,6 +25,13 @@ int mpgm_mms_setup(mpgm_problem *pb) {
       P->v[MPGM_DIM * p + c] = v[c];
       P->a[MPGM_DIM * p + c] = a[c];
     }
+    /* the velocity gradient dF/dt at t = 0 (F = I there), by a central
+     * difference of the solution's F: CPLS's corner velocities */
+    const double e = 1e-6 / mpgm_mms_omega(m);
+    double Fp[MPGM_TENSOR], Fm[MPGM_TENSOR];
+    mpgm_mms_motion(m, P->x0 + MPGM_DIM * p, e, NULL, NULL, NULL, Fp);
+    mpgm_mms_motion(m, P->x0 + MPGM_DIM * p, -e, NULL, NULL, NULL, Fm);
+    for (int i = 0; i < MPGM_TENSOR; i++) P->L[MPGM_TENSOR * p + i] = (Fp[i] - Fm[i]) / (2.0 * e);
   }
   return 0;
 }

@@ -44,6 +44,9 @@ typedef struct mpgm_points {
                        volume, or the layout's shape): the parallelogram
                        x +- r1 +- r2; now F r0 (shape kinds with a
                        domain: CPDI)                                   */
+  double *L;      /**< velocity gradient of the last step, MPGM_TENSOR
+                       per point [1/s] (kept for CPLS: the velocity at
+                       the domain's corners, v_p + L (x_c - x_p))      */
   double *S0;     /**< initial (pre-)stress {xx, yy, xy, zz} [Pa] at the
                        initial configuration, pushed forward with F
                        (MPGM_NSTRESS per point)                        */

@@ -56,5 +56,9 @@ int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o);
 int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, double wall);
 /** DIR/steps.csv: one row per converged step with its Newton norms. */
 int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o);
+/** Over the recorded steps (dynamic runs): the largest difference between
+ *  the points' and the nodes' momentum [kg m/s], and the largest kinetic
+ *  energy of the points [J]. */
+void mpgm_output_momentum_gap(const mpgm_output *o, double *gap, double *kmax);
 
 #endif

@@ -5,6 +5,7 @@
 #include <cjson/cJSON.h>
 #include <dirent.h>
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -349,4 +350,13 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
   }
   o->nvtk++;
   return 0;
+}
+
+void mpgm_output_momentum_gap(const mpgm_output *o, double *gap, double *kmax) {
+  *gap = *kmax = 0.0;
+  for (int k = 0; k < o->nstep; k++) { /* kinetic energy; momentum x, y, then the nodes' */
+    const double *r = o->steps + (size_t)STEP_COLS * k + STEP_BASE;
+    *gap = fmax(*gap, hypot(r[4] - r[6], r[5] - r[7]));
+    *kmax = fmax(*kmax, r[0]);
+  }
 }

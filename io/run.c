@@ -130,6 +130,13 @@ static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o)
     cJSON_AddNumberToObject(m, "mms_u_rms", e[0]);
     cJSON_AddNumberToObject(m, "mms_v_rms", e[1]);
     cJSON_AddNumberToObject(m, "mms_sigma_rms", e[2]);
+    /* the points' against the grid's momentum, relative to sqrt(2 M K):
+     * the momentum of the whole mass M at the points' RMS speed (a
+     * vibration's net momentum is near zero) */
+    double gap, kmax;
+    mpgm_output_momentum_gap(o, &gap, &kmax);
+    const double scale = sqrt(2.0 * mass * kmax);
+    cJSON_AddNumberToObject(m, "momentum_gap", scale > 0.0 ? gap / scale : gap);
   }
   (void)mpgm_reference_metrics(s, o->nrow, 2 + o->ncol, o->hist, o->ref_acc, m);
 }

@@ -376,7 +376,8 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   MPGM_CALL(jr_num(sh, "tol_support", 1e-6, 0.0, 1.0, 1, 1, &p->tol_support));
   MPGM_CALL(jr_num(sh, "radius", 0.0, 0.0, INFINITY, 0, 0, &p->radius));
   MPGM_CALL(jr_num(sh, "dilation", 2.0, 0.0, INFINITY, 1, 0, &p->dilation));
-  MPGM_CALL(jr_int(sh, "order", 1, 1, 2, &p->order));
+  /* CPLS reconstructs velocities at second order with the quadratic basis */
+  MPGM_CALL(jr_int(sh, "order", s->shape->velocity_ls ? 2 : 1, 1, 2, &p->order));
   MPGM_CALL(jr_num(sh, "max_cond", 0.0, 0.0, INFINITY, 0, 0, &p->max_cond));
   MPGM_CALL(jr_int(sh, "min_nodes", 0, 0, MPGM_SHAPE_MAXNODE, &s->min_nodes));
   MPGM_CALL(jr_int(sh, "max_enlarge", 16, 0, MPGM_SHAPE_MAXNODE, &s->max_enlarge));
@@ -601,6 +602,14 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
    * time.scheme, read_explicit) */
   if (s->analysis != MPGM_ANALYSIS_EXPLICIT) s->integrator = mpgm_integrator_type_find("implicit");
   MPGM_CHECK(root->r->ctx, s->integrator, MPGM_ERR_INTERNAL, "no implicit integrator in this build");
+  if (s->shape->velocity_ls && strcmp(s->integrator->name, "usl") != 0) {
+    jr_node shn = {.r = root->r};
+    snprintf(shn.path, sizeof shn.path, "shape");
+    return jr_fail(&shn, "kind", "\"%s\" reconstructs the nodal velocity of an update-stress-last "
+                   "step: expected time.analysis \"explicit\" with time.scheme \"usl\", found %s",
+                   s->shape->name, s->analysis == MPGM_ANALYSIS_EXPLICIT ? s->integrator->name
+                                                                       : "an implicit analysis");
+  }
 
   MPGM_CALL(read_solver(root, s));
   MPGM_CALL(read_materials(root, s));

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mpgm_cpls.h"
 #include "mpgm_discretisation.h"
 #include "mpgm_grid.h"
 #include "mpgm_kdtree.h"
@@ -41,6 +42,8 @@ typedef struct mpm_data {
   int *perm;           /**< reorder of the particles (mpgm_points_sort)      */
   double *pscr;        /**< scratch, MPGM_DIM per point                     */
   long step;           /**< steps begun (for messages)                     */
+  mpgm_cpls *cpls;     /**< CPLS (shape.kind cpls): the nodal velocities by
+                            least squares, its workspace                  */
 } mpm_data;
 
 static void mpm_destroy(void *self) {
@@ -68,6 +71,7 @@ static void mpm_destroy(void *self) {
   mpgm_clouds_destroy(d->clouds);
   free(d->perm);
   free(d->pscr);
+  mpgm_cpls_destroy(d->cpls);
   free(d);
 }
 
@@ -429,8 +433,9 @@ static void step_nodes(const mpgm_fe_view *v, mpm_data *d) {
 
 /* Projection (38)-(41) with the final shape functions: mass, momentum and
  * inertia force of the particles onto the nodes (to round-off), the nodal
- * velocity and acceleration. */
-static void project(const mpgm_fe_view *v, mpm_data *d) {
+ * velocity and acceleration; CPLS replaces the velocity by its least-squares
+ * reconstruction (cpls.c). */
+static int project(const mpgm_fe_view *v, mpm_data *d) {
   const mpgm_points *P = v->pts;
   mpgm_nodes *nd = v->nodes;
   const mpgm_conn *C = v->conn;
@@ -460,6 +465,12 @@ static void project(const mpgm_fe_view *v, mpm_data *d) {
     memset(nd->v, 0, sizeof(double) * MPGM_DIM * (size_t)n);
     memset(nd->a, 0, sizeof(double) * MPGM_DIM * (size_t)n);
   }
+  if (!inertia || !v->scene->shape->velocity_ls) return 0;
+  /* CPLS: the velocities by least squares from centres and corners */
+  long kept = 0;
+  MPGM_CALL(mpgm_cpls_velocities(v->ctx, &d->cpls, &d->g, P, v->scene->shape_par.order, n,
+                                 d->lglob, nd->v, &kept));
+  return 0;
 }
 
 /* FE: the same active cells, nodes and fixity give the same pattern (new
@@ -520,7 +531,7 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   step_nodes(v, d);
   /* probes and surface points without functions move with the material */
   MPGM_CALL(mpgm_tracers_carry(v, v->conn, &d->carry));
-  project(v, d);
+  MPGM_CALL(project(v, d));
   return pattern_version(v, d);
 }
 

@@ -125,6 +125,21 @@ static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
   return 0;
 }
 
+/* CPLS (Tran et al. 2019): CPDI's N and grad N, the nodal velocities by
+ * least squares from the points' centres and corners (mpm/cpls.c). */
+const mpgm_shapefn_type mpgm_shapefn_cpls = {
+    .name = "cpls",
+    .doc = "convected particle least squares (Tran et al. 2019): CPDI's functions, nodal "
+           "velocities by improved moving least squares from the particles' centres and domain "
+           "corners; explicit usl on method mpm",
+    .needs_cell = 0,
+    .grid_only = 1,
+    .domain = 1,
+    .velocity_ls = 1,
+    .eval = cpdi_eval,
+    .support_radius = cpdi_radius,
+};
+
 const mpgm_shapefn_type mpgm_shapefn_cpdi = {
     .name = "cpdi",
     .doc = "convected particle domain interpolation (CPDI1, Sadeghirad et al. 2011): bilinear "

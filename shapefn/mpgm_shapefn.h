@@ -148,6 +148,9 @@ typedef struct mpgm_shapefn_type {
                          within mpgm_shape_support_radius of the point     */
   int grid_only;    /**< 1: the nodes must be a regular grid of spacing
                          h (uGIMP, CPDI: the background grid of MPM)     */
+  int velocity_ls;  /**< 1: the nodal velocities are reconstructed by least
+                         squares from the points' centres and domain
+                         corners (CPLS), not projected                   */
   int domain;       /**< 1: the kind averages over the particle's domain
                          (q->domain; CPDI): the caller gives the nodes
                          within h of the domain's bounding box           */

@@ -7,7 +7,7 @@
 
 #define MPGM_SHAPEFN_LIST(X) \
   X(mpgm_shapefn_fe) X(mpgm_shapefn_mls) X(mpgm_shapefn_lme) X(mpgm_shapefn_ugimp) \
-  X(mpgm_shapefn_cpdi)
+  X(mpgm_shapefn_cpdi) X(mpgm_shapefn_cpls)
 
 #define MPGM_DECLARE(t) extern const mpgm_shapefn_type t;
 MPGM_SHAPEFN_LIST(MPGM_DECLARE)

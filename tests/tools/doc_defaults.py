@@ -159,6 +159,9 @@ def expected(text, resolved):
     if m:  # a default that follows the shape kind
         cpdi = resolved.get("shape", {}).get("kind") == "cpdi" and cell == "quad"
         t = m.group(2 if cpdi else 1)
+    m = re.fullmatch(r"(\S+); `cpls`: (\S+)", t)
+    if m:  # a default that CPLS sets otherwise
+        t = m.group(2 if resolved.get("shape", {}).get("kind") == "cpls" else 1)
     m = re.fullmatch(r"`ring`: (\S+); `vortex`: (\S+)", t)
     if m:  # the manufactured ring's and vortex's defaults
         sol = resolved.get("manufactured", {}).get("solution")

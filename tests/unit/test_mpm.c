@@ -162,6 +162,7 @@ static void test_points_sort(rng *r) {
     P.mass[i] = VAL(i, 10); P.vol0[i] = VAL(i, 11); P.vol[i] = VAL(i, 12);
     for (int c = 0; c < 4; c++) { P.F[4 * i + c] = VAL(i, 13 + c); P.sigma[4 * i + c] = VAL(i, 17 + c); P.S0[4 * i + c] = VAL(i, 21 + c); }
     for (int c = 0; c < ns; c++) P.state[ns * i + c] = VAL(i, 25 + c);
+    for (int c = 0; c < 4; c++) { P.r0[4 * i + c] = VAL(i, 40 + c); P.L[4 * i + c] = VAL(i, 44 + c); }
     P.mat[i] = i % 3; P.body[i] = i % 5;
     if (i < n) key[i] = (int)uniform(r, 0, nkey);
   }
@@ -179,6 +180,7 @@ static void test_points_sort(rng *r) {
     for (int c = 0; c < 4; c++)
       moved &= P.F[4 * q + c] == VAL(i, 13 + c) && P.sigma[4 * q + c] == VAL(i, 17 + c) && P.S0[4 * q + c] == VAL(i, 21 + c);
     for (int c = 0; c < ns; c++) moved &= P.state[ns * q + c] == VAL(i, 25 + c);
+    for (int c = 0; c < 4; c++) moved &= P.r0[4 * q + c] == VAL(i, 40 + c) && P.L[4 * q + c] == VAL(i, 44 + c);
     moved &= P.mat[q] == i % 3 && P.body[q] == i % 5;
   }
   for (int i = n; i < n + nprobe; i++) probes &= P.id[i] == i && P.x[2 * i] == VAL(i, 0) && P.mass[i] == VAL(i, 10);
@@ -186,8 +188,8 @@ static void test_points_sort(rng *r) {
   mpgm_test(ok && sorted && stable, "points_sort: %d points ordered by key, stably, ids = perm", n);
   mpgm_test(moved, "points_sort: every committed array moved with its point");
   mpgm_test(probes, "points_sort: probes stay in place");
-  void *arr[] = {P.x, P.x0, P.u, P.v, P.a, P.mass, P.vol0, P.vol, P.F, P.sigma, P.S0, P.state, P.mat,
-                 P.body, P.id, P.F_t, P.dF_t, P.sigma_t, P.D_t, P.state_t, P.vol_t};
+  void *arr[] = {P.x, P.x0, P.u, P.v, P.a, P.mass, P.vol0, P.vol, P.F, P.sigma, P.S0, P.r0, P.L,
+                 P.state, P.mat, P.body, P.id, P.F_t, P.dF_t, P.sigma_t, P.D_t, P.state_t, P.vol_t};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
 }
 
