@@ -137,6 +137,10 @@ typedef enum {
                                  coefficient                             */
   MPGM_C_DOMAIN_CLAMPS,     /**< CPDI: domain corners beyond the grid
                                  pulled back onto its edge (corner-steps) */
+  MPGM_C_CPLS_LINEAR,       /**< CPLS: node-steps reconstructed with the
+                                 linear basis (the quadratic amplified)   */
+  MPGM_C_CPLS_PROJECTED,    /**< CPLS: node-steps left with the projected
+                                 velocity                                */
   MPGM_C_COUNT
 } mpgm_counter_id;
 
