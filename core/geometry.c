@@ -11,9 +11,33 @@
 
 /* Relative tolerance of "on the boundary" (of the body's size). */
 #define GEOM_REL_TOL 1e-12
+#define GEOM_PI 3.14159265358979323846
+
+/* A ring sector's box: its four corners and the outer circle's points at
+ * the axes' angles inside the sector. */
+static void ring_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max[MPGM_DIM]) {
+  const double a0 = b->angle[0], a1 = b->angle[1], r[2] = {b->radius_in, b->radius};
+  min[0] = min[1] = INFINITY;
+  max[0] = max[1] = -INFINITY;
+  for (int k = 0; k < 2; k++)
+    for (int i = 0; i < 2; i++) {
+      const double a = i ? a1 : a0, x = b->centre[0] + r[k] * cos(a), y = b->centre[1] + r[k] * sin(a);
+      min[0] = fmin(min[0], x), max[0] = fmax(max[0], x);
+      min[1] = fmin(min[1], y), max[1] = fmax(max[1], y);
+    }
+  const double q = 0.5 * GEOM_PI;
+  for (double a = ceil(a0 / q) * q; a <= a1; a += q) {
+    const double x = b->centre[0] + b->radius * cos(a), y = b->centre[1] + b->radius * sin(a);
+    min[0] = fmin(min[0], x), max[0] = fmax(max[0], x);
+    min[1] = fmin(min[1], y), max[1] = fmax(max[1], y);
+  }
+}
 
 void mpgm_body_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max[MPGM_DIM]) {
   switch (b->geometry) {
+  case MPGM_GEOM_RING:
+    ring_bbox(b, min, max);
+    return;
   case MPGM_GEOM_DISK:
     for (int d = 0; d < MPGM_DIM; d++) {
       min[d] = b->centre[d] - b->radius;
@@ -67,6 +91,16 @@ static int polygon_contains(const mpgm_scene_body *b, const double x[MPGM_DIM], 
 
 int mpgm_body_contains(const mpgm_scene_body *b, const double x[MPGM_DIM]) {
   switch (b->geometry) {
+  case MPGM_GEOM_RING: { /* the radii, then the angle from angle[0] */
+    const double dx = x[0] - b->centre[0], dy = x[1] - b->centre[1], r = hypot(dx, dy);
+    const double tol = GEOM_REL_TOL * b->radius * 2.0;
+    if (r < b->radius_in - tol || r > b->radius + tol) return 0;
+    if (b->angle[1] - b->angle[0] >= 2.0 * GEOM_PI) return 1;
+    double a = atan2(dy, dx) - b->angle[0];
+    a -= 2.0 * GEOM_PI * floor(a / (2.0 * GEOM_PI));
+    const double span = b->angle[1] - b->angle[0], atol = r > 0.0 ? tol / r : 0.0;
+    return a <= span + atol || a >= 2.0 * GEOM_PI - atol;
+  }
   case MPGM_GEOM_DISK: {
     const double r = b->radius * (1.0 + 2.0 * GEOM_REL_TOL);
     const double dx = x[0] - b->centre[0], dy = x[1] - b->centre[1];

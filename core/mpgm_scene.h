@@ -31,7 +31,12 @@ typedef enum {
   MPGM_ANALYSIS_EXPLICIT = 2 /**< explicit schemes (time.scheme)            */
 } mpgm_analysis;
 typedef enum { MPGM_VTK_NONE = 0, MPGM_VTK_OUT_ASCII = 1, MPGM_VTK_OUT_BINARY = 2 } mpgm_vtk_mode;
-typedef enum { MPGM_GEOM_RECTANGLE = 0, MPGM_GEOM_DISK = 1, MPGM_GEOM_POLYGON = 2 } mpgm_geometry;
+typedef enum {
+  MPGM_GEOM_RECTANGLE = 0,
+  MPGM_GEOM_DISK = 1,
+  MPGM_GEOM_POLYGON = 2,
+  MPGM_GEOM_RING = 3 /**< an annulus or a sector of one, filled in polar sectors */
+} mpgm_geometry;
 typedef enum { MPGM_SELECT_X = 0, MPGM_SELECT_Y = 1, MPGM_SELECT_BOX = 2 } mpgm_select;
 /** How a boundary's fixed components were given. */
 typedef enum {
@@ -77,7 +82,10 @@ typedef struct mpgm_scene_body {
   double min[MPGM_DIM], max[MPGM_DIM]; /**< bounding box (rectangle: its
                             corners) [m]                            */
   double centre[MPGM_DIM]; /**< disk: centre [m]                     */
-  double radius;       /**< disk: radius [m]                         */
+  double radius;       /**< disk, ring: (outer) radius [m]           */
+  double radius_in;    /**< ring: inner radius [m]                   */
+  double angle[2];     /**< ring: the sector from angle[0] to angle[1]
+                            [rad], counter-clockwise from +x          */
   int npoints;         /**< polygon: vertices (3..MPGM_POLYGON_MAX)   */
   double points[2 * MPGM_POLYGON_MAX]; /**< polygon: x0, y0, x1, y1, ...
                             in the order given (either orientation);

@@ -1,6 +1,7 @@
 /* fill.c -- the material points of bodies filled on a grid: the rule of
  * the particles of a grid-reset front end and the points of a persistent
  * one's grid-filled bodies. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -31,8 +32,10 @@ int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
         p[0] += N[nn * q + a] * xn[MPGM_DIM * a];
         p[1] += N[nn * q + a] * xn[MPGM_DIM * a + 1];
       }
-      int b = 0;
-      while (b < s->nbody && !mpgm_body_contains(&s->bodies[b], p)) b++;
+      int b = 0; /* rings are filled in polar sectors (ring_fill) */
+      while (b < s->nbody &&
+             (s->bodies[b].geometry == MPGM_GEOM_RING || !mpgm_body_contains(&s->bodies[b], p)))
+        b++;
       const size_t k = (size_t)c * s->ppc + q;
       if (owner) owner[k] = b < s->nbody ? b : -1;
       if (x) {
@@ -52,6 +55,50 @@ static void grid_cell_xy(const void *grid, int c, double *xn) {
   mpgm_grid_cell(grid, c, nodes, xn);
 }
 
+/* The polar sectors of a ring body: nr layers of nt sectors, about sqrt(ppc)
+ * points per cell length in each direction; with x (MPGM_DIM per point),
+ * vol and r0 (the sector's radial and tangential half-axes) when not
+ * NULL. Returns the count. */
+static int ring_sectors(const mpgm_scene_body *b, double h, int ppc, double *x, double *vol, double *r0) {
+  const double n = sqrt((double)ppc), ri = b->radius_in, ro = b->radius;
+  const double span = b->angle[1] - b->angle[0];
+  const int nr = (int)fmax(1.0, round((ro - ri) * n / h));
+  const int nt = (int)fmax(1.0, round(span * 0.5 * (ri + ro) * n / h));
+  const double dr = (ro - ri) / nr, dt = span / nt;
+  for (int i = 0, k = 0; i < nr && x; i++)
+    for (int j = 0; j < nt; j++, k++) { /* 2-D only: x, y written out */
+      const double r = ri + (i + 0.5) * dr, t = b->angle[0] + (j + 0.5) * dt, c = cos(t), s = sin(t);
+      x[MPGM_DIM * k] = b->centre[0] + r * c;
+      x[MPGM_DIM * k + 1] = b->centre[1] + r * s;
+      vol[k] = r * dr * dt; /* the sector's area, (ro^2 - ri^2) dt / 2 */
+      const double ax[4] = {0.5 * dr * c, 0.5 * dr * s, -0.5 * r * dt * s, 0.5 * r * dt * c};
+      memcpy(r0 + 4 * k, ax, sizeof ax);
+    }
+  return nr * nt;
+}
+
+/* The points of the ring bodies after the grid's. */
+static int ring_fill(mpgm_ctx *ctx, const mpgm_grid *g, const mpgm_scene *s, mpgm_fill *f) {
+  for (int b = 0; b < s->nbody; b++)
+    if (s->bodies[b].geometry == MPGM_GEOM_RING)
+      f->nring += ring_sectors(&s->bodies[b], g->h, s->ppc, NULL, NULL, NULL);
+  if (!f->nring) return 0;
+  f->rowner = malloc(sizeof(int) * (size_t)f->nring);
+  f->rx = malloc(sizeof(double) * MPGM_DIM * (size_t)f->nring);
+  f->rvol = malloc(sizeof(double) * (size_t)f->nring);
+  f->rr0 = malloc(sizeof(double) * 4 * (size_t)f->nring);
+  MPGM_CHECK(ctx, f->rowner && f->rx && f->rvol && f->rr0, MPGM_ERR_NOMEM,
+             "out of memory (%d points of ring bodies)", f->nring);
+  for (int b = 0, k = 0; b < s->nbody; b++) {
+    if (s->bodies[b].geometry != MPGM_GEOM_RING) continue;
+    const int n = ring_sectors(&s->bodies[b], g->h, s->ppc, f->rx + MPGM_DIM * k, f->rvol + k, f->rr0 + 4 * k);
+    for (int q = 0; q < n; q++) f->rowner[k + q] = b;
+    k += n;
+  }
+  f->count += f->nring;
+  return 0;
+}
+
 int mpgm_grid_fill(mpgm_ctx *ctx, const mpgm_grid *g, const mpgm_scene *s, mpgm_fill *f) {
   memset(f, 0, sizeof *f);
   double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
@@ -68,6 +115,7 @@ int mpgm_grid_fill(mpgm_ctx *ctx, const mpgm_grid *g, const mpgm_scene *s, mpgm_
   f->x = malloc(sizeof(double) * MPGM_DIM * f->ngauss);
   MPGM_CHECK(ctx, f->owner && f->x, MPGM_ERR_NOMEM, "out of memory (%zu grid Gauss points)", f->ngauss);
   MPGM_CALL(mpgm_bodies_fill(s, g->cell, g->ncell, grid_cell_xy, g, f->owner, f->x, &f->count));
+  MPGM_CALL(ring_fill(ctx, g, s, f));
   MPGM_CHECK(ctx, f->count > 0, MPGM_ERR_INPUT,
              "%s: bodies: no grid Gauss point lies inside any body (h = %g, ppc = %d): expected "
              "bodies larger than a grid cell", s->file, g->h, s->ppc);
@@ -82,11 +130,19 @@ void mpgm_fill_points(const mpgm_fill *f, const mpgm_scene *s, mpgm_points *P) {
     mpgm_point_set(P, p++, s, b, f->x[MPGM_DIM * k], f->x[MPGM_DIM * k + 1],
                    f->vol[k % (size_t)f->ppc]);
   }
+  for (int k = 0; k < f->nring; k++, p++) { /* the polar sectors: their own domains */
+    mpgm_point_set(P, p, s, f->rowner[k], f->rx[MPGM_DIM * k], f->rx[MPGM_DIM * k + 1], f->rvol[k]);
+    memcpy(P->r0 + 4 * (size_t)p, f->rr0 + 4 * (size_t)k, sizeof(double) * 4);
+  }
 }
 
 void mpgm_fill_free(mpgm_fill *f) {
   free(f->owner);
   free(f->x);
+  free(f->rowner);
+  free(f->rx);
+  free(f->rvol);
+  free(f->rr0);
   memset(f, 0, sizeof *f);
 }
 

@@ -78,6 +78,12 @@ typedef struct mpgm_fill {
   double *x;       /**< per Gauss point: its position, MPGM_DIM each [m]    */
   double vol[9];   /**< volume of a point at Gauss point q of a cell [m^3]
                         (cell area x weight / reference area)             */
+  /* ring bodies: points at the centres of polar sectors, after the grid's
+   * (count includes them) */
+  int nring;       /**< their number                                      */
+  int *rowner;     /**< body of each                                      */
+  double *rx, *rvol, *rr0; /**< position (MPGM_DIM), volume, domain half-axes
+                        (2 MPGM_DIM: radial, tangential) of each           */
 } mpgm_fill;
 
 /** The bodies of scene s filled on the grid g (mpgm_bodies_fill): MPM's

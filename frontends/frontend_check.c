@@ -67,7 +67,7 @@ static int check_shape(mpgm_ctx *ctx, const mpgm_scene *s) {
 }
 
 static int check_bodies(mpgm_ctx *ctx, const mpgm_scene *s) {
-  static const char *const geo[] = {"rectangle", "disk", "polygon"};
+  static const char *const geo[] = {"rectangle", "disk", "polygon", "ring"};
   for (int b = 0; b < s->nbody; b++) {
     const unsigned g = 1u << s->bodies[b].geometry;
     if (s->frontend->geometries & g) continue;
@@ -76,6 +76,14 @@ static int check_bodies(mpgm_ctx *ctx, const mpgm_scene *s) {
     return fail(ctx, s, path, "method %s does not take %s bodies (methods that take them: %s)",
                 s->frontend->name, geo[s->bodies[b].geometry], takers(GEOMETRIES, g, m, sizeof m));
   }
+  for (int b = 0; b < s->nbody; b++) /* surface points are made on circles and polygons */
+    for (int i = 0; i < s->nbc && s->bodies[b].geometry == MPGM_GEOM_RING; i++)
+      if (mpgm_bc_at_points(&s->bcs[i])) {
+        char path[48];
+        snprintf(path, sizeof path, "boundaries.%d.enforce", i);
+        return fail(ctx, s, path, "contact at points needs surface points, which ring bodies "
+                    "(bodies.%d) do not have: expected \"nodes\"", b);
+      }
   return 0;
 }
 

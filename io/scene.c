@@ -168,24 +168,49 @@ static int read_polygon_points(jr_node *g, mpgm_scene_body *body) {
   return 0;
 }
 
-/* Exactly one of "rectangle", "disk", "polygon"; fills the geometry and the
- * bounding box (body->min/max). *g is the geometry's node, for messages. */
+/* "ring": an annulus, or the sector of one between two angles (degrees in
+ * the scene, radians in the body). */
+static int read_ring(jr_node *g, mpgm_scene_body *body) {
+  MPGM_CALL(jr_vec2(g, "centre", NULL, body->centre));
+  MPGM_CALL(jr_num(g, "inner", NAN, 0, INFINITY, 0, 0, &body->radius_in));
+  MPGM_CALL(jr_num(g, "outer", NAN, 0, INFINITY, 1, 0, &body->radius));
+  double a0, a1;
+  MPGM_CALL(jr_num(g, "from", 0.0, -360.0, 360.0, 0, 0, &a0));
+  MPGM_CALL(jr_num(g, "to", 360.0, -360.0, 720.0, 0, 0, &a1));
+  MPGM_CALL(jr_end(g));
+  if (!(body->radius > body->radius_in))
+    return jr_fail(g, "outer", "expected outer > inner = %g m, found %g m", body->radius_in, body->radius);
+  if (!(a1 > a0) || a1 - a0 > 360.0)
+    return jr_fail(g, "to", "expected from < to <= from + 360 degrees, found from %g, to %g", a0, a1);
+  body->angle[0] = a0 * 3.14159265358979323846 / 180.0;
+  body->angle[1] = a1 * 3.14159265358979323846 / 180.0;
+  return 0;
+}
+
+/* Exactly one of "rectangle", "disk", "polygon", "ring"; fills the geometry
+ * and the bounding box (body->min/max). *g is the geometry's node, for
+ * messages. */
 static int read_geometry(jr_node *b, mpgm_scene_body *body, jr_node *g) {
   const cJSON *hr = jr_raw(b, "rectangle"), *hd = jr_raw(b, "disk"), *hp = jr_raw(b, "polygon");
-  const int ng = !!hr + !!hd + !!hp;
+  const cJSON *hg = jr_raw(b, "ring");
+  const int ng = !!hr + !!hd + !!hp + !!hg;
   if (ng > 1)
-    return jr_fail(b, NULL, "expected exactly one geometry: \"rectangle\", \"disk\" or \"polygon\", "
-                   "found %d", ng);
+    return jr_fail(b, NULL, "expected exactly one geometry: \"rectangle\", \"disk\", \"polygon\" "
+                   "or \"ring\", found %d", ng);
   if (ng == 0 && !jr_override_json(b, "rectangle"))
     return jr_fail(b, "rectangle", "required key is missing (expected one geometry: \"rectangle\": "
-                   "{\"min\", \"max\"}, \"disk\": {\"centre\", \"radius\"} or \"polygon\": "
-                   "{\"points\"})");
+                   "{\"min\", \"max\"}, \"disk\": {\"centre\", \"radius\"}, \"polygon\": "
+                   "{\"points\"} or \"ring\": {\"centre\", \"inner\", \"outer\"})");
   if (hd) {
     body->geometry = MPGM_GEOM_DISK;
     MPGM_CALL(jr_child(b, "disk", 1, g));
     MPGM_CALL(jr_vec2(g, "centre", NULL, body->centre));
     MPGM_CALL(jr_num(g, "radius", NAN, 0, INFINITY, 1, 0, &body->radius));
     MPGM_CALL(jr_end(g));
+  } else if (hg) {
+    body->geometry = MPGM_GEOM_RING;
+    MPGM_CALL(jr_child(b, "ring", 1, g));
+    MPGM_CALL(read_ring(g, body));
   } else if (hp) {
     body->geometry = MPGM_GEOM_POLYGON;
     MPGM_CALL(jr_child(b, "polygon", 1, g));

@@ -6,7 +6,10 @@
  * v_c = v_p + L_p (x_c - x_p) (L_p the velocity gradient of the last
  * step): v_I = sum_k phi_k(x_I) v_k. The data points are binned by grid
  * cell once per step; a node reads the 4 x 4 cells around it, which hold
- * every point of the weight's support |x - x_I|_inf < 2 h. */
+ * every point of the weight's support |x - x_I|_inf < 2 h. A node the data
+ * reach from one side only extrapolates; where the quadratic coefficients
+ * would amplify the data (sum |phi| > MPGM_CPLS_MAX_GAIN) it takes the
+ * linear basis, and where even those would, the projection. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,20 +65,20 @@ static int grow_data(mpgm_ctx *ctx, mpgm_cpls *c, int n, int ncell) {
   return 0;
 }
 
+/* Room for n gathered points; what was gathered so far is kept. */
 static int grow_gather(mpgm_ctx *ctx, mpgm_cpls *c, int n) {
   if (n <= c->gcap) return 0;
   const int cap = n + n / 2 + 16;
-  free(c->gx);
+  double *gx = realloc(c->gx, sizeof(double) * MPGM_DIM * (size_t)cap);
+  if (gx) c->gx = gx;
+  int *gk = realloc(c->gk, sizeof(int) * (size_t)cap);
+  if (gk) c->gk = gk;
   free(c->phi);
   free(c->work);
-  free(c->gk);
-  c->gx = c->phi = c->work = NULL;
-  c->gk = NULL;
-  c->gcap = 0;
-  MPGM_ALLOC(ctx, c->gx, MPGM_DIM * (size_t)cap);
-  MPGM_ALLOC(ctx, c->phi, cap);
-  MPGM_ALLOC(ctx, c->work, mpgm_imls_work_len(cap));
-  MPGM_ALLOC(ctx, c->gk, cap);
+  c->phi = malloc(sizeof(double) * (size_t)cap);
+  c->work = malloc(sizeof(double) * mpgm_imls_work_len(cap));
+  MPGM_CHECK(ctx, gx && gk && c->phi && c->work, MPGM_ERR_NOMEM,
+             "out of memory (CPLS: %d data points around a node)", cap);
   c->gcap = cap;
   return 0;
 }
@@ -123,10 +126,20 @@ static int bin_data(mpgm_ctx *ctx, mpgm_cpls *c, const mpgm_grid *g, const mpgm_
   return 0; /* start[e] .. start[e + 1]: the data of cell e */
 }
 
+/* sum_k |phi_k|: how much the reconstruction may amplify the data's errors
+ * (1 for a convex combination). */
+static double gain(const double *phi, int n) {
+  double s = 0.0;
+  for (int a = 0; a < n; a++) s += fabs(phi[a]);
+  return s;
+}
+
 /* One node's velocity from the data of the 4 x 4 cells around it; 1 when
- * no data point has weight there (the projected velocity stays). */
+ * no data point has weight there, or the reconstruction would amplify the
+ * data too much (the projected velocity stays); *lower counts the nodes
+ * that took the linear basis. */
 static int node_velocity(mpgm_ctx *ctx, mpgm_cpls *c, const mpgm_grid *g,
-                         const mpgm_imls_params *par, int gi, double *v, int *err) {
+                         const mpgm_imls_params *par, int gi, double *v, int *err, long *lower) {
   const int i = gi % (g->nx + 1), j = gi / (g->nx + 1);
   const double xI[MPGM_DIM] = {g->min[0] + i * g->h, g->min[1] + j * g->h};
   int n = 0;
@@ -144,6 +157,16 @@ static int node_velocity(mpgm_ctx *ctx, mpgm_cpls *c, const mpgm_grid *g,
       }
     }
   if (n == 0 || mpgm_imls_coeffs(par, xI, n, c->gx, c->phi, NULL, c->work)) return 1;
+  /* a node the data reach from one side (a body's edge, a hole) is an
+   * extrapolation: when the coefficients amplify the data (sum |phi| above
+   * MPGM_CPLS_MAX_GAIN), the linear basis, then the projection */
+  if (gain(c->phi, n) > MPGM_CPLS_MAX_GAIN && par->order == 2) {
+    mpgm_imls_params p1 = *par;
+    p1.order = 1;
+    if (mpgm_imls_coeffs(&p1, xI, n, c->gx, c->phi, NULL, c->work)) return 1;
+    (*lower)++;
+  }
+  if (gain(c->phi, n) > MPGM_CPLS_MAX_GAIN) return 1;
   v[0] = v[1] = 0.0;
   for (int a = 0; a < n; a++) {
     v[0] += c->phi[a] * c->v[MPGM_DIM * c->gk[a]];
@@ -153,16 +176,17 @@ static int node_velocity(mpgm_ctx *ctx, mpgm_cpls *c, const mpgm_grid *g,
 }
 
 int mpgm_cpls_velocities(mpgm_ctx *ctx, mpgm_cpls **cp, const mpgm_grid *g, const mpgm_points *P,
-                         int order, int nnode, const int *lglob, double *v, long *kept) {
+                         int order, int nnode, const int *lglob, double *v, long *lower,
+                         long *kept) {
   if (!*cp) MPGM_ALLOC(ctx, *cp, 1);
   mpgm_cpls *c = *cp;
   MPGM_CALL(bin_data(ctx, c, g, P));
   const mpgm_imls_params par = {.dim = MPGM_DIM, .order = order, .h = g->h, .tol_rel = 0.0};
-  *kept = 0;
+  *kept = *lower = 0;
   for (int I = 0; I < nnode; I++) {
     int err = 0;
     double w[MPGM_DIM];
-    if (node_velocity(ctx, c, g, &par, lglob[I], w, &err)) {
+    if (node_velocity(ctx, c, g, &par, lglob[I], w, &err, lower)) {
       MPGM_CALL(err);
       (*kept)++;
       continue;

@@ -467,9 +467,11 @@ static int project(const mpgm_fe_view *v, mpm_data *d) {
   }
   if (!inertia || !v->scene->shape->velocity_ls) return 0;
   /* CPLS: the velocities by least squares from centres and corners */
-  long kept = 0;
+  long lower = 0, kept = 0;
   MPGM_CALL(mpgm_cpls_velocities(v->ctx, &d->cpls, &d->g, P, v->scene->shape_par.order, n,
-                                 d->lglob, nd->v, &kept));
+                                 d->lglob, nd->v, &lower, &kept));
+  mpgm_count(v->ctx, MPGM_C_CPLS_LINEAR, lower);
+  mpgm_count(v->ctx, MPGM_C_CPLS_PROJECTED, kept);
   return 0;
 }
 
@@ -575,7 +577,8 @@ const mpgm_frontend_type mpgm_frontend_mpm = {
     .persistent_nodes = 0,
     .point_velocity = MPGM_PV_NEWMARK,
     .shapes = MPGM_FE_SHAPE_CELL | MPGM_FE_SHAPE_CLOUD,
-    .geometries = 1u << MPGM_GEOM_RECTANGLE | 1u << MPGM_GEOM_DISK | 1u << MPGM_GEOM_POLYGON,
+    .geometries = 1u << MPGM_GEOM_RECTANGLE | 1u << MPGM_GEOM_DISK | 1u << MPGM_GEOM_POLYGON |
+                  1u << MPGM_GEOM_RING,
     .conditions = MPGM_FE_COND_FIX | MPGM_FE_COND_CONTACT_NODES | MPGM_FE_COND_CONTACT_POINTS,
     .obstacles = 0,
     .explicit_schemes = 1,

@@ -25,7 +25,7 @@ import sys
 
 # texts of the default column that state no value to compare
 NOT_VALUES = {"required", "required, ≥ 1", "–", "-", "none", "all defaults", "static, 1 load step",
-              "– (required in `geostatic`)", "required with `disk`", "required with `polygon`",
+              "– (required in `geostatic`)", "required with `disk`", "required with `polygon`", "required with `ring`",
               "required (exactly one)", "all", ""}
 
 MATERIALS = {
@@ -69,6 +69,9 @@ SCENES = {
                   "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK], "probes": {"c": [1.0, 0.5]},
                   "reference": {"kind": "rigid_block", "probe": "c", "height": 1.0, "density": 2385.7,
                                 "from": 0.0}},
+    # a ring body: its sector's angles
+    "mpm_ring": {"method": "mpm", "mesh": MESH, "materials": {"nh": MATERIALS["nh"]},
+                 "bodies": [{"material": "nh", "ring": {"centre": [2.0, 1.0], "inner": 0.3, "outer": 0.6}}]},
     # manufactured solutions: the vibration's L, the ring's and the vortex's radii
     "mpm_mms_vib": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
                     "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK],

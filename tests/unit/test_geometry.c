@@ -126,6 +126,55 @@ static void test_disk(void) {
   mpgm_test(!mpgm_body_contains(&b, corner), "disk: bbox corner region outside");
 }
 
+/* a ring sector: centre, radii, angles in degrees */
+static mpgm_scene_body make_ring(double cx, double cy, double ri, double ro, double a0, double a1) {
+  mpgm_scene_body b;
+  memset(&b, 0, sizeof b);
+  b.geometry = MPGM_GEOM_RING;
+  b.centre[0] = cx, b.centre[1] = cy, b.radius_in = ri, b.radius = ro;
+  b.angle[0] = a0 * PI / 180.0, b.angle[1] = a1 * PI / 180.0;
+  mpgm_body_bbox(&b, b.min, b.max);
+  return b;
+}
+
+/* x at radius r and angle a (degrees) about c */
+static void polar(const mpgm_scene_body *b, double r, double a, double x[2]) {
+  x[0] = b->centre[0] + r * cos(a * PI / 180.0);
+  x[1] = b->centre[1] + r * sin(a * PI / 180.0);
+}
+
+static void test_ring(void) {
+  const mpgm_scene_body q = make_ring(0.1, -0.2, 0.4, 0.6, 0.0, 90.0);
+  mpgm_test(fabs(q.min[0] - 0.1) < 1e-15 && fabs(q.min[1] + 0.2) < 1e-15 && fabs(q.max[0] - 0.7) < 1e-15 &&
+                fabs(q.max[1] - 0.4) < 1e-15,
+            "quarter ring: bbox [%g, %g] x [%g, %g]", q.min[0], q.max[0], q.min[1], q.max[1]);
+  const double in[][2] = {{0.5, 45.0}, {0.4, 0.0}, {0.6, 90.0}, {0.45, 89.9}, {0.59, 0.1}};
+  const double out[][2] = {{0.39, 45.0}, {0.61, 45.0}, {0.5, -1.0}, {0.5, 91.0}, {0.5, 180.0}};
+  int ok_in = 1, ok_out = 1;
+  for (int k = 0; k < 5; k++) {
+    double x[2];
+    polar(&q, in[k][0], in[k][1], x);
+    ok_in &= mpgm_body_contains(&q, x);
+    polar(&q, out[k][0], out[k][1], x);
+    ok_out &= !mpgm_body_contains(&q, x);
+  }
+  mpgm_test(ok_in, "quarter ring: 5 points inside or on its edges");
+  mpgm_test(ok_out, "quarter ring: 5 points outside (radii, angles)");
+  const mpgm_scene_body f = make_ring(0.0, 0.0, 0.75, 1.25, 0.0, 360.0);
+  double x[2];
+  polar(&f, 1.0, 217.0, x);
+  const double c[2] = {0.0, 0.0};
+  mpgm_test(mpgm_body_contains(&f, x) && !mpgm_body_contains(&f, c) && f.min[0] == -1.25 && f.max[1] == 1.25,
+            "full ring: inside at any angle, its hole outside, bbox the outer circle's");
+  const mpgm_scene_body s = make_ring(0.0, 0.0, 1.0, 2.0, -30.0, 30.0);
+  double a[2], o[2];
+  polar(&s, 1.5, -20.0, a);
+  polar(&s, 1.5, 40.0, o);
+  mpgm_test(mpgm_body_contains(&s, a) && !mpgm_body_contains(&s, o) && fabs(s.min[0] - cos(PI / 6)) < 1e-15 &&
+                fabs(s.max[0] - 2.0) < 1e-15,
+            "sector across angle 0: -20 deg inside, 40 deg outside, bbox x [%g, %g]", s.min[0], s.max[0]);
+}
+
 /* ------------------------------------------------------------ polygons */
 
 typedef struct poly_case {
@@ -513,6 +562,7 @@ static void test_loader(const char *dir) {
 int main(void) {
   test_rectangle();
   test_disk();
+  test_ring();
   rng r = {0x9E3779B97F4A7C15ULL};
   for (size_t k = 0; k < sizeof polys / sizeof polys[0]; k++)
     for (int rev = 0; rev < 2; rev++) test_polygon(&polys[k], rev, &r);
