@@ -17,11 +17,9 @@
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
 rm -rf "$work"; mkdir -p "$work"
-npass=0; nfail=0
-pass() { echo "PASS: $1"; npass=$((npass + 1)); }
-fail() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
-metric() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["metrics"][sys.argv[2]])' \
-  "$work/$1/summary.json" "$2" 2> /dev/null || echo nan; }
+cd "$work" || exit 1
+source "$src/tests/tools/checks.bash"
+metric() { summary_metric "$work/$1" "$2"; }
 
 # ---- 1: implicit cantilever -------------------------------------------------------
 for h in 0.125 0.0625; do
@@ -31,16 +29,16 @@ for h in 0.125 0.0625; do
   rc=$?
   e=$([ $rc -eq 0 ] && metric $d relative_error || echo 1)
   if python3 -c "import sys; sys.exit(0 if float('$e') <= 0.005 else 1)"; then
-    pass "implicit MPM with cpdi, cantilever at h = $h: tip $(metric $d tip_uy) m, error $e"
+    ok "implicit MPM with cpdi, cantilever at h = $h: tip $(metric $d tip_uy) m, error $e"
   else
-    fail "implicit MPM with cpdi, cantilever at h = $h: exit $rc, error $e: $(head -c 300 "$work/$d.err")"
+    ko "implicit MPM with cpdi, cantilever at h = $h: exit $rc, error $e: $(head -c 300 "$work/$d.err")"
   fi
 done
 
 # ---- 2: explicit, colliding discs -------------------------------------------------------
 "$exe" run "$src/cases/colliding_discs.json" --quiet --set shape.kind=cpdi --set time.scheme=usl \
   --set output.vtk=none --out "$work/discs" > /dev/null 2> "$work/discs.err" \
-  || fail "colliding discs with cpdi: $(head -c 300 "$work/discs.err")"
+  || ko "colliding discs with cpdi: $(head -c 300 "$work/discs.err")"
 if out=$(python3 -c '
 import csv, json, sys
 d = sys.argv[1]
@@ -58,9 +56,9 @@ print("points - grid momentum %.2g (of %.4g per disc), energy %+.2f %%, probe vx
 ok = s["status"] == "completed" and gap <= 1e-12 * q and abs(e1 - e0) <= 0.05 * e0 \
     and len(v) == 2 and v[0] * v[1] < 0
 sys.exit(0 if ok else 1)' "$work/discs" 2>&1); then
-  pass "explicit usl with cpdi, colliding discs: $out"
+  ok "explicit usl with cpdi, colliding discs: $out"
 else
-  fail "explicit usl with cpdi, colliding discs: $out"
+  ko "explicit usl with cpdi, colliding discs: $out"
 fi
 
 # ---- 3: column collapse, corners pulled back at the floor -------------------------------
@@ -75,21 +73,14 @@ print("status %s, %d steps, %d corners pulled back, runout %.3f m"
       % (s["status"], c["steps"], c["domain_corners_clamped"], s["metrics"]["runout"]))
 sys.exit(0 if s["status"] == "completed" and c["domain_corners_clamped"] > 0 else 1)' \
   "$work/column/summary.json" 2>&1); then
-  pass "implicit MPM with cpdi, column collapse to 0.3 s: $out"
+  ok "implicit MPM with cpdi, column collapse to 0.3 s: $out"
 else
-  fail "implicit MPM with cpdi, column collapse: exit $rc: $out $(head -c 300 "$work/column.err")"
+  ko "implicit MPM with cpdi, column collapse: exit $rc: $out $(head -c 300 "$work/column.err")"
 fi
 
 # ---- 4: refusals ---------------------------------------------------------------------
-"$exe" check "$src/cases/cantilever.json" --set method=gmm --set shape.kind=cpdi \
-  > /dev/null 2> "$work/refusal.err"
-r=$?
-if [ $r -eq 2 ] && grep -q 'shape.kind: "cpdi" needs the regular background grid of method mpm' \
-  "$work/refusal.err"; then
-  pass "refused, cpdi with gmm: $(head -c 200 "$work/refusal.err")"
-else
-  fail "cpdi with gmm: exit $r: $(head -c 300 "$work/refusal.err")"
-fi
+expect 2 'shape.kind: "cpdi" needs the regular background grid of method mpm' "refused, cpdi with gmm" \
+  "$exe" check "$src/cases/cantilever.json" --set method=gmm --set shape.kind=cpdi
 
 echo "cpdi: $npass passed, $nfail failed"
 [ $nfail -eq 0 ]

@@ -26,9 +26,8 @@
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
 rm -rf "$work"; mkdir -p "$work"
-npass=0; nfail=0
-pass() { echo "PASS: $1"; npass=$((npass + 1)); }
-fail() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
+cd "$work" || exit 1
+source "$src/tests/tools/checks.bash"
 
 # run NAME SCENE ARGS...: a run; exit code into rc
 run() {
@@ -36,7 +35,7 @@ run() {
   "$exe" run "$scene" --quiet --set output.vtk=none "$@" --out "$work/$name" > /dev/null \
     2> "$work/$name.err"
   rc=$?
-  [ $rc -eq 0 ] || fail "$name: exit $rc: $(head -c 300 "$work/$name.err")"
+  [ $rc -eq 0 ] || ko "$name: exit $rc: $(head -c 300 "$work/$name.err")"
 }
 
 # check NAME PYTHON: the python body sees rows (steps.csv as dicts of
@@ -50,9 +49,9 @@ rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open(sys.arg
 $body
 EOF
   ); then
-    pass "$name: $what ($out)"
+    ok "$name: $what ($out)"
   else
-    fail "$name: $what: $out"
+    ko "$name: $what: $out"
   fi
 }
 
@@ -127,9 +126,9 @@ run ramp_implicit "$work/free_block.json" --set time.analysis=dynamic --set time
 if [ $rc -eq 0 ]; then
   e=$(ramp_error ramp_implicit)
   if python3 -c "import sys; sys.exit(0 if $e < 1e-3 else 1)"; then
-    pass "ramp, implicit Newmark (dt = T/200): the fall deviates by $e of itself (< 1e-3)"
+    ok "ramp, implicit Newmark (dt = T/200): the fall deviates by $e of itself (< 1e-3)"
   else
-    fail "ramp, implicit Newmark: deviation $e of the fall, expected < 1e-3"
+    ko "ramp, implicit Newmark: deviation $e of the fall, expected < 1e-3"
   fi
 fi
 # explicit: usl is of second order here, fe and npc of first (eq 33 moves
@@ -147,22 +146,22 @@ e_npc=$(ramp_error ramp_npc_newmark_0.1); e_npc2=$(ramp_error ramp_npc_newmark_0
 e_34=$(ramp_error ramp_npc_eq34_0.1); e_fe=$(ramp_error ramp_fe_newmark_0.1)
 e_fe2=$(ramp_error ramp_fe_newmark_0.05)
 if python3 -c "import sys; sys.exit(0 if $e_usl < 2e-3 and $e_usl / $e_usl2 > 3.5 else 1)"; then
-  pass "ramp, usl: deviation $e_usl at CFL 0.1, $e_usl2 at 0.05 (second order)"
+  ok "ramp, usl: deviation $e_usl at CFL 0.1, $e_usl2 at 0.05 (second order)"
 else
-  fail "ramp, usl: deviation $e_usl at CFL 0.1, $e_usl2 at 0.05: expected < 2e-3 and second order"
+  ko "ramp, usl: deviation $e_usl at CFL 0.1, $e_usl2 at 0.05: expected < 2e-3 and second order"
 fi
 for v in "npc $e_npc $e_npc2 0.05" "fe $e_fe $e_fe2 0.1"; do
   read -r s a b lim <<< "$v"
   if python3 -c "import sys; r = $a / $b; sys.exit(0 if $a < $lim and 1.8 < r < 2.2 else 1)"; then
-    pass "ramp, $s: deviation $a at CFL 0.1, $b at 0.05 (first order, below $lim)"
+    ok "ramp, $s: deviation $a at CFL 0.1, $b at 0.05 (first order, below $lim)"
   else
-    fail "ramp, $s: deviation $a at CFL 0.1, $b at 0.05: expected first order below $lim"
+    ko "ramp, $s: deviation $a at CFL 0.1, $b at 0.05: expected first order below $lim"
   fi
 done
 if python3 -c "import sys; sys.exit(0 if $e_34 > 2.5 * $e_npc else 1)"; then
-  pass "ramp, npc: eq 34's positions deviate $e_34, the newmark positions $e_npc"
+  ok "ramp, npc: eq 34's positions deviate $e_34, the newmark positions $e_npc"
 else
-  fail "ramp, npc: eq 34's positions deviate $e_34, the newmark positions $e_npc: expected about 3x"
+  ko "ramp, npc: eq 34's positions deviate $e_34, the newmark positions $e_npc: expected about 3x"
 fi
 
 # ---- 5: colliding discs ---------------------------------------------------------------
@@ -187,9 +186,9 @@ p = max(max(abs(r["momentum_x"]), abs(r["momentum_y"])) for r in rows)
 print("peak at t = %.2f s, back by %.0f %% of it; energy %+.2f %%; |momentum| <= %.1e" %
       (tpeak, 100 * back, 100 * (e1 / e0 - 1), p))
 sys.exit(0 if back > 0.6 and abs(e1 / e0 - 1) < 0.05 and p < 1e-10 else 1)' "$work/discs_$s" 2>&1); then
-    pass "discs_$s: the discs bounce apart ($out)"
+    ok "discs_$s: the discs bounce apart ($out)"
   else
-    fail "discs_$s: $out"
+    ko "discs_$s: $out"
   fi
 done
 

@@ -30,9 +30,8 @@
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
 rm -rf "$work"; mkdir -p "$work"
-npass=0; nfail=0
-pass() { echo "PASS: $1"; npass=$((npass + 1)); }
-fail() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
+cd "$work" || exit 1
+source "$src/tests/tools/checks.bash"
 scene="$src/cases/mms_vibration.json"
 
 # vib NAME N A [--set ...]: the vibration on N cells (h = 1/N, dt = 0.4 h / 100)
@@ -43,7 +42,7 @@ vib() {
   "$exe" run "$scene" --quiet --set manufactured.A=$A --set mesh.h=$h --set time.dt=$dt \
     --set "mesh.domain.max=[1,$h]" --set "bodies.0.rectangle.max=[1,$h]" --set boundaries.3.y=$h \
     --set "probes.quarter=[0.25,$(python3 -c "print($h / 2)")]" "$@" --out "$work/$name" \
-    > /dev/null 2> "$work/$name.err" || fail "$name: $(head -c 300 "$work/$name.err")"
+    > /dev/null 2> "$work/$name.err" || ko "$name: $(head -c 300 "$work/$name.err")"
 }
 # orders NAME1 NAME2 [NAME3]: the observed orders of u, v, sigma over each halving
 orders='
@@ -62,19 +61,19 @@ p = list(csv.DictReader(open(sys.argv[1] + "/probes.csv")))
 v = float(p[0]["quarter_vx"])
 print("v(L/4, 0) = %.6g m/s" % v)
 sys.exit(0 if abs(v - 31.41592653589793) < 1e-9 else 1)' "$work/large_32" 2>&1); then
-  pass "the points start with the solution's velocity: $out"
+  ok "the points start with the solution's velocity: $out"
 else
-  fail "initial velocity: $out"
+  ko "initial velocity: $out"
 fi
 if out=$(python3 -c "$orders" 3 "$work/small_32" "$work/small_64" "$work/small_128" 2>&1); then
-  pass "A = 1e-4, CPDI, 32/64/128 cells: u, v, sigma converge: $out"
+  ok "A = 1e-4, CPDI, 32/64/128 cells: u, v, sigma converge: $out"
 else
-  fail "A = 1e-4, CPDI: $out"
+  ko "A = 1e-4, CPDI: $out"
 fi
 if out=$(python3 -c "$orders" 1 "$work/large_32" "$work/large_64" 2>&1); then
-  pass "A = 0.1, CPDI, 32/64 cells: u converges: $out"
+  ok "A = 0.1, CPDI, 32/64 cells: u converges: $out"
 else
-  fail "A = 0.1, CPDI: $out"
+  ko "A = 0.1, CPDI: $out"
 fi
 if out=$(python3 -c '
 import csv, sys
@@ -84,26 +83,26 @@ w = max(float(x["internal_work"]) for x in r)
 d = max(abs(x - e[0]) for x in e)
 print("total energy moves by %.3g J, largest internal work %.4g J" % (d, w))
 sys.exit(0 if d <= 0.005 * w else 1)' "$work/large_64" 2>&1); then
-  pass "energy balance with the body force's work: $out"
+  ok "energy balance with the body force's work: $out"
 else
-  fail "energy balance: $out"
+  ko "energy balance: $out"
 fi
 
 for n in 16 32; do
   vib implicit_$n $n 1e-4 --set "time={\"analysis\":\"dynamic\",\"dt\":$(python3 -c "print(0.4 / $n / 100)"),\"end\":0.02}"
 done
 if out=$(python3 -c "$orders" 1 "$work/implicit_16" "$work/implicit_32" 2>&1); then
-  pass "implicit Newmark, CPDI, A = 1e-4, 16/32 cells: $out"
+  ok "implicit Newmark, CPDI, A = 1e-4, 16/32 cells: $out"
 else
-  fail "implicit Newmark, CPDI: $out"
+  ko "implicit Newmark, CPDI: $out"
 fi
 
 for ppc in 1 4 9; do
   for n in 32 64 128; do vib cpls_${ppc}_$n $n 0.1 --set shape.kind=cpls --set mesh.ppc=$ppc; done
   if out=$(python3 -c "$orders" 3 "$work/cpls_${ppc}_32" "$work/cpls_${ppc}_64" "$work/cpls_${ppc}_128" 2>&1); then
-    pass "A = 0.1, CPLS, $ppc per cell, 32/64/128 cells: $out"
+    ok "A = 0.1, CPLS, $ppc per cell, 32/64/128 cells: $out"
   else
-    fail "A = 0.1, CPLS, $ppc per cell: $out"
+    ko "A = 0.1, CPLS, $ppc per cell: $out"
   fi
 done
 if out=$(python3 -c '
@@ -111,9 +110,9 @@ import json, sys
 g = json.load(open(sys.argv[1] + "/summary.json"))["metrics"]["momentum_gap"]
 print("CPDI momentum gap %.2g" % g)
 sys.exit(0 if g < 1e-13 else 1)' "$work/large_64" 2>&1); then
-  pass "points' and grid's momentum agree with CPDI: $out"
+  ok "points' and grid's momentum agree with CPDI: $out"
 else
-  fail "CPDI momentum: $out"
+  ko "CPDI momentum: $out"
 fi
 
 # the ring's polar sectors: h = 0.025, 4 per cell: 16 layers of 63 sectors,
@@ -127,14 +126,14 @@ s = json.load(open(sys.argv[1] + "/summary.json"))
 v, n = s["metrics"]["volume_total"], s["counts"]["points"]
 print("%d points, area %.10f (exact %.10f)" % (n, v, math.pi * 0.2 / 4))
 sys.exit(0 if n == 16 * 63 and abs(v - math.pi * 0.2 / 4) < 1e-9 else 1)' "$work/ring_fill" 2>&1); then
-  pass "ring body in polar sectors: $out"
+  ok "ring body in polar sectors: $out"
 else
-  fail "ring body: $out $(head -c 200 "$work/ring_fill.err")"
+  ko "ring body: $out $(head -c 200 "$work/ring_fill.err")"
 fi
 for h in 0.05 0.025 0.0125; do
   "$exe" run "$src/cases/mms_ring.json" --quiet --set mesh.h=$h --set time.dt=$(python3 -c "print(0.4 * $h / 100)") \
     --set output.vtk=none --out "$work/ring_$h" > /dev/null 2> "$work/ring_$h.err" \
-    || fail "ring, h = $h: $(head -c 300 "$work/ring_$h.err")"
+    || ko "ring, h = $h: $(head -c 300 "$work/ring_$h.err")"
 done
 if out=$(python3 -c '
 import json, math, sys
@@ -144,21 +143,15 @@ g = [r["momentum_gap"] for r in runs]
 print("lowest orders u %.2f, v %.2f, sigma %.2f; momentum gap %s" % (o["mms_u_rms"], o["mms_v_rms"], o["mms_sigma_rms"], ", ".join("%.2g" % x for x in g)))
 sys.exit(0 if o["mms_u_rms"] >= 1.8 and o["mms_v_rms"] >= 1.8 and o["mms_sigma_rms"] >= 0.9 and g[0] > g[1] > g[2] else 1)' \
   "$work/ring_0.05" "$work/ring_0.025" "$work/ring_0.0125" 2>&1); then
-  pass "ring, A = 0.1, CPLS, h = 0.05/0.025/0.0125: $out"
+  ok "ring, A = 0.1, CPLS, h = 0.05/0.025/0.0125: $out"
 else
-  fail "ring, CPLS: $out"
+  ko "ring, CPLS: $out"
 fi
 
-# refused RUN_ARGS... PATTERN: exit 2 with the pattern
+# refused MESSAGE ARGS...: `mpgm check` of the vibration exits 2 and says MESSAGE
 refused() {
-  local pat="$1"; shift
-  "$exe" check "$scene" "$@" > /dev/null 2> "$work/refusal.err"
-  local r=$?
-  if [ $r -eq 2 ] && grep -Eq "$pat" "$work/refusal.err"; then
-    pass "refused: $(head -c 200 "$work/refusal.err")"
-  else
-    fail "expected exit 2 and /$pat/, found exit $r: $(head -c 300 "$work/refusal.err")"
-  fi
+  local msg="$1"; shift
+  expect 2 "$msg" "refused: $msg" "$exe" check "$scene" "$@"
 }
 refused 'manufactured: the solutions are derived for the neo-Hookean law' \
   --set materials.solid.type=linear_elastic --set kinematics=small

@@ -17,9 +17,8 @@
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
 rm -rf "$work"; mkdir -p "$work"
-npass=0; nfail=0
-pass() { echo "PASS: $1"; npass=$((npass + 1)); }
-fail() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
+cd "$work" || exit 1
+source "$src/tests/tools/checks.bash"
 
 check='
 import json, sys
@@ -39,13 +38,13 @@ for g in 3 0.8; do
     --set probes.top=[44,87] --set shape.gamma=$g --out "$d" > /dev/null 2> "$d.err"
   rc=$?
   if [ $rc -ne 0 ]; then
-    fail "LME gamma $g: exit $rc: $(head -c 300 "$d.err")"
+    ko "LME gamma $g: exit $rc: $(head -c 300 "$d.err")"
     continue
   fi
   if out=$(python3 -c "$check" "$d/summary.json" 2>&1); then
-    pass "LME gamma $g: $out"
+    ok "LME gamma $g: $out"
   else
-    fail "LME gamma $g: $out"
+    ko "LME gamma $g: $out"
   fi
 done
 
@@ -55,14 +54,14 @@ d="$work/lme_3_damped"
   > /dev/null 2> "$d.err"
 rc=$?
 if [ $rc -ne 0 ]; then
-  fail "LME gamma 3, damped: exit $rc: $(head -c 300 "$d.err")"
+  ko "LME gamma 3, damped: exit $rc: $(head -c 300 "$d.err")"
 elif out=$(python3 -c "$check" "$d/summary.json" 2>&1) && python3 -c '
 import json, sys
 m = json.load(open(sys.argv[1]))["metrics"]
 sys.exit(0 if m["bottom_stress_ratio_max"] - m["bottom_stress_ratio_min"] < 0.1 else 1)' "$d/summary.json"; then
-  pass "LME gamma 3, local damping 0.2, from 15 s: $out"
+  ok "LME gamma 3, local damping 0.2, from 15 s: $out"
 else
-  fail "LME gamma 3, local damping 0.2, from 15 s: $out"
+  ko "LME gamma 3, local damping 0.2, from 15 s: $out"
 fi
 
 echo "rigid_block: $npass passed, $nfail failed"
