@@ -60,6 +60,16 @@ typedef struct mpgm_points {
   double *F_t, *sigma_t, *D_t, *state_t, *vol_t, *dF_t;
 } mpgm_points;
 
+/** The current half-axes of point p's domain, r_k = F_p r_k^0 (2-D only:
+ *  written out). */
+static inline void mpgm_point_domain(const mpgm_points *P, int p, double r[2 * MPGM_DIM]) {
+  const double *F = P->F + MPGM_TENSOR * p, *r0 = P->r0 + 2 * MPGM_DIM * p;
+  for (int c = 0; c < 2; c++) {
+    r[2 * c] = F[0] * r0[2 * c] + F[1] * r0[2 * c + 1];
+    r[2 * c + 1] = F[2] * r0[2 * c] + F[3] * r0[2 * c + 1];
+  }
+}
+
 /** Nodes (degrees of freedom carriers). */
 typedef struct mpgm_nodes {
   int n;          /**< nodes in use                                     */

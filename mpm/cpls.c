@@ -95,19 +95,18 @@ static inline void cell_of(const mpgm_grid *g, const double *x, int *i, int *j) 
 static int bin_data(mpgm_ctx *ctx, mpgm_cpls *c, const mpgm_grid *g, const mpgm_points *P) {
   const int n = 5 * P->n, ncell = g->nx * g->ny;
   MPGM_CALL(grow_data(ctx, c, n, ncell));
-  static const double s[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-  for (int p = 0; p < P->n; p++) { /* 2-D only: r and L written out */
-    const double *F = P->F + MPGM_TENSOR * p, *r0 = P->r0 + 2 * MPGM_DIM * p;
+  for (int p = 0; p < P->n; p++) { /* 2-D only: L written out */
     const double *L = P->L + MPGM_TENSOR * p, *xp = P->x + MPGM_DIM * p, *vp = P->v + MPGM_DIM * p;
-    const double r[4] = {F[0] * r0[0] + F[1] * r0[1], F[2] * r0[0] + F[3] * r0[1],
-                         F[0] * r0[2] + F[1] * r0[3], F[2] * r0[2] + F[3] * r0[3]};
+    double r[2 * MPGM_DIM], off[4][2];
+    mpgm_point_domain(P, p, r);
+    mpgm_domain_corners(r, off);
     double *x = c->x + MPGM_DIM * 5 * p, *v = c->v + MPGM_DIM * 5 * p;
     x[0] = xp[0];
     x[1] = xp[1];
     v[0] = vp[0];
     v[1] = vp[1];
     for (int k = 0; k < 4; k++) {
-      const double dx = s[k][0] * r[0] + s[k][1] * r[2], dy = s[k][0] * r[1] + s[k][1] * r[3];
+      const double dx = off[k][0], dy = off[k][1];
       x[2 * k + 2] = xp[0] + dx;
       x[2 * k + 3] = xp[1] + dy;
       v[2 * k + 2] = vp[0] + L[0] * dx + L[1] * dy; /* eq 25 */

@@ -381,12 +381,8 @@ static int grid_shape(const mpgm_fe_view *v, mpm_data *d) {
     if (p >= P->n && p < ms && d->pcell[p] < 0) continue;             /* a probe carried */
     const char *why = NULL;
     double r[2 * MPGM_DIM], *dom = NULL;
-    if (p < P->n && v->scene->shape->domain) { /* r_k = F r_k^0; 2-D only: written out */
-      const double *F = P->F + MPGM_TENSOR * p, *r0 = P->r0 + 2 * MPGM_DIM * p;
-      for (int c = 0; c < 2; c++) {
-        r[2 * c] = F[0] * r0[2 * c] + F[1] * r0[2 * c + 1];
-        r[2 * c + 1] = F[2] * r0[2 * c] + F[3] * r0[2 * c + 1];
-      }
+    if (p < P->n && v->scene->shape->domain) {
+      mpgm_point_domain(P, p, r);
       dom = r;
     }
     const int err = grid_point(v, d, P->x + MPGM_DIM * p, dom, &k, &why);

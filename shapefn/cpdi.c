@@ -88,14 +88,14 @@ static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
   const double cross = r[0] * r[3] - r[1] * r[2];
   if (!(cross > 0.0)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_INVERTED);
   const double V = 4.0 * cross;
-  static const double s[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   const double *lo = q->par->grid_lo, *hi = q->par->grid_hi;
   const int box = hi[0] > lo[0] && hi[1] > lo[1];
   double xc[4][2];
+  mpgm_domain_corners(r, xc);
   int clamped = 0;
   for (int c = 0; c < 4; c++) {
-    xc[c][0] = q->xp[0] + s[c][0] * r[0] + s[c][1] * r[2];
-    xc[c][1] = q->xp[1] + s[c][0] * r[1] + s[c][1] * r[3];
+    xc[c][0] += q->xp[0];
+    xc[c][1] += q->xp[1];
     for (int i = 0; i < 2 && box; i++) {
       const double v = fmin(fmax(xc[c][i], lo[i]), hi[i]);
       clamped += v != xc[c][i];

@@ -139,6 +139,16 @@ typedef struct mpgm_shape_query {
                               NULL: a point without domain (a tracer)     */
 } mpgm_shape_query;
 
+/** The offsets of a particle domain's corners from its point, counter-
+ *  clockwise: -r1 - r2, r1 - r2, r1 + r2, -r1 + r2 (r: r1, r2, 2 each). */
+static inline void mpgm_domain_corners(const double r[4], double off[4][2]) {
+  static const double s[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  for (int c = 0; c < 4; c++) {
+    off[c][0] = s[c][0] * r[0] + s[c][1] * r[2];
+    off[c][1] = s[c][0] * r[1] + s[c][1] * r[3];
+  }
+}
+
 /** A shape-function kind. */
 typedef struct mpgm_shapefn_type {
   const char *name; /**< scene name: "fe", "mls", "lme"                   */
