@@ -264,6 +264,9 @@ void mpgm_conn_release(mpgm_conn *c) {
   free(c->N);
   free(c->dN);
   free(c->g);
+  free(c->tptr);
+  free(c->tk);
+  free(c->tp);
   memset(c, 0, sizeof *c);
 }
 

@@ -25,6 +25,8 @@ typedef struct explicit_data {
   double *f;   /**< MPGM_DIM per node: f_ext - f_int [N]               */
   double *mod; /**< per material: P-wave modulus lambda + 2 mu [Pa]    */
   int warned;  /**< a fixed time.dt above the CFL limit was reported    */
+  double *wp;  /**< 2 per point: the work of gravity, of a body force    */
+  int nwp;     /**< points wp has room for                               */
 } explicit_data;
 
 static void explicit_destroy(void *self) {
@@ -32,6 +34,7 @@ static void explicit_destroy(void *self) {
   if (!d) return;
   free(d->f);
   free(d->mod);
+  free(d->wp);
   free(d);
 }
 
@@ -109,6 +112,69 @@ static int stress(mpgm_problem *pb, const double *vel) {
   return 0;
 }
 
+/* Node-range tasks of the explicit loops: MPGM_DIM per node, gathered
+ * through the transpose of the lists (the same sums as a loop over the
+ * points, any number of threads). */
+typedef struct {
+  mpgm_problem *pb;
+  int ntask;
+  const double *sigma, *vol, *b; /* forces: stress, volumes, body force  */
+  double gx, gy;                 /* forces: gravity at the step's time   */
+  double g;                      /* predictor: npc's gamma               */
+  double *out;                   /* MPGM_DIM per node                    */
+} node_job;
+
+/* The force of entry k (point p) on its node: m_p N g - vol_p sigma_p
+ * grad N. */
+static inline void force_of(const node_job *j, const mpgm_points *P, const mpgm_conn *C, int p,
+                            int k, double f[MPGM_DIM]) {
+  const double *sg = j->sigma + MPGM_NSTRESS * p, m = P->mass[p], v = j->vol[p];
+  const double gx = j->gx + (j->b ? j->b[MPGM_DIM * p] : 0.0);
+  const double gy = j->gy + (j->b ? j->b[MPGM_DIM * p + 1] : 0.0);
+  const double N = C->N[k], ax = C->dN[MPGM_DIM * k], ay = C->dN[MPGM_DIM * k + 1];
+  f[0] = m * N * gx - v * (sg[0] * ax + sg[2] * ay); /* 2-D only: components written out */
+  f[1] = m * N * gy - v * (sg[2] * ax + sg[1] * ay);
+}
+
+/* f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip) at task t's nodes. */
+static void force_task(void *arg, int t, int tid) {
+  (void)tid;
+  const node_job *j = arg;
+  const mpgm_points *P = &j->pb->pts;
+  const mpgm_conn *C = &j->pb->conn;
+  const int n = j->pb->nodes.n;
+  const int i0 = mpgm_task_begin(n, j->ntask, t), i1 = mpgm_task_begin(n, j->ntask, t + 1);
+  for (int I = i0; I < i1; I++) {
+    double sum[MPGM_DIM] = {0}, f[MPGM_DIM];
+    for (int e = C->tptr[I]; e < C->tptr[I + 1]; e++) {
+      force_of(j, P, C, C->tp[e], C->tk[e], f);
+      for (int c = 0; c < MPGM_DIM; c++) sum[c] += f[c];
+    }
+    for (int c = 0; c < MPGM_DIM; c++) j->out[MPGM_DIM * I + c] = sum[c];
+  }
+}
+
+/* The same sums by one loop over the points (mpgm_conn_gathers). */
+static void force_scatter(const node_job *j) {
+  const mpgm_points *P = &j->pb->pts;
+  const mpgm_conn *C = &j->pb->conn;
+  memset(j->out, 0, sizeof(double) * MPGM_DIM * (size_t)j->pb->nodes.n);
+  for (int p = 0; p < P->n; p++)
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      double f[MPGM_DIM];
+      force_of(j, P, C, p, k, f);
+      for (int c = 0; c < MPGM_DIM; c++) j->out[MPGM_DIM * C->node[k] + c] += f[c];
+    }
+}
+
+/* Whether the nodal sums are gathered (mpgm_conn_gathers); then the
+ * transpose of the step's lists (built by the front end, or here). */
+static int gathers(mpgm_problem *pb, int *yes) {
+  *yes = mpgm_conn_gathers(pb->pool, &pb->conn, pb->pts.n);
+  if (!*yes || (pb->conn.tn == pb->nodes.n && pb->conn.tn > 0)) return 0;
+  return mpgm_conn_transpose(pb->ctx, &pb->conn, pb->pts.n, pb->nodes.n);
+}
+
 /* Nodal force f = f_ext - f_int of the stress sigma on the volumes vol
  * (either the committed or the trial arrays of the points) with gravity
  * at time t (its ramp): f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip);
@@ -119,25 +185,17 @@ static int stress(mpgm_problem *pb, const double *vel) {
 static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma, const double *vol,
                         double t, const double *vel, double *A) {
   mpgm_ctx *ctx = pb->ctx;
-  const mpgm_points *P = &pb->pts;
   const mpgm_nodes *nd = &pb->nodes;
-  const mpgm_conn *C = &pb->conn;
+  int gather;
+  MPGM_CALL(gathers(pb, &gather));
   mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
   double *f = d->f;
-  memset(f, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   const double gf = mpgm_gravity_factor(pb, t);
-  const double *b = pb->fx.manufactured ? mpgm_mms_forces(pb, t) : NULL;
-  for (int p = 0; p < P->n; p++) { /* 2-D only: components written out */
-    const double *sg = sigma + MPGM_NSTRESS * p, m = P->mass[p], v = vol[p];
-    const double gx = gf * pb->scene->gravity[0] + (b ? b[MPGM_DIM * p] : 0.0);
-    const double gy = gf * pb->scene->gravity[1] + (b ? b[MPGM_DIM * p + 1] : 0.0);
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-      const int I = C->node[k];
-      const double N = C->N[k], ax = C->dN[MPGM_DIM * k], ay = C->dN[MPGM_DIM * k + 1];
-      f[MPGM_DIM * I] += m * N * gx - v * (sg[0] * ax + sg[2] * ay);
-      f[MPGM_DIM * I + 1] += m * N * gy - v * (sg[2] * ax + sg[1] * ay);
-    }
-  }
+  node_job j = {.pb = pb, .ntask = mpgm_ntask(nd->n, 256), .sigma = sigma, .vol = vol,
+                .b = pb->fx.manufactured ? mpgm_mms_forces(pb, t) : NULL,
+                .gx = gf * pb->scene->gravity[0], .gy = gf * pb->scene->gravity[1], .out = f};
+  if (gather) mpgm_pool_run(pb->pool, j.ntask, force_task, &j);
+  else force_scatter(&j);
   const double alpha = pb->scene->local_damping;
   if (alpha > 0.0)
     for (int i = 0; i < MPGM_DIM * nd->n; i++)
@@ -171,22 +229,24 @@ static void commit_stress(mpgm_problem *pb) {
   if (P->nstate) memcpy(P->state, P->state_t, sizeof(double) * (size_t)P->nstate * P->n);
 }
 
-/* The points (material points and tracers) from the nodes: a_p = sum N A,
- * v_p += dt a_p, x_p += sum N (dt V + c dt^2 A). */
-static void move_points(mpgm_problem *pb, const double *V, const double *A, double c) {
-  mpgm_ctx *ctx = pb->ctx;
-  mpgm_timer_start(ctx, MPGM_T_UPDATE);
-  mpgm_points *P = &pb->pts;
-  const mpgm_conn *C = &pb->conn;
-  const double dt = pb->dt, c2 = c * dt * dt;
-  const int m = P->n + P->nprobe + P->nsurf;
-  /* the work of gravity, at its value in the middle of the step */
-  const double gf = mpgm_gravity_factor(pb, pb->t + 0.5 * dt);
-  const double gx = gf * pb->scene->gravity[0], gy = gf * pb->scene->gravity[1];
-  /* a manufactured body force's work, the same */
-  const double *b = pb->fx.manufactured ? mpgm_mms_forces(pb, pb->t + 0.5 * dt) : NULL;
-  double wext = 0.0;
-  for (int p = 0; p < m; p++) { /* 2-D only: components written out */
+typedef struct {
+  mpgm_problem *pb;
+  int ntask, m;
+  const double *V, *A, *b;
+  double c2, gx, gy;
+  double *wp; /* per material point: the work of gravity, of b */
+} move_job;
+
+/* Task t's points: a_p = sum N A, v_p += dt a_p, x_p += sum N (dt V + c
+ * dt^2 A), and the work of the body forces on that move. */
+static void move_task(void *arg, int t, int tid) {
+  (void)tid;
+  const move_job *j = arg;
+  mpgm_points *P = &j->pb->pts;
+  const mpgm_conn *C = &j->pb->conn;
+  const double dt = j->pb->dt, c2 = j->c2, *V = j->V, *A = j->A;
+  const int p0 = mpgm_task_begin(j->m, j->ntask, t), p1 = mpgm_task_begin(j->m, j->ntask, t + 1);
+  for (int p = p0; p < p1; p++) { /* 2-D only: components written out */
     double a[MPGM_DIM] = {0}, w[MPGM_DIM] = {0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
@@ -203,11 +263,41 @@ static void move_points(mpgm_problem *pb, const double *V, const double *A, doub
       P->u[MPGM_DIM * p + q] += w[q];
     }
     if (p >= P->n) continue;
-    wext += P->mass[p] * (gx * w[0] + gy * w[1]);
-    if (b) wext += P->mass[p] * (b[MPGM_DIM * p] * w[0] + b[MPGM_DIM * p + 1] * w[1]);
+    j->wp[2 * p] = P->mass[p] * (j->gx * w[0] + j->gy * w[1]);
+    if (j->b) j->wp[2 * p + 1] = P->mass[p] * (j->b[MPGM_DIM * p] * w[0] + j->b[MPGM_DIM * p + 1] * w[1]);
+  }
+}
+
+/* The points (material points and tracers) from the nodes, on the pool's
+ * threads: a_p = sum N A, v_p += dt a_p, x_p += sum N (dt V + c dt^2 A);
+ * the work of gravity and of a manufactured body force at their values in
+ * the middle of the step, added up in the order of the points. */
+static int move_points(mpgm_problem *pb, explicit_data *d, const double *V, const double *A,
+                       double c) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_points *P = &pb->pts;
+  if (P->n > d->nwp) {
+    free(d->wp);
+    d->nwp = 0;
+    MPGM_ALLOC(ctx, d->wp, 2 * (size_t)P->n);
+    d->nwp = P->n;
+  }
+  mpgm_timer_start(ctx, MPGM_T_UPDATE);
+  const double dt = pb->dt, gf = mpgm_gravity_factor(pb, pb->t + 0.5 * dt);
+  const int m = P->n + P->nprobe + P->nsurf;
+  move_job j = {.pb = pb, .ntask = mpgm_ntask(m, 512), .m = m, .V = V, .A = A,
+                .b = pb->fx.manufactured ? mpgm_mms_forces(pb, pb->t + 0.5 * dt) : NULL,
+                .c2 = c * dt * dt, .gx = gf * pb->scene->gravity[0],
+                .gy = gf * pb->scene->gravity[1], .wp = d->wp};
+  mpgm_pool_run(pb->pool, j.ntask, move_task, &j);
+  double wext = 0.0;
+  for (int p = 0; p < P->n; p++) {
+    wext += d->wp[2 * p];
+    if (j.b) wext += d->wp[2 * p + 1];
   }
   pb->work_ext += wext;
   mpgm_timer_stop(ctx, MPGM_T_UPDATE);
+  return 0;
 }
 
 /* fe: the stress from the projected velocity v_I (update stress first),
@@ -220,7 +310,7 @@ static int fe_step(void *self, mpgm_problem *pb) {
   MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma_t, pb->pts.vol_t, pb->t + pb->dt, nd->v, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
   commit_stress(pb);
-  move_points(pb, V, A, 0.0);
+  MPGM_CALL(move_points(pb, self, V, A, 0.0));
   return 0;
 }
 
@@ -234,8 +324,62 @@ static int usl_step(void *self, mpgm_problem *pb) {
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
   MPGM_CALL(stress(pb, V));
   commit_stress(pb);
-  move_points(pb, V, A, 0.0);
+  MPGM_CALL(move_points(pb, self, V, A, 0.0));
   return 0;
+}
+
+/* The momentum of npc's predictor that entry k (point p) brings to its
+ * node: N m_p (v_p + (1 - gamma) dt a_p). */
+static inline void predictor_of(const node_job *j, const mpgm_points *P, const mpgm_conn *C, int p,
+                                int k, double q[MPGM_DIM]) {
+  const double w = C->N[k] * P->mass[p], dt = j->pb->dt;
+  for (int c = 0; c < MPGM_DIM; c++)
+    q[c] = w * (P->v[MPGM_DIM * p + c] + (1.0 - j->g) * dt * P->a[MPGM_DIM * p + c]);
+}
+
+/* v_pred = sum (predictor_of) / m_I at node I (0 at fixed components and
+ * massless nodes). */
+static inline void predictor_at(const node_job *j, int I) {
+  const mpgm_nodes *nd = &j->pb->nodes;
+  const double m = nd->mass[I];
+  for (int c = 0; c < MPGM_DIM; c++) {
+    double *V = j->out + MPGM_DIM * I + c;
+    *V = nd->fix[MPGM_DIM * I + c] || !(m > 0.0) ? 0.0 : *V / m;
+  }
+}
+
+/* npc's predictor at task t's nodes, gathered through the transpose. */
+static void predictor_task(void *arg, int t, int tid) {
+  (void)tid;
+  const node_job *j = arg;
+  const mpgm_points *P = &j->pb->pts;
+  const mpgm_conn *C = &j->pb->conn;
+  const int n = j->pb->nodes.n;
+  const int i0 = mpgm_task_begin(n, j->ntask, t), i1 = mpgm_task_begin(n, j->ntask, t + 1);
+  for (int I = i0; I < i1; I++) {
+    double sum[MPGM_DIM] = {0}, q[MPGM_DIM];
+    for (int e = C->tptr[I]; e < C->tptr[I + 1]; e++) {
+      predictor_of(j, P, C, C->tp[e], C->tk[e], q);
+      for (int c = 0; c < MPGM_DIM; c++) sum[c] += q[c];
+    }
+    for (int c = 0; c < MPGM_DIM; c++) j->out[MPGM_DIM * I + c] = sum[c];
+    predictor_at(j, I);
+  }
+}
+
+/* The same by one loop over the points (mpgm_conn_gathers). */
+static void predictor_scatter(const node_job *j) {
+  const mpgm_points *P = &j->pb->pts;
+  const mpgm_conn *C = &j->pb->conn;
+  const int n = j->pb->nodes.n;
+  memset(j->out, 0, sizeof(double) * MPGM_DIM * (size_t)n);
+  for (int p = 0; p < P->n; p++)
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      double q[MPGM_DIM];
+      predictor_of(j, P, C, p, k, q);
+      for (int c = 0; c < MPGM_DIM; c++) j->out[MPGM_DIM * C->node[k] + c] += q[c];
+    }
+  for (int I = 0; I < n; I++) predictor_at(j, I);
 }
 
 /* npc: the predictor of eq 30, projected from the points, v_pred =
@@ -246,25 +390,14 @@ static int npc_step(void *self, mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   mpgm_nodes *nd = &pb->nodes;
   const mpgm_points *P = &pb->pts;
-  const mpgm_conn *C = &pb->conn;
   const double g = pb->scene->npc_gamma, dt = pb->dt;
   double *V = nd->v_new, *A = nd->a_new;
+  int gather;
+  MPGM_CALL(gathers(pb, &gather));
   mpgm_timer_start(ctx, MPGM_T_MASS);
-  memset(V, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
-  for (int p = 0; p < P->n; p++) {
-    const double vx = P->v[MPGM_DIM * p] + (1.0 - g) * dt * P->a[MPGM_DIM * p];
-    const double vy = P->v[MPGM_DIM * p + 1] + (1.0 - g) * dt * P->a[MPGM_DIM * p + 1];
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-      const int I = C->node[k];
-      const double w = C->N[k] * P->mass[p];
-      V[MPGM_DIM * I] += w * vx;
-      V[MPGM_DIM * I + 1] += w * vy;
-    }
-  }
-  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
-    const double m = nd->mass[i / MPGM_DIM];
-    V[i] = nd->fix[i] || !(m > 0.0) ? 0.0 : V[i] / m;
-  }
+  node_job j = {.pb = pb, .ntask = mpgm_ntask(nd->n, 256), .g = g, .out = V};
+  if (gather) mpgm_pool_run(pb->pool, j.ntask, predictor_task, &j);
+  else predictor_scatter(&j);
   mpgm_timer_stop(ctx, MPGM_T_MASS);
   MPGM_CALL(stress(pb, V));
   MPGM_CALL(nodal_forces(pb, self, P->sigma_t, P->vol_t, pb->t + pb->dt, V, A));
@@ -272,7 +405,7 @@ static int npc_step(void *self, mpgm_problem *pb) {
   commit_stress(pb);
   /* newmark: the points move by what their strain used, dt v_pred =
    * dt V - gamma dt^2 A; eq34: dt V + dt^2 A / 2 (003's eq 34 and code) */
-  move_points(pb, V, A, pb->scene->npc_eq34 ? 0.5 : -g);
+  MPGM_CALL(move_points(pb, self, V, A, pb->scene->npc_eq34 ? 0.5 : -g));
   return 0;
 }
 

@@ -3,6 +3,10 @@
  * nodes; MPM with meshfree kinds: the grid nodes). docs/theory.md,
  * section 13.
  *
+ * Every material point is independent of the others: they run on the
+ * pool's threads in ranges (mpgm_conn_par_build), the tracers after them
+ * one by one; the result does not depend on the number of threads.
+ *
  *   1. search (timed as "search"): the candidate nodes within the kind's
  *      support radius r0 of the point (kd-tree); while fewer than
  *      min_nodes, r *= 1.25 (counted: radius_growths);
@@ -20,6 +24,7 @@
  *   3. the entries with N = 0 and grad N = 0 are dropped.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -39,9 +44,8 @@ struct mpgm_clouds {
   int m;                 /**< points                                        */
   double *lambda;        /**< LME multiplier per point (warm start),
                               MPGM_DIM each                                 */
-  double *rad;           /**< search radius of every point this step [m]    */
-  int *cptr, *cidx;      /**< clouds of the search: CSR over the points     */
-  size_t ccap;           /**< entries cidx has room for                     */
+  mpgm_conn_par par_build; /**< staging of the parallel build            */
+  mpgm_conn_task tail;   /**< staging of the tracers, one at a time          */
   /* the step's candidates (set by mpgm_clouds_build) */
   const mpgm_kdtree *tree;
   const unsigned char *skip;
@@ -50,9 +54,8 @@ struct mpgm_clouds {
 void mpgm_clouds_destroy(mpgm_clouds *c) {
   if (!c) return;
   free(c->lambda);
-  free(c->rad);
-  free(c->cptr);
-  free(c->cidx);
+  mpgm_conn_par_free(&c->par_build);
+  mpgm_conn_task_free(&c->tail);
   free(c);
 }
 
@@ -80,8 +83,6 @@ static int size_for(mpgm_ctx *ctx, mpgm_clouds *c, int m) {
   if (c->lambda) return 0;
   c->m = m;
   MPGM_ALLOC(ctx, c->lambda, MPGM_DIM * (size_t)m);
-  MPGM_ALLOC(ctx, c->rad, m);
-  MPGM_ALLOC(ctx, c->cptr, m + 1);
   return 0;
 }
 
@@ -185,82 +186,45 @@ static const char *kind_of(const mpgm_points *P, int p) {
   return p < P->n ? "point" : p < P->n + P->nprobe ? "probe" : "surface point";
 }
 
-/* Phase 1: the clouds of every point from the radius search, with radius
- * growth up to min_nodes nodes. */
-static int search(mpgm_clouds *c, const mpgm_fe_view *v) {
-  mpgm_ctx *ctx = v->ctx;
-  const mpgm_points *P = v->pts;
-  const int m = c->m, nnode = mpgm_kdtree_size(c->tree);
-  const int want = c->min_nodes < nnode ? c->min_nodes : nnode;
-  int idx[MPGM_SHAPE_MAXNODE];
-  double d2[MPGM_SHAPE_MAXNODE];
-  c->cptr[0] = 0;
-  for (int p = 0; p < m; p++) {
-    const double *x = P->x + MPGM_DIM * p;
-    double r = c->r0;
-    /* a probe or surface point with no node within its support is away
-     * from the material: it gets no functions (mpgm_tracers_carry then
-     * moves it with the material), never a radius grown across the
-     * domain */
-    const int n = grown_cloud(c, x, want, p >= P->n, &r, idx, d2, &ctx->count[MPGM_C_RADIUS_GROWTHS]);
-    MPGM_CHECK(ctx, n <= MPGM_SHAPE_MAXNODE, MPGM_ERR_INPUT,
-               "%s: shape: step %ld: %s %d at (%g, %g) has %d nodes within its support radius "
-               "%g m, more than MPGM_SHAPE_MAXNODE = %d: lower shape.radius / shape.dilation "
-               "(mls) or raise shape.gamma (lme)",
-               v->scene->file, v->step + 1, kind_of(P, p), p < P->n ? P->id[p] : p - P->n, x[0],
-               x[1], n, r, MPGM_SHAPE_MAXNODE);
-    c->rad[p] = r;
-    const size_t need = (size_t)c->cptr[p] + (size_t)n;
-    if (need > c->ccap) {
-      size_t nc = c->ccap ? c->ccap : 1024;
-      while (nc < need) nc *= 2;
-      int *q = realloc(c->cidx, nc * sizeof *q);
-      MPGM_CHECK(ctx, q, MPGM_ERR_NOMEM, "out of memory (node clouds of %zu entries)", nc);
-      c->cidx = q;
-      c->ccap = nc;
-    }
-    memcpy(c->cidx + c->cptr[p], idx, sizeof(int) * (size_t)n);
-    c->cptr[p + 1] = c->cptr[p] + n;
-  }
-  return 0;
-}
-
 /* The failure of point p's functions after enl enlargements (cloud of n
- * nodes within r): recorded with a message naming the point. */
+ * nodes within r): the message, naming the point, into t->msg. */
 static int shape_failed(const mpgm_clouds *c, const mpgm_fe_view *v, int p, int err, int enl, int n,
-                        double r, const char *why) {
+                        double r, const char *why, mpgm_conn_task *t) {
   const mpgm_scene *s = v->scene;
   const mpgm_points *P = v->pts;
   const double *x = P->x + MPGM_DIM * p;
   if (p < P->n)
-    MPGM_ERROR(v->ctx, err,
-               "step %ld: %s shape functions failed at point %d (body \"%s\", started at (%g, "
-               "%g)) at (%g, %g) after %d cloud enlargement(s) (cloud of %d nodes within %g "
-               "m; shape.max_enlarge = %d): %s",
-               v->step + 1, c->shape->name, P->id[p], s->bodies[P->body[p]].name,
-               P->x0[MPGM_DIM * p], P->x0[MPGM_DIM * p + 1], x[0], x[1], enl, n, r,
-               c->max_enlarge, why ? why : "?");
-  MPGM_ERROR(v->ctx, err,
+    snprintf(t->msg, sizeof t->msg,
+             "step %ld: %s shape functions failed at point %d (body \"%s\", started at (%g, "
+             "%g)) at (%g, %g) after %d cloud enlargement(s) (cloud of %d nodes within %g "
+             "m; shape.max_enlarge = %d): %s",
+             v->step + 1, c->shape->name, P->id[p], s->bodies[P->body[p]].name,
+             P->x0[MPGM_DIM * p], P->x0[MPGM_DIM * p + 1], x[0], x[1], enl, n, r,
+             c->max_enlarge, why ? why : "?");
+  else if (p < P->n + P->nprobe)
+    snprintf(t->msg, sizeof t->msg,
              "step %ld: %s shape functions failed at probe \"%s\" at (%g, %g) after %d cloud "
              "enlargement(s) (cloud of %d nodes within %g m): %s",
              v->step + 1, c->shape->name, s->probes[p - P->n].name, x[0], x[1], enl, n, r,
              why ? why : "?");
+  else
+    snprintf(t->msg, sizeof t->msg,
+             "step %ld: %s shape functions failed at surface point %d at (%g, %g) after %d cloud "
+             "enlargement(s) (cloud of %d nodes within %g m): %s",
+             v->step + 1, c->shape->name, p - P->n - P->nprobe, x[0], x[1], enl, n, r,
+             why ? why : "?");
+  return err;
 }
 
-/* Phase 2 for one point: N and grad N over its cloud at its position, with
- * enlargements on MPGM_ERR_SHAPE; appends the non-zero entries to out at
- * *k. *t_search accumulates the time of the extra searches. */
-static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *out, int *k,
-                       double *t_search) {
-  mpgm_ctx *ctx = v->ctx;
+/* Phase 2 for one point: N and grad N over its cloud (n nodes idx within
+ * r) at its position, with enlargements on MPGM_ERR_SHAPE; the non-zero
+ * entries appended to t. Counters and the time of the extra searches go to
+ * t (this runs on a worker thread). */
+static int shape_point(const mpgm_clouds *c, const mpgm_fe_view *v, int p, int n, double r,
+                       int *idx, double *d2, mpgm_conn_task *t) {
   const mpgm_points *P = v->pts;
   const double *xn_all = mpgm_kdtree_points(c->tree), *x = P->x + MPGM_DIM * p;
-  int idx[MPGM_SHAPE_MAXNODE + 1];
-  double d2[MPGM_SHAPE_MAXNODE + 1], xn[MPGM_DIM * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE],
-      dN[MPGM_DIM * MPGM_SHAPE_MAXNODE];
-  int n = c->cptr[p + 1] - c->cptr[p];
-  memcpy(idx, c->cidx + c->cptr[p], sizeof(int) * (size_t)n);
-  double r = c->rad[p];
+  double xn[MPGM_DIM * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE], dN[MPGM_DIM * MPGM_SHAPE_MAXNODE];
   mpgm_shape_info info = {0};
   int err = 0, enl = 0;
   for (;; enl++) {
@@ -281,9 +245,9 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
                                 .lambda = c->lambda + MPGM_DIM * p, .info = &info};
     /* an LME warm start that stalls is retried once from lambda = 0
      * before the cloud is enlarged */
-    err = n > 0 ? mpgm_shape_eval_retry(c->shape, &q, N, dN, &ctx->count[MPGM_C_COLD_RESTARTS])
+    err = n > 0 ? mpgm_shape_eval_retry(c->shape, &q, N, dN, &t->count[MPGM_C_COLD_RESTARTS])
                 : MPGM_ERR_SHAPE;
-    if (!err && p == 0 && mpgm_fault_due(ctx, MPGM_ERR_SHAPE, v->step + 1)) { /* tests */
+    if (!err && p == 0 && mpgm_fault_due(v->ctx, MPGM_ERR_SHAPE, v->step + 1)) { /* tests */
       err = MPGM_ERR_SHAPE;
       info.msg = "failure made on purpose (MPGM_TEST_FAULT)";
     }
@@ -303,36 +267,127 @@ static int shape_point(mpgm_clouds *c, const mpgm_fe_view *v, int p, mpgm_conn *
       r = fmax(r * (1.0 + 1e-9), MPGM_SHAPE_ENLARGE * sqrt(dn2));
       nn = cloud(c, x, r, MPGM_SHAPE_MAXNODE, idx, d2);
     }
-    *t_search += mpgm_wtime() - t0;
+    t->t_aside += mpgm_wtime() - t0;
     if (!more || nn > MPGM_SHAPE_MAXNODE) { /* no node left, or the cloud is full */
       info.msg = !more ? "every node is in the cloud already"
                        : "the enlarged cloud would exceed MPGM_SHAPE_MAXNODE nodes";
       break;
     }
-    mpgm_count(ctx, MPGM_C_CLOUD_ENLARGEMENTS, 1);
+    t->count[MPGM_C_CLOUD_ENLARGEMENTS]++;
     n = nn;
   }
-  const int surf = p - (P->n + P->nprobe); /* >= 0: a surface point */
-  if (err == MPGM_ERR_SHAPE && p >= P->n) {
-    /* no functions at a probe or surface point (contact is not enforced
-     * there in this step, counted): mpgm_tracers_carry moves it with its
-     * nearest material point */
-    mpgm_err_clear(ctx);
-    if (surf >= 0) mpgm_cpoints_unenforce(v->cp, surf);
-    return 0;
-  }
   /* MPGM_ERR_SHAPE (recoverable), or a fatal MPGM_ERR_INPUT */
-  if (err) return shape_failed(c, v, p, err, enl, n, r, info.msg);
-  MPGM_CALL(mpgm_conn_grow(ctx, out, *k, *k + n));
-  for (int a = 0; a < n; a++) { /* 2-D only: grad N's x and y written out */
+  if (err) return shape_failed(c, v, p, err, enl, n, r, info.msg, t);
+  if (mpgm_conn_task_room(t, n)) return MPGM_ERR_NOMEM;
+  for (int a = 0; a < n; a++) {
     if (N[a] == 0.0 && dN[MPGM_DIM * a] == 0.0 && dN[MPGM_DIM * a + 1] == 0.0)
       continue; /* outside the support */
-    out->node[*k] = idx[a];
-    out->N[*k] = N[a];
-    out->dN[MPGM_DIM * *k] = dN[MPGM_DIM * a];
-    out->dN[MPGM_DIM * *k + 1] = dN[MPGM_DIM * a + 1];
-    (*k)++;
+    mpgm_conn_task_push(t, idx[a], N[a], dN + MPGM_DIM * a);
   }
+  return 0;
+}
+
+typedef struct {
+  mpgm_clouds *c;
+  const mpgm_fe_view *v;
+  int want; /**< smallest cloud: min_nodes, or every node when fewer */
+} cloud_job;
+
+/* Phase 1 for the points of task t: the clouds from the radius search,
+ * with radius growth up to min_nodes nodes, into t->iscr (per point: the
+ * offset of its nodes, their count, which may exceed MPGM_SHAPE_MAXNODE,
+ * and the growths of its radius; then the nodes), timed into t_aside. */
+static int search_range(const cloud_job *j, mpgm_conn_task *t) {
+  const mpgm_clouds *c = j->c;
+  const mpgm_points *P = j->v->pts;
+  const int np = t->p1 - t->p0;
+  const double t0 = mpgm_wtime();
+  size_t used = 3 * (size_t)np;
+  int err = mpgm_conn_task_iscr(t, used + 16 * (size_t)np);
+  int idx[MPGM_SHAPE_MAXNODE];
+  double d2[MPGM_SHAPE_MAXNODE];
+  for (int p = t->p0; p < t->p1 && !err; p++) {
+    double r = c->r0;
+    long growths = 0;
+    /* a probe or surface point with no node within its support is away
+     * from the material: it gets no functions (mpgm_tracers_carry then
+     * moves it with the material), never a radius grown across the
+     * domain */
+    const int n = grown_cloud(c, P->x + MPGM_DIM * p, j->want, p >= P->n, &r, idx, d2, &growths);
+    const int have = n < MPGM_SHAPE_MAXNODE ? n : MPGM_SHAPE_MAXNODE;
+    err = mpgm_conn_task_iscr(t, used + (size_t)have);
+    if (err) break;
+    int *h = t->iscr + 3 * (p - t->p0);
+    h[0] = (int)used;
+    h[1] = n;
+    h[2] = (int)growths;
+    memcpy(t->iscr + used, idx, sizeof(int) * (size_t)have);
+    used += (size_t)have;
+    t->count[MPGM_C_RADIUS_GROWTHS] += growths;
+  }
+  t->t_aside += mpgm_wtime() - t0;
+  return err;
+}
+
+/* Point p: its cloud (the range's search at its first point), then its
+ * functions (phase 2). */
+static int cloud_point(void *arg, int p, mpgm_conn_task *t) {
+  const cloud_job *j = arg;
+  const mpgm_clouds *c = j->c;
+  const mpgm_fe_view *v = j->v;
+  const mpgm_points *P = v->pts;
+  if (p == t->p0 && search_range(j, t)) return MPGM_ERR_NOMEM;
+  const int *h = t->iscr + 3 * (p - t->p0), n = h[1];
+  int idx[MPGM_SHAPE_MAXNODE + 1];
+  double d2[MPGM_SHAPE_MAXNODE + 1];
+  double r = c->r0;
+  for (int g = 0; g < h[2]; g++) r *= MPGM_SHAPE_GROWTH; /* as grown_cloud grew it */
+  if (n > MPGM_SHAPE_MAXNODE) {
+    const double *x = P->x + MPGM_DIM * p;
+    snprintf(t->msg, sizeof t->msg,
+             "%s: shape: step %ld: %s %d at (%g, %g) has %d nodes within its support radius "
+             "%g m, more than MPGM_SHAPE_MAXNODE = %d: lower shape.radius / shape.dilation "
+             "(mls) or raise shape.gamma (lme)",
+             v->scene->file, v->step + 1, kind_of(P, p), p < P->n ? P->id[p] : p - P->n, x[0],
+             x[1], n, r, MPGM_SHAPE_MAXNODE);
+    return MPGM_ERR_INPUT;
+  }
+  memcpy(idx, t->iscr + h[0], sizeof(int) * (size_t)n);
+  return shape_point(c, v, p, n, r, idx, d2, t);
+}
+
+/* The tracers (probes, surface points) one by one after the material
+ * points, from entry k of out: one that fails gets no functions (contact
+ * is not enforced at a surface point in this step): mpgm_tracers_carry
+ * moves it with its nearest material point. */
+static int tracers(mpgm_clouds *c, cloud_job *j, mpgm_conn *out, int *k) {
+  const mpgm_fe_view *v = j->v;
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_points *P = v->pts;
+  const int m = P->n + P->nprobe + P->nsurf;
+  mpgm_conn_task *t = &c->tail;
+  for (int p = P->n; p < m; p++) {
+    out->ptr[p] = *k;
+    t->n = 0;
+    t->p0 = p;
+    t->p1 = p + 1;
+    memset(t->count, 0, sizeof t->count);
+    const int err = cloud_point(j, p, t);
+    for (int i = 0; i < MPGM_C_COUNT; i++) ctx->count[i] += t->count[i];
+    if (err == MPGM_ERR_SHAPE) {
+      const int surf = p - (P->n + P->nprobe); /* >= 0: a surface point */
+      if (surf >= 0) mpgm_cpoints_unenforce(v->cp, surf);
+      continue;
+    }
+    MPGM_CHECK(ctx, err != MPGM_ERR_NOMEM, err, "out of memory (functions of a tracer)");
+    if (err) MPGM_ERROR(ctx, err, "%s", t->msg);
+    MPGM_CALL(mpgm_conn_grow(ctx, out, *k, *k + t->n));
+    memcpy(out->node + *k, t->node, sizeof(int) * (size_t)t->n);
+    memcpy(out->N + *k, t->N, sizeof(double) * (size_t)t->n);
+    memcpy(out->dN + MPGM_DIM * (size_t)*k, t->dN, sizeof(double) * MPGM_DIM * (size_t)t->n);
+    *k += t->n;
+  }
+  out->ptr[m] = *k;
   return 0;
 }
 
@@ -344,22 +399,20 @@ int mpgm_clouds_build(mpgm_clouds *c, const mpgm_fe_view *v, const mpgm_kdtree *
   MPGM_CHECK(ctx, m == c->m, MPGM_ERR_INTERNAL, "node clouds of %d points, asked for %d", c->m, m);
   c->tree = tree;
   c->skip = skip;
-  /* the caller times this as "shape": the search time is moved to
-   * "search", so that the two add up to the call */
-  const double t0 = mpgm_wtime();
-  MPGM_CALL(search(c, v));
-  double ts = mpgm_wtime() - t0;
-  /* room for every cloud of the search (enlargements may add more) */
+  const int nnode = mpgm_kdtree_size(tree);
+  cloud_job j = {c, v, c->min_nodes < nnode ? c->min_nodes : nnode};
   MPGM_CALL(mpgm_conn_reserve(ctx, out, m, 0));
-  MPGM_CALL(mpgm_conn_grow(ctx, out, 0, c->cptr[m]));
-  int k = 0, err = 0;
-  for (int p = 0; p < m && !err; p++) {
-    out->ptr[p] = k;
-    err = shape_point(c, v, p, out, &k, &ts);
-  }
-  out->ptr[m] = k;
-  mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, ts);
-  return err;
+  /* the material points on the pool's threads; the caller times this as
+   * "shape": the search's share is moved to "search", so that the two
+   * add up to the call */
+  const mpgm_conn_task *failed;
+  const int err = mpgm_conn_par_build(ctx, v->pool, &c->par_build, v->pts->n, out, cloud_point, &j,
+                                      &failed);
+  mpgm_timer_move(ctx, MPGM_T_SHAPE, MPGM_T_SEARCH, c->par_build.t_aside);
+  if (err && failed) MPGM_ERROR(ctx, err, "%s", failed->msg);
+  if (err) return err;
+  int k = out->ptr[v->pts->n];
+  return tracers(c, &j, out, &k);
 }
 
 int mpgm_clouds_eval_at(mpgm_clouds *c, mpgm_ctx *ctx, const mpgm_kdtree *tree,

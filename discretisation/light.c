@@ -39,6 +39,13 @@ static const char *kind_of(const mpgm_points *P, int p) {
 int mpgm_light_drop(mpgm_ctx *ctx, mpgm_conn *c, int m, const unsigned char *light,
                     const mpgm_points *P, mpgm_cpoints *cp, long step, double min_node_mass) {
   const int first_surface = P->n + P->nprobe;
+  /* nothing to drop (the common case: only the empty nodes are light,
+   * and no list holds one) when no surface point may lose its lists */
+  if (m <= first_surface) {
+    int any = 0;
+    for (int k = 0; k < c->ptr[m] && !any; k++) any = light[c->node[k]];
+    if (!any) return 0;
+  }
   int w = 0;
   for (int p = 0; p < m; p++) {
     const int k0 = c->ptr[p], k1 = c->ptr[p + 1];

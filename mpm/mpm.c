@@ -2,6 +2,7 @@
 #include "mpgm_mpm.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,8 +29,7 @@ typedef struct mpm_data {
   mpgm_conn plists;    /**< clouds: the lists of the last begin_step         */
   mpgm_conn carry;     /**< scratch of mpgm_tracers_carry                    */
   unsigned char *pfix, *pact;
-  double *gm, *gq, *gf;/**< per grid node: mass; MPGM_DIM each: momentum,
-                            inertia force                                 */
+  double *gm;          /**< per grid node: mass (the light-node rule)       */
   unsigned char *light;/**< per grid node: light (no equation this step)    */
   /* meshfree shape functions (shape.kind mls / lme): clouds of grid nodes;
    * grid kinds (ugimp) take the 4 x 4 grid nodes around a point directly */
@@ -44,6 +44,8 @@ typedef struct mpm_data {
   long step;           /**< steps begun (for messages)                     */
   mpgm_cpls *cpls;     /**< CPLS (shape.kind cpls): the nodal velocities by
                             least squares, its workspace                  */
+  mpgm_conn_par par_build; /**< staging of the functions built in parallel */
+  mpgm_conn_task tail; /**< staging of a tracer's functions                 */
 } mpm_data;
 
 static void mpm_destroy(void *self) {
@@ -64,14 +66,14 @@ static void mpm_destroy(void *self) {
   free(d->light);
   mpgm_conn_release(&d->plists);
   mpgm_conn_release(&d->carry);
-  free(d->gq);
-  free(d->gf);
   free(d->gx);
   mpgm_kdtree_destroy(&d->tree);
   mpgm_clouds_destroy(d->clouds);
   free(d->perm);
   free(d->pscr);
   mpgm_cpls_destroy(d->cpls);
+  mpgm_conn_par_free(&d->par_build);
+  mpgm_conn_task_free(&d->tail);
   free(d);
 }
 
@@ -121,8 +123,6 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
   d->pn = -1;
   MPGM_ALLOC(ctx, d->gm, g->nnode);
   MPGM_ALLOC(ctx, d->light, g->nnode);
-  MPGM_ALLOC(ctx, d->gq, MPGM_DIM * (size_t)g->nnode);
-  MPGM_ALLOC(ctx, d->gf, MPGM_DIM * (size_t)g->nnode);
   MPGM_CALL(mpgm_conn_reserve(ctx, v->conn, m, m * g->nn));
   MPGM_ALLOC(ctx, d->perm, m);
   MPGM_ALLOC(ctx, d->pscr, MPGM_DIM * (size_t)m);
@@ -286,45 +286,57 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
   return 0;
 }
 
-/* FE shape functions of every point in its cell of the undeformed grid,
- * with grid node ids (a surface tracer with no cell near has none). */
-static int cell_shape(const mpgm_fe_view *v, mpm_data *d) {
-  const mpgm_grid *g = &d->g;
-  const mpgm_points *P = v->pts;
-  mpgm_conn *C = v->conn;
-  const int ms = P->n + P->nprobe, m = ms + P->nsurf, nn = g->nn;
-  int k = 0;
-  for (int p = 0; p < m; p++) {
-    int nodes[MPGM_FE_MAXNODE];
-    double xn[MPGM_DIM * MPGM_FE_MAXNODE];
-    C->ptr[p] = k;
-    if (p >= ms && mpgm_cpoints_unenforced(v->cp, p - ms)) continue; /* no shape functions */
-    if (p >= P->n && p < ms && d->pcell[p] < 0) continue;             /* a probe carried */
-    mpgm_grid_cell(g, d->pcell[p], nodes, xn);
-    /* 2-D only: the query's xp and xi written out (mpgm_shapefn.h) */
-    mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]},
-                          .cell = g->cell,
-                          .xi = {d->pxi[MPGM_DIM * p], d->pxi[MPGM_DIM * p + 1]}};
-    MPGM_CALL(v->scene->shape->eval(&q, C->N + k, C->dN + MPGM_DIM * k));
-    for (int a = 0; a < nn; a++) C->node[k + a] = nodes[a]; /* grid ids for now */
-    k += nn;
+typedef struct {
+  const mpgm_fe_view *v;
+  const mpm_data *d;
+} shape_job;
+
+/* FE shape functions of point p in its cell of the undeformed grid, with
+ * grid node ids. */
+static int cell_point(void *arg, int p, mpgm_conn_task *t) {
+  const shape_job *j = arg;
+  const mpgm_grid *g = &j->d->g;
+  const mpgm_points *P = j->v->pts;
+  const int nn = g->nn;
+  if (mpgm_conn_task_room(t, nn)) return MPGM_ERR_NOMEM;
+  const int k = t->n;
+  double xn[MPGM_DIM * MPGM_FE_MAXNODE];
+  mpgm_grid_cell(g, j->d->pcell[p], t->node + k, xn); /* grid ids for now */
+  /* 2-D only: the query's xp and xi written out (mpgm_shapefn.h) */
+  mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]},
+                        .cell = g->cell,
+                        .xi = {j->d->pxi[MPGM_DIM * p], j->d->pxi[MPGM_DIM * p + 1]}};
+  const int err = j->v->scene->shape->eval(&q, t->N + k, t->dN + MPGM_DIM * k);
+  if (err) {
+    snprintf(t->msg, sizeof t->msg, "step %ld: %s shape functions failed at point %d at (%g, %g)",
+             j->d->step, j->v->scene->shape->name, p < P->n ? P->id[p] : p - P->n,
+             P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]);
+    return err;
   }
-  C->ptr[m] = k;
+  t->n = k + nn;
   return 0;
 }
 
-/* A grid kind's functions at a point from the grid nodes that may reach
+/* A grid kind's functions at point p from the grid nodes that may reach
  * it: uGIMP the 4 x 4 block around its square (every node within h + lp
- * < 1.5 h); a kind with a domain (CPDI; dom: its half-axes r1, r2, or
- * NULL for a tracer) every node within h of the domain's bounding box. The
- * zero ones dropped, into C at *k (grid node ids); 0, or the evaluation's
- * error with the reason in *why. */
-static int grid_point(const mpgm_fe_view *v, const mpm_data *d, const double x[MPGM_DIM],
-                      const double *dom, int *k, const char **why) {
-  const mpgm_grid *g = &d->g;
-  mpgm_conn *C = v->conn;
+ * < 1.5 h); a kind with a domain (CPDI; its half-axes r1, r2, none for a
+ * tracer) every node within h of the domain's bounding box. The zero ones
+ * dropped, appended to t (grid node ids); 0, or the evaluation's error
+ * with its reason in t->msg. */
+static int grid_point(void *arg, int p, mpgm_conn_task *t) {
+  const shape_job *j = arg;
+  const mpgm_fe_view *v = j->v;
+  const mpgm_grid *g = &j->d->g;
+  const mpgm_points *P = v->pts;
+  const double *x = P->x + MPGM_DIM * p;
+  double r[2 * MPGM_DIM], *dom = NULL;
+  if (p < P->n && v->scene->shape->domain) {
+    mpgm_point_domain(P, p, r);
+    dom = r;
+  }
   int i0 = (int)floor((x[0] - g->min[0]) / g->h) - 1, j0 = (int)floor((x[1] - g->min[1]) / g->h) - 1;
   int i1 = i0 + 3, j1 = j0 + 3;
+  const char *why = NULL;
   if (v->scene->shape->domain) { /* 2-D only: the box's extents in x and y */
     const double ex = dom ? fabs(dom[0]) + fabs(dom[2]) : 0.0;
     const double ey = dom ? fabs(dom[1]) + fabs(dom[3]) : 0.0;
@@ -332,71 +344,89 @@ static int grid_point(const mpgm_fe_view *v, const mpm_data *d, const double x[M
     i1 = (int)floor((x[0] + ex - g->min[0]) / g->h) + 1;
     j0 = (int)floor((x[1] - ey - g->min[1]) / g->h);
     j1 = (int)floor((x[1] + ey - g->min[1]) / g->h) + 1;
-    if ((long)(i1 - i0 + 1) * (j1 - j0 + 1) > MPGM_SHAPE_MAXNODE) {
-      *why = "the particle's domain spans more grid nodes than a point may have (MPGM_SHAPE_MAXNODE)";
-      return MPGM_ERR_SHAPE;
-    }
+    if ((long)(i1 - i0 + 1) * (j1 - j0 + 1) > MPGM_SHAPE_MAXNODE)
+      why = "the particle's domain spans more grid nodes than a point may have (MPGM_SHAPE_MAXNODE)";
   }
-  int id[MPGM_SHAPE_MAXNODE];
+  int id[MPGM_SHAPE_MAXNODE], n = 0, err = MPGM_ERR_SHAPE, clamped = 0;
   double xn[MPGM_DIM * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE], dN[MPGM_DIM * MPGM_SHAPE_MAXNODE];
-  int n = 0;
-  for (int j = j0; j <= j1; j++)
+  for (int jj = j0; jj <= j1 && !why; jj++)
     for (int i = i0; i <= i1; i++) {
-      if (i < 0 || j < 0 || i > g->nx || j > g->ny) continue;
-      id[n] = j * (g->nx + 1) + i;
+      if (i < 0 || jj < 0 || i > g->nx || jj > g->ny) continue;
+      id[n] = jj * (g->nx + 1) + i;
       mpgm_grid_node(g, id[n], xn + MPGM_DIM * n);
       n++;
     }
-  mpgm_shape_info info = {0};
-  /* 2-D only: the query's position written out (mpgm_shapefn.h) */
-  const mpgm_shape_query q = {.n = n, .xn = xn, .xp = {x[0], x[1]}, .cell = -1, .par = &d->gpar,
-                              .info = &info, .domain = dom};
-  const int err = n ? v->scene->shape->eval(&q, N, dN) : MPGM_ERR_SHAPE;
-  *why = n ? info.msg : "no grid node near";
-  if (err) return err;
-  if (info.clamped) mpgm_count(v->ctx, MPGM_C_DOMAIN_CLAMPS, info.clamped);
-  MPGM_CALL(mpgm_conn_grow(v->ctx, C, *k, *k + n));
-  for (int a = 0; a < n; a++) {
-    if (N[a] == 0.0 && dN[MPGM_DIM * a] == 0.0 && dN[MPGM_DIM * a + 1] == 0.0) continue;
-    C->node[*k] = id[a];
-    C->N[*k] = N[a];
-    C->dN[MPGM_DIM * *k] = dN[MPGM_DIM * a];
-    C->dN[MPGM_DIM * *k + 1] = dN[MPGM_DIM * a + 1];
-    (*k)++;
+  if (!why) {
+    mpgm_shape_info info = {0};
+    /* 2-D only: the query's position written out (mpgm_shapefn.h) */
+    const mpgm_shape_query q = {.n = n, .xn = xn, .xp = {x[0], x[1]}, .cell = -1,
+                                .par = &j->d->gpar, .info = &info, .domain = dom};
+    err = n ? v->scene->shape->eval(&q, N, dN) : MPGM_ERR_SHAPE;
+    why = n ? info.msg : "no grid node near";
+    clamped = info.clamped;
   }
+  if (err && p < P->n)
+    snprintf(t->msg, sizeof t->msg, "step %ld: %s shape functions failed at point %d (body "
+             "\"%s\", started at (%g, %g)) at (%g, %g): %s", j->d->step, v->scene->shape->name,
+             P->id[p], v->scene->bodies[P->body[p]].name, P->x0[MPGM_DIM * p],
+             P->x0[MPGM_DIM * p + 1], x[0], x[1], why ? why : "?");
+  else if (err)
+    snprintf(t->msg, sizeof t->msg, "step %ld: %s shape functions failed at tracer %d at (%g, "
+             "%g): %s", j->d->step, v->scene->shape->name, p - P->n, x[0], x[1], why ? why : "?");
+  if (err) return err;
+  t->count[MPGM_C_DOMAIN_CLAMPS] += clamped;
+  if (mpgm_conn_task_room(t, n)) return MPGM_ERR_NOMEM;
+  for (int a = 0; a < n; a++)
+    if (N[a] != 0.0 || dN[MPGM_DIM * a] != 0.0 || dN[MPGM_DIM * a + 1] != 0.0)
+      mpgm_conn_task_push(t, id[a], N[a], dN + MPGM_DIM * a);
   return 0;
 }
 
-/* A grid kind's functions at every point: a probe or surface point whose
- * evaluation fails gets none (it is carried, or not enforced); a material
- * point's failure is the step's (recoverable) failure. */
-static int grid_shape(const mpgm_fe_view *v, mpm_data *d) {
+/* The functions of the tracers (probes, surface points) one by one after
+ * the material points, from entry C->ptr[P->n]: a probe in no cell holding
+ * material, or whose evaluation fails, gets none (it is carried), nor
+ * does a surface point (not enforced in this step). */
+static int tracer_shape(const mpgm_fe_view *v, mpm_data *d, shape_job *j,
+                        mpgm_conn_point_fn fn) {
   const mpgm_points *P = v->pts;
   mpgm_conn *C = v->conn;
   const int ms = P->n + P->nprobe, m = ms + P->nsurf;
-  int k = 0;
-  for (int p = 0; p < m; p++) {
+  mpgm_conn_task *t = &d->tail;
+  int k = C->ptr[P->n];
+  for (int p = P->n; p < m; p++) {
     C->ptr[p] = k;
     if (p >= ms && mpgm_cpoints_unenforced(v->cp, p - ms)) continue; /* no shape functions */
-    if (p >= P->n && p < ms && d->pcell[p] < 0) continue;             /* a probe carried */
-    const char *why = NULL;
-    double r[2 * MPGM_DIM], *dom = NULL;
-    if (p < P->n && v->scene->shape->domain) {
-      mpgm_point_domain(P, p, r);
-      dom = r;
-    }
-    const int err = grid_point(v, d, P->x + MPGM_DIM * p, dom, &k, &why);
-    if (!err) continue;
-    if (err != MPGM_ERR_SHAPE) return err;
-    if (p >= ms) mpgm_cpoints_unenforce(v->cp, p - ms);
-    if (p >= P->n) continue;
-    MPGM_ERROR(v->ctx, err, "step %ld: %s shape functions failed at point %d (body \"%s\", "
-               "started at (%g, %g)) at (%g, %g): %s", d->step, v->scene->shape->name, P->id[p],
-               v->scene->bodies[P->body[p]].name, P->x0[MPGM_DIM * p], P->x0[MPGM_DIM * p + 1],
-               P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], why ? why : "?");
+    if (p < ms && d->pcell[p] < 0) continue;                          /* a probe carried */
+    t->n = 0;
+    memset(t->count, 0, sizeof t->count);
+    const int err = fn(j, p, t);
+    MPGM_CHECK(v->ctx, err != MPGM_ERR_NOMEM, err, "out of memory (functions of a tracer)");
+    if (err == MPGM_ERR_SHAPE && p >= ms) mpgm_cpoints_unenforce(v->cp, p - ms);
+    if (err == MPGM_ERR_SHAPE) continue;
+    if (err) MPGM_ERROR(v->ctx, err, "%s", t->msg);
+    for (int i = 0; i < MPGM_C_COUNT; i++) v->ctx->count[i] += t->count[i];
+    MPGM_CALL(mpgm_conn_grow(v->ctx, C, k, k + t->n));
+    memcpy(C->node + k, t->node, sizeof(int) * (size_t)t->n);
+    memcpy(C->N + k, t->N, sizeof(double) * (size_t)t->n);
+    memcpy(C->dN + MPGM_DIM * (size_t)k, t->dN, sizeof(double) * MPGM_DIM * (size_t)t->n);
+    k += t->n;
   }
   C->ptr[m] = k;
   return 0;
+}
+
+/* FE (cell kinds) or grid-kind functions at every point: the material
+ * points on the pool's threads, where a failure is the step's
+ * (recoverable) failure; then the tracers. */
+static int point_shape(const mpgm_fe_view *v, mpm_data *d) {
+  shape_job j = {v, d};
+  const mpgm_conn_point_fn fn = d->gridfn ? grid_point : cell_point;
+  const mpgm_conn_task *failed;
+  const int err = mpgm_conn_par_build(v->ctx, v->pool, &d->par_build, v->pts->n, v->conn, fn, &j,
+                                      &failed);
+  if (err && failed) MPGM_ERROR(v->ctx, err, "%s", failed->msg);
+  if (err) return err;
+  return tracer_shape(v, d, &j, fn);
 }
 
 /* The nodes of the step: the grid nodes that are not light (they carry
@@ -427,41 +457,85 @@ static void step_nodes(const mpgm_fe_view *v, mpm_data *d) {
   for (int k = 0; k < C->ptr[C->np]; k++) C->node[k] = d->gmap[C->node[k]];
 }
 
-/* Projection (38)-(41) with the final shape functions: mass, momentum and
- * inertia force of the particles onto the nodes (to round-off), the nodal
- * velocity and acceleration; CPLS replaces the velocity by its least-squares
- * reconstruction (cpls.c). */
-static int project(const mpgm_fe_view *v, mpm_data *d) {
+typedef struct {
+  const mpgm_fe_view *v;
+  mpm_data *d;
+  int ntask;
+} project_job;
+
+/* The projection at the nodes of task t's range, gathered through the
+ * transpose (the same sums as a loop over the points). */
+static void project_task(void *arg, int t, int tid) {
+  (void)tid;
+  const project_job *j = arg;
+  const mpgm_points *P = j->v->pts;
+  mpgm_nodes *nd = j->v->nodes;
+  const mpgm_conn *C = j->v->conn;
+  const int n = nd->n, inertia = j->v->fx->inertia;
+  const int i0 = mpgm_task_begin(n, j->ntask, t), i1 = mpgm_task_begin(n, j->ntask, t + 1);
+  for (int I = i0; I < i1; I++) {
+    double m = 0.0, q[MPGM_DIM] = {0}, f[MPGM_DIM] = {0};
+    for (int e = C->tptr[I]; e < C->tptr[I + 1]; e++) {
+      const int p = C->tp[e];
+      const double wm = C->N[C->tk[e]] * P->mass[p];
+      m += wm;
+      if (inertia) /* 2-D only: momentum and inertia force written out */
+        for (int c = 0; c < MPGM_DIM; c++) {
+          q[c] += wm * P->v[MPGM_DIM * p + c];
+          f[c] += wm * P->a[MPGM_DIM * p + c];
+        }
+    }
+    nd->mass[I] = m;
+    for (int c = 0; c < MPGM_DIM; c++) {
+      nd->v[MPGM_DIM * I + c] = inertia ? q[c] / m : 0.0;
+      nd->a[MPGM_DIM * I + c] = inertia ? f[c] / m : 0.0;
+    }
+  }
+}
+
+/* The projection by one loop over the points (the sums of project_task). */
+static void project_scatter(const mpgm_fe_view *v) {
   const mpgm_points *P = v->pts;
   mpgm_nodes *nd = v->nodes;
   const mpgm_conn *C = v->conn;
   const int n = nd->n, inertia = v->fx->inertia;
   memset(nd->mass, 0, sizeof(double) * (size_t)n);
-  if (inertia) {
-    memset(d->gq, 0, sizeof(double) * MPGM_DIM * (size_t)n);
-    memset(d->gf, 0, sizeof(double) * MPGM_DIM * (size_t)n);
-  }
+  memset(nd->v, 0, sizeof(double) * MPGM_DIM * (size_t)n);
+  memset(nd->a, 0, sizeof(double) * MPGM_DIM * (size_t)n);
   for (int p = 0; p < P->n; p++)
-    for (int kk = C->ptr[p]; kk < C->ptr[p + 1]; kk++) {
-      const int I = C->node[kk];
-      const double wm = C->N[kk] * P->mass[p];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      const double wm = C->N[k] * P->mass[p];
       nd->mass[I] += wm;
-      if (inertia) { /* 2-D only: momentum and inertia force written out */
-        d->gq[MPGM_DIM * I] += wm * P->v[MPGM_DIM * p];
-        d->gq[MPGM_DIM * I + 1] += wm * P->v[MPGM_DIM * p + 1];
-        d->gf[MPGM_DIM * I] += wm * P->a[MPGM_DIM * p];
-        d->gf[MPGM_DIM * I + 1] += wm * P->a[MPGM_DIM * p + 1];
-      }
+      if (inertia) /* 2-D only: momentum and inertia force written out */
+        for (int c = 0; c < MPGM_DIM; c++) {
+          nd->v[MPGM_DIM * I + c] += wm * P->v[MPGM_DIM * p + c];
+          nd->a[MPGM_DIM * I + c] += wm * P->a[MPGM_DIM * p + c];
+        }
     }
   for (int i = 0; i < MPGM_DIM * n && inertia; i++) {
-    nd->v[i] = d->gq[i] / nd->mass[i / MPGM_DIM];
-    nd->a[i] = d->gf[i] / nd->mass[i / MPGM_DIM];
+    nd->v[i] /= nd->mass[i / MPGM_DIM];
+    nd->a[i] /= nd->mass[i / MPGM_DIM];
   }
-  if (!inertia) {
-    memset(nd->v, 0, sizeof(double) * MPGM_DIM * (size_t)n);
-    memset(nd->a, 0, sizeof(double) * MPGM_DIM * (size_t)n);
+}
+
+/* Projection (38)-(41) with the final shape functions: mass, momentum and
+ * inertia force of the particles onto the nodes (to round-off), the nodal
+ * velocity and acceleration (node by node on the pool's threads, or one
+ * loop over the points: mpgm_conn_gathers); CPLS replaces the velocity by
+ * its least-squares reconstruction (cpls.c). */
+static int project(const mpgm_fe_view *v, mpm_data *d) {
+  const mpgm_points *P = v->pts;
+  mpgm_nodes *nd = v->nodes;
+  const int n = nd->n;
+  if (mpgm_conn_gathers(v->pool, v->conn, P->n)) {
+    MPGM_CALL(mpgm_conn_transpose(v->ctx, v->conn, P->n, n));
+    project_job j = {v, d, mpgm_ntask(n, 256)};
+    mpgm_pool_run(v->pool, j.ntask, project_task, &j);
+  } else {
+    project_scatter(v);
   }
-  if (!inertia || !v->scene->shape->velocity_ls) return 0;
+  if (!v->fx->inertia || !v->scene->shape->velocity_ls) return 0;
   /* CPLS: the velocities by least squares from centres and corners */
   long lower = 0, kept = 0;
   MPGM_CALL(mpgm_cpls_velocities(v->ctx, &d->cpls, &d->g, P, v->scene->shape_par.order, n,
@@ -520,9 +594,8 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(locate(v, d));
   /* meshfree kinds (LME-MPM, MLS-MPM): the clouds of grid nodes at the
    * undeformed grid, ids of grid nodes (discretisation/clouds.c) */
-  MPGM_CALL(d->gridfn     ? grid_shape(v, d)
-            : d->meshfree ? mpgm_clouds_build(d->clouds, v, d->tree, NULL, v->conn)
-                          : cell_shape(v, d));
+  MPGM_CALL(d->meshfree && !d->gridfn ? mpgm_clouds_build(d->clouds, v, d->tree, NULL, v->conn)
+                                      : point_shape(v, d));
   memset(d->light, 0, (size_t)d->g.nnode);
   mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->min_node_mass, d->gm, d->light);
   MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));
