@@ -234,7 +234,30 @@ static void permute(double *a, double *scr, const int *perm, int n, int w) {
   memcpy(a, scr, sizeof(double) * (size_t)w * (size_t)n);
 }
 
-/* Locate the points in the grid and activate the cells holding material;
+typedef struct {
+  mpm_data *d;
+  const mpgm_points *P;
+  int ntask;
+  int fail[MPGM_CONN_TASKS]; /* per task: its first point outside the grid, or P->n */
+} locate_job;
+
+/* The cells of task t's material points. */
+static void locate_task(void *arg, int t, int tid) {
+  (void)tid;
+  locate_job *j = arg;
+  const int np = j->P->n;
+  const int p0 = mpgm_task_begin(np, j->ntask, t), p1 = mpgm_task_begin(np, j->ntask, t + 1);
+  j->fail[t] = np;
+  for (int p = p0; p < p1; p++)
+    if (mpgm_grid_locate(&j->d->g, j->P->x + MPGM_DIM * p, j->d->pcell + p,
+                         j->d->pxi + MPGM_DIM * p)) {
+      j->fail[t] = p;
+      return;
+    }
+}
+
+/* Locate the points in the grid (the material points on the pool's
+ * threads) and activate the cells holding material;
  * keep the particles in cell order in memory; the cells of the probes and
  * surface tracers. */
 static int locate(const mpgm_fe_view *v, mpm_data *d) {
@@ -244,19 +267,22 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
   mpgm_points *P = v->pts;
   const int np = P->n, ms = P->n + P->nprobe, m = ms + P->nsurf;
   memset(d->cact, 0, (size_t)g->ncell);
-  for (int p = 0; p < ms; p++) {
-    if (mpgm_grid_locate(g, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p)) {
-      if (p < np)
-        MPGM_ERROR(ctx, MPGM_ERR_DOMAIN,
-                   "step %ld: particle %d (body \"%s\", started at (%g, %g)) is at (%g, %g), "
-                   "outside the background grid [%g, %g] x [%g, %g] (mesh.domain)",
-                   d->step, P->id[p], s->bodies[P->body[p]].name, P->x0[MPGM_DIM * p],
-                   P->x0[MPGM_DIM * p + 1], P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], g->min[0],
-                   g->max[0], g->min[1], g->max[1]);
-      d->pcell[p] = -1; /* a probe outside the grid: carried (below) */
+  locate_job j = {d, P, mpgm_ntask(np, 1024), {0}};
+  mpgm_pool_run(v->pool, j.ntask, locate_task, &j);
+  for (int t = 0; t < j.ntask; t++) /* the lowest point outside the grid */
+    if (j.fail[t] < np) {
+      const int p = j.fail[t];
+      MPGM_ERROR(ctx, MPGM_ERR_DOMAIN,
+                 "step %ld: particle %d (body \"%s\", started at (%g, %g)) is at (%g, %g), "
+                 "outside the background grid [%g, %g] x [%g, %g] (mesh.domain)",
+                 d->step, P->id[p], s->bodies[P->body[p]].name, P->x0[MPGM_DIM * p],
+                 P->x0[MPGM_DIM * p + 1], P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], g->min[0],
+                 g->max[0], g->min[1], g->max[1]);
     }
-    if (p < np) d->cact[d->pcell[p]] = 1;
-  }
+  for (int p = 0; p < np; p++) d->cact[d->pcell[p]] = 1;
+  for (int p = np; p < ms; p++) /* a probe outside the grid: carried (below) */
+    if (mpgm_grid_locate(g, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p))
+      d->pcell[p] = -1;
   /* The particles of a cell are used together (one group in the
    * assembly): keep them together in memory. As they cross cells their
    * order decays (the rolling disk: 60 % of the cells scattered after 20
