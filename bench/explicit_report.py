@@ -32,14 +32,19 @@ def speed():
           "output included); `cpu_s` below threads x wall means the run shared the cores. Columns "
           "after cpu: seconds in the shape functions with the projection of mass and momentum "
           "(`shape` + `search`), the stress update, the nodal forces, the update of the points, "
-          "npc's predictor, output. Only the stress update runs on the worker threads so far, so "
-          "2 threads gain nothing yet.\n")
+          "npc's predictor, output. On 2 threads the shape functions, the location of the points, "
+          "the stress update and the update of the points run on both; the projection, "
+          "predictor and forces are gathered node by node for Q4, uGIMP and CPDI and stay one "
+          "loop over the points for LME's wide clouds (docs/architecture.md, Threads); the rest "
+          "of the step (the light-node rule, the step's nodes, energies, the CFL scan) is "
+          "serial.\n")
     print("| shape | scheme | threads | M particle-steps/s | wall [s] | cpu [s] | shape fns | "
           "stress | forces | update | predictor | output |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for name, shape, scheme, th in [("q4_1", "Q4", "npc", 1), ("q4_2", "Q4", "npc", 2),
                                     ("q4fe_1", "Q4", "fe", 1), ("q4usl_1", "Q4", "usl", 1),
                                     ("ugimp_1", "uGIMP", "npc", 1), ("ugimp_2", "uGIMP", "npc", 2),
+                                    ("cpdi_1", "CPDI", "npc", 1), ("cpdi_2", "CPDI", "npc", 2),
                                     ("lme_1", "LME γ 1.8", "npc", 1), ("lme_2", "LME γ 1.8", "npc", 2)]:
         s = summary(f"speed_{name}")
         if not s or s.get("status") != "completed":
