@@ -10,6 +10,14 @@
 #   bash tests/scripts/golden.sh build/mpgm . /tmp/golden --update
 # usage: golden.sh MPGM_EXE SOURCE_DIR WORK_DIR [--update]
 set -uo pipefail
+# The bits of a run depend on the processor through two libraries that pick
+# their code by CPU at load time: OpenBLAS's kernels (the dense blocks of
+# CHOLMOD's supernodal and UMFPACK's factors: SkylakeX, Haswell and Zen
+# kernels sum in different orders) and glibc's libm (exp, log, pow, sin have
+# FMA and AVX variants). Pinned here to code every x86-64 processor runs,
+# so that the records test our code, not the machine the test lands on.
+export OPENBLAS_CORETYPE=Prescott
+export GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX,-AVX2,-FMA,-FMA4
 exe="$1"; src="$2"; work="$3"; update="${4:-}"
 rm -rf "$work"; mkdir -p "$work"
 pass=0; failed=0
