@@ -141,6 +141,8 @@ typedef enum {
                                  linear basis (the quadratic amplified)   */
   MPGM_C_CPLS_PROJECTED,    /**< CPLS: node-steps left with the projected
                                  velocity                                */
+  MPGM_C_LINEAR_NOT_CONVERGED, /**< iterative linear solves that stopped
+                                 short of their tolerance (recoverable)  */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

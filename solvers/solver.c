@@ -145,7 +145,7 @@ int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A) {
 /** x = A^-1 b with the last factorisation (b and x of length n, may
  *  alias). Times MPGM_T_SOLVE, counts ctx->count[MPGM_C_SOLVES] (and the iterations
  *  of an iterative backend in ctx->count[MPGM_C_LINEAR_ITERATIONS], also when it did
- *  not converge). Errors: MPGM_ERR_INPUT, MPGM_ERR_UNSUPPORTED,
+ *  not converge, and such a solve in ctx->count[MPGM_C_LINEAR_NOT_CONVERGED]). Errors: MPGM_ERR_INPUT, MPGM_ERR_UNSUPPORTED,
  *  MPGM_ERR_LINEAR (iterative, recoverable), backend's. */
 int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
                       double *x) {
@@ -162,6 +162,7 @@ int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
   mpgm_solver_stats st;
   if (s->type->iterative && mpgm_solver_get_stats(s, &st) == 0)
     mpgm_count(ctx, MPGM_C_LINEAR_ITERATIONS, st.iterations);
+  if (ierr == MPGM_ERR_LINEAR) mpgm_count(ctx, MPGM_C_LINEAR_NOT_CONVERGED, 1);
   return ierr;
 }
 
