@@ -17,9 +17,22 @@
 #define PATH_CAP  4096
 #define MAX_TYPES 32
 
+/** A backend with its default options, or one of its presets (PETSc's
+ *  KSP and PC choices), named "backend:preset". */
+typedef struct config {
+  const mpgm_solver_type *type;
+  const mpgm_solver_preset *preset; /**< NULL: the default options */
+  char name[64];
+} config;
+
+/* Held to a tolerance rather than solved to round-off. */
+static int iterative(const config *c) {
+  return c->type->iterative && !(c->preset && c->preset->direct);
+}
+
 /** One backend on one system. */
 typedef struct result {
-  const mpgm_solver_type *type;
+  const config *cfg;
   const char *status;                     /**< ok, not SPD, singular, not converged, not
                                                symmetric (skipped), out of memory, failed  */
   char msg[sizeof(((mpgm_ctx *)0)->msg)]; /**< the backend's message when it failed */
@@ -45,20 +58,60 @@ static int select_k(const struct dirent *e) {
   return ends_with(e->d_name, "_K.mtx");
 }
 
-/* Status of a failed call of backend t with code. */
-static const char *status_of(const mpgm_solver_type *t, int code) {
-  if (code == MPGM_ERR_SINGULAR) return t->needs_spd ? "not SPD" : "singular";
+/* Status of a failed call of configuration c with code. */
+static const char *status_of(const config *c, int code) {
+  if (code == MPGM_ERR_SINGULAR)
+    return c->type->needs_spd || (c->preset && c->preset->spd_only) ? "not SPD" : "singular";
   if (code == MPGM_ERR_LINEAR) return "not converged";
   if (code == MPGM_ERR_NOMEM) return "out of memory";
   return "failed";
 }
 
-/* The backends to run: all, or the comma-separated names of only. */
-static int pick_types(mpgm_ctx *ctx, const char *only, const mpgm_solver_type **types, int *nt) {
+/* Append the configuration of backend t with preset p (NULL: its default
+ * options). */
+static int add_config(mpgm_ctx *ctx, const mpgm_solver_type *t, const mpgm_solver_preset *p,
+                      config *cfg, int *n) {
+  MPGM_CHECK(ctx, *n < MAX_TYPES, MPGM_ERR_INPUT, "more than %d configurations", MAX_TYPES);
+  cfg[*n] = (config){.type = t, .preset = p};
+  snprintf(cfg[*n].name, sizeof cfg[*n].name, "%s%s%s", t->name, p ? ":" : "", p ? p->name : "");
+  (*n)++;
+  return 0;
+}
+
+/* The preset of t named `name`. */
+static int find_preset(mpgm_ctx *ctx, const mpgm_solver_type *t, const char *name,
+                       const mpgm_solver_preset **out) {
+  char list[512] = "";
+  for (int q = 0; t->presets && t->presets[q].name; q++) {
+    if (strcmp(t->presets[q].name, name) == 0) {
+      *out = &t->presets[q];
+      return 0;
+    }
+    const size_t l = strlen(list);
+    snprintf(list + l, sizeof list - l, "%s%s:%s", q ? ", " : "", t->name, t->presets[q].name);
+  }
+  MPGM_ERROR(ctx, MPGM_ERR_INPUT, "--only: %s has no preset \"%s\"%s%s%s", t->name, name,
+             list[0] ? " (expected one of: " : "", list, list[0] ? ")" : "");
+}
+
+/* The configurations to run: every backend (a backend with presets: each
+ * preset, its default being one of them), or the comma-separated names of
+ * only ("petsc" the default options, "petsc:cg-gamg" a preset). A backend
+ * that cannot be loaded (PETSc not built) is left out of "all". */
+static int pick_configs(mpgm_ctx *ctx, const char *only, config *cfg, int *nc) {
   const mpgm_solver_type *const *all = mpgm_solver_types();
-  *nt = 0;
+  *nc = 0;
   if (!only) {
-    for (int i = 0; all[i] && *nt < MAX_TYPES; i++) types[(*nt)++] = all[i];
+    for (int i = 0; all[i]; i++) {
+      char why[512];
+      if (!mpgm_solver_usable(all[i]->name, why, sizeof why)) {
+        fprintf(stderr, "bench-solvers: %s left out: %s\n", all[i]->name, why);
+        continue;
+      }
+      if (!all[i]->presets) MPGM_CALL(add_config(ctx, all[i], NULL, cfg, nc));
+      for (int k = 0; all[i]->presets && all[i]->presets[k].name; k++)
+        MPGM_CALL(add_config(ctx, all[i], &all[i]->presets[k], cfg, nc));
+    }
     return 0;
   }
   const char *p = only;
@@ -66,6 +119,8 @@ static int pick_types(mpgm_ctx *ctx, const char *only, const mpgm_solver_type **
     const size_t l = strcspn(p, ",");
     char name[64];
     snprintf(name, sizeof name, "%.*s", (int)(l < 63 ? l : 63), p);
+    char *colon = strchr(name, ':');
+    if (colon) *colon = '\0';
     const mpgm_solver_type *t = mpgm_solver_type_find(name);
     if (!t) {
       char list[512] = "";
@@ -75,15 +130,19 @@ static int pick_types(mpgm_ctx *ctx, const char *only, const mpgm_solver_type **
       }
       MPGM_ERROR(ctx, MPGM_ERR_INPUT,
                  "--only: unknown backend \"%s\" (expected a comma-separated "
-                 "list of: %s)",
+                 "list of: %s; a backend with presets also as NAME:PRESET)",
                  name, list);
     }
-    MPGM_CHECK(ctx, *nt < MAX_TYPES, MPGM_ERR_INPUT, "--only: more than %d backends", MAX_TYPES);
-    types[(*nt)++] = t;
+    char why[512];
+    MPGM_CHECK(ctx, mpgm_solver_usable(t->name, why, sizeof why), MPGM_ERR_INPUT,
+               "--only: %s cannot be used: %s", t->name, why);
+    const mpgm_solver_preset *pre = NULL;
+    if (colon) MPGM_CALL(find_preset(ctx, t, colon + 1, &pre));
+    MPGM_CALL(add_config(ctx, t, pre, cfg, nc));
     p += l;
     if (*p == ',') p++;
   }
-  MPGM_CHECK(ctx, *nt > 0, MPGM_ERR_INPUT, "--only: expected backend names, found \"%s\"", only);
+  MPGM_CHECK(ctx, *nc > 0, MPGM_ERR_INPUT, "--only: expected backend names, found \"%s\"", only);
   return 0;
 }
 
@@ -100,21 +159,25 @@ static double rel_residual(const mpgm_csc *A, const double *x, const double *b, 
   return bb > 0.0 ? sqrt(rr / bb) : sqrt(rr);
 }
 
-/* One backend on A x = b, o->repeat times on fresh instances. */
+/* One configuration on A x = b, o->repeat times on fresh instances. */
 static void run_backend(const mpgm_bench_opts *o, const mpgm_csc *A, const double *b, result *r) {
+  const config *cf = r->cfg;
   r->status = "ok";
   r->msg[0] = '\0';
   r->solved = 0;
   for (int k = 0; k < 3; k++) r->t[k] = INFINITY;
-  if (r->type->needs_spd && !A->symmetric) {
+  if ((cf->type->needs_spd || (cf->preset && cf->preset->spd_only)) && !A->symmetric) {
     r->status = "not symmetric";
     return;
   }
+  mpgm_solver_opts so = o->solver;
+  so.symmetric = A->symmetric;
+  if (cf->preset) snprintf(so.petsc, sizeof so.petsc, "%s", cf->preset->options);
   for (int rep = 0; rep < o->repeat; rep++) {
     mpgm_ctx c;
     mpgm_ctx_init(&c);
     mpgm_solver *s = NULL;
-    int err = mpgm_solver_create(&c, r->type, &o->solver, &s);
+    int err = mpgm_solver_create(&c, cf->type, &so, &s);
     if (!err) err = mpgm_solver_analyse(s, &c, A, NULL);
     if (!err) err = mpgm_solver_factor(s, &c, A);
     int solved = 0;
@@ -129,7 +192,7 @@ static void run_backend(const mpgm_bench_opts *o, const mpgm_csc *A, const doubl
       if (c.t[ids[k]] > 0.0 && c.t[ids[k]] < r->t[k]) r->t[k] = c.t[ids[k]];
     r->solved = solved;
     if (err) {
-      r->status = status_of(r->type, err);
+      r->status = status_of(cf, err);
       snprintf(r->msg, sizeof r->msg, "%s", c.msg[0] ? c.msg : mpgm_code_str(err));
       return;
     }
@@ -154,13 +217,13 @@ static void write_rows(FILE *csv, FILE *table, const char *name, const mpgm_csc 
     const result *r = &res[k];
     const int ran = strcmp(r->status, "not symmetric") != 0;
     const double fill = r->st.nnz_factor > 0 ? r->st.nnz_factor / A->nnz : NAN;
-    fprintf(csv, "%s,%d,%d,%d,%s,%s", name, A->n, A->nnz, A->symmetric, r->type->name, r->status);
+    fprintf(csv, "%s,%d,%d,%d,%s,%s", name, A->n, A->nnz, A->symmetric, r->cfg->name, r->status);
     for (int p = 0; p < 3; p++) csv_num(csv, ran ? 1e3 * r->t[p] : NAN, "%.6f");
     csv_num(csv, ran && r->st.nnz_factor > 0 ? r->st.nnz_factor : NAN, "%.0f");
     csv_num(csv, ran ? fill : NAN, "%.4f");
     csv_num(csv, ran && r->st.flops > 0 ? r->st.flops : NAN, "%.6g");
     csv_num(csv, ran && r->st.mem_peak > 0 ? r->st.mem_peak : NAN, "%.0f");
-    csv_num(csv, r->type->iterative && r->solved ? r->st.iterations : NAN, "%.0f");
+    csv_num(csv, iterative(r->cfg) && r->solved ? r->st.iterations : NAN, "%.0f");
     csv_num(csv, r->solved ? r->residual : NAN, "%.6e");
     csv_num(csv, r->solved ? r->diff : NAN, "%.6e");
     fputc(',', csv);
@@ -180,18 +243,18 @@ static void write_rows(FILE *csv, FILE *table, const char *name, const mpgm_csc 
       snprintf(fl, sizeof fl, "%.2f", fill);
     }
     if (ran && r->st.mem_peak > 0) snprintf(mem, sizeof mem, "%.2f", r->st.mem_peak / 1048576.0);
-    if (r->type->iterative && r->solved) snprintf(its, sizeof its, "%d", r->st.iterations);
+    if (iterative(r->cfg) && r->solved) snprintf(its, sizeof its, "%d", r->st.iterations);
     if (r->solved) snprintf(res_s, sizeof res_s, "%.1e", r->residual);
     if (r->solved && isfinite(r->diff)) snprintf(dif, sizeof dif, "%.1e", r->diff);
     fprintf(table, "| %s | %d | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n",
-            name, A->n, A->nnz, r->type->name, r->status, t[0], t[1], t[2], nf, fl, mem, its, res_s,
+            name, A->n, A->nnz, r->cfg->name, r->status, t[0], t[1], t[2], nf, fl, mem, its, res_s,
             dif);
   }
 }
 
 /* All backends on the system `base`_K.mtx / _b.mtx of folder dir. */
 static int bench_one(mpgm_ctx *ctx, const mpgm_bench_opts *o, const char *dir, const char *kname,
-                     const mpgm_solver_type **types, int nt, FILE *csv, FILE *table) {
+                     const config *cfg, int nt, FILE *csv, FILE *table) {
   char kpath[PATH_CAP], bpath[PATH_CAP], name[PATH_CAP];
   const size_t stem = strlen(kname) - strlen("_K.mtx");
   snprintf(name, sizeof name, "%.*s", (int)stem, kname);
@@ -220,7 +283,7 @@ static int bench_one(mpgm_ctx *ctx, const mpgm_bench_opts *o, const char *dir, c
   if (!err) {
     scratch = malloc((size_t)A.n * sizeof(double));
     for (int k = 0; k < nt && scratch; k++) {
-      res[k].type = types[k];
+      res[k].cfg = &cfg[k];
       res[k].x = calloc((size_t)A.n, sizeof(double));
       if (!res[k].x) break;
     }
@@ -238,12 +301,12 @@ static int bench_one(mpgm_ctx *ctx, const mpgm_bench_opts *o, const char *dir, c
     for (int k = 0; k < nt; k++) {
       run_backend(o, &A, b, &res[k]);
       if (res[k].solved) res[k].residual = rel_residual(&A, res[k].x, b, scratch);
-      if (strcmp(types[k]->name, "umfpack") == 0 && strcmp(res[k].status, "ok") == 0)
+      if (strcmp(cfg[k].name, "umfpack") == 0 && strcmp(res[k].status, "ok") == 0)
         xref = res[k].x;
     }
     if (!xref) { /* UMFPACK not run or failed: the first direct backend that worked */
       for (int k = 0; k < nt && !xref; k++)
-        if (!types[k]->iterative && strcmp(res[k].status, "ok") == 0) xref = res[k].x;
+        if (!iterative(&cfg[k]) && strcmp(res[k].status, "ok") == 0) xref = res[k].x;
     }
     double nref = 0.0;
     for (int i = 0; xref && i < A.n; i++) nref += xref[i] * xref[i];
@@ -274,9 +337,9 @@ int mpgm_bench_solvers(mpgm_ctx *ctx, const mpgm_bench_opts *o, FILE *table) {
              o->dir);
   snprintf(dir, sizeof dir, "%s/matrices", o->dir);
   if (!is_dir(dir)) snprintf(dir, sizeof dir, "%s", o->dir);
-  const mpgm_solver_type *types[MAX_TYPES];
+  config cfg[MAX_TYPES];
   int nt = 0;
-  MPGM_CALL(pick_types(ctx, o->only, types, &nt));
+  MPGM_CALL(pick_configs(ctx, o->only, cfg, &nt));
   struct dirent **list = NULL;
   const int nk = scandir(dir, &list, select_k, alphasort);
   MPGM_CHECK(ctx, nk >= 0, MPGM_ERR_IO, "%s: cannot list: %s", dir, strerror(errno));
@@ -312,7 +375,7 @@ int mpgm_bench_solvers(mpgm_ctx *ctx, const mpgm_bench_opts *o, FILE *table) {
     fprintf(table, "|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   }
   for (int i = 0; i < nk && !err; i++)
-    err = bench_one(ctx, o, dir, list[i]->d_name, types, nt, csv, table);
+    err = bench_one(ctx, o, dir, list[i]->d_name, cfg, nt, csv, table);
   for (int i = 0; i < nk; i++) free(list[i]);
   free(list);
   if (csv && fclose(csv) != 0 && !err)

@@ -50,8 +50,9 @@ static void usage(FILE *f) {
           "            --set output.matrices=STEP (DIR: the run folder or its matrices/);\n"
           "            CSV to FILE.csv (default DIR/matrices/bench_solvers.csv), a Markdown\n"
           "            table on stdout; --repeat: best of N (default 3); --only: these\n"
-          "            backends; --tol, --restart, --max-iterations: the iterative backend's\n"
-          "            options (as solver.linear_tol, linear_restart, linear_max_iterations)\n"
+          "            backends (NAME, or NAME:PRESET as petsc:cg-gamg); --tol, --restart,\n"
+          "            --max-iterations: the iterative backends' options (as\n"
+          "            solver.linear_tol, linear_restart, linear_max_iterations)\n"
           "  --set   override any scene value by dotted path, e.g. --set mesh.h=0.125\n"
           "\n"
           "exit codes: 0 success, 1 simulation failed, 2 bad input, 3 I/O error\n"
@@ -383,6 +384,7 @@ int main(int argc, char **argv) {
   mallopt(M_MMAP_THRESHOLD, 32 << 20); /* glibc's largest */
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
 #endif
+  atexit(mpgm_solver_finalize); /* PETSc and MPI, if a run started them */
   if (argc < 2 || strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0 ||
       strcmp(argv[1], "-h") == 0) {
     usage(argc < 2 ? stderr : stdout);

@@ -526,6 +526,12 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
   for (; svt[nsv] && nsv < 15; nsv++) svn[nsv] = svt[nsv]->name;
   svn[nsv] = NULL;
   int si; /* the first backend of the list, "auto", is the default */
+  const cJSON *lin = jr_override_json(&so, "linear");
+  if (!lin) lin = jr_raw(&so, "linear");
+  char why[512];
+  if (cJSON_IsString(lin) && strcmp(lin->valuestring, "petsc") == 0 &&
+      !mpgm_solver_usable("petsc", why, sizeof why))
+    return jr_fail(&so, "linear", "\"petsc\" cannot be used: %s", why);
   MPGM_CALL(jr_enum(&so, "linear", svn, 0, &si));
   s->solver = svt[si];
   MPGM_CALL(jr_num(&so, "rtol", 1e-9, 0, 1, 1, 1, &s->rtol));
@@ -545,6 +551,12 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_int(&so, "linear_restart", s->solver_opts.restart, 1, 1000, &s->solver_opts.restart));
   MPGM_CALL(jr_int(&so, "linear_max_iterations", s->solver_opts.max_iter, 1, 10000000,
                    &s->solver_opts.max_iter));
+  const int petsc = strcmp(svn[si], "petsc") == 0;
+  if (!petsc && (jr_raw(&so, "petsc") || jr_override_json(&so, "petsc")))
+    return jr_fail(&so, "petsc", "PETSc's options: only with solver.linear \"petsc\", found "
+                   "\"%s\"", svn[si]);
+  if (petsc)
+    MPGM_CALL(jr_str(&so, "petsc", "", s->solver_opts.petsc, sizeof s->solver_opts.petsc));
   MPGM_CALL(jr_end(&so));
 
   return 0;

@@ -52,12 +52,36 @@ typedef struct mpgm_solver_opts {
   int max_iter; /**< iterative: iterations per solve before it fails with
                      MPGM_ERR_LINEAR (default 5000)                      */
   int symmetric; /**< "auto": 1 when the matrices will be symmetric
-                     (Cholesky first), 0 when not (LU); default 1        */
+                     (Cholesky first), 0 when not (LU); "petsc": picks
+                     the defaults (CG or GMRES); default 1               */
+  char petsc[512]; /**< petsc: options in PETSc's command-line syntax
+                     ("-ksp_type gmres -pc_type gamg"); default ""     */
 } mpgm_solver_opts;
 
 /** The default options (tol 1e-10, restart 100, max_iter 5000,
- *  symmetric 1). */
+ *  symmetric 1, petsc ""). */
 mpgm_solver_opts mpgm_solver_opts_default(void);
+
+/** 1 when the backend `name` can be used; 0 with the reason in msg (of
+ *  len bytes; may be NULL) when not: "petsc" is a module loaded here, on
+ *  first use, and absent when mpgm was built without PETSc. */
+int mpgm_solver_usable(const char *name, char *msg, size_t len);
+
+/** End the libraries that backends started for the process (PETSc and the
+ *  MPI under it); call once, at exit, after every instance is destroyed. */
+void mpgm_solver_finalize(void);
+
+/** A named configuration of a backend with options (PETSc's KSP and PC
+ *  choices): `mpgm bench-solvers` and the conformance tests run each as
+ *  "backend:name". */
+typedef struct mpgm_solver_preset {
+  const char *name;    /**< short name: "cg-gamg"                           */
+  const char *options; /**< mpgm_solver_opts.petsc: "-ksp_type cg -pc_type gamg" */
+  int spd_only;        /**< 1: only for symmetric positive definite matrices
+                            (CG, Cholesky); the benchmark skips others     */
+  int direct;          /**< 1: a direct method (MUMPS): solved to round-off,
+                            in one application of the factors            */
+} mpgm_solver_preset;
 
 typedef struct mpgm_solver_type {
   const char *name;  /**< scene name: "cholmod", "umfpack", "klu", ...    */
@@ -67,6 +91,9 @@ typedef struct mpgm_solver_type {
                           fail with MPGM_ERR_LINEAR); 0: a direct solver  */
   int composite;     /**< 1: made of other instances, which the wrappers
                           time and count; the composite itself is not   */
+  /** Optional: configurations worth comparing, ended by a {NULL} entry
+   *  (the default options are the backend's own row). */
+  const mpgm_solver_preset *presets;
   /** Allocate the instance with options opts (never NULL; copied). */
   int (*create)(mpgm_ctx *ctx, const mpgm_solver_opts *opts, void **data);
   void (*destroy)(void *data); /**< accepts NULL and half-built data       */

@@ -16,7 +16,11 @@
   X(mpgm_solver_cholmod_supernodal)                                            \
   X(mpgm_solver_umfpack)                                                       \
   X(mpgm_solver_klu)                                                           \
-  X(mpgm_solver_gmres)
+  X(mpgm_solver_gmres)                                                         \
+  X(mpgm_solver_petsc) /* a module loaded on first use: plugin.c */
+
+int mpgm_solver_plugin_load(const char *name, char *msg, size_t len); /* plugin.c */
+void mpgm_solver_plugin_finalize(void);
 
 #define MPGM_DECLARE(t) extern const mpgm_solver_type t;
 MPGM_SOLVER_LIST(MPGM_DECLARE)
@@ -41,6 +45,16 @@ const mpgm_solver_type *mpgm_solver_type_find(const char *name) {
 mpgm_solver_opts mpgm_solver_opts_default(void) {
   return (mpgm_solver_opts){.tol = 1e-10, .restart = 100, .max_iter = 5000, .symmetric = 1};
 }
+
+int mpgm_solver_usable(const char *name, char *msg, size_t len) {
+  if (!mpgm_solver_type_find(name)) {
+    if (msg) snprintf(msg, len, "no backend \"%s\"", name);
+    return 0;
+  }
+  return mpgm_solver_plugin_load(name, msg, len) == 0;
+}
+
+void mpgm_solver_finalize(void) { mpgm_solver_plugin_finalize(); }
 
 /** Create an instance of `type` with options opts (NULL: the defaults)
  *  in *out (NULL on failure).

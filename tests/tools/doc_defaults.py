@@ -53,6 +53,9 @@ SCENES = {
                     "obstacles": [{"x": 3.5, "side": "right"}],
                     "probes": {"c": [1.0, 0.5]},
                     "reference": {"kind": "rolling_disk", "probe": "c"}},
+    # the PETSc backend: its options' default (the string is read only then)
+    "fem_petsc": {"mesh": MESH, "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK],
+                  "boundaries": [{"x": 0.0, "fix": ["x", "y"]}], "solver": {"linear": "petsc"}},
     # no boundary at all (a free body, dynamic)
     "mpm_free": {"method": "mpm", "mesh": MESH, "time": {"analysis": "dynamic", "dt": 0.01, "end": 0.1},
                  "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK]},

@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# PETSc behind the solver family (issue 19, item 1): solver.linear "petsc"
+# with solver.petsc options gives the same runs as the direct solvers:
+#   - the cantilever (symmetric tangent: CG + BoomerAMG by default; GAMG,
+#     MUMPS Cholesky): tip_uy the same as cholmod's to 1e-8;
+#   - the column collapse, coarse and short (Mohr-Coulomb: an unsymmetric
+#     tangent, GMRES + BoomerAMG by default; GMRES + ILU, MUMPS LU):
+#     runout and height the same as umfpack's to 1e-6, as many steps;
+#   - a Krylov solve that stops short (-ksp_max_it 2) is a recoverable
+#     failure: the step is cut, with PETSc's reason (DIVERGED_ITS) in
+#     summary.json's step_cuts, counted in linear_not_converged;
+#   - bad input exits 2 and says why: an option PETSc did not use (a typo),
+#     solver.petsc with another backend;
+#   - bench-solvers runs PETSc's configurations on the column's unsymmetric
+#     systems: each agrees with UMFPACK (direct to 1e-8, iterative to the
+#     tolerance), CG and Cholesky are left out as "not symmetric".
+# usage: petsc.sh MPGM_EXE SOURCE_DIR WORK_DIR
+set -uo pipefail
+exe="$1"; src="$2"; work="$3"
+rm -rf "$work"; mkdir -p "$work"
+fail=0
+source "$src/tests/tools/run_case.bash"
+cl="$src/cases/cantilever.json"
+cc="$src/cases/column_collapse.json"
+short=(--set mesh.h=0.25 --set time.end=0.05)
+run_case cl_cholmod "$cl" --set solver.linear=cholmod
+run_case cl_petsc "$cl" --set solver.linear=petsc
+run_case cl_gamg "$cl" --set solver.linear=petsc --set "solver.petsc=-pc_type gamg"
+run_case cl_mumps "$cl" --set solver.linear=petsc \
+  --set "solver.petsc=-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps"
+run_case cc_umfpack "$cc" "${short[@]}" --set solver.linear=umfpack --set output.matrices=2
+run_case cc_petsc "$cc" "${short[@]}" --set solver.linear=petsc
+run_case cc_ilu "$cc" "${short[@]}" --set solver.linear=petsc --set "solver.petsc=-pc_type ilu"
+run_case cc_mumps "$cc" "${short[@]}" --set solver.linear=petsc \
+  --set "solver.petsc=-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps"
+# every solve stops after 2 iterations: cut twice, then the run fails
+"$exe" run "$cc" "${short[@]}" --quiet --set output.vtk=none --set solver.linear=petsc \
+  --set "solver.petsc=-ksp_max_it 2" --set time.max_cuts=2 --out "$work/cc_short" \
+  > "$work/cc_short.log" 2>&1
+echo $? > "$work/cc_short.rc"
+bad() { # NAME ARGS...: a run that must be refused
+  local name="$1"; shift
+  "$exe" run "$cl" --quiet --set output.vtk=none --out "$work/bad_$name" "$@" > /dev/null \
+    2> "$work/bad_$name.err"
+  echo $? > "$work/bad_$name.rc"
+}
+bad typo --set solver.linear=petsc --set "solver.petsc=-pc_typo gamg"
+bad other --set solver.linear=cholmod --set "solver.petsc=-pc_type gamg"
+"$exe" bench-solvers "$work/cc_umfpack" --repeat 1 --out "$work/bench.csv" \
+  --only umfpack,petsc,petsc:gmres-boomeramg,petsc:gmres-gamg,petsc:gmres-ilu,petsc:mumps-lu,petsc:cg-gamg,petsc:mumps-cholesky \
+  > "$work/bench.md" 2> "$work/bench.err"
+echo $? > "$work/bench.rc"
+
+/usr/bin/python3 - "$work" "$src" <<'PY'
+import csv, sys
+sys.path.insert(0, sys.argv[2] + "/tests/tools")
+from script_check import check, done, summary
+w = sys.argv[1]
+rc = lambda n: int(open(f"{w}/{n}.rc").read())
+
+ref = summary(w, "cl_cholmod")["metrics"]["tip_uy"]
+for name, what in (("cl_petsc", "CG + BoomerAMG (default)"), ("cl_gamg", "CG + GAMG"),
+                   ("cl_mumps", "MUMPS Cholesky")):
+    s = summary(w, name)
+    v = s["metrics"]["tip_uy"]
+    check(s["status"] == "completed" and s["solver"] == "petsc" and abs(v - ref) <= 1e-8 * abs(ref),
+          f"cantilever, {what}: tip_uy {v:.15f} = cholmod's {ref:.15f} to 1e-8")
+s = summary(w, "cl_petsc")
+check(s["counts"]["linear_iterations"] > 0 and s["counts"]["linear_not_converged"] == 0,
+      f"cantilever: {s['counts']['linear_iterations']} Krylov iterations counted, none short")
+
+u = summary(w, "cc_umfpack")
+check(u["status"] == "completed" and u["counts"]["steps"] == 10,
+      f"column collapse, umfpack: {u['status']}, {u['counts']['steps']} steps")
+for name, what in (("cc_petsc", "GMRES + BoomerAMG (default)"), ("cc_ilu", "GMRES + ILU(0)"),
+                   ("cc_mumps", "MUMPS LU")):
+    s = summary(w, name)
+    ok = s["status"] == "completed" and s["counts"]["steps"] == u["counts"]["steps"]
+    for k in ("runout", "height"):
+        ok = ok and abs(s["metrics"][k] - u["metrics"][k]) <= 1e-6 * abs(u["metrics"][k])
+    check(ok, f"column collapse (unsymmetric tangent), {what}: runout {s['metrics']['runout']:.9f} "
+          f"height {s['metrics']['height']:.9f} = umfpack's to 1e-6, {s['counts']['steps']} steps")
+
+s = summary(w, "cc_short")
+cuts = s.get("step_cuts", [])
+check(rc("cc_short") == 1 and s["status"] == "failed" and len(cuts) == 2 and
+      all("DIVERGED_ITS" in c["reason"] for c in cuts) and s["counts"]["linear_not_converged"] == 3,
+      f"-ksp_max_it 2: exit {rc('cc_short')}, {len(cuts)} cuts with PETSc's reason, "
+      f"{s['counts']['linear_not_converged']} solves counted short; {s['message'][:160]}")
+
+def bad(name, *words):
+    err = open(f"{w}/bad_{name}.err").read()
+    check(rc(f"bad_{name}") == 2 and all(x in err for x in words) and "Sanitizer" not in err,
+          f"refused ({name}): exit {rc('bad_' + name)}, {err.strip()[:200]}")
+bad("typo", "solver.petsc", "did not use -pc_typo")
+bad("other", "solver.petsc", "only with solver.linear \"petsc\"")
+
+check(rc("bench") == 0, f"bench-solvers exits 0 ({rc('bench')}): " + open(f"{w}/bench.err").read()[-300:])
+rows = list(csv.DictReader(open(f"{w}/bench.csv")))
+num = lambda r, k: float(r[k]) if r[k] else float("nan")
+check(rows and all(r["symmetric"] == "0" for r in rows), f"{len(rows)} rows, unsymmetric systems")
+for r in rows:
+    b = r["backend"]
+    if b in ("petsc:cg-gamg", "petsc:mumps-cholesky"):
+        check(r["status"] == "not symmetric", f"{r['matrix']} {b}: left out ({r['status']})")
+    elif b == "umfpack":
+        continue
+    elif b == "petsc:mumps-lu":
+        check(r["status"] == "ok" and num(r, "diff_ref") <= 1e-8,
+              f"{r['matrix']} {b}: UMFPACK's solution to {num(r, 'diff_ref'):.1e} <= 1e-8")
+    else:
+        check(r["status"] == "ok" and num(r, "residual") <= 1e-10 * 1.001 and int(r["iterations"]) > 0,
+              f"{r['matrix']} {b}: |A x - b| / |b| = {num(r, 'residual'):.1e} <= 1e-10 in "
+              f"{r['iterations']} iterations (diff {num(r, 'diff_ref'):.1e})")
+done()
+PY
+rc=$?
+[ $fail -eq 0 ] && exit $rc || exit 1
