@@ -11,7 +11,8 @@
  * reaches opts.tol |b|; the true residual is then computed, and the solve
  * ends when |b - A x| <= opts.tol |b| or fails (MPGM_ERR_LINEAR,
  * recoverable: the run loop cuts the step) after opts.max_iter iterations
- * in all.
+ * in all. The Krylov iteration is the kernel of solvers/krylov.c; this
+ * file is its ILU(0) preconditioner.
  *
  * The instance keeps its own copy of the pattern (analyse) and of the
  * factorised values (factor): GMRES multiplies by A in solve, and the core
@@ -20,26 +21,17 @@
  * order, which follows the node numbering; nested-dissection orders are
  * known to weaken ILU preconditioners (Benzi 2002, section 6).
  */
+#include "mpgm_krylov.h"
 #include "mpgm_solver.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* A solve also ends when a restart cycle no longer halves the true
- * residual and the normwise backward error |b - A x| / (|A| |x| + |b|)
- * (infinity norms) is below ROUNDOFF: the residual has stalled at the
- * round-off of the product A x, where a smaller opts.tol cannot be met (a
- * direct solver reaches 1e-16 to 1e-15 there; on the cantilever's
- * tangents GMRES stalls at about 1e-16) */
-#define ROUNDOFF (64.0 * DBL_EPSILON)
-
 /** Instance data: pattern, values, ILU(0) factors, Krylov workspace. */
 typedef struct gm_data {
   mpgm_solver_opts opts;       /**< tol, restart, max_iter                      */
-  int n, nnz, m;               /**< order, entries, Krylov vectors per cycle
-                                    (min(restart, n))                            */
+  int n, nnz;                  /**< order, entries                              */
   int *Ap, *Ai;                /**< copy of the pattern (n + 1, nnz)             */
   double *Ax;                  /**< copy of the factorised values (nnz)          */
   int *diag;                   /**< position of A_jj in column j (n)             */
@@ -48,12 +40,8 @@ typedef struct gm_data {
   double *lu;                  /**< ILU(0) factors on A's pattern: L below the
                                     diagonal (unit diagonal not stored), U on
                                     and above it (nnz)                           */
-  double *V;                   /**< Krylov basis, (m + 1) x n                    */
-  double *H;                   /**< Hessenberg matrix, column-major (m + 1) x m  */
-  double *cs, *sn, *g;         /**< Givens rotations and rotated residual (m + 1) */
-  double *y;                   /**< least-squares solution (m)                   */
-  double *r, *w, *t, *bw, *xs; /**< n-vectors: residual, A t, M^-1 v, copy
-                             of b (b and x may alias), iterate           */
+  double *rs;                  /**< row sums of |A| (n)                          */
+  mpgm_gmres_ws ws;            /**< Krylov workspace                            */
   double anorm;                /**< |A| (infinity norm) of the factorised A    */
   int factored;                /**< 1 while lu holds the factors of Ax          */
   int iterations;              /**< iterations of the last solve                */
@@ -79,21 +67,11 @@ static void release(gm_data *d) {
   free(d->diag);
   free(d->mark);
   free(d->lu);
-  free(d->V);
-  free(d->H);
-  free(d->cs);
-  free(d->sn);
-  free(d->g);
-  free(d->y);
-  free(d->r);
-  free(d->w);
-  free(d->t);
-  free(d->bw);
-  free(d->xs);
+  free(d->rs);
+  mpgm_gmres_ws_free(&d->ws);
   d->Ap = d->Ai = d->diag = d->mark = NULL;
-  d->Ax = d->lu = d->V = d->H = d->cs = d->sn = d->g = d->y = NULL;
-  d->r = d->w = d->t = d->bw = d->xs = NULL;
-  d->n = d->nnz = d->m = 0;
+  d->Ax = d->lu = d->rs = NULL;
+  d->n = d->nnz = 0;
   d->factored = 0;
   d->mem = 0.0;
 }
@@ -113,24 +91,14 @@ static int gm_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *p
   gm_data *d = data;
   release(d);
   const int n = A->n, nnz = A->nnz;
-  const int m = d->opts.restart < n ? d->opts.restart : n;
   MPGM_ALLOC(ctx, d->Ap, n + 1);
   MPGM_ALLOC(ctx, d->Ai, nnz);
   MPGM_ALLOC(ctx, d->Ax, nnz);
   MPGM_ALLOC(ctx, d->lu, nnz);
   MPGM_ALLOC(ctx, d->diag, n);
   MPGM_ALLOC(ctx, d->mark, n);
-  MPGM_ALLOC(ctx, d->V, (size_t)(m + 1) * n);
-  MPGM_ALLOC(ctx, d->H, (size_t)(m + 1) * m);
-  MPGM_ALLOC(ctx, d->cs, m + 1);
-  MPGM_ALLOC(ctx, d->sn, m + 1);
-  MPGM_ALLOC(ctx, d->g, m + 1);
-  MPGM_ALLOC(ctx, d->y, m + 1);
-  MPGM_ALLOC(ctx, d->r, n);
-  MPGM_ALLOC(ctx, d->w, n);
-  MPGM_ALLOC(ctx, d->t, n);
-  MPGM_ALLOC(ctx, d->bw, n);
-  MPGM_ALLOC(ctx, d->xs, n);
+  MPGM_ALLOC(ctx, d->rs, n);
+  MPGM_CALL(mpgm_gmres_ws_alloc(ctx, &d->ws, n, d->opts.restart));
   memcpy(d->Ap, A->colptr, ((size_t)n + 1) * sizeof(int));
   memcpy(d->Ai, A->rowind, (size_t)nnz * sizeof(int));
   for (int j = 0; j < n; j++) {
@@ -141,10 +109,8 @@ static int gm_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *p
   }
   d->n = n;
   d->nnz = nnz;
-  d->m = m;
-  d->mem = (double)(n + 1 + nnz + 2 * n) * sizeof(int) +
-           ((double)2 * nnz + (double)(m + 1) * n + (double)(m + 1) * m + 4.0 * (m + 1) + 5.0 * n) *
-               sizeof(double);
+  d->mem = (double)(n + 1 + nnz + 2 * n) * sizeof(int) + (2.0 * nnz + n) * sizeof(double) +
+           mpgm_gmres_ws_bytes(n, d->ws.m);
   if (d->mem > d->mem_peak) d->mem_peak = d->mem;
   return MPGM_OK;
 }
@@ -166,7 +132,7 @@ static int gm_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
   d->factored = 0;
   memcpy(d->Ax, A->val, (size_t)d->nnz * sizeof(double));
   memcpy(lu, A->val, (size_t)d->nnz * sizeof(double));
-  double *rs = d->r; /* row sums of |A|: its infinity norm, for the round-off floor */
+  double *rs = d->rs; /* row sums of |A|: its infinity norm, for the round-off floor */
   memset(rs, 0, (size_t)n * sizeof(double));
   for (int k = 0; k < d->nnz; k++) rs[Ai[k]] += fabs(d->Ax[k]);
   d->anorm = 0.0;
@@ -207,7 +173,8 @@ static int gm_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
 }
 
 /* y = A x with the factorised values. */
-static void matvec(const gm_data *d, const double *x, double *y) {
+static void matvec(void *user, const double *x, double *y) {
+  const gm_data *d = user;
   memset(y, 0, (size_t)d->n * sizeof(double));
   for (int j = 0; j < d->n; j++) {
     const double xj = x[j];
@@ -217,7 +184,9 @@ static void matvec(const gm_data *d, const double *x, double *y) {
 }
 
 /* z = M^-1 v = U^-1 L^-1 v (z and v may alias). */
-static void precondition(const gm_data *d, const double *v, double *z) {
+static int precondition(void *user, mpgm_ctx *ctx, const double *v, double *z) {
+  (void)ctx;
+  const gm_data *d = user;
   const int n = d->n, *Ap = d->Ap, *Ai = d->Ai, *diag = d->diag;
   const double *lu = d->lu;
   if (z != v) memcpy(z, v, (size_t)n * sizeof(double));
@@ -232,124 +201,32 @@ static void precondition(const gm_data *d, const double *v, double *z) {
     if (zj == 0.0) continue;
     for (int q = Ap[j]; q < diag[j]; q++) z[Ai[q]] -= lu[q] * zj;
   }
-}
-
-static double dot(const double *a, const double *b, int n) {
-  double s = 0.0;
-  for (int i = 0; i < n; i++) s += a[i] * b[i];
-  return s;
-}
-
-/* One GMRES cycle from the iterate xs with true residual r (norm beta):
- * at most m iterations (and no more than `left`); xs is updated. Returns
- * the iterations done. */
-static int cycle(gm_data *d, double beta, double target, int left) {
-  const int n = d->n, m = d->m, ld = m + 1;
-  double *V = d->V, *H = d->H, *g = d->g;
-  for (int i = 0; i < n; i++) V[i] = d->r[i] / beta;
-  memset(g, 0, (size_t)(m + 1) * sizeof(double));
-  g[0] = beta;
-  int k = 0;
-  while (k < m && k < left) {
-    const int j = k;
-    double *vj1 = V + (size_t)(j + 1) * n, *h = H + (size_t)j * ld;
-    precondition(d, V + (size_t)j * n, d->t);
-    matvec(d, d->t, vj1);
-    for (int i = 0; i <= j; i++) { /* modified Gram-Schmidt */
-      const double *vi = V + (size_t)i * n;
-      h[i] = dot(vj1, vi, n);
-      for (int l = 0; l < n; l++) vj1[l] -= h[i] * vi[l];
-    }
-    const double hn = sqrt(dot(vj1, vj1, n));
-    h[j + 1] = hn;
-    for (int i = 0; i < j; i++) { /* the earlier rotations on the new column */
-      const double a = h[i], b = h[i + 1];
-      h[i] = d->cs[i] * a + d->sn[i] * b;
-      h[i + 1] = -d->sn[i] * a + d->cs[i] * b;
-    }
-    const double a = h[j], b = h[j + 1], rho = hypot(a, b);
-    d->cs[j] = rho > 0.0 ? a / rho : 1.0;
-    d->sn[j] = rho > 0.0 ? b / rho : 0.0;
-    h[j] = rho;
-    h[j + 1] = 0.0;
-    g[j + 1] = -d->sn[j] * g[j];
-    g[j] = d->cs[j] * g[j];
-    k = j + 1;
-    if (!(fabs(g[k]) > target) || !(hn > 0.0)) break; /* converged, or the space is invariant */
-    for (int l = 0; l < n; l++) vj1[l] /= hn;
-  }
-  /* y = R^-1 g (R: the rotated Hessenberg, upper triangular k x k) */
-  for (int i = k - 1; i >= 0; i--) {
-    double s = g[i];
-    for (int l = i + 1; l < k; l++) s -= H[(size_t)l * ld + i] * d->y[l];
-    const double rii = H[(size_t)i * ld + i];
-    d->y[i] = rii != 0.0 ? s / rii : 0.0;
-  }
-  /* xs += M^-1 (V y) */
-  memset(d->w, 0, (size_t)n * sizeof(double));
-  for (int i = 0; i < k; i++) {
-    const double *vi = V + (size_t)i * n;
-    for (int l = 0; l < n; l++) d->w[l] += d->y[i] * vi[l];
-  }
-  precondition(d, d->w, d->w);
-  for (int l = 0; l < n; l++) d->xs[l] += d->w[l];
-  return k;
-}
-
-/* Normwise backward error of the iterate xs with true residual r:
- * |r| / (|A| |xs| + |b|) in infinity norms. */
-static double backward_error(const gm_data *d) {
-  double rn = 0.0, xn = 0.0, bn = 0.0;
-  for (int i = 0; i < d->n; i++) {
-    rn = fmax(rn, fabs(d->r[i]));
-    xn = fmax(xn, fabs(d->xs[i]));
-    bn = fmax(bn, fabs(d->bw[i]));
-  }
-  const double den = d->anorm * xn + bn;
-  return den > 0.0 ? rn / den : 0.0;
+  return MPGM_OK;
 }
 
 /* x = A^-1 b to |b - A x| <= tol |b|, or to round-off (a stalled residual
- * with a backward error below ROUNDOFF) when tol asks for more than the
- * system's round-off allows (b and x may alias). Not
- * converged within max_iter iterations, or a residual that is not finite:
+ * with a backward error below the kernel's floor) when tol asks for more
+ * than the system's round-off allows (b and x may alias). Not converged
+ * within max_iter iterations, or a residual that is not finite:
  * MPGM_ERR_LINEAR (recoverable; x holds the last iterate). Errors:
  * MPGM_ERR_INTERNAL (no valid factorisation). */
 static int gm_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   gm_data *d = data;
   MPGM_CHECK(ctx, d->factored, MPGM_ERR_INTERNAL, "gmres: solve without a valid factorisation");
-  const int n = d->n;
-  memcpy(d->bw, b, (size_t)n * sizeof(double));
-  memset(d->xs, 0, (size_t)n * sizeof(double));
-  d->iterations = 0;
-  const double bnorm = sqrt(dot(d->bw, d->bw, n)), target = d->opts.tol * bnorm;
-  double beta = bnorm;
-  int err = MPGM_OK, done = !(bnorm > 0.0);
-  if (!isfinite(bnorm)) {
-    err = mpgm_err_set(ctx, MPGM_ERR_LINEAR, __FILE__, __LINE__,
-                       "gmres: right-hand side is not finite");
-  } else if (!done) {
-    memcpy(d->r, d->bw, (size_t)n * sizeof(double));
-    while (!done && d->iterations < d->opts.max_iter) {
-      d->iterations += cycle(d, beta, target, d->opts.max_iter - d->iterations);
-      const double prev = beta;
-      matvec(d, d->xs, d->r); /* the true residual */
-      for (int i = 0; i < n; i++) d->r[i] = d->bw[i] - d->r[i];
-      beta = sqrt(dot(d->r, d->r, n));
-      if (!isfinite(beta)) break;
-      done = beta <= target || (beta > 0.5 * prev && backward_error(d) <= ROUNDOFF);
-    }
-    if (!isfinite(beta))
-      err = mpgm_err_set(ctx, MPGM_ERR_LINEAR, __FILE__, __LINE__,
-                         "gmres: residual not finite after %d iterations", d->iterations);
-    else if (!done)
-      err = mpgm_err_set(ctx, MPGM_ERR_LINEAR, __FILE__, __LINE__,
-                         "gmres: not converged in %d iterations (solver.linear_max_iterations; "
-                         "restart %d): |b - A x| / |b| = %.3e > %.3e (solver.linear_tol)",
-                         d->iterations, d->m, beta / bnorm, d->opts.tol);
-  }
-  memcpy(x, d->xs, (size_t)n * sizeof(double));
-  return err;
+  const mpgm_krylov_op op = {.user = d, .matvec = matvec, .precond = precondition,
+                             .anorm = d->anorm};
+  mpgm_gmres_result r;
+  MPGM_CALL(mpgm_gmres(&d->ws, ctx, &op, b, x, d->opts.tol, d->opts.max_iter, &r));
+  d->iterations = r.iterations;
+  if (!isfinite(r.relres))
+    MPGM_ERROR(ctx, MPGM_ERR_LINEAR, "gmres: %s not finite after %d iterations",
+               r.iterations ? "residual" : "right-hand side", r.iterations);
+  if (!r.converged)
+    MPGM_ERROR(ctx, MPGM_ERR_LINEAR,
+               "gmres: not converged in %d iterations (solver.linear_max_iterations; restart %d): "
+               "|b - A x| / |b| = %.3e > %.3e (solver.linear_tol)",
+               r.iterations, d->ws.m, r.relres, d->opts.tol);
+  return MPGM_OK;
 }
 
 /* Entries of the ILU(0) factors (those of A), flops of the factorisation,
