@@ -46,7 +46,8 @@ static const char *const counter_names[MPGM_C_COUNT] = {
     "body_force_loops", "inertia_loops", "point_sorts", "radius_growths", "cloud_enlargements",
     "shape_cold_restarts", "nodes_merged", "surface_points_carried",
     "probes_carried", "node_motion_fallbacks", "domain_corners_clamped",
-    "cpls_linear_nodes", "cpls_projected_nodes", "linear_not_converged"};
+    "cpls_linear_nodes", "cpls_projected_nodes", "linear_not_converged",
+    "factor_reuses"};
 
 const char *mpgm_counter_name(int id) {
   return (id >= 0 && id < MPGM_C_COUNT) ? counter_names[id] : "?";

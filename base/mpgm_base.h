@@ -143,6 +143,8 @@ typedef enum {
                                  velocity                                */
   MPGM_C_LINEAR_NOT_CONVERGED, /**< iterative linear solves that stopped
                                  short of their tolerance (recoverable)  */
+  MPGM_C_FACTOR_REUSES,     /**< Newton-Krylov: iterations that kept the
+                                 last factorisation as the preconditioner */
   MPGM_C_COUNT
 } mpgm_counter_id;
 
