@@ -228,6 +228,14 @@ typedef struct mpgm_scene {
                                  converges fast enough (reuse_ratio)    */
   double reuse_ratio;       /**< modified Newton: refactorise when
                                  |R_k| > reuse_ratio |R_k-1|             */
+  int newton_krylov;        /**< 1: Newton-Krylov: GMRES on every
+                                 iteration's tangent, preconditioned by
+                                 the last factorisation of `solver`
+                                 (solvers/reuse.c; refactor_iterations in
+                                 solver_opts)                           */
+  int forcing_ew;           /**< 1: the linear tolerance of each Newton
+                                 iteration by Eisenstat and Walker
+                                 (iterative solves only); 0: linear_tol */
   double contact_check;     /**< contact: check the active set once
                                  |R| <= contact_check ref (0: only at
                                  convergence)                          */

@@ -73,7 +73,10 @@ static int setup(mpgm_problem *pb) {
    * positive definite), LU for unsymmetric ones */
   mpgm_solver_opts so = scene->solver_opts;
   so.symmetric = pb->symmetric;
-  MPGM_CALL(mpgm_solver_create(ctx, scene->solver, &so, &pb->solver));
+  /* Newton-Krylov: the scene's direct backend inside the composite */
+  so.part = scene->newton_krylov ? scene->solver : NULL;
+  MPGM_CALL(mpgm_solver_create(ctx, scene->newton_krylov ? &mpgm_solver_reuse : scene->solver, &so,
+                               &pb->solver));
   mpgm_fe_view v;
   mpgm_problem_view(pb, &v);
   mpgm_timer_start(ctx, MPGM_T_SHAPE);

@@ -538,8 +538,15 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&so, "atol", 1e-10, 0, INFINITY, 0, 0, &s->atol));
   MPGM_CALL(jr_num(&so, "dtol", 1e-10, 0, 1, 1, 1, &s->dtol));
   MPGM_CALL(jr_int(&so, "max_iterations", 25, 1, 1000, &s->max_iter));
-  static const char *const newton_names[] = {"full", "modified", NULL};
-  MPGM_CALL(jr_enum(&so, "newton", newton_names, 0, &s->newton_modified));
+  static const char *const newton_names[] = {"full", "modified", "krylov", NULL};
+  int newton;
+  MPGM_CALL(jr_enum(&so, "newton", newton_names, 0, &newton));
+  s->newton_modified = newton == 1;
+  s->newton_krylov = newton == 2;
+  if (s->newton_krylov && s->solver->iterative)
+    return jr_fail(&so, "newton", "\"krylov\" preconditions GMRES with the factorisation of a "
+                   "direct solver.linear (auto, cholmod, umfpack, klu, ...), found \"%s\"",
+                   s->solver->name);
   MPGM_CALL(jr_num(&so, "reuse_ratio", 0.1, 0.0, 1.0, 1, 1, &s->reuse_ratio));
   MPGM_CALL(jr_num(&so, "contact_check", 1e-3, 0.0, 1.0, 0, 1, &s->contact_check));
   static const char *const ordering_names[] = {"backend", "geometric", NULL};
@@ -551,6 +558,10 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_int(&so, "linear_restart", s->solver_opts.restart, 1, 1000, &s->solver_opts.restart));
   MPGM_CALL(jr_int(&so, "linear_max_iterations", s->solver_opts.max_iter, 1, 10000000,
                    &s->solver_opts.max_iter));
+  MPGM_CALL(jr_int(&so, "refactor_iterations", s->solver_opts.refactor_iterations, 1, 100000,
+                   &s->solver_opts.refactor_iterations));
+  static const char *const forcing_names[] = {"fixed", "eisenstat_walker", NULL};
+  MPGM_CALL(jr_enum(&so, "forcing", forcing_names, 0, &s->forcing_ew));
   const int petsc = strcmp(svn[si], "petsc") == 0;
   if (!petsc && (jr_raw(&so, "petsc") || jr_override_json(&so, "petsc")))
     return jr_fail(&so, "petsc", "PETSc's options: only with solver.linear \"petsc\", found "

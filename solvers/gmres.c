@@ -229,6 +229,12 @@ static int gm_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   return MPGM_OK;
 }
 
+/* Newton's forcing term: the next solves' tolerance. */
+static int gm_tolerance(void *data, double tol) {
+  ((gm_data *)data)->opts.tol = tol;
+  return MPGM_OK;
+}
+
 /* Entries of the ILU(0) factors (those of A), flops of the factorisation,
  * the most bytes the instance's arrays took, iterations of the last
  * solve. */
@@ -254,4 +260,5 @@ const mpgm_solver_type mpgm_solver_gmres = {
     .factor = gm_factor,
     .solve = gm_solve,
     .stats = gm_stats,
+    .tolerance = gm_tolerance,
 };

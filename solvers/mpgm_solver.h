@@ -56,10 +56,14 @@ typedef struct mpgm_solver_opts {
                      the defaults (CG or GMRES); default 1               */
   char petsc[512]; /**< petsc: options in PETSc's command-line syntax
                      ("-ksp_type gmres -pc_type gamg"); default ""     */
+  const struct mpgm_solver_type *part; /**< reuse: the direct backend
+                     whose factorisation preconditions GMRES; NULL     */
+  int refactor_iterations; /**< reuse: refactorise after a solve of more
+                     Krylov iterations than this (default 20)          */
 } mpgm_solver_opts;
 
 /** The default options (tol 1e-10, restart 100, max_iter 5000,
- *  symmetric 1, petsc ""). */
+ *  symmetric 1, petsc "", part NULL, refactor_iterations 20). */
 mpgm_solver_opts mpgm_solver_opts_default(void);
 
 /** 1 when the backend `name` can be used; 0 with the reason in msg (of
@@ -113,6 +117,10 @@ typedef struct mpgm_solver_type {
   /** Optional: a new time (or load) step begins; *kept = 0 when the
    *  factorisation held is no longer the one solve would use. */
   int (*step)(void *data, mpgm_ctx *ctx, int *kept);
+  /** Optional (iterative backends): the relative residual the next solves
+   *  must reach, |b - A x| <= tol |b| (Newton's forcing term), in place
+   *  of opts.tol. */
+  int (*tolerance)(void *data, double tol);
   /** Optional: the backend that stands for the instance in reports (a
    *  composite's first choice); NULL op: the type's name. */
   const char *(*backend)(const void *data);
@@ -134,6 +142,11 @@ typedef struct mpgm_solver {
   void *data;
   int analysed; /**< 1 after analyse for the current pattern */
 } mpgm_solver;
+
+/** Newton-Krylov's composite (solver.newton "krylov"; not in the list:
+ *  it needs opts.part): GMRES on the current matrix preconditioned by the
+ *  last factorisation of the direct backend opts.part (solvers/reuse.c). */
+extern const mpgm_solver_type mpgm_solver_reuse;
 
 /** Find a backend by name; NULL if none. */
 const mpgm_solver_type *mpgm_solver_type_find(const char *name);
@@ -164,6 +177,10 @@ int mpgm_solver_threads(int n);
  *  steps); *kept = 0 when a factorisation held before is no longer valid.
  *  Backends without the operation: *kept = 1. */
 int mpgm_solver_step(mpgm_solver *s, mpgm_ctx *ctx, int *kept);
+/** The next solves' relative tolerance, tol in (0, 1) (an inexact Newton
+ *  method's forcing term); backends without the operation (the direct
+ *  ones) ignore it. */
+int mpgm_solver_tolerance(mpgm_solver *s, double tol);
 /** Checkpoints: the backend's name and its own state (type->save) into b /
  *  read back into a fresh instance of the same backend (another backend:
  *  MPGM_ERR_INPUT). The instance then analyses and factorises anew. */

@@ -101,6 +101,7 @@ static int px_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   return real->solve(data, ctx, b, x);
 }
 static int px_stats(void *data, mpgm_solver_stats *st) { return real->stats(data, st); }
+static int px_tolerance(void *data, double tol) { return real->tolerance(data, tol); }
 
 /* PETSc's configurations that `mpgm bench-solvers` compares: CG or GMRES
  * with BoomerAMG, GAMG or incomplete factors, and MUMPS. */
@@ -129,4 +130,5 @@ const mpgm_solver_type mpgm_solver_petsc = {
     .factor = px_factor,
     .solve = px_solve,
     .stats = px_stats,
+    .tolerance = px_tolerance,
 };

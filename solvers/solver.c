@@ -43,7 +43,8 @@ const mpgm_solver_type *mpgm_solver_type_find(const char *name) {
 }
 
 mpgm_solver_opts mpgm_solver_opts_default(void) {
-  return (mpgm_solver_opts){.tol = 1e-10, .restart = 100, .max_iter = 5000, .symmetric = 1};
+  return (mpgm_solver_opts){.tol = 1e-10, .restart = 100, .max_iter = 5000, .symmetric = 1,
+                            .refactor_iterations = 20};
 }
 
 int mpgm_solver_usable(const char *name, char *msg, size_t len) {
@@ -188,6 +189,11 @@ int mpgm_solver_get_stats(mpgm_solver *s, mpgm_solver_stats *st) {
   memset(st, 0, sizeof(*st));
   if (!s->type->stats) return MPGM_ERR_UNSUPPORTED;
   return s->type->stats(s->data, st);
+}
+
+int mpgm_solver_tolerance(mpgm_solver *s, double tol) {
+  if (!s || !(tol > 0.0 && tol < 1.0)) return MPGM_ERR_INPUT;
+  return s->type->tolerance ? s->type->tolerance(s->data, tol) : MPGM_OK;
 }
 
 int mpgm_solver_step(mpgm_solver *s, mpgm_ctx *ctx, int *kept) {

@@ -261,6 +261,7 @@ typedef struct mpgm_newton {
   double res_prev; /**< |R| at the previous one                           */
   int factored;    /**< a factorisation for this pattern and fixity exists */
   int want_K;      /**< the last residual call assembled K too            */
+  double eta;      /**< the last forcing term (solver.forcing)            */
 } mpgm_newton;
 
 /** Body force, predictor (du = 0, or dt v with time.predictor velocity;

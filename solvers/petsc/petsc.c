@@ -450,6 +450,15 @@ static int pt_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   return MPGM_OK;
 }
 
+/* Newton's forcing term: the next solves' relative tolerance. */
+static int pt_tolerance(void *data, double tol) {
+  pt_data *d = data;
+  d->opts.tol = tol;
+  if (d->ksp && KSPSetTolerances(d->ksp, tol, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT))
+    return MPGM_ERR_SOLVER;
+  return MPGM_OK;
+}
+
 static int pt_stats(void *data, mpgm_solver_stats *st) {
   pt_data *d = data;
   st->iterations = d->iterations;
@@ -471,4 +480,5 @@ const mpgm_solver_type mpgm_solver_petsc_module = {
     .factor = pt_factor,
     .solve = pt_solve,
     .stats = pt_stats,
+    .tolerance = pt_tolerance,
 };

@@ -9,6 +9,8 @@
 # solver's memory peak aside: they measure the process, not the run), the
 # step cuts and the status. The cases are coarse and dynamic:
 #   fem_mc        UL-FEM, Mohr-Coulomb column collapse (FEM has no contact)
+#   fem_krylov    the same with Newton-Krylov and Eisenstat-Walker forcing
+#                 (the factorisation kept across steps: the pattern stays)
 #   mpm_mc        MPM, Mohr-Coulomb block dropped on a floor, contact at
 #                 its surface points
 #   gmm_mls_mc    the same block, GMM-MLS
@@ -87,6 +89,10 @@ one_case() {
 one_case fem_mc "$src/cases/column_collapse.json" --set method=fem --set mesh.h=0.2 \
   --set time.end=0.3 --set output.checkpoint_every=7 --set output.every=10 \
   --set 'boundaries=[{"x":0,"condition":"slip"},{"y":0,"condition":"stick"}]'
+one_case fem_krylov "$src/cases/column_collapse.json" --set method=fem --set mesh.h=0.2 \
+  --set time.end=0.3 --set output.checkpoint_every=7 --set output.every=10 \
+  --set 'boundaries=[{"x":0,"condition":"slip"},{"y":0,"condition":"stick"}]' \
+  --set solver.newton=krylov --set solver.forcing=eisenstat_walker
 one_case mpm_mc "$block" "${block_sets[@]}" --set output.checkpoint_every=6
 one_case gmm_mls_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kind=mls \
   --set output.checkpoint_every=6

@@ -640,6 +640,71 @@ done:
   release(&A);
 }
 
+/* Newton-Krylov's composite (reuse) around a direct part: the first solve
+ * factorises; new values keep the factorisation while GMRES converges
+ * within refactor_iterations (counted in MPGM_C_FACTOR_REUSES), each
+ * solve to its tolerance; values far from the factorised ones need more
+ * iterations, and the next factor refactorises; a tighter tolerance
+ * (mpgm_solver_tolerance) is met. */
+static void check_reuse(const char *part) {
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_csc A = {0}, B = {0}, C = {0};
+  vecs v = {0};
+  mpgm_solver *s = NULL;
+  mpgm_solver_opts o = mpgm_solver_opts_default();
+  o.part = mpgm_solver_type_find(part);
+  o.refactor_iterations = 8;
+  o.tol = 1e-8;
+  if (build(40, 30, -1, 0.3817, 0.0, SCALE, &A) || build(40, 30, -1, 0.40, 0.0, 1.01 * SCALE, &B) ||
+      build(40, 30, -1, 3.0, 0.0, 0.2 * SCALE, &C) || vecs_alloc(A.n, &v) ||
+      mpgm_solver_create(&ctx, &mpgm_solver_reuse, &o, &s)) {
+    mpgm_test(0, "reuse(%s): set-up (%s)", part, ctx.msg);
+    goto done;
+  }
+  const mpgm_csc *seq[] = {&A, &B, &B, &C, &C};
+  const int n = (int)(sizeof seq / sizeof seq[0]);
+  long fac[5], reu[5];
+  int its[5], err[5];
+  mpgm_solver_analyse(s, &ctx, &A, NULL);
+  for (int k = 0; k < n; k++) {
+    if (k == 2) mpgm_solver_tolerance(s, 1e-11);
+    known_rhs(seq[k], &v);
+    err[k] = mpgm_solver_factor(s, &ctx, seq[k]);
+    if (!err[k]) err[k] = mpgm_solver_solve(s, &ctx, v.b, v.x);
+    mpgm_solver_stats st;
+    mpgm_solver_get_stats(s, &st);
+    its[k] = st.iterations;
+    fac[k] = ctx.count[MPGM_C_FACTORIZATIONS];
+    reu[k] = ctx.count[MPGM_C_FACTOR_REUSES];
+    matvec(seq[k], v.x, v.r);
+    double rr = 0.0, bb = 0.0;
+    for (int i = 0; i < A.n; i++) rr += (v.b[i] - v.r[i]) * (v.b[i] - v.r[i]), bb += v.b[i] * v.b[i];
+    const double tol = k < 2 ? 1e-8 : 1e-11;
+    mpgm_test(err[k] == 0 && sqrt(rr / bb) <= tol, "reuse(%s): system %d: solved (%d) to "
+              "|b - A x| / |b| = %.2e <= %g in %d iterations (%s)", part, k, err[k], sqrt(rr / bb),
+              tol, its[k], ctx.msg);
+  }
+  mpgm_test(fac[0] == 1 && its[0] <= 2 && reu[0] == 0,
+            "reuse(%s): the first solve factorises and converges at once (%ld factorisation, %d "
+            "iterations)", part, fac[0], its[0]);
+  mpgm_test(fac[1] == 1 && reu[1] == 1 && its[1] > its[0] && its[1] <= 8,
+            "reuse(%s): nearby values keep the factorisation (%ld reused, %d iterations)", part,
+            reu[1], its[1]);
+  mpgm_test(fac[3] + (its[3] > 8) >= 2 && fac[4] <= 3 && its[4] <= 2,
+            "reuse(%s): far values: %d iterations, then a new factorisation (%ld in all) and %d "
+            "iterations", part, its[3], fac[4], its[4]);
+  mpgm_test(ctx.count[MPGM_C_SOLVES] == n && ctx.count[MPGM_C_ANALYSES] == 1,
+            "reuse(%s): %ld solves counted (%d), %ld analyses (1)", part, ctx.count[MPGM_C_SOLVES], n,
+            ctx.count[MPGM_C_ANALYSES]);
+done:
+  mpgm_solver_destroy(&s);
+  vecs_free(&v);
+  release(&A);
+  release(&B);
+  release(&C);
+}
+
 int main(void) {
   cur.opts = mpgm_solver_opts_default();
   const mpgm_solver_type *const *types = mpgm_solver_types();
@@ -651,6 +716,9 @@ int main(void) {
             "unknown names are not found");
   check_wrappers();
   check_auto_holds();
+  check_reuse("cholmod");
+  check_reuse("umfpack");
+  check_reuse("auto");
   for (int i = 0; types[i]; i++) {
     const mpgm_solver_type *t = types[i];
     mpgm_test(mpgm_solver_type_find(t->name) == t, "%s: found by name",
