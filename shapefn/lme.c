@@ -25,7 +25,8 @@
  * r = 0, which keeps sum grad N_a = 0 and sum x_a (x) grad N_a = I exact to
  * round-off even when Newton stops at |r| = tol_newton.
  *
- * Support: nodes with exp(-gamma |d_a|^2) < tol_support get N = 0.
+ * Support: nodes with exp(-gamma |d_a|^2) < tol_support get N = 0, or with a
+ * fixed radius (par->radius > 0) the nodes beyond it.
  *
  * Failures (recoverable MPGM_ERR_SHAPE, N = dN = 0, reason in q->info):
  *   - fewer than 3 nodes in the support (TOO_FEW);
@@ -68,6 +69,12 @@ enum { HULL_INSIDE = 0, HULL_BOUNDARY = 1, HULL_OUTSIDE = 2 };
 static int lme_radius(const mpgm_shape_params *par, double *R) {
   *R = 0.0;
   if (!par || !(par->h > 0.0)) return MPGM_ERR_INPUT;
+  /* a fixed radius (the paper's search radius, shape.radius), else where
+   * the weight falls below tol_support */
+  if (par->radius > 0.0) {
+    *R = par->radius;
+    return 0;
+  }
   const double gamma = mpgm_shape_dflt(par->gamma, MPGM_LME_GAMMA);
   const double tol = par->tol_support > 0.0 && par->tol_support < 1.0 ? par->tol_support
                                                                        : MPGM_LME_TOL_SUPPORT;
@@ -309,7 +316,7 @@ static int lme_eval(const mpgm_shape_query *q, double *N, double *dN) {
 const mpgm_shapefn_type mpgm_shapefn_lme = {
     .name = "lme",
     .doc = "local maximum-entropy (Arroyo-Ortiz), beta = gamma / h^2, support cut where "
-           "exp(-beta r^2) < tol_support",
+           "exp(-beta r^2) < tol_support or at a fixed radius",
     .needs_cell = 0,
     .eval = lme_eval,
     .support_radius = lme_radius,

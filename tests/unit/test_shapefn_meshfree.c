@@ -597,6 +597,34 @@ static void check_defaults(const variant *mls1, const variant *lme) {
   p.radius = 0.987;
   err = mpgm_shape_support_radius(mls1->t, &p, &r);
   mpgm_test_rel(r, 0.987, TEST_TOL0, "mls explicit radius (err %d)", err);
+  err = mpgm_shape_support_radius(lme->t, &p, &r);
+  mpgm_test_rel(r, 0.987, TEST_TOL0, "lme explicit radius (err %d)", err);
+  /* LME with radius R is LME with tol_support = exp(-gamma R^2 / h^2):
+   * the same nodes in the support, the same functions */
+  {
+    double xn[2 * 13], N1[13], dN1[26], N2[13], dN2[26];
+    for (int a = 0; a < 13; a++) {
+      xn[2 * a] = H * (0.9 * cos(0.7 * a) * (1 + a % 3) * 0.8);
+      xn[2 * a + 1] = H * (0.9 * sin(0.7 * a) * (1 + a % 3) * 0.8);
+    }
+    const double R = 1.7 * H;
+    mpgm_shape_params pr = {.h = H, .radius = R};
+    mpgm_shape_params pt = {.h = H, .tol_support = exp(-1.8 * (R / H) * (R / H) * (1 + 1e-12))};
+    mpgm_shape_query q1 = {.n = 13, .xn = xn, .xp = {0.1 * H, -0.05 * H}, .cell = -1, .par = &pr};
+    mpgm_shape_query q2 = q1;
+    q2.par = &pt;
+    const int e1 = lme->t->eval(&q1, N1, dN1), e2 = lme->t->eval(&q2, N2, dN2);
+    double diff = 0.0;
+    int zeros = 0;
+    for (int a = 0; a < 13; a++) {
+      diff = fmax(diff, fabs(N1[a] - N2[a]));
+      diff = fmax(diff, H * fmax(fabs(dN1[2 * a] - dN2[2 * a]), fabs(dN1[2 * a + 1] - dN2[2 * a + 1])));
+      zeros += N1[a] == 0.0;
+    }
+    mpgm_test(e1 == 0 && e2 == 0 && zeros > 0 && diff < 1e-12,
+              "lme radius R = lme tol_support exp(-gamma R^2/h^2): %d nodes cut, max diff %g "
+              "(err %d %d)", zeros, diff, e1, e2);
+  }
   /* a node just outside the support gets exactly zero, one inside does not */
   for (int k = 0; k < 2; k++) {
     const mpgm_shapefn_type *t = k ? lme->t : mls1->t;
