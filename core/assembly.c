@@ -215,8 +215,10 @@ static inline int block_zero(const double *e) {
  * rolling disk), each used once or twice. Only the nonzero entries are
  * added: a pair of the union that no point of the batch couples has a zero
  * block, and may be missing from the pattern or belong to another task
- * running at the same time. */
-static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb) {
+ * running at the same time. With half (a symmetric tangent) the batch holds
+ * the blocks a <= b only, and block (a, b), a > b, is read as the
+ * transpose of (b, a): half the writes of the points into the batch. */
+static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb, int half) {
   const mpgm_nodes *nd = &pb->nodes;
   const int *dof = nd->dof;
   const unsigned char *fix = nd->fix;
@@ -232,8 +234,12 @@ static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb) 
       tl[a] = t < tend && pb->nbr[t] == nodes[a] ? t : -1; /* -1: not coupled */
     }
     for (int a = 0; a < nk; a++) {
-      double *e = kb + MPGM_BLOCK * (a * MPGM_ASM_BATCH + b);
+      const int lower = half && a > b;
+      double *e = lower ? kb + MPGM_BLOCK * (b * MPGM_ASM_BATCH + a)
+                        : kb + MPGM_BLOCK * (a * MPGM_ASM_BATCH + b);
       if (tl[a] < 0 || block_zero(e)) continue;
+      /* 2-D only: block (a, b) = e, or the transpose of e (3-D: 3x3) */
+      const double ab[MPGM_BLOCK] = {e[0], lower ? e[2] : e[1], lower ? e[1] : e[2], e[3]};
       const int I = nodes[a];
       /* 2-D only: the rows of x and y apart; y's row comes after x's when
        * x is numbered (3-D: a loop over the rows, counting those before) */
@@ -243,10 +249,13 @@ static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb) 
         const int col = dof[MPGM_DIM * J + j];
         if (col < 0 || fix[MPGM_DIM * J + j]) continue;
         const int pos0 = pb->K.colptr[col] + pb->nbr_off[tl[a]];
-        if (rx) val[pos0] += e[j];
-        if (ry) val[pos0 + (dof[MPGM_DIM * I] >= 0)] += e[MPGM_DIM + j];
+        if (rx) val[pos0] += ab[j];
+        if (ry) val[pos0 + (dof[MPGM_DIM * I] >= 0)] += ab[MPGM_DIM + j];
       }
-      for (int q = 0; q < MPGM_BLOCK; q++) e[q] = 0.0;
+      /* an upper block is read twice (as itself in column b and as the
+       * transpose in column a < b, which comes first): zeroed the second time */
+      if (!lower)
+        for (int q = 0; q < MPGM_BLOCK; q++) e[q] = 0.0;
     }
   }
 }
@@ -297,56 +306,93 @@ static inline void point_residual(const asm_job *j, int p) {
   }
 }
 
+/* What the blocks of one point need: its stress, tangent, volume and
+ * mass, its connectivity entries k0 .. k0 + nk. */
+typedef struct {
+  const double *s, *D;
+  double v, m;
+  int k0, nk;
+} pt_blocks;
+
+static inline pt_blocks point_blocks(const asm_job *j, int p) {
+  const mpgm_problem *pb = j->pb;
+  const mpgm_points *P = &pb->pts;
+  const int k0 = pb->conn.ptr[p];
+  return (pt_blocks){P->sigma_t + MPGM_NSTRESS * p, P->D_t + MPGM_NTANGENT * p, P->vol_t[p],
+                     P->mass[p], k0, pb->conn.ptr[p + 1] - k0};
+}
+
+/* The column terms of node b of a point: DB = D B_b (3 x 2) and
+ * sigma h. 2-D only: B_b = [hx 0; 0 hy; hy hx] written out (3-D: 6 x 3),
+ * as are sigma h, the blocks of B_a^T D B_b and the geometric term in
+ * point_block */
+typedef struct {
+  double DB[MPGM_NVOIGT][MPGM_DIM], sh0, sh1;
+} col_terms;
+
+static inline col_terms column_terms(const mpgm_conn *C, const pt_blocks *q, int b) {
+  const double hx = C->g[MPGM_DIM * (q->k0 + b)], hy = C->g[MPGM_DIM * (q->k0 + b) + 1];
+  const double *D = q->D, *s = q->s;
+  col_terms c;
+  for (int i = 0; i < MPGM_NVOIGT; i++) {
+    c.DB[i][0] = D[MPGM_NVOIGT * i] * hx + D[MPGM_NVOIGT * i + 2] * hy;
+    c.DB[i][1] = D[MPGM_NVOIGT * i + 1] * hy + D[MPGM_NVOIGT * i + 2] * hx;
+  }
+  c.sh0 = s[0] * hx + s[2] * hy;
+  c.sh1 = s[2] * hx + s[1] * hy;
+  return c;
+}
+
+/* Block (a, b) of the point's tangent (material + geometric + dynamic,
+ * or the mass block with j->mass_only) into k; with a lift, the term of
+ * a free row of node a and a fixed column of node b subtracted from R. */
+static inline void point_block(const asm_job *j, const mpgm_conn *C, const pt_blocks *q,
+                               const col_terms *c, int a, int b, double k[MPGM_BLOCK]) {
+  const int k0 = q->k0;
+  const double v = q->v;
+  const double gx = C->g[MPGM_DIM * (k0 + a)], gy = C->g[MPGM_DIM * (k0 + a) + 1];
+  double diag = j->geo ? v * (gx * c->sh0 + gy * c->sh1) : 0.0;
+  if (j->inertia && (!j->lumped || a == b))
+    diag += j->kdyn * q->m * C->N[k0 + a] * (j->lumped ? 1.0 : C->N[k0 + b]);
+  if (j->mass_only) { /* 2-D only: diag I */
+    k[0] = diag; k[1] = 0.0; k[2] = 0.0; k[3] = diag;
+  } else {
+    k[0] = v * (gx * c->DB[0][0] + gy * c->DB[2][0]) + diag;
+    k[1] = v * (gx * c->DB[0][1] + gy * c->DB[2][1]);
+    k[2] = v * (gy * c->DB[1][0] + gx * c->DB[2][0]);
+    k[3] = v * (gy * c->DB[1][1] + gx * c->DB[2][1]) + diag;
+  }
+  if (j->lift) { /* free row of node a, fixed column of node b */
+    const int *dof = j->pb->nodes.dof;
+    const int Ia = C->node[k0 + a], Ib = C->node[k0 + b];
+    double *R = j->pb->R;
+    for (int i = 0; i < MPGM_DIM; i++)
+      for (int jj = 0; jj < MPGM_DIM; jj++)
+        if (dof[MPGM_DIM * Ia + i] >= 0 && dof[MPGM_DIM * Ib + jj] < 0)
+          R[dof[MPGM_DIM * Ia + i]] -= k[MPGM_DIM * i + jj] * j->lift[MPGM_DIM * Ib + jj];
+  }
+}
+
 /* Residual and tangent terms of one group, added into R and K through the
  * group's scatter map; kl is the thread's local matrix. */
 static void assemble_group(const asm_job *j, int g, double *kl) {
   mpgm_problem *pb = j->pb;
-  const mpgm_points *P = &pb->pts;
   const mpgm_conn *C = &pb->conn;
-  const int *dof = pb->nodes.dof;
-  const int inertia = j->inertia, geo = j->geo, half = j->half;
-  const double kdyn = j->kdyn, *lift = j->lift;
-  double *R = pb->R;
+  const int half = j->half;
   const int t0 = pb->grp_ptr[g], t1 = pb->grp_ptr[g + 1];
   const int nkg = C->ptr[pb->order[t0] + 1] - C->ptr[pb->order[t0]];
   memset(kl, 0, sizeof(double) * MPGM_BLOCK * (size_t)nkg * nkg);
   for (int t = t0; t < t1; t++) {
     const int p = pb->order[t];
     point_residual(j, p);
-    const double *s = P->sigma_t + MPGM_NSTRESS * p, *D = P->D_t + MPGM_NTANGENT * p;
-    const double v = P->vol_t[p], m = P->mass[p];
-    const int k0 = C->ptr[p], nk = nkg;
-    for (int b = 0; b < nk; b++) {
-      const double hx = C->g[MPGM_DIM * (k0 + b)], hy = C->g[MPGM_DIM * (k0 + b) + 1];
-      /* DB = D B_b (3 x 2). 2-D only: B_b = [hx 0; 0 hy; hy hx] written
-       * out (3-D: 6 x 3), as are sigma h, the blocks of B_a^T D B_b and
-       * the geometric term below */
-      double DB[MPGM_NVOIGT][MPGM_DIM];
-      for (int i = 0; i < MPGM_NVOIGT; i++) {
-        DB[i][0] = D[MPGM_NVOIGT * i] * hx + D[MPGM_NVOIGT * i + 2] * hy;
-        DB[i][1] = D[MPGM_NVOIGT * i + 1] * hy + D[MPGM_NVOIGT * i + 2] * hx;
-      }
-      const double sh0 = s[0] * hx + s[2] * hy, sh1 = s[2] * hx + s[1] * hy;
-      const int Ib = C->node[k0 + b];
-      for (int a = 0; a < (half ? b + 1 : nk); a++) {
-        const double gx = C->g[MPGM_DIM * (k0 + a)], gy = C->g[MPGM_DIM * (k0 + a) + 1];
-        double diag = geo ? v * (gx * sh0 + gy * sh1) : 0.0;
-        if (inertia && (!j->lumped || a == b))
-          diag += kdyn * m * C->N[k0 + a] * (j->lumped ? 1.0 : C->N[k0 + b]);
-        const double kab[MPGM_BLOCK] = {
-            v * (gx * DB[0][0] + gy * DB[2][0]) + diag, v * (gx * DB[0][1] + gy * DB[2][1]),
-            v * (gy * DB[1][0] + gx * DB[2][0]), v * (gy * DB[1][1] + gx * DB[2][1]) + diag};
-        const double mab[MPGM_BLOCK] = {diag, 0.0, 0.0, diag}; /* 2-D only: diag I */
-        const double *k = j->mass_only ? mab : kab;
-        double *e = kl + MPGM_BLOCK * (a * nk + b);
-        for (int q = 0; q < MPGM_BLOCK; q++) e[q] += k[q];
-        if (lift) { /* free row of node a, fixed column of node b */
-          const int Ia = C->node[k0 + a];
-          for (int i = 0; i < MPGM_DIM; i++)
-            for (int jj = 0; jj < MPGM_DIM; jj++)
-              if (dof[MPGM_DIM * Ia + i] >= 0 && dof[MPGM_DIM * Ib + jj] < 0)
-                R[dof[MPGM_DIM * Ia + i]] -= k[MPGM_DIM * i + jj] * lift[MPGM_DIM * Ib + jj];
-        }
+    const pt_blocks q = point_blocks(j, p);
+    for (int b = 0; b < nkg; b++) {
+      const col_terms c = column_terms(C, &q, b);
+      for (int a = 0; a < (half ? b + 1 : nkg); a++) {
+        double k[MPGM_BLOCK];
+        point_block(j, C, &q, &c, a, b, k);
+        double *e = kl + MPGM_BLOCK * (a * nkg + b);
+        for (int r = 0; r < MPGM_BLOCK; r++) e[r] += k[r];
       }
     }
   }
@@ -360,8 +406,36 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
   if (pb->nomap) return; /* summed into the batch by assemble_batch */
   const int *sc = pb->scatter + pb->scatter_ptr[g];
   double *val = pb->K.val;
-  for (int q = 0; q < MPGM_BLOCK * nkg * nkg; q++)
-    if (sc[q] >= 0) val[sc[q]] += kl[q];
+  for (int r = 0; r < MPGM_BLOCK * nkg * nkg; r++)
+    if (sc[r] >= 0) val[sc[r]] += kl[r];
+}
+
+/* A group of one point (node clouds: nearly every group) added straight
+ * into the batch kb at the slots loc of its nodes: the same sums as
+ * assemble_group's local matrix added into the batch, without it (with a
+ * symmetric tangent, each pair's one block a <= b of the batch, see
+ * flush_batch). */
+static void assemble_point_batch(const asm_job *j, int p, const int *loc, double *kb) {
+  const mpgm_conn *C = &j->pb->conn;
+  const int half = j->half, B = MPGM_ASM_BATCH;
+  point_residual(j, p);
+  const pt_blocks q = point_blocks(j, p);
+  const int nk = q.nk;
+  for (int b = 0; b < nk; b++) {
+    const col_terms c = column_terms(C, &q, b);
+    double *col = kb + MPGM_BLOCK * loc[b], *row = kb + MPGM_BLOCK * (size_t)B * loc[b];
+    for (int a = 0; a < (half ? b + 1 : nk); a++) {
+      double k[MPGM_BLOCK];
+      point_block(j, C, &q, &c, a, b, k);
+      if (half && loc[a] > loc[b]) { /* kept as block (b, a) = (a, b)^T; 2-D only: 2x2 */
+        double *f = row + MPGM_BLOCK * loc[a];
+        f[0] += k[0]; f[1] += k[2]; f[2] += k[1]; f[3] += k[3];
+      } else {
+        double *e = col + MPGM_BLOCK * (size_t)B * loc[a];
+        for (int r = 0; r < MPGM_BLOCK; r++) e[r] += k[r];
+      }
+    }
+  }
 }
 
 _Static_assert(MPGM_ASM_BATCH >= MPGM_SHAPE_MAXNODE, "a batch holds at least one cloud");
@@ -386,7 +460,7 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
     int fresh = 0;
     for (int a = 0; a < nk; a++) fresh += slot[nodes[a]] < 0;
     if (nb + fresh > B) {
-      flush_batch(pb, bn, nb, kb);
+      flush_batch(pb, bn, nb, kb, j->half);
       for (int q = 0; q < nb; q++) slot[bn[q]] = -1;
       nb = 0;
     }
@@ -397,16 +471,21 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
       }
       loc[a] = slot[nodes[a]];
     }
+    if (pb->grp_ptr[g + 1] - pb->grp_ptr[g] == 1) {
+      assemble_point_batch(j, p, loc, kb);
+      continue;
+    }
     assemble_group(j, g, kl);
     for (int a = 0; a < nk; a++)
       for (int b = 0; b < nk; b++) {
+        if (j->half && loc[a] > loc[b]) continue; /* the batch's upper blocks only */
         const double *e = kl + MPGM_BLOCK * (a * nk + b);
         double *f = kb + MPGM_BLOCK * (loc[a] * B + loc[b]);
         for (int q = 0; q < MPGM_BLOCK; q++) f[q] += e[q];
       }
   }
   if (nb == 0) return;
-  flush_batch(pb, bn, nb, kb);
+  flush_batch(pb, bn, nb, kb, j->half);
   for (int q = 0; q < nb; q++) slot[bn[q]] = -1;
 }
 
