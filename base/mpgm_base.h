@@ -145,6 +145,9 @@ typedef enum {
                                  short of their tolerance (recoverable)  */
   MPGM_C_FACTOR_REUSES,     /**< Newton-Krylov: iterations that kept the
                                  last factorisation as the preconditioner */
+  MPGM_C_PATTERNS_KEPT,     /**< node clouds with shape.skin: steps whose
+                                 clouds changed and kept the pattern and
+                                 its analysis                            */
   MPGM_C_COUNT
 } mpgm_counter_id;
 
