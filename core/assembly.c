@@ -237,7 +237,11 @@ static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb, 
       const int lower = half && a > b;
       double *e = lower ? kb + MPGM_BLOCK * (b * MPGM_ASM_BATCH + a)
                         : kb + MPGM_BLOCK * (a * MPGM_ASM_BATCH + b);
-      if (tl[a] < 0 || block_zero(e)) continue;
+      if (tl[a] < 0) { /* a block no point couples is zero: else the pattern misses it */
+        if (!block_zero(e)) pb->pattern_missed = 1;
+        continue;
+      }
+      if (block_zero(e)) continue;
       /* 2-D only: block (a, b) = e, or the transpose of e (3-D: 3x3) */
       const double ab[MPGM_BLOCK] = {e[0], lower ? e[2] : e[1], lower ? e[1] : e[2], e[3]};
       const int I = nodes[a];
@@ -537,6 +541,13 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
   for (int ph = 0; ph < 4; ph++) {
     j.t0 = mpgm_asm_phase(ph);
     mpgm_pool_run(pb->pool, mpgm_asm_phase(ph + 1) - mpgm_asm_phase(ph), assemble_task, &j);
+  }
+  /* a coupling of the clouds outside the pattern (an error of the code
+   * that built it: the lists of a pattern skin, shape.skin) */
+  if (pb->pattern_missed) {
+    mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+    MPGM_ERROR(ctx, MPGM_ERR_INTERNAL,
+               "step %ld: the sparsity pattern misses a coupling of the node clouds", pb->step + 1);
   }
   if (pb->fx.contact_points) mpgm_cpoints_assemble(pb, want_K, mass_only);
   /* held contact components: equation delta = 0 (identity row, R = 0) */

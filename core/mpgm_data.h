@@ -108,6 +108,12 @@ typedef struct mpgm_conn {
                        fixity or matrix pattern changes                  */
   int map_version;/**< incremented when only the point -> node lists
                        changed (same nodes, fixity and pattern)          */
+  /* optional (NULL: the lists above give the pattern): per material point
+   * a superset of its node list that the sparsity pattern is built from
+   * (node clouds with a skin, shape.skin), owned by the front end, which
+   * increments pversion when it changes them (and version with it) */
+  const int *pptr, *pnode;
+  int pversion;
   /* the transpose, node -> entries of the material points
    * (mpgm_conn_transpose): for node I the entries tk[tptr[I] ..
    * tptr[I + 1]) in increasing order, tp the point of each; a sum over

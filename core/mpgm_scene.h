@@ -163,6 +163,9 @@ typedef struct mpgm_scene {
                                  MLS)                                  */
   int max_enlarge;          /**< meshfree: cloud enlargements per point
                                  and step before the step fails (16)   */
+  double skin;              /**< gmm: the pattern's skin, a multiple of
+                                 mesh.h (0: a pattern per change of the
+                                 clouds; discretisation/skin.c)        */
   /* mesh */
   double h;                 /**< cell size [m]                         */
   int cell;                 /**< mpgm_cell_kind                        */

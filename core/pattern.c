@@ -150,38 +150,65 @@ static int group_points(mpgm_problem *pb) {
 
 static int scatter_maps(mpgm_problem *pb);
 
+/* The lists the node graph is made of: one per group (a point stands for
+ * its group), or the front end's pattern lists of every material point
+ * (conn.pptr, node clouds with a skin). List l's nodes and their count. */
+static inline int graph_lists(const mpgm_problem *pb) {
+  return pb->conn.pptr ? pb->pts.n : pb->ngroups;
+}
+
+static inline const int *graph_list(const mpgm_problem *pb, int l, int *len) {
+  const mpgm_conn *C = &pb->conn;
+  if (C->pptr) {
+    *len = C->pptr[l + 1] - C->pptr[l];
+    return C->pnode + C->pptr[l];
+  }
+  const int p = pb->order[pb->grp_ptr[l]];
+  *len = C->ptr[p + 1] - C->ptr[p];
+  return C->node + C->ptr[p];
+}
+
 /* The node graph of the pattern: the neighbours of node J are the nodes of
- * every group connected to J (one point stands for its group); built
- * through the node -> groups transpose with a marker per node
- * (O(entries)), each list sorted (they are short). Into pb->nbr_ptr,
- * pb->nbr; with solver.ordering geometric, the nodes' nested-dissection
- * order (it depends on the graph only: a contact node held or released
- * keeps it). */
+ * every list holding J (graph_lists); built through the node -> lists
+ * transpose with a marker per node (O(entries)), each list sorted (they
+ * are short). Into pb->nbr_ptr, pb->nbr; with solver.ordering geometric,
+ * the nodes' nested-dissection order (it depends on the graph only: a
+ * contact node held or released keeps it). */
 static int node_graph(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_conn *C = &pb->conn;
-  const int np = pb->pts.n, nn = pb->nodes.n, ng = pb->ngroups;
+  const int nn = pb->nodes.n, nl = graph_lists(pb);
+  size_t total = 0;
+  for (int l = 0; l < nl; l++) {
+    int len;
+    graph_list(pb, l, &len);
+    total += (size_t)len;
+  }
   int *tptr = calloc((size_t)nn + 2, sizeof(int));
   int *nptr = calloc((size_t)nn + 1, sizeof(int)), *pair = NULL;
   int *mark = malloc(((size_t)nn + 1) * sizeof(int));
-  int *tpt = malloc(((size_t)C->ptr[np] + 1) * sizeof(int)); /* representative points */
-  int ok = tptr && nptr && mark && tpt;
-  for (int g = 0; g < ng && ok; g++) {
-    const int p = pb->order[pb->grp_ptr[g]];
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) tptr[C->node[k] + 2]++;
+  int *tl = malloc((total + 1) * sizeof(int)); /* lists holding each node */
+  int ok = tptr && nptr && mark && tl;
+  for (int l = 0; l < nl && ok; l++) {
+    int len;
+    const int *nodes = graph_list(pb, l, &len);
+    for (int k = 0; k < len; k++) tptr[nodes[k] + 2]++;
   }
   for (int i = 0; i < nn && ok; i++) tptr[i + 2] += tptr[i + 1];
-  for (int g = 0; g < ng && ok; g++) {
-    const int p = pb->order[pb->grp_ptr[g]];
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) tpt[tptr[C->node[k] + 1]++] = p;
+  for (int l = 0; l < nl && ok; l++) {
+    int len;
+    const int *nodes = graph_list(pb, l, &len);
+    for (int k = 0; k < len; k++) tl[tptr[nodes[k] + 1]++] = l;
   }
   for (int pass = 0; pass < 2 && ok; pass++) {
     for (int i = 0; i < nn; i++) mark[i] = -1;
     for (int J = 0; J < nn; J++) {
       int cnt = 0, *list = pass ? pair + nptr[J] : NULL;
-      for (int t = tptr[J]; t < tptr[J + 1]; t++)
-        for (int k = C->ptr[tpt[t]]; k < C->ptr[tpt[t] + 1]; k++) {
-          const int I = C->node[k];
+      for (int t = tptr[J]; t < tptr[J + 1]; t++) {
+        int len;
+        const int *nodes = graph_list(pb, tl[t], &len);
+        for (int k = 0; k < len; k++) {
+          const int I = nodes[k];
           if (mark[I] == J) continue;
           mark[I] = J;
           if (pass) { /* insertion into the sorted list */
@@ -194,6 +221,7 @@ static int node_graph(mpgm_problem *pb) {
           }
           cnt++;
         }
+      }
       if (!pass) nptr[J + 1] = cnt;
     }
     if (!pass) {
@@ -203,7 +231,7 @@ static int node_graph(mpgm_problem *pb) {
   }
   free(tptr);
   free(mark);
-  free(tpt);
+  free(tl);
   if (!ok) {
     free(nptr);
     free(pair);
@@ -213,7 +241,7 @@ static int node_graph(mpgm_problem *pb) {
   free(pb->nbr_ptr);
   pb->nbr = pair;
   pb->nbr_ptr = nptr;
-  pb->graph_version = C->version;
+  pb->graph_version = C->pptr ? C->pversion : C->version;
   if (!pb->scene->ordering_nd) return 0;
   free(pb->node_order);
   pb->node_order = malloc(((size_t)nn + 1) * sizeof(int));
@@ -296,10 +324,15 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   mpgm_timer_start(ctx, MPGM_T_ANALYSE); /* symbolic work, once per pattern */
   int err = 0;
   /* the same connectivity with new equation numbers (a contact node held
-   * or released): the groups and the node graph stand */
-  if (pb->graph_version != pb->conn.version || !pb->nbr_ptr) {
+   * or released): the groups and the node graph stand. With pattern lists
+   * (conn.pptr) the graph is theirs, and stands while they do; the node
+   * lists, and so the groups, may have changed with the equations */
+  const mpgm_conn *C = &pb->conn;
+  if (pb->graph_version != (C->pptr ? C->pversion : C->version) || !pb->nbr_ptr) {
     err = group_points(pb);
     if (!err) err = node_graph(pb);
+  } else if (C->pptr) {
+    err = group_points(pb);
   }
   if (!err) err = matrix_pattern(pb);
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);

@@ -44,6 +44,7 @@ struct mpgm_clouds {
   int m;                 /**< points                                        */
   double *lambda;        /**< LME multiplier per point (warm start),
                               MPGM_DIM each                                 */
+  double *rad;           /**< search radius per point at the last build    */
   mpgm_conn_par par_build; /**< staging of the parallel build            */
   mpgm_conn_task tail;   /**< staging of the tracers, one at a time          */
   /* the step's candidates (set by mpgm_clouds_build) */
@@ -54,6 +55,7 @@ struct mpgm_clouds {
 void mpgm_clouds_destroy(mpgm_clouds *c) {
   if (!c) return;
   free(c->lambda);
+  free(c->rad);
   mpgm_conn_par_free(&c->par_build);
   mpgm_conn_task_free(&c->tail);
   free(c);
@@ -83,10 +85,13 @@ static int size_for(mpgm_ctx *ctx, mpgm_clouds *c, int m) {
   if (c->lambda) return 0;
   c->m = m;
   MPGM_ALLOC(ctx, c->lambda, MPGM_DIM * (size_t)m);
+  MPGM_ALLOC(ctx, c->rad, m);
   return 0;
 }
 
 double mpgm_clouds_radius(const mpgm_clouds *c) { return c->r0; }
+
+const double *mpgm_clouds_radii(const mpgm_clouds *c) { return c->rad; }
 
 int mpgm_clouds_save(const mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b) {
   const int m = c->lambda ? c->m : 0;
@@ -278,6 +283,7 @@ static int shape_point(const mpgm_clouds *c, const mpgm_fe_view *v, int p, int n
   }
   /* MPGM_ERR_SHAPE (recoverable), or a fatal MPGM_ERR_INPUT */
   if (err) return shape_failed(c, v, p, err, enl, n, r, info.msg, t);
+  c->rad[p] = r;
   if (mpgm_conn_task_room(t, n)) return MPGM_ERR_NOMEM;
   for (int a = 0; a < n; a++) {
     if (N[a] == 0.0 && dN[MPGM_DIM * a] == 0.0 && dN[MPGM_DIM * a + 1] == 0.0)

@@ -165,6 +165,32 @@ void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch
 int mpgm_clouds_build(mpgm_clouds *c, const mpgm_fe_view *v, const struct mpgm_kdtree *tree,
                       const unsigned char *skip, mpgm_conn *out);
 
+/** The search radius [m] each point's cloud had at the last
+ *  mpgm_clouds_build (grown or enlarged, else r0), material points first;
+ *  NULL before the first build. */
+const double *mpgm_clouds_radii(const mpgm_clouds *c);
+
+/** Sparsity patterns that outlive a step for node clouds (shape.skin,
+ *  discretisation/skin.c): per material point the nodes within its search
+ *  radius plus the skin, kept while they hold every cloud. */
+typedef struct mpgm_skin mpgm_skin;
+/** A skin of `skin` metres (> 0). Errors: MPGM_ERR_INPUT, MPGM_ERR_NOMEM. */
+int mpgm_skin_create(mpgm_ctx *ctx, double skin, mpgm_skin **out);
+void mpgm_skin_destroy(mpgm_skin *s);
+/** After the step's clouds C (np material points at xp with search radii
+ *  rp, lists by increasing node id; the nodes of tree at their
+ *  positions): keep the lists while every cloud is within its point's
+ *  list, else build them again (*rebuilt = 1). Errors: MPGM_ERR_NOMEM. */
+int mpgm_skin_update(mpgm_skin *s, mpgm_ctx *ctx, int np, const double *xp, const double *rp,
+                     const mpgm_conn *C, const struct mpgm_kdtree *tree, int *rebuilt);
+/** The lists (np + 1 offsets, the nodes), or NULL when a list would have
+ *  exceeded 4 MPGM_SHAPE_MAXNODE nodes at the last build (no skin then). */
+const int *mpgm_skin_ptr(const mpgm_skin *s);
+const int *mpgm_skin_node(const mpgm_skin *s);
+/** Checkpoints: the lists. */
+int mpgm_skin_save(const mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b);
+int mpgm_skin_restore(mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b);
+
 /** FE cells of a problem (the mesh of UL-FEM, of GMM for rectangle
  *  bodies): the cells and every point's cell and local coordinates. */
 typedef struct mpgm_fem_cells mpgm_fem_cells;

@@ -56,6 +56,9 @@ typedef struct gmm_data {
   mpgm_kdtree *tree_xs;  /**< over xs                                        */
   double *xs;            /**< MPGM_DIM per node: start-of-step positions     */
   unsigned char *skip;   /**< per node: not among the step's nodes           */
+  /* shape.skin > 0 (else NULL) */
+  mpgm_skin *skin;       /**< the pattern's lists, a skin wider than clouds */
+  unsigned char *fix;    /**< MPGM_DIM per node: the last step's fixity      */
 } gmm_data;
 
 static void gmm_destroy(void *self) {
@@ -71,6 +74,8 @@ static void gmm_destroy(void *self) {
   mpgm_kdtree_destroy(&d->tree_xs);
   free(d->xs);
   free(d->skip);
+  mpgm_skin_destroy(d->skin);
+  free(d->fix);
   free(d);
 }
 
@@ -94,6 +99,10 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
     MPGM_ALLOC(ctx, d->merged, v->nodes->n);
   }
   MPGM_CALL(mpgm_kdtree_create(ctx, v->nodes->x, v->nodes->n, 0, &d->tree));
+  if (s->skin > 0.0) {
+    MPGM_CALL(mpgm_skin_create(ctx, s->skin * s->h, &d->skin));
+    MPGM_ALLOC(ctx, d->fix, MPGM_DIM * (size_t)v->nodes->n);
+  }
   if (s->node_motion == MPGM_NODES_INTERPOLATED && v->fx->geometric) {
     MPGM_ALLOC(ctx, d->xs, MPGM_DIM * (size_t)v->nodes->n);
     MPGM_ALLOC(ctx, d->skip, v->nodes->n);
@@ -131,6 +140,38 @@ static void merge_close(const mpgm_fe_view *v, gmm_data *d) {
   }
 }
 
+/* shape.skin: the pattern comes from the skin's lists. They are built
+ * again when they no longer hold every cloud (a new pattern); with the
+ * same lists, a change of fixity (a node parked or unparked) renumbers
+ * the equations over the same node graph, and changed clouds alone keep
+ * the pattern and its analysis (new groups only: conn.map_version;
+ * counted in patterns_kept). same: the node lists are the last step's. */
+static int skin_versions(const mpgm_fe_view *v, gmm_data *d, int same) {
+  mpgm_ctx *ctx = v->ctx;
+  mpgm_conn *C = v->conn;
+  const mpgm_nodes *nd = v->nodes;
+  int rebuilt;
+  mpgm_timer_start(ctx, MPGM_T_ANALYSE);
+  const int err = mpgm_skin_update(d->skin, ctx, v->pts->n, v->pts->x,
+                                   mpgm_clouds_radii(d->clouds), C, d->tree, &rebuilt);
+  mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
+  MPGM_CALL(err);
+  const int fix_same = memcmp(d->fix, nd->fix, MPGM_DIM * (size_t)nd->n) == 0;
+  memcpy(d->fix, nd->fix, MPGM_DIM * (size_t)nd->n);
+  C->pptr = mpgm_skin_ptr(d->skin);
+  C->pnode = mpgm_skin_node(d->skin);
+  if (rebuilt || !C->pptr) {
+    C->pversion++;
+    C->version++;
+  } else if (!fix_same) {
+    C->version++;
+  } else if (!same) {
+    C->map_version++;
+    mpgm_count(ctx, MPGM_C_PATTERNS_KEPT, 1);
+  }
+  return 0;
+}
+
 static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
   mpgm_ctx *ctx = v->ctx;
   gmm_data *d = self;
@@ -158,6 +199,7 @@ static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
   memcpy(C->node, d->out.node, sizeof(int) * (size_t)k);
   memcpy(C->N, d->out.N, sizeof(double) * (size_t)k);
   memcpy(C->dN, d->out.dN, MPGM_DIM * sizeof(double) * (size_t)k);
+  if (d->skin) return skin_versions(v, d, same);
   if (!same) C->version++;
   return 0;
 }
@@ -225,11 +267,17 @@ static int gmm_cells(const void *self, mpgm_cells *out) {
 /* Checkpoint: the LME warm starts (the nodes are the problem's, the clouds,
  * the kd-tree and the parked nodes are rebuilt every step). */
 static int gmm_save(const void *self, mpgm_ctx *ctx, mpgm_blob *b) {
-  return mpgm_clouds_save(((const gmm_data *)self)->clouds, ctx, b);
+  const gmm_data *d = self;
+  MPGM_CALL(mpgm_clouds_save(d->clouds, ctx, b));
+  /* the skin's lists: a restarted run builds the pattern it would have
+   * kept, and so gives the same bits */
+  return d->skin ? mpgm_skin_save(d->skin, ctx, b) : 0;
 }
 
 static int gmm_restore(void *self, mpgm_ctx *ctx, mpgm_blob *b) {
-  return mpgm_clouds_restore(((gmm_data *)self)->clouds, ctx, b);
+  gmm_data *d = self;
+  MPGM_CALL(mpgm_clouds_restore(d->clouds, ctx, b));
+  return d->skin ? mpgm_skin_restore(d->skin, ctx, b) : 0;
 }
 
 const mpgm_frontend_type mpgm_frontend_gmm = {

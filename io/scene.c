@@ -396,6 +396,7 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   memset(p, 0, sizeof *p);
   s->min_nodes = 0;
   s->max_enlarge = 0;
+  s->skin = 0.0;
   if (s->shape->needs_cell) return 0;
   MPGM_CALL(jr_num(sh, "gamma", 1.8, 0.0, INFINITY, 1, 0, &p->gamma));
   MPGM_CALL(jr_num(sh, "tol_support", 1e-6, 0.0, 1.0, 1, 1, &p->tol_support));
@@ -406,6 +407,10 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   MPGM_CALL(jr_num(sh, "max_cond", 0.0, 0.0, INFINITY, 0, 0, &p->max_cond));
   MPGM_CALL(jr_int(sh, "min_nodes", 0, 0, MPGM_SHAPE_MAXNODE, &s->min_nodes));
   MPGM_CALL(jr_int(sh, "max_enlarge", 16, 0, MPGM_SHAPE_MAXNODE, &s->max_enlarge));
+  MPGM_CALL(jr_num(sh, "skin", 0.0, 0.0, 10.0, 0, 0, &s->skin));
+  if (s->skin > 0.0 && strcmp(s->frontend->name, "gmm") != 0)
+    return jr_fail(sh, "skin", "the pattern skin of persistent nodes' clouds: expected method "
+                   "\"gmm\", found \"%s\"", s->frontend->name);
   return 0;
 }
 

@@ -124,6 +124,8 @@ struct mpgm_problem {
   int *kslot;        /**< node clouds: per thread and node, its place in
                           the batch's union (-1: none); kslot_n each     */
   int kslot_n;       /**< nodes kslot has room for, per thread           */
+  int pattern_missed; /**< node clouds: set by an assembly task that found
+                          a nonzero block outside the pattern          */
   /* threads (docs/architecture.md, "Threads"): the groups are cut into
    * MPGM_ASM_CHUNKS chunks along the group order; the assembly runs as
    * tasks over groups that share no node with another task of the same

@@ -21,6 +21,8 @@
 #   gmm_lme_disk  GMM-LME rolling disk: bodies filled on the grid, light
 #                 nodes parked, contact at surface points
 #   gmm_lme_cc    GMM-LME column collapse: Mohr-Coulomb, obstacle nodes
+#   gmm_skin_disk the rolling disk with a pattern skin (shape.skin): the
+#                 lists the pattern is kept from are in the checkpoint
 #   mpm_cuts      the block with MPM and two step cuts made on purpose at
 #                 step 3 (MPGM_TEST_FAULT): the checkpoint at step 4 holds
 #                 a quartered step that grows back after it
@@ -106,6 +108,9 @@ one_case gmm_lme_disk "$src/cases/rolling_disk.json" --set method=gmm --set shap
   --set output.checkpoint_every=4
 one_case gmm_lme_cc "$src/cases/column_collapse_gmm.json" --set shape.kind=lme --set mesh.h=0.2 \
   --set time.end=0.3 --set output.checkpoint_every=5 --set output.times=[0.1]
+one_case gmm_skin_disk "$src/cases/rolling_disk.json" --set method=gmm --set shape.kind=lme \
+  --set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.2 --set output.every=5 \
+  --set output.checkpoint_every=4 --set shape.skin=0.25
 MPGM_TEST_FAULT=nan:3:2 one_case mpm_cuts "$block" --set time.max_cuts=4 --set time.grow_after=3 \
   --set time.end=0.04 --set output.checkpoint_every=4 --set output.every=5
 if grep -q '"step":\s*3' "$work/mpm_cuts/B/summary.json" 2> /dev/null; then

@@ -1,0 +1,166 @@
+/* skin.c -- sparsity patterns that outlive a step for node clouds
+ * (shape.skin; docs/theory.md, section 13, "Pattern skin").
+ *
+ * A cloud changes whenever a point or a node crosses the support radius of
+ * the other, so a front end that connects points by clouds would build a
+ * new sparsity pattern, and the solver a new symbolic analysis, almost
+ * every step. As molecular-dynamics neighbour lists do, the pattern is
+ * built instead from lists one skin wider than the clouds: point p's list
+ * holds the nodes within r_p + skin at the build, r_p its search radius
+ * then. The lists are kept while every point's cloud is a subset of its
+ * list, which is checked exactly at every step (one merge of two sorted
+ * lists per point), not bounded by displacements: a body that moves or
+ * turns as a whole keeps its lists however far it goes. Every coupling of
+ * the clouds is then in the pattern, and the entries outside the clouds
+ * are exact zeros of K: the answer is that of the pattern without skin,
+ * up to the round-off of another elimination order.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_discretisation.h"
+#include "mpgm_kdtree.h"
+
+/* a list longer than this (a very wide cloud plus its skin) gives up the
+ * skin for the step: the clouds' own lists make the pattern */
+#define SKIN_MAXLIST (4 * MPGM_SHAPE_MAXNODE)
+
+struct mpgm_skin {
+  double skin;  /**< [m]                                               */
+  int np;       /**< material points of the last build                 */
+  int valid;    /**< the lists are built and usable                   */
+  int *ptr;     /**< np + 1 offsets into node                          */
+  int *node;    /**< the lists, each by increasing node id             */
+  int cap;      /**< room of node                                      */
+};
+
+int mpgm_skin_create(mpgm_ctx *ctx, double skin, mpgm_skin **out) {
+  *out = NULL;
+  MPGM_CHECK(ctx, skin > 0.0 && isfinite(skin), MPGM_ERR_INPUT, "pattern skin %g m: expected > 0", skin);
+  mpgm_skin *s;
+  MPGM_ALLOC(ctx, s, 1);
+  s->skin = skin;
+  *out = s;
+  return 0;
+}
+
+void mpgm_skin_destroy(mpgm_skin *s) {
+  if (!s) return;
+  free(s->ptr);
+  free(s->node);
+  free(s);
+}
+
+/* Room for np points (kept from build to build). */
+static int size_for(mpgm_ctx *ctx, mpgm_skin *s, int np) {
+  if (s->ptr && s->np == np) return 0;
+  free(s->ptr);
+  s->ptr = malloc(((size_t)np + 1) * sizeof(int));
+  s->np = np;
+  s->valid = 0;
+  MPGM_CHECK(ctx, s->ptr, MPGM_ERR_NOMEM, "out of memory (pattern skin of %d points)", np);
+  return 0;
+}
+
+/* 1 when every cloud of C (the first np lists, by increasing node id) is
+ * within its point's list. */
+static int still_holds(const mpgm_skin *s, int np, const mpgm_conn *C) {
+  if (!s->valid || s->np != np) return 0;
+  for (int p = 0; p < np; p++) {
+    int t = s->ptr[p];
+    const int tend = s->ptr[p + 1];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      while (t < tend && s->node[t] < C->node[k]) t++;
+      if (t == tend || s->node[t] != C->node[k]) return 0;
+    }
+  }
+  return 1;
+}
+
+static void sort_ints(int *a, int n) {
+  for (int i = 1; i < n; i++) {
+    const int v = a[i];
+    int j = i - 1;
+    while (j >= 0 && a[j] > v) {
+      a[j + 1] = a[j];
+      j--;
+    }
+    a[j + 1] = v;
+  }
+}
+
+/* The lists: for each point the nodes of tree within rp + skin. 0, or 1
+ * when a list would exceed SKIN_MAXLIST (the skin is given up). */
+static int build(mpgm_ctx *ctx, mpgm_skin *s, const double *xp, const double *rp,
+                 const mpgm_kdtree *tree, int *overflow) {
+  int idx[SKIN_MAXLIST];
+  double d2[SKIN_MAXLIST];
+  *overflow = 0;
+  int k = 0;
+  s->ptr[0] = 0;
+  for (int p = 0; p < s->np; p++) {
+    const int n = mpgm_kdtree_radius(tree, xp + MPGM_DIM * p, rp[p] + s->skin, SKIN_MAXLIST, idx, d2);
+    if (n > SKIN_MAXLIST) {
+      *overflow = 1;
+      return 0;
+    }
+    if (k + n > s->cap) {
+      const int cap = 2 * (k + n) + 1024;
+      int *node = realloc(s->node, (size_t)cap * sizeof(int));
+      MPGM_CHECK(ctx, node, MPGM_ERR_NOMEM, "out of memory (pattern skin lists)");
+      s->node = node;
+      s->cap = cap;
+    }
+    sort_ints(idx, n);
+    memcpy(s->node + k, idx, sizeof(int) * (size_t)n);
+    k += n;
+    s->ptr[p + 1] = k;
+  }
+  return 0;
+}
+
+int mpgm_skin_update(mpgm_skin *s, mpgm_ctx *ctx, int np, const double *xp, const double *rp,
+                     const mpgm_conn *C, const mpgm_kdtree *tree, int *rebuilt) {
+  *rebuilt = 0;
+  if (still_holds(s, np, C)) return 0;
+  *rebuilt = 1;
+  MPGM_CALL(size_for(ctx, s, np));
+  int overflow;
+  MPGM_CALL(build(ctx, s, xp, rp, tree, &overflow));
+  s->valid = !overflow;
+  return 0;
+}
+
+const int *mpgm_skin_ptr(const mpgm_skin *s) { return s->valid ? s->ptr : NULL; }
+
+const int *mpgm_skin_node(const mpgm_skin *s) { return s->valid ? s->node : NULL; }
+
+int mpgm_skin_save(const mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b) {
+  const int head[2] = {s->valid, s->np};
+  MPGM_CALL(mpgm_blob_put(ctx, b, "skin.head", head, sizeof head));
+  if (!s->valid) return 0;
+  MPGM_CALL(mpgm_blob_put(ctx, b, "skin.ptr", s->ptr, ((size_t)s->np + 1) * sizeof(int)));
+  return mpgm_blob_put(ctx, b, "skin.node", s->node, (size_t)s->ptr[s->np] * sizeof(int));
+}
+
+int mpgm_skin_restore(mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b) {
+  int head[2];
+  MPGM_CALL(mpgm_blob_get(ctx, b, "skin.head", head, sizeof head));
+  s->valid = 0;
+  if (!head[0]) return 0;
+  MPGM_CHECK(ctx, head[1] >= 0, MPGM_ERR_INPUT, "checkpoint: pattern skin of %d points", head[1]);
+  MPGM_CALL(size_for(ctx, s, head[1]));
+  MPGM_CALL(mpgm_blob_get(ctx, b, "skin.ptr", s->ptr, ((size_t)s->np + 1) * sizeof(int)));
+  const int k = s->ptr[s->np];
+  MPGM_CHECK(ctx, k >= 0, MPGM_ERR_INPUT, "checkpoint: pattern skin of %d entries", k);
+  if (k > s->cap) {
+    free(s->node);
+    s->node = malloc(((size_t)k + 1) * sizeof(int));
+    s->cap = s->node ? k : 0;
+    MPGM_CHECK(ctx, s->node, MPGM_ERR_NOMEM, "out of memory (pattern skin lists)");
+  }
+  MPGM_CALL(mpgm_blob_get(ctx, b, "skin.node", s->node, (size_t)k * sizeof(int)));
+  s->valid = 1;
+  return 0;
+}
