@@ -34,6 +34,7 @@
  *      from the last step's (the core then rebuilds the pattern).
  */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -59,6 +60,9 @@ typedef struct gmm_data {
   /* shape.skin > 0 (else NULL) */
   mpgm_skin *skin;       /**< the pattern's lists, a skin wider than clouds */
   unsigned char *fix;    /**< MPGM_DIM per node: the last step's fixity      */
+  uint64_t lists_hash;   /**< hash of the last step's node lists            */
+  int restored;          /**< lists_hash stands for the lists (a restart)   */
+  int nfix;              /**< nodes of fix                                  */
 } gmm_data;
 
 static void gmm_destroy(void *self) {
@@ -102,6 +106,7 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
   if (s->skin > 0.0) {
     MPGM_CALL(mpgm_skin_create(ctx, s->skin * s->h, &d->skin));
     MPGM_ALLOC(ctx, d->fix, MPGM_DIM * (size_t)v->nodes->n);
+    d->nfix = v->nodes->n;
   }
   if (s->node_motion == MPGM_NODES_INTERPOLATED && v->fx->geometric) {
     MPGM_ALLOC(ctx, d->xs, MPGM_DIM * (size_t)v->nodes->n);
@@ -146,6 +151,16 @@ static void merge_close(const mpgm_fe_view *v, gmm_data *d) {
  * the equations over the same node graph, and changed clouds alone keep
  * the pattern and its analysis (new groups only: conn.map_version;
  * counted in patterns_kept). same: the node lists are the last step's. */
+/* FNV-1a over the node lists of m points. */
+static uint64_t lists_hash(const mpgm_conn *C, int m) {
+  uint64_t h = 1469598103934665603ull;
+  const int *a[2] = {C->ptr, C->node};
+  const size_t n[2] = {(size_t)m + 1, (size_t)C->ptr[m]};
+  for (int w = 0; w < 2; w++)
+    for (size_t i = 0; i < n[w]; i++) h = (h ^ (uint64_t)(uint32_t)a[w][i]) * 1099511628211ull;
+  return h;
+}
+
 static int skin_versions(const mpgm_fe_view *v, gmm_data *d, int same) {
   mpgm_ctx *ctx = v->ctx;
   mpgm_conn *C = v->conn;
@@ -156,6 +171,12 @@ static int skin_versions(const mpgm_fe_view *v, gmm_data *d, int same) {
                                    mpgm_clouds_radii(d->clouds), C, d->tree, &rebuilt);
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   MPGM_CALL(err);
+  /* after a restart the last step's lists are known by their hash (so
+   * that the counts are those of the run that was not interrupted) */
+  const uint64_t hash = lists_hash(C, C->np);
+  if (d->restored) same = hash == d->lists_hash;
+  d->restored = 0;
+  d->lists_hash = hash;
   const int fix_same = memcmp(d->fix, nd->fix, MPGM_DIM * (size_t)nd->n) == 0;
   memcpy(d->fix, nd->fix, MPGM_DIM * (size_t)nd->n);
   C->pptr = mpgm_skin_ptr(d->skin);
@@ -271,13 +292,20 @@ static int gmm_save(const void *self, mpgm_ctx *ctx, mpgm_blob *b) {
   MPGM_CALL(mpgm_clouds_save(d->clouds, ctx, b));
   /* the skin's lists: a restarted run builds the pattern it would have
    * kept, and so gives the same bits */
-  return d->skin ? mpgm_skin_save(d->skin, ctx, b) : 0;
+  if (!d->skin) return 0;
+  MPGM_CALL(mpgm_skin_save(d->skin, ctx, b));
+  MPGM_CALL(mpgm_blob_put(ctx, b, "gmm.lists_hash", &d->lists_hash, sizeof d->lists_hash));
+  return mpgm_blob_put(ctx, b, "gmm.fix", d->fix, MPGM_DIM * (size_t)d->nfix);
 }
 
 static int gmm_restore(void *self, mpgm_ctx *ctx, mpgm_blob *b) {
   gmm_data *d = self;
   MPGM_CALL(mpgm_clouds_restore(d->clouds, ctx, b));
-  return d->skin ? mpgm_skin_restore(d->skin, ctx, b) : 0;
+  if (!d->skin) return 0;
+  MPGM_CALL(mpgm_skin_restore(d->skin, ctx, b));
+  MPGM_CALL(mpgm_blob_get(ctx, b, "gmm.lists_hash", &d->lists_hash, sizeof d->lists_hash));
+  d->restored = 1;
+  return mpgm_blob_get(ctx, b, "gmm.fix", d->fix, MPGM_DIM * (size_t)d->nfix);
 }
 
 const mpgm_frontend_type mpgm_frontend_gmm = {

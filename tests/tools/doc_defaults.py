@@ -165,6 +165,9 @@ def expected(text, resolved):
     if m:  # a default that follows the shape kind
         cpdi = resolved.get("shape", {}).get("kind") == "cpdi" and cell == "quad"
         t = m.group(2 if cpdi else 1)
+    m = re.fullmatch(r"`gmm`: (\S+); (\S+)", t)
+    if m:  # a default of the GMM front end
+        t = m.group(1 if resolved.get("method") == "gmm" else 2)
     m = re.fullmatch(r"(\S+); `cpls`: (\S+)", t)
     if m:  # a default that CPLS sets otherwise
         t = m.group(2 if resolved.get("shape", {}).get("kind") == "cpls" else 1)
