@@ -174,15 +174,15 @@ static int next_nearest(const mpgm_clouds *c, const double x[MPGM_DIM], int n, d
   }
 }
 
-static void sort_by_node(int n, int *idx) {
+void mpgm_sort_ints(int *a, int n) {
   for (int i = 1; i < n; i++) {
-    const int v = idx[i];
+    const int v = a[i];
     int j = i - 1;
-    while (j >= 0 && idx[j] > v) {
-      idx[j + 1] = idx[j];
+    while (j >= 0 && a[j] > v) {
+      a[j + 1] = a[j];
       j--;
     }
-    idx[j + 1] = v;
+    a[j + 1] = v;
   }
 }
 
@@ -233,7 +233,7 @@ static int shape_point(const mpgm_clouds *c, const mpgm_fe_view *v, int p, int n
   mpgm_shape_info info = {0};
   int err = 0, enl = 0;
   for (;; enl++) {
-    sort_by_node(n, idx);
+    mpgm_sort_ints(idx, n);
     for (int a = 0; a < n; a++) { /* 2-D only: x and y written out */
       xn[MPGM_DIM * a] = xn_all[MPGM_DIM * idx[a]];
       xn[MPGM_DIM * a + 1] = xn_all[MPGM_DIM * idx[a] + 1];
@@ -433,7 +433,7 @@ int mpgm_clouds_eval_at(mpgm_clouds *c, mpgm_ctx *ctx, const mpgm_kdtree *tree,
   long growths = 0; /* not the points' radius_growths */
   const int n = grown_cloud(c, x, want, 0, &r, idx, d2, &growths);
   if (n == 0 || n > MPGM_SHAPE_MAXNODE) return MPGM_ERR_SHAPE;
-  sort_by_node(n, idx);
+  mpgm_sort_ints(idx, n);
   const double *xa = mpgm_kdtree_points(tree);
   for (int a = 0; a < n; a++) { /* 2-D only: x and y written out */
     xn[MPGM_DIM * a] = xa[MPGM_DIM * idx[a]];

@@ -78,18 +78,6 @@ static int still_holds(const mpgm_skin *s, int np, const mpgm_conn *C) {
   return 1;
 }
 
-static void sort_ints(int *a, int n) {
-  for (int i = 1; i < n; i++) {
-    const int v = a[i];
-    int j = i - 1;
-    while (j >= 0 && a[j] > v) {
-      a[j + 1] = a[j];
-      j--;
-    }
-    a[j + 1] = v;
-  }
-}
-
 /* The lists: for each point the nodes of tree within rp + skin. 0, or 1
  * when a list would exceed SKIN_MAXLIST (the skin is given up). */
 static int build(mpgm_ctx *ctx, mpgm_skin *s, const double *xp, const double *rp,
@@ -112,7 +100,7 @@ static int build(mpgm_ctx *ctx, mpgm_skin *s, const double *xp, const double *rp
       s->node = node;
       s->cap = cap;
     }
-    sort_ints(idx, n);
+    mpgm_sort_ints(idx, n);
     memcpy(s->node + k, idx, sizeof(int) * (size_t)n);
     k += n;
     s->ptr[p + 1] = k;

@@ -60,7 +60,7 @@ typedef struct gmm_data {
   /* shape.skin > 0 (else NULL) */
   mpgm_skin *skin;       /**< the pattern's lists, a skin wider than clouds */
   unsigned char *fix;    /**< MPGM_DIM per node: the last step's fixity      */
-  uint64_t lists_hash;   /**< hash of the last step's node lists            */
+  uint64_t lists_hash;   /**< restarts: hash of the last step's node lists  */
   int restored;          /**< lists_hash stands for the lists (a restart)   */
   int nfix;              /**< nodes of fix                                  */
 } gmm_data;
@@ -173,10 +173,8 @@ static int skin_versions(const mpgm_fe_view *v, gmm_data *d, int same) {
   MPGM_CALL(err);
   /* after a restart the last step's lists are known by their hash (so
    * that the counts are those of the run that was not interrupted) */
-  const uint64_t hash = lists_hash(C, C->np);
-  if (d->restored) same = hash == d->lists_hash;
+  if (d->restored) same = lists_hash(C, C->np) == d->lists_hash;
   d->restored = 0;
-  d->lists_hash = hash;
   const int fix_same = memcmp(d->fix, nd->fix, MPGM_DIM * (size_t)nd->n) == 0;
   memcpy(d->fix, nd->fix, MPGM_DIM * (size_t)nd->n);
   C->pptr = mpgm_skin_ptr(d->skin);
@@ -294,7 +292,9 @@ static int gmm_save(const void *self, mpgm_ctx *ctx, mpgm_blob *b) {
    * kept, and so gives the same bits */
   if (!d->skin) return 0;
   MPGM_CALL(mpgm_skin_save(d->skin, ctx, b));
-  MPGM_CALL(mpgm_blob_put(ctx, b, "gmm.lists_hash", &d->lists_hash, sizeof d->lists_hash));
+  /* the lists of the step just ended (d->out is what the step used) */
+  const uint64_t hash = d->out.ptr ? lists_hash(&d->out, d->out.np) : 0;
+  MPGM_CALL(mpgm_blob_put(ctx, b, "gmm.lists_hash", &hash, sizeof hash));
   return mpgm_blob_put(ctx, b, "gmm.fix", d->fix, MPGM_DIM * (size_t)d->nfix);
 }
 
