@@ -148,6 +148,9 @@ typedef enum {
   MPGM_C_PATTERNS_KEPT,     /**< node clouds with shape.skin: steps whose
                                  clouds changed and kept the pattern and
                                  its analysis                            */
+  MPGM_C_KINETIC_RESETS,    /**< explicit with time.kinetic_damping: the
+                                 points' velocities set to zero at a peak
+                                 of the kinetic energy                   */
   MPGM_C_COUNT
 } mpgm_counter_id;
 
