@@ -90,6 +90,7 @@ static int all_arrays(mpgm_problem *pb, arr *a) {
   a[k++] = (arr){"ctx.count", pb->ctx->count, sizeof pb->ctx->count};
   a[k++] = (arr){"energy.work_int", &pb->work_int, sizeof pb->work_int};
   a[k++] = (arr){"energy.work_ext", &pb->work_ext, sizeof pb->work_ext};
+  if (pb->scene->kinetic_damping) a[k++] = (arr){"energy.ke_last", &pb->ke_last, sizeof pb->ke_last};
   return k;
 }
 

@@ -14,7 +14,9 @@
  * Every scheme ends with the same update of the points (move_points):
  * a_p = sum_I N_Ip A_I, v_p += dt a_p, x_p += sum_I N_Ip (dt V_I +
  * c dt^2 A_I), with A_I = f_I / m_I and V_I, c the scheme's. Fixed
- * components have V = A = 0; a node without mass gets no update. */
+ * components have V = A = 0; a node without mass gets no update. With
+ * time.kinetic_damping the points then stop whenever their kinetic energy
+ * has passed a peak (kinetic_damping). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -268,6 +270,30 @@ static void move_task(void *arg, int t, int tid) {
   }
 }
 
+/* Kinetic damping (time.kinetic_damping; dynamic relaxation): when the
+ * kinetic energy of the material points, sum_p m_p |v_p|^2 / 2, has
+ * fallen since the last step, it has just passed a peak, where a body
+ * swinging in its slowest mode passes its rest state; every point's (and
+ * tracer's) velocity and acceleration are then set to zero, and the next
+ * swing starts from there with the energy still out of balance. The
+ * energy it takes out shows as a loss of the total. */
+static void kinetic_damping(mpgm_problem *pb) {
+  mpgm_points *P = &pb->pts;
+  double ke = 0.0;
+  for (int p = 0; p < P->n; p++) {
+    const double vx = P->v[MPGM_DIM * p], vy = P->v[MPGM_DIM * p + 1];
+    ke += 0.5 * P->mass[p] * (vx * vx + vy * vy);
+  }
+  if (ke < pb->ke_last) {
+    const size_t m = (size_t)(P->n + P->nprobe + P->nsurf);
+    memset(P->v, 0, sizeof(double) * MPGM_DIM * m);
+    memset(P->a, 0, sizeof(double) * MPGM_DIM * m);
+    mpgm_count(pb->ctx, MPGM_C_KINETIC_RESETS, 1);
+    ke = 0.0;
+  }
+  pb->ke_last = ke;
+}
+
 /* The points (material points and tracers) from the nodes, on the pool's
  * threads: a_p = sum N A, v_p += dt a_p, x_p += sum N (dt V + c dt^2 A);
  * the work of gravity and of a manufactured body force at their values in
@@ -296,6 +322,7 @@ static int move_points(mpgm_problem *pb, explicit_data *d, const double *V, cons
     if (j.b) wext += d->wp[2 * p + 1];
   }
   pb->work_ext += wext;
+  if (pb->scene->kinetic_damping) kinetic_damping(pb);
   mpgm_timer_stop(ctx, MPGM_T_UPDATE);
   return 0;
 }

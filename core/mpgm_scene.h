@@ -217,6 +217,10 @@ typedef struct mpgm_scene {
                                  alpha in [0, 1): each free nodal force
                                  component loses alpha |f| against the
                                  node's velocity (0: none)              */
+  int kinetic_damping;      /**< explicit: 1: every point's velocity and
+                                 acceleration are set to zero when the
+                                 kinetic energy has passed a peak (a
+                                 dynamic relaxation to rest)            */
   int npc_eq34;             /**< explicit npc: 1: the points move by 003's
                                  eq 34, dt V + dt^2 A / 2 with the
                                  corrected V; 0 ("newmark"): by dt v_pred,

@@ -163,6 +163,15 @@ int jr_int(jr_node *o, const char *key, int def, int lo, int hi, int *out) {
   return 0;
 }
 
+int jr_bool(jr_node *o, const char *key, int def, int *out) {
+  const cJSON *v;
+  MPGM_CALL(lookup(o, key, AS_JSON, &v));
+  if (v && !cJSON_IsBool(v)) return jr_fail(o, key, "expected true or false, found %s", jr_type(v));
+  *out = v ? cJSON_IsTrue(v) : def;
+  if (o->out) cJSON_AddBoolToObject(o->out, key, *out);
+  return 0;
+}
+
 int jr_enum(jr_node *o, const char *key, const char *const *choices, int def,
             int *out) {
   const cJSON *v;

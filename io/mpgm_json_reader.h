@@ -55,6 +55,8 @@ int jr_num(jr_node *o, const char *key, double def, double lo, double hi,
            int lo_open, int hi_open, double *out);
 /** Integer with default (def < lo: required) and range [lo, hi]. */
 int jr_int(jr_node *o, const char *key, int def, int lo, int hi, int *out);
+/** true or false, with a default. */
+int jr_bool(jr_node *o, const char *key, int def, int *out);
 /** One of choices (NULL-terminated); def < 0: required. */
 int jr_enum(jr_node *o, const char *key, const char *const *choices, int def,
             int *out);

@@ -459,9 +459,9 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
  * refused with the other analyses, whose integrator ignores them. */
 static int read_explicit(jr_node *tm, mpgm_scene *s) {
   static const char *const keys[] = {"scheme", "cfl", "npc_gamma", "npc_position",
-                                     "local_damping"};
+                                     "local_damping", "kinetic_damping"};
   if (s->analysis != MPGM_ANALYSIS_EXPLICIT) {
-    for (int i = 0; i < 5; i++)
+    for (int i = 0; i < 6; i++)
       if (jr_raw(tm, keys[i]) || jr_override_json(tm, keys[i]))
         return jr_fail(tm, keys[i], "only with time.analysis \"explicit\", found \"%s\"",
                        analysis_names[s->analysis]);
@@ -486,6 +486,7 @@ static int read_explicit(jr_node *tm, mpgm_scene *s) {
   static const char *const position_names[] = {"newmark", "eq34", NULL};
   MPGM_CALL(jr_enum(tm, "npc_position", position_names, 0, &s->npc_eq34));
   MPGM_CALL(jr_num(tm, "local_damping", 0.0, 0.0, 1.0, 0, 1, &s->local_damping));
+  MPGM_CALL(jr_bool(tm, "kinetic_damping", 0, &s->kinetic_damping));
   return 0;
 }
 

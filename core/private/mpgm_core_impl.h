@@ -79,6 +79,8 @@ struct mpgm_problem {
                           unit thickness; energy.c)                     */
   double work_ext;   /**< dynamic: work of gravity (and of a manufactured
                           solution's body force) so far [J]             */
+  double ke_last;    /**< explicit with time.kinetic_damping: the points'
+                          kinetic energy after the last step [J]        */
   double *mms_b;     /**< manufactured solution: the body force per unit
                           mass at each material point, MPGM_DIM each,
                           at the time of the last mpgm_mms_forces       */

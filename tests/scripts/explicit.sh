@@ -304,6 +304,10 @@ refused "local damping under dynamic" "time.local_damping: only with time.analys
   "$src/cases/rolling_disk.json" --set time.local_damping=0.1
 refused "local damping of 1" "time.local_damping: expected a number in [0, 1)" "$bar" \
   --set time.local_damping=1
+refused "kinetic damping under dynamic" "time.kinetic_damping: only with time.analysis \"explicit\", found \"dynamic\"" \
+  "$src/cases/rolling_disk.json" --set time.kinetic_damping=true
+refused "kinetic damping given a number" "time.kinetic_damping: expected true or false, found a number" \
+  "$bar" --set time.kinetic_damping=1
 refused "time.mass under explicit" "time.mass: only with time.analysis \"dynamic\"" "$bar" \
   --set time.mass=lumped
 

@@ -28,6 +28,10 @@
 #                 a quartered step that grows back after it
 #   fem_static    the cantilever, static (load steps)
 #   mpm_explicit  Dyka's bar, explicit npc (energy columns included)
+#   mpm_kinetic   the same with kinetic damping (time.kinetic_damping: the
+#                 kinetic energy of the last step is in the checkpoint);
+#                 and, not left to the kill's timing, a run whose last
+#                 checkpoint is the step before a reset, restarted from it
 #   mpm_cpdi      MPM column collapse with CPDI (the points' initial domains
 #                 are kept and reordered with them)
 #   mpm_threads   the MPM block, B started on two threads and continued on
@@ -122,6 +126,33 @@ one_case fem_static "$src/cases/cantilever.json" --set time.load_steps=6 \
   --set output.checkpoint_every=2
 one_case mpm_explicit "$src/cases/dyka_bar.json" --set output.checkpoint_every=150 \
   --set output.every=200
+one_case mpm_kinetic "$src/cases/dyka_bar.json" --set output.checkpoint_every=20 \
+  --set output.every=200 --set time.kinetic_damping=true
+# the step before a reset: a reset is decided against the kinetic energy
+# of the step before, so a restart from a checkpoint written there must
+# know it (without it, the restart misses the reset and differs)
+d="$work/mpm_kinetic_peak"; mkdir -p "$d"
+"$exe" run "$src/cases/dyka_bar.json" --quiet --set time.kinetic_damping=true \
+  --set output.vtk=none --set output.every=1 --out "$d/steps" > "$d/steps.log" 2>&1
+read -r r t < <(python3 -c '
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+resets = [int(x["step"]) for x in rows if float(x["kinetic_energy"]) == 0.0 and int(x["step"]) > 50]
+r = resets[0] if resets else 0
+print(r, rows[min(r + 40, len(rows) - 1)]["time"] if r else 0)' "$d/steps/steps.csv")
+if [ "${r:-0}" -gt 0 ]; then
+  "$exe" run "$src/cases/dyka_bar.json" --quiet --set time.kinetic_damping=true \
+    --set output.vtk=ascii --set time.end="$t" --set output.checkpoint_every=$((r - 1)) \
+    --out "$d/A" > "$d/A.log" 2>&1
+  cp -r "$d/A" "$d/B"
+  if "$exe" run --restart "$d/B" --quiet > "$d/R.log" 2>&1 && python3 "$src/tests/tools/same_run.py" "$d/A" "$d/B"; then
+    pass "mpm_kinetic_peak: restarted from step $((r - 1)), the step before a reset: the same to the bit"
+  else
+    fail "mpm_kinetic_peak: restarted from step $((r - 1)), the step before a reset: differs (above)"
+  fi
+else
+  fail "mpm_kinetic_peak: no reset after step 50 in $d/steps/steps.csv"
+fi
 one_case mpm_cpdi "$src/cases/column_collapse.json" --set shape.kind=cpdi --set mesh.h=0.2 \
   --set time.end=0.3 --set output.checkpoint_every=5 --set output.times=[0.1]
 # threads may change at a restart (the bits do not depend on them): A on
