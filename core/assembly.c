@@ -205,63 +205,86 @@ static inline int block_zero(const double *e) {
   return 1;
 }
 
+/* Mark the blocks a cloud writes into its batch: the cloud couples every
+ * pair of its nodes (batch slots loc[0..nk)), so each slot's set of
+ * coupled slots (mk: MPGM_ASM_WORDS words per slot) gains the cloud's. */
+static inline void mark_cloud(uint64_t *mk, const int *loc, int nk) {
+  uint64_t set[MPGM_ASM_WORDS] = {0};
+  for (int a = 0; a < nk; a++) set[loc[a] >> 6] |= (uint64_t)1 << (loc[a] & 63);
+  for (int a = 0; a < nk; a++)
+    for (int k = 0; k < MPGM_ASM_WORDS; k++) mk[MPGM_ASM_WORDS * loc[a] + k] |= set[k];
+}
+
+/* The place of node I in node J's sorted neighbour list, -1 if absent. */
+static inline int nbr_find(const mpgm_problem *pb, int J, int I) {
+  int lo = pb->nbr_ptr[J], hi = pb->nbr_ptr[J + 1] - 1;
+  while (lo <= hi) {
+    const int mid = (lo + hi) >> 1, v = pb->nbr[mid];
+    if (v < I) lo = mid + 1;
+    else if (v > I) hi = mid - 1;
+    else return mid;
+  }
+  return -1;
+}
+
+/* Block ab of row node I, column node J, at place t of J's neighbours,
+ * added into K (its free components). */
+static inline void add_block(mpgm_problem *pb, int I, int J, int t, const double *ab) {
+  const int *dof = pb->nodes.dof;
+  const unsigned char *fix = pb->nodes.fix;
+  double *val = pb->K.val;
+  /* 2-D only: the rows of x and y apart; y's row comes after x's when
+   * x is numbered (3-D: a loop over the rows, counting those before) */
+  const int rx = dof[MPGM_DIM * I] >= 0 && !fix[MPGM_DIM * I];
+  const int ry = dof[MPGM_DIM * I + 1] >= 0 && !fix[MPGM_DIM * I + 1];
+  for (int j = 0; j < MPGM_DIM; j++) {
+    const int col = dof[MPGM_DIM * J + j];
+    if (col < 0 || fix[MPGM_DIM * J + j]) continue;
+    const int pos0 = pb->K.colptr[col] + pb->nbr_off[t];
+    if (rx) val[pos0] += ab[j];
+    if (ry) val[pos0 + (dof[MPGM_DIM * I] >= 0)] += ab[MPGM_DIM + j];
+  }
+}
+
 /* Add the summed matrix of a batch (blocks (a, b) of MPGM_DIM x MPGM_DIM at
  * kb + MPGM_BLOCK (a B + b), B = MPGM_ASM_BATCH, over the union
- * nodes[0..nk)) into K without a stored map, and zero it: for every column
- * node, one merge of its sorted neighbour list with the nodes sorted gives
- * each row node's place (the work of building a map, done at each
- * assembly). Node clouds (one point per group, 20-60 nodes) would need maps
- * of hundreds of MB (47 000 points x 4 x 24^2 ints for LME-MPM on the
- * rolling disk), each used once or twice. Only the nonzero entries are
- * added: a pair of the union that no point of the batch couples has a zero
- * block, and may be missing from the pattern or belong to another task
- * running at the same time. With half (a symmetric tangent) the batch holds
- * the blocks a <= b only, and block (a, b), a > b, is read as the
- * transpose of (b, a): half the writes of the points into the batch. */
-static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb, int half) {
-  const mpgm_nodes *nd = &pb->nodes;
-  const int *dof = nd->dof;
-  const unsigned char *fix = nd->fix;
-  double *val = pb->K.val;
-  int srt[MPGM_ASM_BATCH], tl[MPGM_ASM_BATCH];
-  mpgm_argsort_nodes(nodes, nk, srt);
+ * nodes[0..nk)) into K without a stored map, and zero it. Only the pairs
+ * some point coupled (their bits in mk) are visited: for each, the row
+ * node's place among the column node's sorted neighbours (a binary
+ * search) gives its entries of K. Node clouds (one point per group, 20-60
+ * nodes) would need maps of hundreds of MB (47 000 points x 4 x 24^2 ints
+ * for LME-MPM on the rolling disk), each used once or twice. A written
+ * block whose pair is missing from the pattern must be zero (else
+ * pattern_missed). With half (a symmetric tangent) the batch holds the
+ * blocks a <= b only, and block (a, b), a > b, is read as the transpose
+ * of (b, a): half the writes of the points into the batch. Each K entry
+ * gets one addition per batch, so the order of the visits does not change
+ * a bit of K. */
+static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb, uint64_t *mk,
+                        int half) {
+  const int B = MPGM_ASM_BATCH, W = MPGM_ASM_WORDS;
   for (int b = 0; b < nk; b++) {
-    const int J = nodes[b], tend = pb->nbr_ptr[J + 1];
-    int t = pb->nbr_ptr[J];
-    for (int q = 0; q < nk; q++) {
-      const int a = srt[q];
-      while (t < tend && pb->nbr[t] < nodes[a]) t++;
-      tl[a] = t < tend && pb->nbr[t] == nodes[a] ? t : -1; /* -1: not coupled */
-    }
-    for (int a = 0; a < nk; a++) {
-      const int lower = half && a > b;
-      double *e = lower ? kb + MPGM_BLOCK * (b * MPGM_ASM_BATCH + a)
-                        : kb + MPGM_BLOCK * (a * MPGM_ASM_BATCH + b);
-      if (tl[a] < 0) { /* a block no point couples is zero: else the pattern misses it */
-        if (!block_zero(e)) pb->pattern_missed = 1;
-        continue;
+    const int J = nodes[b];
+    for (int k = 0; k < W; k++)
+      for (uint64_t bits = mk[W * b + k]; bits; bits &= bits - 1) {
+        const int a = 64 * k + __builtin_ctzll(bits), lower = half && a > b;
+        double *e = lower ? kb + MPGM_BLOCK * (b * B + a) : kb + MPGM_BLOCK * (a * B + b);
+        const int t = nbr_find(pb, J, nodes[a]);
+        if (t < 0) { /* a block no point couples is zero: else the pattern misses it */
+          if (!block_zero(e)) pb->pattern_missed = 1;
+          continue;
+        }
+        if (block_zero(e)) continue;
+        /* 2-D only: block (a, b) = e, or the transpose of e (3-D: 3x3) */
+        const double ab[MPGM_BLOCK] = {e[0], lower ? e[2] : e[1], lower ? e[1] : e[2], e[3]};
+        add_block(pb, nodes[a], J, t, ab);
+        /* an upper block is read twice (transposed in column a < b,
+         * which comes first, then as itself): zeroed the second time */
+        if (!lower)
+          for (int q = 0; q < MPGM_BLOCK; q++) e[q] = 0.0;
       }
-      if (block_zero(e)) continue;
-      /* 2-D only: block (a, b) = e, or the transpose of e (3-D: 3x3) */
-      const double ab[MPGM_BLOCK] = {e[0], lower ? e[2] : e[1], lower ? e[1] : e[2], e[3]};
-      const int I = nodes[a];
-      /* 2-D only: the rows of x and y apart; y's row comes after x's when
-       * x is numbered (3-D: a loop over the rows, counting those before) */
-      const int rx = dof[MPGM_DIM * I] >= 0 && !fix[MPGM_DIM * I];
-      const int ry = dof[MPGM_DIM * I + 1] >= 0 && !fix[MPGM_DIM * I + 1];
-      for (int j = 0; j < MPGM_DIM; j++) {
-        const int col = dof[MPGM_DIM * J + j];
-        if (col < 0 || fix[MPGM_DIM * J + j]) continue;
-        const int pos0 = pb->K.colptr[col] + pb->nbr_off[tl[a]];
-        if (rx) val[pos0] += ab[j];
-        if (ry) val[pos0 + (dof[MPGM_DIM * I] >= 0)] += ab[MPGM_DIM + j];
-      }
-      /* an upper block is read twice (as itself in column b and as the
-       * transpose in column a < b, which comes first): zeroed the second time */
-      if (!lower)
-        for (int q = 0; q < MPGM_BLOCK; q++) e[q] = 0.0;
-    }
   }
+  memset(mk, 0, sizeof(uint64_t) * (size_t)B * W);
 }
 
 /* What every assembly task needs. */
@@ -457,6 +480,7 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
   double *kl = pb->kloc + (size_t)tid * (size_t)pb->kloc_size;
   double *kb = pb->kbatch + (size_t)tid * MPGM_BLOCK * B * B;
   int *slot = pb->kslot + (size_t)tid * (size_t)pb->kslot_n;
+  uint64_t *mk = pb->kmask + (size_t)tid * MPGM_ASM_BATCH * MPGM_ASM_WORDS;
   int bn[MPGM_ASM_BATCH], loc[MPGM_SHAPE_MAXNODE], nb = 0;
   for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++) {
     const int g = pb->task_grp[i], p = pb->order[pb->grp_ptr[g]];
@@ -464,7 +488,7 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
     int fresh = 0;
     for (int a = 0; a < nk; a++) fresh += slot[nodes[a]] < 0;
     if (nb + fresh > B) {
-      flush_batch(pb, bn, nb, kb, j->half);
+      flush_batch(pb, bn, nb, kb, mk, j->half);
       for (int q = 0; q < nb; q++) slot[bn[q]] = -1;
       nb = 0;
     }
@@ -477,9 +501,11 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
     }
     if (pb->grp_ptr[g + 1] - pb->grp_ptr[g] == 1) {
       assemble_point_batch(j, p, loc, kb);
+      mark_cloud(mk, loc, nk);
       continue;
     }
     assemble_group(j, g, kl);
+    mark_cloud(mk, loc, nk);
     for (int a = 0; a < nk; a++)
       for (int b = 0; b < nk; b++) {
         if (j->half && loc[a] > loc[b]) continue; /* the batch's upper blocks only */
@@ -489,7 +515,7 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
       }
   }
   if (nb == 0) return;
-  flush_batch(pb, bn, nb, kb, j->half);
+  flush_batch(pb, bn, nb, kb, mk, j->half);
   for (int q = 0; q < nb; q++) slot[bn[q]] = -1;
 }
 

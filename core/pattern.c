@@ -371,6 +371,7 @@ static int map_buffers(mpgm_problem *pb, int *maxk_out) {
     /* the batches' buffers, kept from step to step (zero between batches) */
     if (!pb->kbatch)
       pb->kbatch = calloc(nt * MPGM_BLOCK * MPGM_ASM_BATCH * MPGM_ASM_BATCH, sizeof(double));
+    if (!pb->kmask) pb->kmask = calloc(nt * MPGM_ASM_BATCH * MPGM_ASM_WORDS, sizeof(uint64_t));
     if (pb->kslot_n < nn) {
       free(pb->kslot);
       pb->kslot = malloc(nt * (size_t)nn * sizeof(int));
@@ -378,7 +379,8 @@ static int map_buffers(mpgm_problem *pb, int *maxk_out) {
       if (pb->kslot)
         for (size_t i = 0; i < nt * (size_t)nn; i++) pb->kslot[i] = -1;
     }
-    MPGM_CHECK(ctx, pb->kbatch && pb->kslot, MPGM_ERR_NOMEM, "out of memory (assembly batches)");
+    MPGM_CHECK(ctx, pb->kbatch && pb->kmask && pb->kslot, MPGM_ERR_NOMEM,
+               "out of memory (assembly batches)");
   }
   /* the map is rebuilt every step by MPM and GMM: keep its memory and grow
    * it, rather than fault in fresh pages each time */

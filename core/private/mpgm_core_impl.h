@@ -5,6 +5,7 @@
 #define MPGM_CORE_IMPL_H
 
 #include <math.h>
+#include <stdint.h>
 
 #include "mpgm_core.h"
 
@@ -34,6 +35,8 @@ struct mpgm_cpoints {
  * clouds' assembly (assembly.c, assemble_batch); at least the largest
  * cloud, MPGM_SHAPE_MAXNODE. */
 #define MPGM_ASM_BATCH 128
+/* 64-bit words of a batch's row or column of touched blocks */
+#define MPGM_ASM_WORDS (MPGM_ASM_BATCH / 64)
 
 /** First assembly task of phase ph (0..3; 4 gives the end): chunk
  *  interiors 0..C-1, interfaces between chunks c and c+1 with c even, with
@@ -123,6 +126,10 @@ struct mpgm_problem {
                           their clouds (MPGM_BLOCK MPGM_ASM_BATCH^2
                           doubles, zero between batches), merged into K
                           once (assembly.c)                              */
+  uint64_t *kmask;   /**< node clouds: per thread and batch slot, the
+                          slots its points coupled it with (MPGM_ASM_WORDS
+                          words each; zero between batches): the merge
+                          into K visits only those pairs              */
   int *kslot;        /**< node clouds: per thread and node, its place in
                           the batch's union (-1: none); kslot_n each     */
   int kslot_n;       /**< nodes kslot has room for, per thread           */
