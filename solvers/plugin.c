@@ -29,51 +29,82 @@ static pthread_once_t load_once = PTHREAD_ONCE_INIT;
 static void *handle;
 static const mpgm_solver_type *real;
 static void (*real_finalize)(void);
-static char why[PATH_MAX + 512]; /* why the module could not be loaded */
 
-/* dlopen dir/MODULE; 1 on success. */
-static int try_dir(const char *dir) {
-  if (!dir || !*dir) return 0;
+/* The folder of the running executable into dir ("" if unknown). */
+static void exe_dir(char *dir, size_t len) {
+  const ssize_t l = readlink("/proc/self/exe", dir, len - 1);
+  dir[l > 0 ? l : 0] = '\0';
+  char *slash = strrchr(dir, '/');
+  if (slash) *slash = '\0';
+}
+
+/* dlopen dir/MODULE: the handle, NULL when there is no such file or it
+ * does not load (then, with msg, dlopen's reason). */
+static void *open_in(const char *dir, char *msg, size_t len) {
+  if (!dir || !*dir) return NULL;
   char path[PATH_MAX + 64];
   snprintf(path, sizeof path, "%s/%s", dir, MODULE);
-  if (access(path, R_OK) != 0) return 0;
-  handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-  if (!handle) {
+  if (access(path, R_OK) != 0) return NULL;
+  void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+  if (!h && msg) {
     const char *e = dlerror();
-    snprintf(why, sizeof why, "%.*s: %.400s", PATH_MAX, path, e ? e : "dlopen failed");
-    return 0;
+    snprintf(msg, len, "%.*s: %.400s", PATH_MAX, path, e ? e : "dlopen failed");
   }
-  return 1;
+  return h;
+}
+
+/* The places the module is looked for, in order. */
+static void places(const char *where[3], char *exe, size_t len) {
+  exe_dir(exe, len);
+  where[0] = getenv("MPGM_PLUGIN_DIR");
+  where[1] = exe;
+  where[2] = MPGM_PLUGIN_DIR_BUILT;
 }
 
 static void load(void) {
   char exe[PATH_MAX];
-  const ssize_t l = readlink("/proc/self/exe", exe, sizeof exe - 1);
-  if (l > 0) {
-    exe[l] = '\0';
-    char *slash = strrchr(exe, '/');
-    if (slash) *slash = '\0';
-  } else {
-    exe[0] = '\0';
+  const char *where[3];
+  places(where, exe, sizeof exe);
+  for (int i = 0; i < 3 && !handle; i++) handle = open_in(where[i], NULL, 0);
+  if (!handle) return;
+  real = dlsym(handle, "mpgm_solver_petsc_module");
+  *(void **)&real_finalize = dlsym(handle, "mpgm_solver_petsc_module_finalize");
+  if (!real || !real_finalize) real = NULL;
+}
+
+/* Why the module did not load, found again when asked (a failure only):
+ * the first place whose file does not load, a module without its record,
+ * or no file at all. */
+static void why_not(char *msg, size_t len) {
+  char exe[PATH_MAX];
+  const char *where[3];
+  places(where, exe, sizeof exe);
+  if (handle) {
+    snprintf(msg, len, "%s: the module lacks its backend record", MODULE);
+    return;
   }
-  snprintf(why, sizeof why, "%s not found in $MPGM_PLUGIN_DIR, %s or %s (mpgm was built without "
+  for (int i = 0; i < 3; i++) {
+    void *h = open_in(where[i], msg, len);
+    if (h) { /* the file appeared after the first attempt */
+      dlclose(h);
+      snprintf(msg, len, "%s in %s loads now but did not when first asked: run again", MODULE,
+               where[i]);
+    }
+    if (msg[0]) return;
+  }
+  snprintf(msg, len, "%s not found in $MPGM_PLUGIN_DIR, %s or %s (mpgm was built without "
            "PETSc: install petsc-dev, as scripts/setup.sh does, and build again)", MODULE,
            exe[0] ? exe : "the executable's folder", *MPGM_PLUGIN_DIR_BUILT ? MPGM_PLUGIN_DIR_BUILT
                                                                         : "the build folder");
-  if (!try_dir(getenv("MPGM_PLUGIN_DIR")) && !try_dir(exe) && !try_dir(MPGM_PLUGIN_DIR_BUILT))
-    return;
-  real = dlsym(handle, "mpgm_solver_petsc_module");
-  *(void **)&real_finalize = dlsym(handle, "mpgm_solver_petsc_module_finalize");
-  if (!real || !real_finalize) {
-    snprintf(why, sizeof why, "%s: the module lacks its backend record", MODULE);
-    real = NULL;
-  }
 }
 
 int mpgm_solver_plugin_load(const char *name, char *msg, size_t len) {
   if (strcmp(name, "petsc") != 0) return 0;
   pthread_once(&load_once, load);
-  if (!real && msg) snprintf(msg, len, "%.*s", (int)(len > 0 ? len - 1 : 0), why);
+  if (!real && msg && len > 0) {
+    msg[0] = '\0';
+    why_not(msg, len);
+  }
   return real ? 0 : -1;
 }
 
