@@ -84,30 +84,35 @@ typedef struct pt_data {
 
 static pthread_once_t init_once = PTHREAD_ONCE_INIT;
 static PetscErrorCode init_code = 0;
-static int initialised_here = 0;
+
+/* The arguments this module starts PETSc with. PETSc keeps the pointer
+ * (PetscGetArgs), so whether PETSc is this module's to end is PETSc's own
+ * record, not a flag of ours: a host program's PETSc has other arguments. */
+static char **module_args(void) {
+  static char a0[] = "mpgm", a1[] = "-no_signal_handler";
+  static char *argv[] = {a0, a1, NULL};
+  return argv;
+}
 
 static void petsc_init(void) {
   PetscBool done = PETSC_FALSE;
   PetscInitialized(&done);
   if (done) return; /* a host program's own PETSc */
-  static char a0[] = "mpgm", a1[] = "-no_signal_handler";
-  static char *argv[] = {a0, a1, NULL};
   int argc = 2;
-  char **pargv = argv;
+  char **pargv = module_args();
   init_code = PetscInitialize(&argc, &pargv, NULL, NULL);
   if (init_code) return;
   /* errors come back as codes and reach the user through mpgm_ctx */
   PetscPushErrorHandler(PetscReturnErrorHandler, NULL);
-  initialised_here = 1;
 }
 
-/** Ends PETSc (and MPI) if this module started it; at most once, at exit
- *  (the loader's mpgm_solver_finalize). */
+/** Ends PETSc (and MPI) if this module started it and it is running; at
+ *  exit (the loader's mpgm_solver_finalize). */
 void mpgm_solver_petsc_module_finalize(void) {
-  if (initialised_here) {
-    PetscFinalize();
-    initialised_here = 0;
-  }
+  if (!PetscInitializeCalled || PetscFinalizeCalled) return;
+  int argc = 0;
+  char **args = NULL;
+  if (PetscGetArgs(&argc, &args) == 0 && args == module_args()) PetscFinalize();
 }
 
 /* Record PETSc's error ierr of `what` (its message text) as code. */
