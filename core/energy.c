@@ -41,6 +41,15 @@ void mpgm_work_internal(mpgm_problem *pb) {
   pb->work_int += w;
 }
 
+double mpgm_kinetic_energy(const mpgm_points *P) {
+  double k = 0.0;
+  for (int p = 0; p < P->n; p++) { /* 2-D only: x and y written out */
+    const double vx = P->v[MPGM_DIM * p], vy = P->v[MPGM_DIM * p + 1];
+    k += 0.5 * P->mass[p] * (vx * vx + vy * vy);
+  }
+  return k;
+}
+
 void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
   const mpgm_points *P = &pb->pts;
   const mpgm_nodes *nd = &pb->nodes;
@@ -48,9 +57,9 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
   memset(e, 0, sizeof *e);
   e->work_int = pb->work_int;
   e->work_ext = pb->work_ext;
+  e->kinetic = mpgm_kinetic_energy(P);
   for (int p = 0; p < P->n; p++) { /* 2-D only: x and y written out */
     const double m = P->mass[p], vx = P->v[MPGM_DIM * p], vy = P->v[MPGM_DIM * p + 1];
-    e->kinetic += 0.5 * m * (vx * vx + vy * vy);
     e->momentum[0] += m * vx;
     e->momentum[1] += m * vy;
     /* the nodes' momentum sum_I m_I v_I with the lumped masses m_I =

@@ -279,11 +279,7 @@ static void move_task(void *arg, int t, int tid) {
  * energy it takes out shows as a loss of the total. */
 static void kinetic_damping(mpgm_problem *pb) {
   mpgm_points *P = &pb->pts;
-  double ke = 0.0;
-  for (int p = 0; p < P->n; p++) {
-    const double vx = P->v[MPGM_DIM * p], vy = P->v[MPGM_DIM * p + 1];
-    ke += 0.5 * P->mass[p] * (vx * vx + vy * vy);
-  }
+  double ke = mpgm_kinetic_energy(P);
   if (ke < pb->ke_last) {
     const size_t m = (size_t)(P->n + P->nprobe + P->nsurf);
     memset(P->v, 0, sizeof(double) * MPGM_DIM * m);

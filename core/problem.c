@@ -137,8 +137,8 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   mpgm_conn_release(&pb->conn);
   void *arr[] = {pb->K.colptr, pb->K.rowind, pb->K.val, pb->scatter, pb->scatter_ptr, pb->order,
                  pb->grp_ptr, pb->nbr, pb->nbr_ptr, pb->nbr_off, pb->node_order, pb->perm,
-                 pb->kloc, pb->kbatch, pb->kmask, pb->kslot, pb->task_grp, pb->task_pts, pb->R, pb->fext,
-                 pb->delta, pb->dubar, pb->react, pb->cflip, pb->fix_factored, pb->mms_b};
+                 pb->kloc, pb->kbatch, pb->kmask, pb->kslot, pb->task_grp, pb->task_pts, pb->R,
+                 pb->fext, pb->delta, pb->dubar, pb->react, pb->cflip, pb->fix_factored, pb->mms_b};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   mpgm_pool_destroy(&pb->pool);
   mpgm_cpoints_free(&pb->cp);

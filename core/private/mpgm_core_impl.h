@@ -247,6 +247,9 @@ static inline void mpgm_argsort_nodes(const int *nodes, int nk, int *srt) {
  *  points' trial arrays against the committed ones) to pb->work_int
  *  (energy.c). */
 void mpgm_work_internal(mpgm_problem *pb);
+/** Kinetic energy of the material points, sum_p m_p |v_p|^2 / 2 [J]
+ *  (per unit thickness; energy.c). */
+double mpgm_kinetic_energy(const mpgm_points *P);
 
 /** Manufactured solution (manufactured.c): the points' velocity and
  *  acceleration at t = 0 and the body-force array; then the body force
