@@ -151,6 +151,10 @@ typedef enum {
   MPGM_C_KINETIC_RESETS,    /**< explicit with time.kinetic_damping: the
                                  points' velocities set to zero at a peak
                                  of the kinetic energy                   */
+  MPGM_C_NEWTON_RELAXATIONS, /**< solver.relaxation: Newton iterations
+                                 found stalled (|R| repeating every other
+                                 iteration) after which the corrections
+                                 were scaled down                        */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

@@ -240,6 +240,10 @@ typedef struct mpgm_scene {
                                  the last factorisation of `solver`
                                  (solvers/reuse.c; refactor_iterations in
                                  solver_opts)                           */
+  double relaxation;        /**< Newton found stalled (|R| repeating
+                                 every other iteration): the factor on
+                                 its corrections until |R| falls tenfold
+                                 (1: never; newton.c)                   */
   int forcing_ew;           /**< 1: the linear tolerance of each Newton
                                  iteration by Eisenstat and Walker
                                  (iterative solves only); 0: linear_tol */

@@ -43,6 +43,7 @@ int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
   memset(&pb->last, 0, sizeof pb->last);
   nt->warm = warm;
   nt->res_prev = INFINITY;
+  nt->omega = 1.0;
   if (!warm) MPGM_CALL(mpgm_body_force(pb, pb->t + pb->dt));
   pb->lift = predictor(pb, warm) ? pb->dubar : NULL;
   /* |f_ext| over the free equations (held contact components have
@@ -73,6 +74,8 @@ int mpgm_newton_residual(mpgm_problem *pb, mpgm_newton *nt) {
     nt->ref = fmax(res, nt->fnorm);
   }
   nt->res = res;
+  memmove(nt->rh + 1, nt->rh, sizeof nt->rh - sizeof nt->rh[0]);
+  nt->rh[0] = res;
   info->res = res;
   info->res_rel = nt->ref > 0.0 ? res / nt->ref : 0.0;
   if (nt->it < 64) info->hist[info->nhist++] = res;
@@ -165,6 +168,31 @@ static double forcing(const mpgm_problem *pb, mpgm_newton *nt) {
   return eta;
 }
 
+/* solver.relaxation. Newton on a piecewise smooth residual (a material
+ * point that is plastic at one iterate and elastic at the next, a
+ * Mohr-Coulomb return that changes region) can fall into a cycle: every
+ * correction is right for the state it was computed in and carries the
+ * iterate across the kink, and |R| repeats every other iteration until
+ * max_iterations (the column collapse: 25 iterations, then a step cut).
+ * Once |R| repeats (the last four iterates: |R_k| within 5 % of |R_k-2|
+ * and |R_k-1| of |R_k-3|) the corrections are scaled by the factor, which
+ * breaks the cycle (|R| then falls by about 1 - factor per iteration),
+ * and full corrections return once |R| is ten times below where the
+ * stall was found, for Newton's quadratic end. A converged iterate is
+ * judged by the same tests. */
+static void relax(mpgm_problem *pb, mpgm_newton *nt) {
+  const double w = pb->scene->relaxation, *r = nt->rh, tol = 0.05;
+  if (nt->omega < 1.0 && nt->res < 0.1 * nt->res_stall) nt->omega = 1.0;
+  if (w < 1.0 && nt->omega == 1.0 && nt->it >= 4 && fabs(r[0] - r[2]) <= tol * r[0] &&
+      fabs(r[1] - r[3]) <= tol * r[1]) {
+    nt->omega = w;
+    nt->res_stall = nt->res;
+    mpgm_count(pb->ctx, MPGM_C_NEWTON_RELAXATIONS, 1);
+  }
+  if (nt->omega < 1.0)
+    for (int i = 0; i < pb->nodes.ndof; i++) pb->delta[i] *= nt->omega;
+}
+
 int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *sc = pb->scene;
@@ -188,6 +216,7 @@ int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
   /* the held contact components the factorisation was made with */
   if (!reuse) memcpy(pb->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n);
   MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
+  relax(pb, nt);
   double dd, uu;
   update_increments(pb, &dd, &uu);
   if (!isfinite(dd))

@@ -276,6 +276,9 @@ typedef struct mpgm_newton {
   int factored;    /**< a factorisation for this pattern and fixity exists */
   int want_K;      /**< the last residual call assembled K too            */
   double eta;      /**< the last forcing term (solver.forcing)            */
+  double rh[4];    /**< |R| of the last four iterates, newest first       */
+  double omega;    /**< factor on the corrections (solver.relaxation)     */
+  double res_stall; /**< |R| where the iteration was found stalled        */
 } mpgm_newton;
 
 /** Body force, predictor (du = 0, or dt v with time.predictor velocity;
