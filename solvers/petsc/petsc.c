@@ -43,7 +43,7 @@
  *
  * PETSc (and MPI under it) is initialised the first time an instance is
  * created, once per process, without PETSc's signal handlers;
- * mpgm_solver_finalize ends it at exit.
+ * mpgm_solver_finalize ends it when the program ends (app/ arranges it).
  *
  * This file is a module of its own (mpgm_petsc.so, loaded by
  * solvers/plugin.c the first time a scene asks for "petsc"): PETSc, MPI
@@ -109,8 +109,9 @@ static void petsc_init(void) {
   PetscPushErrorHandler(PetscReturnErrorHandler, NULL);
 }
 
-/** Ends PETSc (and MPI) if this module started it and it is running; at
- *  exit (the loader's mpgm_solver_finalize). */
+/** Ends PETSc (and MPI) if this module started it and it is running;
+ *  called by the loader's mpgm_solver_finalize, which app/ runs when the
+ *  program ends (the library never ends the process). */
 void mpgm_solver_petsc_module_finalize(void) {
   if (!PetscInitializeCalled || PetscFinalizeCalled) return;
   int argc = 0;
