@@ -155,6 +155,9 @@ typedef enum {
                                  found stalled (|R| repeating every other
                                  iteration) after which the corrections
                                  were scaled down                        */
+  MPGM_C_NEWTON_STAGNATIONS, /**< solver.stagnation: Newton solves ended
+                                 early because |R| had stopped falling
+                                 (each a step cut, or the run's end)     */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

@@ -244,6 +244,10 @@ typedef struct mpgm_scene {
                                  every other iteration): the factor on
                                  its corrections until |R| falls tenfold
                                  (1: never; newton.c)                   */
+  int stagnation;           /**< Newton ends (not converged) when its
+                                 best |R| of the last `stagnation`
+                                 iterates is not half the best before
+                                 them (0: never; newton.c)              */
   int forcing_ew;           /**< 1: the linear tolerance of each Newton
                                  iteration by Eisenstat and Walker
                                  (iterative solves only); 0: linear_tol */

@@ -82,6 +82,25 @@ int mpgm_newton_residual(mpgm_problem *pb, mpgm_newton *nt) {
   return 0;
 }
 
+/* solver.stagnation (w > 0): the smallest |R| of the last w iterates is
+ * not half the smallest before them. Hard steps of the column collapse
+ * (a point flipping between plastic and elastic) reach |R|/ref ~ 1e-2 by
+ * the fourth iterate and then wander there until max_iterations: the
+ * step is cut either way, and ending it once |R| has stopped falling
+ * saves those iterations. A Newton solve that converges, even linearly
+ * (modified Newton refactorises unless |R| falls by reuse_ratio), halves
+ * |R| within a few iterates. The window starts again where a stall was
+ * relaxed (solver.relaxation), so relaxation has its iterations. */
+static int stagnated(const mpgm_newton *nt, const mpgm_newton_info *info, int w, double *recent,
+                     double *before) {
+  const int it = nt->it, base = nt->it_stall;
+  if (w <= 0 || it >= info->nhist || it - w < base) return 0;
+  *before = *recent = INFINITY;
+  for (int k = base; k <= it - w; k++) *before = fmin(*before, info->hist[k]);
+  for (int k = it - w + 1; k <= it; k++) *recent = fmin(*recent, info->hist[k]);
+  return *recent > 0.5 * *before;
+}
+
 int mpgm_newton_test(mpgm_problem *pb, const mpgm_newton *nt, int *done) {
   const mpgm_scene *sc = pb->scene;
   const mpgm_newton_info *info = &pb->last;
@@ -100,6 +119,17 @@ int mpgm_newton_test(mpgm_problem *pb, const mpgm_newton *nt, int *done) {
     MPGM_ERROR(pb->ctx, MPGM_ERR_NOT_CONVERGED,
                "Newton did not converge in %d iterations (|R| = %.3e, |R|/ref = %.3e, "
                "|du|/|Du| = %.3e)", it, res, info->res_rel, info->du_rel);
+  /* stagnated: ended, but where the scene relaxes stalls, only once a
+   * stall was relaxed (relax(): |R| repeating), from where it was */
+  double recent, before;
+  const int may_relax = sc->relaxation < 1.0 && nt->it_stall == 0;
+  if (!may_relax && stagnated(nt, info, sc->stagnation, &recent, &before)) {
+    mpgm_count(pb->ctx, MPGM_C_NEWTON_STAGNATIONS, 1);
+    MPGM_ERROR(pb->ctx, MPGM_ERR_NOT_CONVERGED,
+               "Newton stagnated at iteration %d: the smallest |R|/ref of the last %d iterates, "
+               "%.3e, is not half the smallest before them, %.3e (solver.stagnation)", it,
+               sc->stagnation, recent / nt->ref, before / nt->ref);
+  }
   if (it > 2 && res > 1e8 * nt->ref)
     MPGM_ERROR(pb->ctx, MPGM_ERR_DIVERGED, "Newton diverged at iteration %d (|R|/ref = %.3e)", it,
                info->res_rel);
@@ -187,6 +217,7 @@ static void relax(mpgm_problem *pb, mpgm_newton *nt) {
       fabs(r[1] - r[3]) <= tol * r[1]) {
     nt->omega = w;
     nt->res_stall = nt->res;
+    nt->it_stall = nt->it;
     mpgm_count(pb->ctx, MPGM_C_NEWTON_RELAXATIONS, 1);
   }
   if (nt->omega < 1.0)

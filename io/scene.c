@@ -559,6 +559,7 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
                    s->solver->name);
   MPGM_CALL(jr_num(&so, "reuse_ratio", 0.1, 0.0, 1.0, 1, 1, &s->reuse_ratio));
   MPGM_CALL(jr_num(&so, "relaxation", 1.0, 0.0, 1.0, 1, 0, &s->relaxation));
+  MPGM_CALL(jr_int(&so, "stagnation", 5, 0, 1000, &s->stagnation));
   MPGM_CALL(jr_num(&so, "contact_check", 1e-3, 0.0, 1.0, 0, 1, &s->contact_check));
   static const char *const ordering_names[] = {"backend", "geometric", NULL};
   MPGM_CALL(jr_enum(&so, "ordering", ordering_names, 0, &s->ordering_nd));

@@ -279,6 +279,7 @@ typedef struct mpgm_newton {
   double rh[4];    /**< |R| of the last four iterates, newest first       */
   double omega;    /**< factor on the corrections (solver.relaxation)     */
   double res_stall; /**< |R| where the iteration was found stalled        */
+  int it_stall;    /**< the iterate at which it was (0: none)             */
 } mpgm_newton;
 
 /** Body force, predictor (du = 0, or dt v with time.predictor velocity;

@@ -9,6 +9,9 @@
 # Newton's relaxation of stalled iterations (solver.relaxation 0.5, docs/
 # theory.md section 6): GMM-MLS stalls in that window; relaxed it makes no
 # step cut, plain Newton (relaxation 1) cuts, and the column is the same.
+# And Newton ended once it stagnates (solver.stagnation, by default 5):
+# plain GMM-MLS's two failing steps end early, with every accepted step,
+# cut and number the same as when they run to max_iterations.
 # usage: column_collapse.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
@@ -24,6 +27,7 @@ for k in mls lme; do
   run_case "gmm_${k}_before" "$src/cases/column_collapse_gmm.json" "${coarse[@]}" "${relax[@]}" --set shape.kind=$k --set time.end=0.09
 done
 run_case gmm_mls_plain "$src/cases/column_collapse_gmm.json" "${coarse[@]}" --set solver.relaxation=1 --set time.end=0.1
+run_case gmm_mls_nostag "$src/cases/column_collapse_gmm.json" "${coarse[@]}" --set solver.relaxation=1 --set solver.stagnation=0 --set time.end=0.1
 [ $fail -eq 0 ] || { echo "0 passed, 1 failed"; exit 1; }
 /usr/bin/python3 - "$work" "$src" <<'PY'
 import csv, math, sys
@@ -63,5 +67,13 @@ check(c["newton_relaxations"] > 0 and c["step_cuts"] == 0 and cp["newton_relaxat
       f"plain: {cp['step_cuts']} cuts, {cp['factorizations']} factorisations against {c['factorizations']}")
 r0, r1 = s["metrics"]["runout"], p["metrics"]["runout"]
 check(abs(r0 - r1) <= 5e-4 * r1, f"gmm_mls: the same column relaxed and plain: runout {r0:.5f} and {r1:.5f} m")
+n = summary(w, "gmm_mls_nostag")
+cn = n["counts"]
+same = all(cp[k] == cn[k] for k in ("steps", "step_cuts", "newton_iterations")) and p["metrics"] == n["metrics"]
+check(same and cp["newton_stagnations"] == cp["step_cuts"] > 0 and cn["newton_stagnations"] == 0
+      and cp["solves"] < cn["solves"],
+      f"gmm_mls plain: Newton ended where it stagnated: {cp['newton_stagnations']} of {cp['step_cuts']} failing "
+      f"steps, {cp['solves']} linear solves against {cn['solves']} to max_iterations, "
+      f"steps, cuts, accepted iterations and every metric the same: {same}")
 done()
 PY
