@@ -196,6 +196,11 @@ typedef struct mpgm_scene {
                                  in a row converge at a cut size, the
                                  step doubles back (up to dt or
                                  1 / load_steps)                       */
+  int grow_backoff;         /**< step control: a step that fails at
+                                 once after growing doubles the easy
+                                 steps the next growth waits for (back
+                                 to grow_after when a grown step
+                                 converges)                            */
   int lumped_mass;          /**< dynamic: 1: the inertia of the implicit
                                  Newmark step with the row-sum (lumped)
                                  mass, diag sum_p m_p N_Ip, as the explicit

@@ -88,6 +88,10 @@ static void cut(mpgm_problem *pb, mpgm_stepper *sp, long k, int err, mpgm_run_re
   sp->dt_now = 0.5 * pb->dt;
   sp->level++;
   sp->easy = 0;
+  /* time.grow_backoff: the size it grew to failed at once, so wait twice
+   * as long before the next try (capped: a wait of 2^20 steps is never) */
+  if (sp->grown && s->grow_backoff) sp->wait = sp->wait < (1 << 20) ? 2 * sp->wait : sp->wait;
+  sp->grown = 0;
   pb->step_cuts++;
   pb->factor_valid = 0; /* the tangent of another step size */
 }
@@ -133,7 +137,7 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
     /* the step: time step, or load increment (t then counts load, 0 to 1) */
     /* (an explicit run without time.dt: each step from the CFL limit) */
     const double dt0 = !dyn ? 1.0 / s->load_steps : s->dt > 0.0 ? s->dt : s->t_end;
-    *sp = (mpgm_stepper){.end = dyn ? s->t_end : 1.0, .dt0 = dt0};
+    *sp = (mpgm_stepper){.end = dyn ? s->t_end : 1.0, .dt0 = dt0, .wait = s->grow_after};
     sp->dt_now = sp->dt0;
     pb->dt = sp->dt0;
   }
@@ -154,12 +158,17 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
       failed(pb, k, err, res);
       break;
     }
-    /* grow_after steps in a row that converged at the cut size double the
-     * step back towards the scene's */
-    if (sp->level > 0 && ++sp->easy >= s->grow_after) {
+    /* grow_after steps in a row that converged at the cut size (more
+     * after grown steps that failed, time.grow_backoff) double the step
+     * back towards the scene's; a grown step that converges resets the
+     * wait */
+    if (sp->grown) sp->wait = s->grow_after;
+    sp->grown = 0;
+    if (sp->level > 0 && ++sp->easy >= sp->wait) {
       sp->dt_now = fmin(sp->dt0, 2.0 * sp->dt_now);
       sp->level--;
       sp->easy = 0;
+      sp->grown = 1;
     }
     if (rc->time_split) log_split(pb, before);
     err = after_step(pb, rc, on_time, mpgm_wtime() - ts);

@@ -52,6 +52,9 @@ typedef struct mpgm_stepper {
   double end, dt0; /**< end of the run (time, or load factor 1); the scene's step */
   double dt_now;   /**< the step now: halved by a cut, doubled back after easy steps */
   int level, easy; /**< cuts in force; converged steps in a row since */
+  int wait;        /**< easy steps the next growth waits for (grow_after,
+                        doubled by time.grow_backoff)                   */
+  int grown;       /**< the step now is the first at a grown size      */
   int nout;        /**< output.times passed */
 } mpgm_stepper;
 
