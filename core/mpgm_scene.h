@@ -196,7 +196,7 @@ typedef struct mpgm_scene {
                                  in a row converge at a cut size, the
                                  step doubles back (up to dt or
                                  1 / load_steps)                       */
-  int grow_backoff;         /**< step control: a step that fails at
+  int grow_backoff;         /**< step control (default 0): a step that fails at
                                  once after growing doubles the easy
                                  steps the next growth waits for (back
                                  to grow_after when a grown step

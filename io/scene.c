@@ -508,7 +508,7 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_enum(&tm, "predictor", predictor_names, 0, &s->predictor_velocity));
   MPGM_CALL(jr_int(&tm, "max_cuts", 0, 0, 30, &s->max_cuts));
   MPGM_CALL(jr_int(&tm, "grow_after", 4, 1, 1000000, &s->grow_after));
-  MPGM_CALL(jr_bool(&tm, "grow_backoff", 1, &s->grow_backoff));
+  MPGM_CALL(jr_bool(&tm, "grow_backoff", 0, &s->grow_backoff));
   static const char *const mass_names[] = {"consistent", "lumped", NULL};
   if (s->analysis != MPGM_ANALYSIS_DYNAMIC && (jr_raw(&tm, "mass") || jr_override_json(&tm, "mass")))
     return jr_fail(&tm, "mass", "only with time.analysis \"dynamic\" (explicit schemes always "

@@ -12,7 +12,7 @@
 # And Newton ended once it stagnates (solver.stagnation, by default 5):
 # plain GMM-MLS's two failing steps end early, with every accepted step,
 # cut and number the same as when they run to max_iterations. And the
-# step's growth backing off (time.grow_backoff, by default on): to 0.2 s
+# step's growth backing off (time.grow_backoff true): to 0.2 s
 # every growth of plain GMM-MLS fails, so waiting longer after each failed
 # one saves failed tries and changes no accepted step.
 # usage: column_collapse.sh MPGM_EXE SOURCE_DIR WORK_DIR
@@ -31,8 +31,8 @@ for k in mls lme; do
 done
 run_case gmm_mls_plain "$src/cases/column_collapse_gmm.json" "${coarse[@]}" --set solver.relaxation=1 --set time.end=0.1
 run_case gmm_mls_nostag "$src/cases/column_collapse_gmm.json" "${coarse[@]}" --set solver.relaxation=1 --set solver.stagnation=0 --set time.end=0.1
-run_case gmm_mls_grow "$src/cases/column_collapse_gmm.json" "${coarse[@]}" --set solver.relaxation=1 --set time.end=0.2
-run_case gmm_mls_noback "$src/cases/column_collapse_gmm.json" "${coarse[@]}" --set solver.relaxation=1 --set time.grow_backoff=false --set time.end=0.2
+run_case gmm_mls_grow "$src/cases/column_collapse_gmm.json" "${coarse[@]}" --set solver.relaxation=1 --set time.grow_backoff=true --set time.end=0.2
+run_case gmm_mls_noback "$src/cases/column_collapse_gmm.json" "${coarse[@]}" --set solver.relaxation=1 --set time.end=0.2
 [ $fail -eq 0 ] || { echo "0 passed, 1 failed"; exit 1; }
 /usr/bin/python3 - "$work" "$src" <<'PY'
 import csv, math, sys
