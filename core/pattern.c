@@ -22,16 +22,61 @@ static int same_nodes(const mpgm_conn *C, int p, int q) {
 /* Task ids: see mpgm_asm_phase (mpgm_core.h). */
 #define NCH MPGM_ASM_CHUNKS
 
-/* Cut the group order into NCH chunks of about equal point counts. A node
- * touched by the groups of chunks lo..hi gets the range [lo, hi]; a group
- * whose nodes all have the range [c, c] is interior to chunk c; one whose
- * nodes' ranges span [c, c+1] sits on interface c; anything wider goes to
- * the last, serial task. Interiors of different chunks share no node, nor
- * do interfaces c and c' with |c - c'| >= 2: the tasks of one phase write
- * disjoint entries of R and K. */
+/* The task of every group (tid) when the group order is cut into nch
+ * chunks (nch <= NCH) of about equal point counts; returns how many groups
+ * went to the serial task. A node touched by the groups of chunks lo..hi
+ * gets the range [lo, hi]; a group whose nodes all have the range [c, c]
+ * is interior to chunk c; one whose nodes' ranges span [c, c+1] sits on
+ * interface c; anything wider goes to the last, serial task. Interiors of
+ * different chunks share no node, nor do interfaces c and c' with
+ * |c - c'| >= 2: the tasks of one phase write disjoint entries of R and
+ * K. Interface c goes to task NCH + c / 2 (c even) or NCH + NCH / 2 + c / 2
+ * (c odd), whatever nch is, so that the phases stay those of
+ * mpgm_asm_phase. */
+static int chunk_tasks(const mpgm_problem *pb, int nch, int *lo, int *hi, int *tid) {
+  const mpgm_conn *C = &pb->conn;
+  const int ng = pb->ngroups, np = pb->pts.n, nn = pb->nodes.n;
+  for (int i = 0; i < nn; i++) {
+    lo[i] = nch;
+    hi[i] = -1;
+  }
+  for (int g = 0; g < ng; g++) {
+    const int c = np ? (int)((long)pb->grp_ptr[g] * nch / np) : 0, p = pb->order[pb->grp_ptr[g]];
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      if (c < lo[I]) lo[I] = c;
+      if (c > hi[I]) hi[I] = c;
+    }
+  }
+  int serial = 0;
+  for (int g = 0; g < ng; g++) {
+    const int p = pb->order[pb->grp_ptr[g]];
+    int glo = nch, ghi = -1;
+    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+      const int I = C->node[k];
+      if (lo[I] < glo) glo = lo[I];
+      if (hi[I] > ghi) ghi = hi[I];
+    }
+    int t;
+    if (ghi < 0) t = 0; /* no nodes: nothing to write */
+    else if (glo == ghi) t = glo;
+    else if (ghi == glo + 1) t = glo % 2 == 0 ? NCH + glo / 2 : NCH + NCH / 2 + glo / 2;
+    else t = 2 * NCH - 1;
+    serial += t == 2 * NCH - 1;
+    tid[g] = t;
+  }
+  return serial;
+}
+
+/* The assembly tasks (task_ptr, task_grp, task_pts): NCH chunks, or fewer
+ * and wider ones when a group's nodes reach further in the group order
+ * than a chunk is long (node clouds: a cloud spans several rows of the
+ * nodes' numbering), which would put most groups in the serial task. The
+ * chunks are halved until at most an eighth of the groups is serial. The
+ * choice depends on the clouds only, not on the number of threads, so
+ * neither does the order of the sums. */
 static int assembly_tasks(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
-  const mpgm_conn *C = &pb->conn;
   const int ng = pb->ngroups, np = pb->pts.n, nn = pb->nodes.n;
   free(pb->task_grp);
   free(pb->task_pts);
@@ -45,35 +90,10 @@ static int assembly_tasks(mpgm_problem *pb) {
     free(tid);
     MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (assembly tasks of %d groups)", ng);
   }
-  for (int i = 0; i < nn; i++) {
-    lo[i] = NCH;
-    hi[i] = -1;
-  }
-  for (int g = 0; g < ng; g++) {
-    const int c = np ? (int)((long)pb->grp_ptr[g] * NCH / np) : 0, p = pb->order[pb->grp_ptr[g]];
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-      const int I = C->node[k];
-      if (c < lo[I]) lo[I] = c;
-      if (c > hi[I]) hi[I] = c;
-    }
-  }
+  for (int nch = NCH; nch >= 2; nch /= 2)
+    if (chunk_tasks(pb, nch, lo, hi, tid) <= ng / 8 || nch == 2) break;
   memset(pb->task_ptr, 0, sizeof pb->task_ptr);
-  for (int g = 0; g < ng; g++) {
-    const int p = pb->order[pb->grp_ptr[g]];
-    int glo = NCH, ghi = -1;
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-      const int I = C->node[k];
-      if (lo[I] < glo) glo = lo[I];
-      if (hi[I] > ghi) ghi = hi[I];
-    }
-    int t;
-    if (ghi < 0) t = 0; /* no nodes: nothing to write */
-    else if (glo == ghi) t = glo;
-    else if (ghi == glo + 1) t = glo % 2 == 0 ? NCH + glo / 2 : NCH + NCH / 2 + glo / 2;
-    else t = 2 * NCH - 1;
-    tid[g] = t;
-    pb->task_ptr[t + 1]++;
-  }
+  for (int g = 0; g < ng; g++) pb->task_ptr[tid[g] + 1]++;
   for (int t = 0; t < 2 * NCH; t++) pb->task_ptr[t + 1] += pb->task_ptr[t];
   int fill[2 * NCH];
   memcpy(fill, pb->task_ptr, sizeof fill);
