@@ -22,45 +22,56 @@ static int same_nodes(const mpgm_conn *C, int p, int q) {
 /* Task ids: see mpgm_asm_phase (mpgm_core.h). */
 #define NCH MPGM_ASM_CHUNKS
 
-/* The task of every group (tid) when the group order is cut into nch
- * chunks (nch <= NCH) of about equal point counts; returns how many groups
- * went to the serial task. A node touched by the groups of chunks lo..hi
- * gets the range [lo, hi]; a group whose nodes all have the range [c, c]
- * is interior to chunk c; one whose nodes' ranges span [c, c+1] sits on
- * interface c; anything wider goes to the last, serial task. Interiors of
- * different chunks share no node, nor do interfaces c and c' with
- * |c - c'| >= 2: the tasks of one phase write disjoint entries of R and
- * K. Interface c goes to task NCH + c / 2 (c even) or NCH + NCH / 2 + c / 2
- * (c odd), whatever nch is, so that the phases stay those of
- * mpgm_asm_phase. */
-static int chunk_tasks(const mpgm_problem *pb, int nch, int *lo, int *hi, int *tid) {
+/* Each group's range of chunks [glo, ghi] when the group order is cut
+ * into NCH chunks of about equal point counts: a node touched by the
+ * groups of chunks lo..hi gets the range [lo, hi], a group the union of
+ * its nodes' ranges ([NCH, -1]: no nodes). With nch = NCH >> s chunks the
+ * ranges are these shifted right by s (chunk c of NCH lies in chunk
+ * c >> s of nch: floor(floor(2x) / 2) = floor(x)), so they are found once
+ * for every nch tried. */
+static void group_ranges(const mpgm_problem *pb, int *lo, int *hi, int *glo, int *ghi) {
   const mpgm_conn *C = &pb->conn;
   const int ng = pb->ngroups, np = pb->pts.n, nn = pb->nodes.n;
   for (int i = 0; i < nn; i++) {
-    lo[i] = nch;
+    lo[i] = NCH;
     hi[i] = -1;
   }
   for (int g = 0; g < ng; g++) {
-    const int c = np ? (int)((long)pb->grp_ptr[g] * nch / np) : 0, p = pb->order[pb->grp_ptr[g]];
+    const int c = np ? (int)((long)pb->grp_ptr[g] * NCH / np) : 0, p = pb->order[pb->grp_ptr[g]];
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       if (c < lo[I]) lo[I] = c;
       if (c > hi[I]) hi[I] = c;
     }
   }
-  int serial = 0;
   for (int g = 0; g < ng; g++) {
     const int p = pb->order[pb->grp_ptr[g]];
-    int glo = nch, ghi = -1;
+    glo[g] = NCH;
+    ghi[g] = -1;
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
-      if (lo[I] < glo) glo = lo[I];
-      if (hi[I] > ghi) ghi = hi[I];
+      if (lo[I] < glo[g]) glo[g] = lo[I];
+      if (hi[I] > ghi[g]) ghi[g] = hi[I];
     }
+  }
+}
+
+/* The task of every group (tid) with NCH >> s chunks; returns how many
+ * groups went to the serial task. A group whose range is [c, c] is
+ * interior to chunk c; one whose range is [c, c+1] sits on interface c;
+ * anything wider goes to the last, serial task. Interiors of different
+ * chunks share no node, nor do interfaces c and c' with |c - c'| >= 2:
+ * the tasks of one phase write disjoint entries of R and K. Interface c
+ * goes to task NCH + c / 2 (c even) or NCH + NCH / 2 + c / 2 (c odd),
+ * whatever the chunks, so that the phases stay those of mpgm_asm_phase. */
+static int chunk_tasks(int ng, const int *glo, const int *ghi, int s, int *tid) {
+  int serial = 0;
+  for (int g = 0; g < ng; g++) {
+    const int a = glo[g] >> s, b = ghi[g] < 0 ? -1 : ghi[g] >> s;
     int t;
-    if (ghi < 0) t = 0; /* no nodes: nothing to write */
-    else if (glo == ghi) t = glo;
-    else if (ghi == glo + 1) t = glo % 2 == 0 ? NCH + glo / 2 : NCH + NCH / 2 + glo / 2;
+    if (b < 0) t = 0; /* no nodes: nothing to write */
+    else if (a == b) t = a;
+    else if (b == a + 1) t = a % 2 == 0 ? NCH + a / 2 : NCH + NCH / 2 + a / 2;
     else t = 2 * NCH - 1;
     serial += t == 2 * NCH - 1;
     tid[g] = t;
@@ -83,15 +94,17 @@ static int assembly_tasks(mpgm_problem *pb) {
   pb->task_grp = malloc(((size_t)ng + 1) * sizeof(int));
   pb->task_pts = malloc(((size_t)np + 1) * sizeof(int));
   int *lo = malloc(((size_t)nn + 1) * sizeof(int)), *hi = malloc(((size_t)nn + 1) * sizeof(int));
-  int *tid = malloc(((size_t)ng + 1) * sizeof(int));
+  int *tid = malloc(3 * ((size_t)ng + 1) * sizeof(int));
   if (!pb->task_grp || !pb->task_pts || !lo || !hi || !tid) {
     free(lo);
     free(hi);
     free(tid);
     MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (assembly tasks of %d groups)", ng);
   }
-  for (int nch = NCH; nch >= 2; nch /= 2)
-    if (chunk_tasks(pb, nch, lo, hi, tid) <= ng / 8 || nch == 2) break;
+  int *glo = tid + ng + 1, *ghi = glo + ng + 1;
+  group_ranges(pb, lo, hi, glo, ghi);
+  for (int s = 0; NCH >> s >= 2; s++)
+    if (chunk_tasks(ng, glo, ghi, s, tid) <= ng / 8 || NCH >> s == 2) break;
   memset(pb->task_ptr, 0, sizeof pb->task_ptr);
   for (int g = 0; g < ng; g++) pb->task_ptr[tid[g] + 1]++;
   for (int t = 0; t < 2 * NCH; t++) pb->task_ptr[t + 1] += pb->task_ptr[t];
