@@ -158,6 +158,9 @@ typedef enum {
   MPGM_C_NEWTON_STAGNATIONS, /**< solver.stagnation: Newton solves ended
                                  early because |R| had stopped falling
                                  (each a step cut, or the run's end)     */
+  MPGM_C_CONTACT_LOW_RANK,  /**< solver.contact_rank: changes of the
+                                 contact set at surface points applied to
+                                 the kept factorisation (no refactoring) */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

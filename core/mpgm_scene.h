@@ -253,6 +253,10 @@ typedef struct mpgm_scene {
                                  best |R| of the last `stagnation`
                                  iterates is not half the best before
                                  them (0: never; newton.c)              */
+  int contact_rank;         /**< modified Newton with contact at points:
+                                 spring changes applied to the kept
+                                 factorisation, up to this many rank-one
+                                 terms (0: refactorise; lowrank.c)      */
   int forcing_ew;           /**< 1: the linear tolerance of each Newton
                                  iteration by Eisenstat and Walker
                                  (iterative solves only); 0: linear_tol */

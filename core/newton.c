@@ -244,9 +244,14 @@ int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
   nt->factored = 1;
   pb->factor_valid = !err;
   MPGM_CALL(err);
-  /* the held contact components the factorisation was made with */
-  if (!reuse) memcpy(pb->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n);
+  /* the held contact components (and springs) the factorisation was
+   * made with */
+  if (!reuse) {
+    memcpy(pb->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n);
+    MPGM_CALL(mpgm_lowrank_reset(pb));
+  }
   MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
+  if (reuse) mpgm_lowrank_apply(pb, pb->delta);
   relax(pb, nt);
   double dd, uu;
   update_increments(pb, &dd, &uu);

@@ -142,6 +142,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   mpgm_pool_destroy(&pb->pool);
   mpgm_cpoints_free(&pb->cp);
+  mpgm_lowrank_free(&pb->lr);
   mpgm_solver_destroy(&pb->solver);
   free(pb);
   *pp = NULL;

@@ -306,8 +306,7 @@ static int read_probes(jr_node *root, mpgm_scene *s) {
   return 0;
 }
 
-/* output.matrices: a step number (from 1) or an increasing array of them;
- * [] or absent: none. */
+/* output.matrices: a step (from 1) or an increasing array of them ([]: none). */
 static int read_matrices(jr_node *o, mpgm_scene *s) {
   const cJSON *v = jr_override_json(o, "matrices");
   if (!v) v = jr_raw(o, "matrices");
@@ -561,6 +560,7 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&so, "reuse_ratio", 0.1, 0.0, 1.0, 1, 1, &s->reuse_ratio));
   MPGM_CALL(jr_num(&so, "relaxation", 1.0, 0.0, 1.0, 1, 0, &s->relaxation));
   MPGM_CALL(jr_int(&so, "stagnation", 5, 0, 1000, &s->stagnation));
+  MPGM_CALL(jr_int(&so, "contact_rank", 32, 0, 1024, &s->contact_rank));
   MPGM_CALL(jr_num(&so, "contact_check", 1e-3, 0.0, 1.0, 0, 1, &s->contact_check));
   static const char *const ordering_names[] = {"backend", "geometric", NULL};
   MPGM_CALL(jr_enum(&so, "ordering", ordering_names, 0, &s->ordering_nd));

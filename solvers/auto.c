@@ -35,6 +35,7 @@ typedef struct auto_data {
   mpgm_solver *lu;      /**< LU part (created when first needed)        */
   mpgm_solver *active;  /**< the part that factorises now               */
   const int *perm;      /**< ordering of the last analyse (borrowed)    */
+  int n;                /**< order of the analysed matrix                */
   int hold;             /**< steps on LU left before Cholesky again     */
   int hold_len;         /**< length of the last hold (0 after a success) */
   long switches;        /**< falls from Cholesky to LU                   */
@@ -79,6 +80,7 @@ static int auto_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int 
     d->active = d->lu;
   }
   d->perm = perm;
+  d->n = A->n;
   if (d->chol) d->chol->analysed = 0;
   if (d->lu) d->lu->analysed = 0;
   return ready(d, ctx, A);
@@ -112,6 +114,11 @@ static int auto_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
 static int auto_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   auto_data *d = data;
   return mpgm_solver_solve(d->active, ctx, b, x);
+}
+
+static int auto_solve_many(void *data, mpgm_ctx *ctx, int nrhs, const double *B, double *X) {
+  auto_data *d = data;
+  return mpgm_solver_solve_many(d->active, ctx, d->n, nrhs, B, X);
 }
 
 /* A new step: on LU, count the step, or go back to Cholesky when the hold
@@ -184,6 +191,7 @@ const mpgm_solver_type mpgm_solver_auto = {
     .analyse = auto_analyse,
     .factor = auto_factor,
     .solve = auto_solve,
+    .solve_many = auto_solve_many,
     .stats = auto_stats,
     .step = auto_step,
     .backend = auto_backend,

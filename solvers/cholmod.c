@@ -205,6 +205,24 @@ static int chol_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   return MPGM_OK;
 }
 
+/* X = A^-1 B for nrhs columns in one supernodal (BLAS 3) solve: a view of
+ * B as a cholmod_dense, the result copied into X (may alias B).
+ * Errors: as chol_solve. */
+static int chol_solve_many(void *data, mpgm_ctx *ctx, int nrhs, const double *B, double *X) {
+  chol_data *d = data;
+  MPGM_CHECK(ctx, d->factored, MPGM_ERR_INTERNAL,
+             "cholmod: solve without a valid factorisation");
+  if (nrhs == 0) return MPGM_OK;
+  const size_t n = (size_t)d->n;
+  cholmod_dense Bd = {.nrow = n, .ncol = (size_t)nrhs, .nzmax = n * (size_t)nrhs, .d = n,
+                      .x = (void *)B, .xtype = CHOLMOD_REAL, .dtype = CHOLMOD_DOUBLE};
+  cholmod_dense *Xd = cholmod_solve(CHOLMOD_A, d->L, &Bd, &d->cm);
+  if (!Xd) return fail(ctx, d, "cholmod_solve");
+  memcpy(X, Xd->x, n * (size_t)nrhs * sizeof(double));
+  cholmod_free_dense(&Xd, &d->cm);
+  return MPGM_OK;
+}
+
 /* Entries of L and flop count of the factorisation (from the analysis);
  * CHOLMOD's peak memory since cholmod_start (Common->memory_usage: the
  * factor, its workspace and the dense vectors of solve2). */
@@ -228,6 +246,7 @@ const mpgm_solver_type mpgm_solver_cholmod = {
     .analyse = chol_analyse,
     .factor = chol_factor,
     .solve = chol_solve,
+    .solve_many = chol_solve_many,
     .stats = chol_stats,
 };
 
@@ -241,6 +260,7 @@ const mpgm_solver_type mpgm_solver_cholmod_simplicial = {
     .analyse = chol_analyse,
     .factor = chol_factor,
     .solve = chol_solve,
+    .solve_many = chol_solve_many,
     .stats = chol_stats,
 };
 
@@ -254,5 +274,6 @@ const mpgm_solver_type mpgm_solver_cholmod_supernodal = {
     .analyse = chol_analyse,
     .factor = chol_factor,
     .solve = chol_solve,
+    .solve_many = chol_solve_many,
     .stats = chol_stats,
 };

@@ -112,6 +112,11 @@ typedef struct mpgm_solver_type {
    *  Iterative backends: not converged within opts.max_iter iterations:
    *  MPGM_ERR_LINEAR (recoverable). */
   int (*solve)(void *data, mpgm_ctx *ctx, const double *b, double *x);
+  /** Optional: X = A^-1 B for nrhs columns at once (column-major, n
+   *  apart; B and X may alias), where the backend does several right-hand
+   *  sides faster than one by one (a supernodal solve through BLAS 3);
+   *  NULL: mpgm_solver_solve_many solves column by column. */
+  int (*solve_many)(void *data, mpgm_ctx *ctx, int nrhs, const double *B, double *X);
   /** Optional (may be NULL). */
   int (*stats)(void *data, mpgm_solver_stats *st);
   /** Optional: a new time (or load) step begins; *kept = 0 when the
@@ -165,6 +170,11 @@ int mpgm_solver_analyse(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A, const 
 int mpgm_solver_factor(mpgm_solver *s, mpgm_ctx *ctx, const mpgm_csc *A);
 int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
                       double *x);
+/** X = A^-1 B for nrhs right-hand sides of the order n of A (column-
+ *  major, n apart; may alias), counted as nrhs solves: the backend's
+ *  solve_many, else one solve per column. */
+int mpgm_solver_solve_many(mpgm_solver *s, mpgm_ctx *ctx, int n, int nrhs, const double *B,
+                           double *X);
 /** Threads of the libraries under the backends (process-wide): n >= 1
  *  sets the BLAS threads to n and serialises the OpenMP regions of
  *  SuiteSparse (CHOLMOD 3 asks for 4 OpenMP threads whatever the machine

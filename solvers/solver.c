@@ -181,6 +181,23 @@ int mpgm_solver_solve(mpgm_solver *s, mpgm_ctx *ctx, const double *b,
   return ierr;
 }
 
+int mpgm_solver_solve_many(mpgm_solver *s, mpgm_ctx *ctx, int n, int nrhs, const double *B,
+                           double *X) {
+  MPGM_CHECK(ctx, s != NULL && B != NULL && X != NULL && nrhs >= 0 && n > 0, MPGM_ERR_INPUT,
+             "mpgm_solver_solve_many: NULL argument or no equations");
+  if (!s->type->solve_many) {
+    for (int j = 0; j < nrhs; j++)
+      MPGM_CALL(mpgm_solver_solve(s, ctx, B + (size_t)j * n, X + (size_t)j * n));
+    return 0;
+  }
+  if (s->type->composite) return s->type->solve_many(s->data, ctx, nrhs, B, X);
+  mpgm_timer_start(ctx, MPGM_T_SOLVE);
+  const int ierr = s->type->solve_many(s->data, ctx, nrhs, B, X);
+  mpgm_timer_stop(ctx, MPGM_T_SOLVE);
+  mpgm_count(ctx, MPGM_C_SOLVES, nrhs);
+  return ierr;
+}
+
 /** Statistics of the last factorisation into *st (zeroed first).
  *  Returns MPGM_ERR_UNSUPPORTED when the backend has no stats operation
  *  (there is no context to record a message in), MPGM_ERR_INPUT on NULL. */

@@ -28,6 +28,34 @@ struct mpgm_cpoints {
   long unenforced;    /**< tracer-steps without shape functions          */
 };
 
+/** solver.contact_rank: a change of the contact springs at surface
+ *  points applied to a kept factorisation by the Woodbury identity
+ *  (lowrank.c). */
+typedef struct mpgm_lowrank {
+  int valid;          /**< the set below is of the solver's factorisation  */
+  int cap;            /**< columns at most (solver.contact_rank)           */
+  int r;              /**< columns now                                     */
+  int n;              /**< equations (K.n of the factorisation)            */
+  int n_cap;          /**< equations the arrays have room for              */
+  int nt;             /**< surface tracers (cp.n)                          */
+  unsigned char *held0; /**< per tracer: plane + 1 it was held on in the
+                           factorised tangent, 0 free                  */
+  int *col_t;         /**< per column: its tracer                          */
+  signed char *col_c; /**< per column: its component                       */
+  double *col_w;      /**< per column: the change of stiffness (+ caught)  */
+  int *nnz;           /**< 2 cap: entries of each column (and of the set
+                           being built, from cap on)                  */
+  int *idx, *idx2;    /**< per column MPGM_DIM MPGM_SHAPE_MAXNODE slots:
+                           equations of its entries                    */
+  double *val, *val2; /**< their values, sqrt(|w|) N                       */
+  double *Z, *Z2;     /**< per column n values: K0^-1 u                   */
+  double *C;          /**< r x r: LU factors of D^-1 + U^T Z               */
+  size_t *perm;       /**< their row permutation                           */
+  double *y;          /**< r: scratch                                      */
+  int *src;           /**< cap: scratch of update                          */
+  double *W;          /**< per column n values: scratch of update          */
+} mpgm_lowrank;
+
 /** Chunks of the threaded assembly; a constant, so that the order of the
  *  sums does not depend on the number of threads. */
 #define MPGM_ASM_CHUNKS 16
@@ -165,6 +193,7 @@ struct mpgm_problem {
                           (time.max_cuts; run.c)                        */
   unsigned char *cflip; /**< per node: contact state changed in this step */
   mpgm_cpoints cp;   /**< contact at surface points (fx.contact_points)  */
+  mpgm_lowrank lr;   /**< contact changes on the kept factorisation      */
 };
 
 /** Load factor at the end of the step being solved: static, the load
@@ -224,6 +253,17 @@ void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only);
  *  spring pulls; at most one change per tracer and step. Returns 1 when
  *  the set changed. */
 int mpgm_cpoints_update(mpgm_problem *pb);
+/** solver.contact_rank (core/lowrank.c). reset: after a factorisation of
+ *  the tangent, which holds the springs held now (no columns). update:
+ *  after the surface points' set changed with the factorisation kept,
+ *  the columns of the springs that differ from the factorised ones (one
+ *  solve per new column); *applied = 0 when they are more than
+ *  contact_rank or their capacitance is near singular (then refactorise).
+ *  apply: turn x = K0^-1 b into the solution with the corrected matrix. */
+int mpgm_lowrank_reset(mpgm_problem *pb);
+int mpgm_lowrank_update(mpgm_problem *pb, int *applied);
+void mpgm_lowrank_apply(mpgm_problem *pb, double *x);
+void mpgm_lowrank_free(mpgm_lowrank *lr);
 /** The factor of gravity at time t: static, the load factor; dynamic, the
  *  scene's ramp (gravity_ramp; 1 without one). */
 static inline double mpgm_gravity_factor(const mpgm_problem *pb, double t) {

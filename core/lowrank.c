@@ -1,0 +1,235 @@
+/* lowrank.c -- a change of the contact springs applied to a kept
+ * factorisation (solver.contact_rank; docs/theory.md, "Contact changes
+ * without refactorising").
+ *
+ * A surface point that is caught by a plane, or let go, adds or removes
+ * its spring k N N^T in each component: a change of rank two per point.
+ * Modified Newton keeps a factorisation of an earlier tangent K0 for as
+ * long as Newton converges well with it, but a contact change used to
+ * throw it away, because K0 without a new spring is a poor model of the
+ * tangent (the step then needs many more iterations). With the change
+ * written as K0 + U D U^T (U: the columns sqrt(|w|) N of the changed
+ * springs, one per point and component; D: their signs, + caught, -
+ * let go), the Woodbury identity solves with the corrected matrix at the
+ * price of one solve per column, once:
+ *
+ *   (K0 + U D U^T)^-1 b = x - Z C^-1 U^T x,  x = K0^-1 b,  Z = K0^-1 U,
+ *   C = D^-1 + U^T Z  (r x r, r = the columns).
+ *
+ * The set of columns is the difference between the springs held now and
+ * those in the factorised tangent; it is rebuilt at every contact change
+ * (columns whose vector did not change keep their Z) and emptied at every
+ * factorisation. More than solver.contact_rank columns, or a C too close
+ * to singular, and the tangent is factorised again as before.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_linalg.h>
+
+#include "mpgm_core_impl.h"
+
+/* Spring stiffness of tracer t in the state held[] describes (0: free). */
+static double spring(const mpgm_problem *pb, int plane_plus1) {
+  return plane_plus1 > 0 ? pb->scene->bcs[plane_plus1 - 1].penalty : 0.0;
+}
+
+/* What the tracer holds now, in the form of held0: plane + 1, 0 free. */
+static int held_now(const mpgm_cpoints *cp, int t) {
+  return cp->plane[t] >= 0 && !cp->off[t] ? cp->plane[t] + 1 : 0;
+}
+
+void mpgm_lowrank_free(mpgm_lowrank *lr) {
+  void *arr[] = {lr->held0, lr->col_t, lr->col_c, lr->col_w, lr->nnz, lr->idx, lr->val,
+                 lr->Z,     lr->Z2,    lr->C,     lr->perm, lr->y,   lr->idx2, lr->val2, lr->src, lr->W};
+  for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
+  memset(lr, 0, sizeof *lr);
+}
+
+/* Arrays for cap columns of n equations and nt tracers. */
+static int lowrank_alloc(mpgm_problem *pb, int n) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_lowrank *lr = &pb->lr;
+  const int cap = pb->scene->contact_rank, m = MPGM_DIM * MPGM_SHAPE_MAXNODE;
+  if (lr->held0 && lr->n_cap >= n && lr->nt == pb->cp.n) return 0;
+  mpgm_lowrank_free(lr);
+  lr->cap = cap;
+  lr->nt = pb->cp.n;
+  lr->n_cap = n;
+  MPGM_ALLOC(ctx, lr->held0, lr->nt);
+  MPGM_ALLOC(ctx, lr->col_t, cap);
+  MPGM_ALLOC(ctx, lr->col_c, cap);
+  MPGM_ALLOC(ctx, lr->col_w, cap);
+  MPGM_ALLOC(ctx, lr->nnz, 2 * cap);
+  MPGM_ALLOC(ctx, lr->idx, (size_t)cap * m);
+  MPGM_ALLOC(ctx, lr->val, (size_t)cap * m);
+  MPGM_ALLOC(ctx, lr->idx2, (size_t)cap * m);
+  MPGM_ALLOC(ctx, lr->val2, (size_t)cap * m);
+  MPGM_ALLOC(ctx, lr->Z, (size_t)cap * n);
+  MPGM_ALLOC(ctx, lr->Z2, (size_t)cap * n);
+  MPGM_ALLOC(ctx, lr->C, (size_t)cap * cap);
+  MPGM_ALLOC(ctx, lr->perm, cap);
+  MPGM_ALLOC(ctx, lr->y, cap);
+  MPGM_ALLOC(ctx, lr->src, cap);
+  MPGM_ALLOC(ctx, lr->W, (size_t)cap * n);
+  return 0;
+}
+
+int mpgm_lowrank_reset(mpgm_problem *pb) {
+  const mpgm_scene *sc = pb->scene;
+  if (!pb->fx.contact_points || sc->contact_rank <= 0 || !sc->newton_modified) return 0;
+  MPGM_CALL(lowrank_alloc(pb, pb->K.n));
+  mpgm_lowrank *lr = &pb->lr;
+  for (int t = 0; t < lr->nt; t++) lr->held0[t] = (unsigned char)held_now(&pb->cp, t);
+  lr->r = 0;
+  lr->n = pb->K.n;
+  lr->valid = 1;
+  return 0;
+}
+
+/* The vector of column (t, c): sqrt(|w|) N of tracer t on the free
+ * equations of component c, into idx/val; returns its entries. */
+static int column(const mpgm_problem *pb, int t, int c, double w, int *idx, double *val) {
+  const mpgm_conn *C = &pb->conn;
+  const mpgm_nodes *nd = &pb->nodes;
+  const int p = pb->cp.first + t;
+  const double s = sqrt(fabs(w));
+  int k = 0;
+  for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++) {
+    const int i = MPGM_DIM * C->node[a] + c, e = nd->dof[i];
+    if (e < 0 || nd->fix[i] || C->N[a] == 0.0) continue;
+    idx[k] = e;
+    val[k++] = s * C->N[a];
+  }
+  return k;
+}
+
+/* Column j of the old set equal to (t, c, w) with the same vector, or -1. */
+static int old_column(const mpgm_lowrank *lr, int r_old, int t, int c, double w, const int *idx,
+                      const double *val, int k) {
+  const int m = MPGM_DIM * MPGM_SHAPE_MAXNODE;
+  for (int j = 0; j < r_old; j++) {
+    if (lr->col_t[j] != t || lr->col_c[j] != c || lr->col_w[j] != w || lr->nnz[j] != k) continue;
+    if (memcmp(lr->idx + (size_t)j * m, idx, sizeof(int) * (size_t)k) == 0 &&
+        memcmp(lr->val + (size_t)j * m, val, sizeof(double) * (size_t)k) == 0)
+      return j;
+  }
+  return -1;
+}
+
+/* C = D^-1 + U^T Z and its LU factors; 0 when a pivot is too small
+ * against the largest entry (then the caller refactorises). */
+static int capacitance(mpgm_lowrank *lr) {
+  const int r = lr->r, m = MPGM_DIM * MPGM_SHAPE_MAXNODE;
+  double big = 0.0;
+  for (int i = 0; i < r; i++)
+    for (int j = 0; j < r; j++) {
+      const int *idx = lr->idx + (size_t)i * m;
+      const double *val = lr->val + (size_t)i * m, *z = lr->Z + (size_t)j * lr->n;
+      double s = i == j ? (lr->col_w[i] > 0.0 ? 1.0 : -1.0) : 0.0;
+      for (int k = 0; k < lr->nnz[i]; k++) s += val[k] * z[idx[k]];
+      lr->C[i * r + j] = s;
+      big = fmax(big, fabs(s));
+    }
+  gsl_matrix_view A = gsl_matrix_view_array(lr->C, (size_t)r, (size_t)r);
+  gsl_permutation p = {(size_t)r, lr->perm};
+  int sign;
+  gsl_linalg_LU_decomp(&A.matrix, &p, &sign);
+  for (int i = 0; i < r; i++)
+    if (!(fabs(lr->C[i * r + i]) > 1e-10 * big)) return 0;
+  return 1;
+}
+
+int mpgm_lowrank_update(mpgm_problem *pb, int *applied) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_lowrank *lr = &pb->lr;
+  const mpgm_cpoints *cp = &pb->cp;
+  const int m = MPGM_DIM * MPGM_SHAPE_MAXNODE;
+  *applied = 0;
+  if (!lr->valid || lr->n != pb->K.n || lr->nt != cp->n) return 0;
+  /* the springs that differ from the factorised tangent's */
+  int want = 0;
+  for (int t = 0; t < cp->n; t++) {
+    const double w = spring(pb, held_now(cp, t)) - spring(pb, lr->held0[t]);
+    if (w != 0.0) want += MPGM_DIM;
+  }
+  if (want > lr->cap) {
+    lr->valid = 0;
+    return 0;
+  }
+  /* the new set into the second buffers: kept columns copy their Z, new
+   * ones are written as full vectors into W and solved for together (one
+   * solve with several right-hand sides) */
+  const int r_old = lr->r, n = lr->n;
+  int r = 0, nnew = 0;
+  for (int t = 0; t < cp->n; t++) {
+    const double w = spring(pb, held_now(cp, t)) - spring(pb, lr->held0[t]);
+    if (w == 0.0) continue;
+    for (int c = 0; c < MPGM_DIM; c++, r++) {
+      int *idx = lr->idx2 + (size_t)r * m;
+      double *val = lr->val2 + (size_t)r * m;
+      const int k = column(pb, t, c, w, idx, val);
+      const int j = old_column(lr, r_old, t, c, w, idx, val, k);
+      lr->nnz[lr->cap + r] = k;
+      if (j >= 0) {
+        memcpy(lr->Z2 + (size_t)r * n, lr->Z + (size_t)j * n, sizeof(double) * (size_t)n);
+        lr->src[r] = -1;
+        continue;
+      }
+      lr->src[r] = nnew;
+      double *u = lr->W + (size_t)nnew++ * n;
+      memset(u, 0, sizeof(double) * (size_t)n);
+      for (int q = 0; q < k; q++) u[idx[q]] = val[q];
+    }
+  }
+  if (nnew) {
+    MPGM_CALL(mpgm_solver_solve_many(pb->solver, ctx, n, nnew, lr->W, lr->W));
+    for (int q = 0; q < r; q++)
+      if (lr->src[q] >= 0)
+        memcpy(lr->Z2 + (size_t)q * n, lr->W + (size_t)lr->src[q] * n, sizeof(double) * (size_t)n);
+  }
+  /* the new set becomes the current one */
+  r = 0;
+  for (int t = 0; t < cp->n; t++) {
+    const double w = spring(pb, held_now(cp, t)) - spring(pb, lr->held0[t]);
+    if (w == 0.0) continue;
+    for (int c = 0; c < MPGM_DIM; c++, r++) {
+      lr->col_t[r] = t;
+      lr->col_c[r] = (signed char)c;
+      lr->col_w[r] = w;
+      lr->nnz[r] = lr->nnz[lr->cap + r];
+    }
+  }
+  lr->r = r;
+  double *sw = lr->Z; lr->Z = lr->Z2; lr->Z2 = sw;
+  int *si = lr->idx; lr->idx = lr->idx2; lr->idx2 = si;
+  sw = lr->val; lr->val = lr->val2; lr->val2 = sw;
+  if (r > 0 && !capacitance(lr)) {
+    lr->valid = 0;
+    return 0;
+  }
+  *applied = 1;
+  return 0;
+}
+
+void mpgm_lowrank_apply(mpgm_problem *pb, double *x) {
+  mpgm_lowrank *lr = &pb->lr;
+  const int r = lr->r, m = MPGM_DIM * MPGM_SHAPE_MAXNODE;
+  if (!lr->valid || r == 0) return;
+  for (int i = 0; i < r; i++) {
+    const int *idx = lr->idx + (size_t)i * m;
+    const double *val = lr->val + (size_t)i * m;
+    double s = 0.0;
+    for (int k = 0; k < lr->nnz[i]; k++) s += val[k] * x[idx[k]];
+    lr->y[i] = s;
+  }
+  gsl_matrix_view A = gsl_matrix_view_array(lr->C, (size_t)r, (size_t)r);
+  gsl_permutation p = {(size_t)r, lr->perm};
+  gsl_vector_view y = gsl_vector_view_array(lr->y, (size_t)r);
+  gsl_linalg_LU_svx(&A.matrix, &p, &y.vector);
+  for (int j = 0; j < r; j++) {
+    const double *z = lr->Z + (size_t)j * lr->n, yj = lr->y[j];
+    for (int i = 0; i < lr->n; i++) x[i] -= z[i] * yj;
+  }
+}
