@@ -28,7 +28,7 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
   const mpgm_material *mats = pb->scene->mats;
   const int small = !pb->fx.geometric;
   const int ns = P->nstate;
-  double *D_t = pb->stress_only ? NULL : P->D_t;
+  double *D_t = pb->stress_only || pb->skip_tangent ? NULL : P->D_t;
   for (int p = p0; p < p1; p++) {
     int err;
     /* H = sum_I du_I (x) grad N_I, the gradient of the step's increment.

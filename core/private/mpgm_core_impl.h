@@ -109,6 +109,9 @@ struct mpgm_problem {
   mpgm_stepper sp;   /**< step control (run.c)                            */
   int stress_only;   /**< the point update computes no tangent D (explicit
                           schemes assemble no matrix)                  */
+  int skip_tangent;  /**< the next point update may skip D: modified
+                          Newton solves with its kept factorisation
+                          (newton.c)                                    */
   double work_int;   /**< dynamic: work of the stresses so far [J] (per
                           unit thickness; energy.c)                     */
   double work_ext;   /**< dynamic: work of gravity (and of a manufactured
