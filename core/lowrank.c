@@ -18,8 +18,10 @@
  *
  * The set of columns is the difference between the springs held now and
  * those in the factorised tangent; it is rebuilt at every contact change
- * (columns whose vector did not change keep their Z) and emptied at every
- * factorisation. More than solver.contact_rank columns, or a C too close
+ * and emptied at every factorisation. A column kept from an earlier change
+ * keeps its vector and Z: N of a moving point (node clouds keep a
+ * factorisation across steps) is then that of the configuration the
+ * column was made in, like the kept tangent itself. More than solver.contact_rank columns, or a C too close
  * to singular, and the tangent is factorised again as before.
  */
 #include <math.h>
@@ -105,16 +107,10 @@ static int column(const mpgm_problem *pb, int t, int c, double w, int *idx, doub
   return k;
 }
 
-/* Column j of the old set equal to (t, c, w) with the same vector, or -1. */
-static int old_column(const mpgm_lowrank *lr, int r_old, int t, int c, double w, const int *idx,
-                      const double *val, int k) {
-  const int m = MPGM_DIM * MPGM_SHAPE_MAXNODE;
-  for (int j = 0; j < r_old; j++) {
-    if (lr->col_t[j] != t || lr->col_c[j] != c || lr->col_w[j] != w || lr->nnz[j] != k) continue;
-    if (memcmp(lr->idx + (size_t)j * m, idx, sizeof(int) * (size_t)k) == 0 &&
-        memcmp(lr->val + (size_t)j * m, val, sizeof(double) * (size_t)k) == 0)
-      return j;
-  }
+/* Column j of the old set for the same spring change (t, c, w), or -1. */
+static int old_column(const mpgm_lowrank *lr, int r_old, int t, int c, double w) {
+  for (int j = 0; j < r_old; j++)
+    if (lr->col_t[j] == t && lr->col_c[j] == c && lr->col_w[j] == w) return j;
   return -1;
 }
 
@@ -169,14 +165,18 @@ int mpgm_lowrank_update(mpgm_problem *pb, int *applied) {
     for (int c = 0; c < MPGM_DIM; c++, r++) {
       int *idx = lr->idx2 + (size_t)r * m;
       double *val = lr->val2 + (size_t)r * m;
-      const int k = column(pb, t, c, w, idx, val);
-      const int j = old_column(lr, r_old, t, c, w, idx, val, k);
-      lr->nnz[lr->cap + r] = k;
-      if (j >= 0) {
+      const int j = old_column(lr, r_old, t, c, w);
+      if (j >= 0) { /* kept with its vector and Z */
+        const int k = lr->nnz[j];
+        memcpy(idx, lr->idx + (size_t)j * m, sizeof(int) * (size_t)k);
+        memcpy(val, lr->val + (size_t)j * m, sizeof(double) * (size_t)k);
         memcpy(lr->Z2 + (size_t)r * n, lr->Z + (size_t)j * n, sizeof(double) * (size_t)n);
+        lr->nnz[lr->cap + r] = k;
         lr->src[r] = -1;
         continue;
       }
+      const int k = column(pb, t, c, w, idx, val);
+      lr->nnz[lr->cap + r] = k;
       lr->src[r] = nnew;
       double *u = lr->W + (size_t)nnew++ * n;
       memset(u, 0, sizeof(double) * (size_t)n);
