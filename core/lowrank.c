@@ -28,8 +28,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_linalg.h>
-
 #include "mpgm_core_impl.h"
 
 /* Spring stiffness of tracer t in the state held[] describes (0: free). */
@@ -114,6 +112,48 @@ static int old_column(const mpgm_lowrank *lr, int r_old, int t, int c, double w)
   return -1;
 }
 
+/* LU with partial pivoting of the r x r row-major a in place, rows
+ * exchanged as piv records; 0 when a pivot is below tol. Written out
+ * rather than through a library: the result must not depend on which
+ * BLAS a library resolves at run time (GSL's LU calls CBLAS, and the
+ * program links OpenBLAS and GSL's own, in an order that differs between
+ * builds), since the goldens compare runs to the bit. */
+static int lu_small(double *a, int r, int *piv, double tol) {
+  for (int k = 0; k < r; k++) {
+    int p = k;
+    for (int i = k + 1; i < r; i++)
+      if (fabs(a[i * r + k]) > fabs(a[p * r + k])) p = i;
+    piv[k] = p;
+    if (!(fabs(a[p * r + k]) > tol)) return 0;
+    if (p != k)
+      for (int j = 0; j < r; j++) {
+        const double t = a[k * r + j];
+        a[k * r + j] = a[p * r + j];
+        a[p * r + j] = t;
+      }
+    for (int i = k + 1; i < r; i++) {
+      const double l = a[i * r + k] / a[k * r + k];
+      a[i * r + k] = l;
+      for (int j = k + 1; j < r; j++) a[i * r + j] -= l * a[k * r + j];
+    }
+  }
+  return 1;
+}
+
+/* y = C^-1 y with the factors of lu_small. */
+static void lu_solve_small(const double *a, int r, const int *piv, double *y) {
+  for (int k = 0; k < r; k++) {
+    const double t = y[k];
+    y[k] = y[piv[k]];
+    y[piv[k]] = t;
+    for (int i = k + 1; i < r; i++) y[i] -= a[i * r + k] * y[k];
+  }
+  for (int k = r - 1; k >= 0; k--) {
+    for (int j = k + 1; j < r; j++) y[k] -= a[k * r + j] * y[j];
+    y[k] /= a[k * r + k];
+  }
+}
+
 /* C = D^-1 + U^T Z and its LU factors; 0 when a pivot is too small
  * against the largest entry (then the caller refactorises). */
 static int capacitance(mpgm_lowrank *lr) {
@@ -128,13 +168,7 @@ static int capacitance(mpgm_lowrank *lr) {
       lr->C[i * r + j] = s;
       big = fmax(big, fabs(s));
     }
-  gsl_matrix_view A = gsl_matrix_view_array(lr->C, (size_t)r, (size_t)r);
-  gsl_permutation p = {(size_t)r, lr->perm};
-  int sign;
-  gsl_linalg_LU_decomp(&A.matrix, &p, &sign);
-  for (int i = 0; i < r; i++)
-    if (!(fabs(lr->C[i * r + i]) > 1e-10 * big)) return 0;
-  return 1;
+  return lu_small(lr->C, r, lr->perm, 1e-10 * big);
 }
 
 int mpgm_lowrank_update(mpgm_problem *pb, int *applied) {
@@ -224,10 +258,7 @@ void mpgm_lowrank_apply(mpgm_problem *pb, double *x) {
     for (int k = 0; k < lr->nnz[i]; k++) s += val[k] * x[idx[k]];
     lr->y[i] = s;
   }
-  gsl_matrix_view A = gsl_matrix_view_array(lr->C, (size_t)r, (size_t)r);
-  gsl_permutation p = {(size_t)r, lr->perm};
-  gsl_vector_view y = gsl_vector_view_array(lr->y, (size_t)r);
-  gsl_linalg_LU_svx(&A.matrix, &p, &y.vector);
+  lu_solve_small(lr->C, r, lr->perm, lr->y);
   for (int j = 0; j < r; j++) {
     const double *z = lr->Z + (size_t)j * lr->n, yj = lr->y[j];
     for (int i = 0; i < lr->n; i++) x[i] -= z[i] * yj;

@@ -50,7 +50,7 @@ typedef struct mpgm_lowrank {
   double *val, *val2; /**< their values, sqrt(|w|) N                       */
   double *Z, *Z2;     /**< per column n values: K0^-1 u                   */
   double *C;          /**< r x r: LU factors of D^-1 + U^T Z               */
-  size_t *perm;       /**< their row permutation                           */
+  int *perm;          /**< their row exchanges                             */
   double *y;          /**< r: scratch                                      */
   int *src;           /**< cap: scratch of update                          */
   double *W;          /**< per column n values: scratch of update          */
