@@ -18,17 +18,18 @@ static inline void mul2(const double *a, const double *b, double *c) {
   c[3] = a[2] * b[1] + a[3] * b[3];
 }
 
-/* Kinematics and constitutive update of points [p0, p1). Returns 0 or the
- * first failure's code with its point in *fail and, for det(dF) <= 0, the
- * determinant in *fail_J; no message here (tasks run on worker threads). */
-static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_J) {
+/* Kinematics and constitutive update of points [p0, p1), with their
+ * tangents D when want_D. Returns 0 or the first failure's code with its
+ * point in *fail and, for det(dF) <= 0, the determinant in *fail_J; no
+ * message here (tasks run on worker threads). */
+static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, double *fail_J) {
   mpgm_points *P = &pb->pts;
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
   const mpgm_material *mats = pb->scene->mats;
   const int small = !pb->fx.geometric;
   const int ns = P->nstate;
-  double *D_t = pb->stress_only || pb->skip_tangent ? NULL : P->D_t;
+  double *D_t = want_D ? P->D_t : NULL;
   for (int p = p0; p < p1; p++) {
     int err;
     /* H = sum_I du_I (x) grad N_I, the gradient of the step's increment.
@@ -113,6 +114,7 @@ static int eval_range(mpgm_problem *pb, int p0, int p1, int *fail, double *fail_
 
 typedef struct {
   mpgm_problem *pb;
+  int want_D;
   int ntask;
   int err[EVAL_TASKS], fail[EVAL_TASKS];
   double fail_J[EVAL_TASKS];
@@ -123,15 +125,16 @@ static void eval_task(void *arg, int t, int tid) {
   eval_job *j = arg;
   const int np = j->pb->pts.n;
   const int p0 = (int)((long)np * t / j->ntask), p1 = (int)((long)np * (t + 1) / j->ntask);
-  j->err[t] = eval_range(j->pb, p0, p1, &j->fail[t], &j->fail_J[t]);
+  j->err[t] = eval_range(j->pb, j->want_D, p0, p1, &j->fail[t], &j->fail_J[t]);
 }
 
-int mpgm_eval_points(mpgm_problem *pb) {
+int mpgm_eval_points(mpgm_problem *pb, int want_D) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_points *P = &pb->pts;
   mpgm_timer_start(ctx, MPGM_T_MATERIAL);
   eval_job j;
   j.pb = pb;
+  j.want_D = want_D;
   j.ntask = P->n / EVAL_CHUNK;
   if (j.ntask > EVAL_TASKS) j.ntask = EVAL_TASKS;
   if (j.ntask < 1) j.ntask = 1;

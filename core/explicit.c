@@ -58,7 +58,6 @@ static int explicit_create(mpgm_problem *pb, void **self) {
     mpgm_lame(E, nu, &lam, &mu);
     d->mod[i] = lam + 2.0 * mu;
   }
-  pb->stress_only = 1; /* no tangent: nothing is assembled */
   return 0;
 }
 
@@ -105,7 +104,7 @@ static int stress(mpgm_problem *pb, const double *vel) {
   mpgm_nodes *nd = &pb->nodes;
   mpgm_points *P = &pb->pts;
   for (int i = 0; i < MPGM_DIM * nd->n; i++) nd->du[i] = pb->dt * vel[i];
-  MPGM_CALL(mpgm_eval_points(pb));
+  MPGM_CALL(mpgm_eval_points(pb, 0)); /* no tangent: nothing is assembled */
   if (!pb->fx.geometric) /* 2-D only: tr of dF - I over x and y */
     for (int p = 0; p < P->n; p++) {
       const double *dF = P->dF_t + MPGM_TENSOR * p;

@@ -140,7 +140,7 @@ static int initial_acceleration(mpgm_problem *pb) {
   mpgm_points *P = &pb->pts;
   memset(nd->du, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   MPGM_CALL(mpgm_body_force(pb, 0.0)); /* the first step starts at t = 0 */
-  MPGM_CALL(mpgm_eval_points(pb));
+  MPGM_CALL(mpgm_eval_points(pb, 1));
   MPGM_CALL(mpgm_assemble_mass(pb));
   if (!pb->solver->analysed) MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));
   pb->factor_valid = 0; /* the factorisation is M's, not the tangent's */

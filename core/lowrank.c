@@ -41,8 +41,9 @@ static int held_now(const mpgm_cpoints *cp, int t) {
 }
 
 void mpgm_lowrank_free(mpgm_lowrank *lr) {
-  void *arr[] = {lr->held0, lr->col_t, lr->col_c, lr->col_w, lr->nnz, lr->idx, lr->val,
-                 lr->Z,     lr->Z2,    lr->C,     lr->perm, lr->y,   lr->idx2, lr->val2, lr->src, lr->W};
+  void *arr[] = {lr->held0, lr->col_t, lr->col_c, lr->col_w, lr->col_t2, lr->col_c2, lr->col_w2,
+                 lr->nnz,   lr->idx,   lr->val,   lr->Z,     lr->Z2,     lr->C,      lr->perm,
+                 lr->y,     lr->idx2,  lr->val2,  lr->src,   lr->W};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   memset(lr, 0, sizeof *lr);
 }
@@ -61,6 +62,9 @@ static int lowrank_alloc(mpgm_problem *pb, int n) {
   MPGM_ALLOC(ctx, lr->col_t, cap);
   MPGM_ALLOC(ctx, lr->col_c, cap);
   MPGM_ALLOC(ctx, lr->col_w, cap);
+  MPGM_ALLOC(ctx, lr->col_t2, cap);
+  MPGM_ALLOC(ctx, lr->col_c2, cap);
+  MPGM_ALLOC(ctx, lr->col_w2, cap);
   MPGM_ALLOC(ctx, lr->nnz, 2 * cap);
   MPGM_ALLOC(ctx, lr->idx, (size_t)cap * m);
   MPGM_ALLOC(ctx, lr->val, (size_t)cap * m);
@@ -171,74 +175,84 @@ static int capacitance(mpgm_lowrank *lr) {
   return lu_small(lr->C, r, lr->perm, 1e-10 * big);
 }
 
-int mpgm_lowrank_update(mpgm_problem *pb, int *applied) {
-  mpgm_ctx *ctx = pb->ctx;
-  mpgm_lowrank *lr = &pb->lr;
+/* The springs that differ from the factorised tangent's, tracer by
+ * tracer, as columns (t, c, w) into the second list (col_t2, col_c2,
+ * col_w2); 0 when there are more than cap. */
+static int changed_springs(const mpgm_problem *pb, mpgm_lowrank *lr, int *r) {
   const mpgm_cpoints *cp = &pb->cp;
-  const int m = MPGM_DIM * MPGM_SHAPE_MAXNODE;
-  *applied = 0;
-  if (!lr->valid || lr->n != pb->K.n || lr->nt != cp->n) return 0;
-  /* the springs that differ from the factorised tangent's */
-  int want = 0;
-  for (int t = 0; t < cp->n; t++) {
-    const double w = spring(pb, held_now(cp, t)) - spring(pb, lr->held0[t]);
-    if (w != 0.0) want += MPGM_DIM;
-  }
-  if (want > lr->cap) {
-    lr->valid = 0;
-    return 0;
-  }
-  /* the new set into the second buffers: kept columns copy their Z, new
-   * ones are written as full vectors into W and solved for together (one
-   * solve with several right-hand sides) */
-  const int r_old = lr->r, n = lr->n;
-  int r = 0, nnew = 0;
+  *r = 0;
   for (int t = 0; t < cp->n; t++) {
     const double w = spring(pb, held_now(cp, t)) - spring(pb, lr->held0[t]);
     if (w == 0.0) continue;
-    for (int c = 0; c < MPGM_DIM; c++, r++) {
-      int *idx = lr->idx2 + (size_t)r * m;
-      double *val = lr->val2 + (size_t)r * m;
-      const int j = old_column(lr, r_old, t, c, w);
-      if (j >= 0) { /* kept with its vector and Z */
-        const int k = lr->nnz[j];
-        memcpy(idx, lr->idx + (size_t)j * m, sizeof(int) * (size_t)k);
-        memcpy(val, lr->val + (size_t)j * m, sizeof(double) * (size_t)k);
-        memcpy(lr->Z2 + (size_t)r * n, lr->Z + (size_t)j * n, sizeof(double) * (size_t)n);
-        lr->nnz[lr->cap + r] = k;
-        lr->src[r] = -1;
-        continue;
-      }
-      const int k = column(pb, t, c, w, idx, val);
-      lr->nnz[lr->cap + r] = k;
-      lr->src[r] = nnew;
-      double *u = lr->W + (size_t)nnew++ * n;
-      memset(u, 0, sizeof(double) * (size_t)n);
-      for (int q = 0; q < k; q++) u[idx[q]] = val[q];
+    if (*r + MPGM_DIM > lr->cap) return 0;
+    for (int c = 0; c < MPGM_DIM; c++, (*r)++) {
+      lr->col_t2[*r] = t;
+      lr->col_c2[*r] = (signed char)c;
+      lr->col_w2[*r] = w;
     }
   }
+  return 1;
+}
+
+/* The vectors and Z of the r columns of the second list into the second
+ * buffers: a column of the current set keeps its vector and Z, new ones
+ * are written as full vectors into W and solved for together (one solve
+ * with several right-hand sides). */
+static int build_columns(mpgm_problem *pb, mpgm_lowrank *lr, int r) {
+  const int m = MPGM_DIM * MPGM_SHAPE_MAXNODE, n = lr->n;
+  int nnew = 0;
+  for (int q = 0; q < r; q++) {
+    const int t = lr->col_t2[q], c = lr->col_c2[q];
+    const double w = lr->col_w2[q];
+    int *idx = lr->idx2 + (size_t)q * m;
+    double *val = lr->val2 + (size_t)q * m;
+    const int j = old_column(lr, lr->r, t, c, w);
+    if (j >= 0) { /* kept with its vector and Z */
+      const int k = lr->nnz[j];
+      memcpy(idx, lr->idx + (size_t)j * m, sizeof(int) * (size_t)k);
+      memcpy(val, lr->val + (size_t)j * m, sizeof(double) * (size_t)k);
+      memcpy(lr->Z2 + (size_t)q * n, lr->Z + (size_t)j * n, sizeof(double) * (size_t)n);
+      lr->nnz[lr->cap + q] = k;
+      lr->src[q] = -1;
+      continue;
+    }
+    const int k = column(pb, t, c, w, idx, val);
+    lr->nnz[lr->cap + q] = k;
+    lr->src[q] = nnew;
+    double *u = lr->W + (size_t)nnew++ * n;
+    memset(u, 0, sizeof(double) * (size_t)n);
+    for (int e = 0; e < k; e++) u[idx[e]] = val[e];
+  }
   if (nnew) {
-    MPGM_CALL(mpgm_solver_solve_many(pb->solver, ctx, n, nnew, lr->W, lr->W));
+    MPGM_CALL(mpgm_solver_solve_many(pb->solver, pb->ctx, n, nnew, lr->W, lr->W));
     for (int q = 0; q < r; q++)
       if (lr->src[q] >= 0)
         memcpy(lr->Z2 + (size_t)q * n, lr->W + (size_t)lr->src[q] * n, sizeof(double) * (size_t)n);
   }
-  /* the new set becomes the current one */
-  r = 0;
-  for (int t = 0; t < cp->n; t++) {
-    const double w = spring(pb, held_now(cp, t)) - spring(pb, lr->held0[t]);
-    if (w == 0.0) continue;
-    for (int c = 0; c < MPGM_DIM; c++, r++) {
-      lr->col_t[r] = t;
-      lr->col_c[r] = (signed char)c;
-      lr->col_w[r] = w;
-      lr->nnz[r] = lr->nnz[lr->cap + r];
-    }
+  return 0;
+}
+
+#define SWAP(T, a, b) do { T sw_ = (a); (a) = (b); (b) = sw_; } while (0)
+
+int mpgm_lowrank_update(mpgm_problem *pb, int *applied) {
+  mpgm_lowrank *lr = &pb->lr;
+  *applied = 0;
+  if (!lr->valid || lr->n != pb->K.n || lr->nt != pb->cp.n) return 0;
+  int r;
+  if (!changed_springs(pb, lr, &r)) {
+    lr->valid = 0;
+    return 0;
   }
+  MPGM_CALL(build_columns(pb, lr, r));
+  /* the new set becomes the current one */
+  for (int q = 0; q < r; q++) lr->nnz[q] = lr->nnz[lr->cap + q];
   lr->r = r;
-  double *sw = lr->Z; lr->Z = lr->Z2; lr->Z2 = sw;
-  int *si = lr->idx; lr->idx = lr->idx2; lr->idx2 = si;
-  sw = lr->val; lr->val = lr->val2; lr->val2 = sw;
+  SWAP(int *, lr->col_t, lr->col_t2);
+  SWAP(signed char *, lr->col_c, lr->col_c2);
+  SWAP(double *, lr->col_w, lr->col_w2);
+  SWAP(double *, lr->Z, lr->Z2);
+  SWAP(int *, lr->idx, lr->idx2);
+  SWAP(double *, lr->val, lr->val2);
   if (r > 0 && !capacitance(lr)) {
     lr->valid = 0;
     return 0;

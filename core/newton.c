@@ -64,10 +64,7 @@ int mpgm_newton_residual(mpgm_problem *pb, mpgm_newton *nt) {
   /* modified Newton assembles K only when it refactorises, and then the
    * points' tangents D are needed; else the material update skips them */
   nt->want_K = !pb->scene->newton_modified || !nt->factored || pb->lift;
-  pb->skip_tangent = !nt->want_K;
-  const int err = mpgm_eval_points(pb);
-  pb->skip_tangent = 0;
-  MPGM_CALL(err);
+  MPGM_CALL(mpgm_eval_points(pb, nt->want_K));
   MPGM_CALL(mpgm_assemble(pb, nt->want_K));
   double res = norm2(pb->R, pb->nodes.ndof);
   if (mpgm_fault_due(pb->ctx, MPGM_ERR_NAN, pb->step + 1)) res = NAN; /* tests */
@@ -239,7 +236,7 @@ int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
   if (sc->forcing_ew) MPGM_CALL(mpgm_solver_tolerance(pb->solver, forcing(pb, nt)));
   nt->res_prev = nt->res;
   if (!reuse && !nt->want_K) { /* the tangents D skipped at this iterate */
-    MPGM_CALL(mpgm_eval_points(pb));
+    MPGM_CALL(mpgm_eval_points(pb, 1));
     MPGM_CALL(mpgm_assemble(pb, 1));
   }
   if (!pb->solver->analysed) MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));

@@ -40,9 +40,11 @@ typedef struct mpgm_lowrank {
   int nt;             /**< surface tracers (cp.n)                          */
   unsigned char *held0; /**< per tracer: plane + 1 it was held on in the
                            factorised tangent, 0 free                  */
-  int *col_t;         /**< per column: its tracer                          */
-  signed char *col_c; /**< per column: its component                       */
-  double *col_w;      /**< per column: the change of stiffness (+ caught)  */
+  int *col_t, *col_t2; /**< per column: its tracer (and of the set being
+                           built, update)                             */
+  signed char *col_c, *col_c2; /**< per column: its component              */
+  double *col_w, *col_w2; /**< per column: the change of stiffness (+
+                           caught)                                     */
   int *nnz;           /**< 2 cap: entries of each column (and of the set
                            being built, from cap on)                  */
   int *idx, *idx2;    /**< per column MPGM_DIM MPGM_SHAPE_MAXNODE slots:
@@ -107,11 +109,6 @@ struct mpgm_problem {
   long newton_total; /**< Newton iterations over the run                */
   mpgm_newton_info last;
   mpgm_stepper sp;   /**< step control (run.c)                            */
-  int stress_only;   /**< the point update computes no tangent D (explicit
-                          schemes assemble no matrix)                  */
-  int skip_tangent;  /**< the next point update may skip D: modified
-                          Newton solves with its kept factorisation
-                          (newton.c)                                    */
   double work_int;   /**< dynamic: work of the stresses so far [J] (per
                           unit thickness; energy.c)                     */
   double work_ext;   /**< dynamic: work of gravity (and of a manufactured
@@ -216,8 +213,10 @@ int mpgm_order_nodes(mpgm_ctx *ctx, int n, const int *ptr, const int *adj, const
 void mpgm_nodes_number(mpgm_nodes *nd);
 
 /** Evaluate trial state at the current increment nodes.du: F, stress,
- *  tangent and current gradients (exposed for tests). */
-int mpgm_eval_points(mpgm_problem *pb);
+ *  current gradients and, when want_D, the tangents D (explicit schemes
+ *  assemble no matrix; modified Newton solving with its kept
+ *  factorisation needs none). Exposed for tests. */
+int mpgm_eval_points(mpgm_problem *pb, int want_D);
 /** Assemble R = f_ext - f_int (- f_inertia) and, if want_K, the tangent
  *  into pb->K (pattern must exist). Exposed for tests. */
 int mpgm_assemble(mpgm_problem *pb, int want_K);

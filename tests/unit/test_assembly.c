@@ -261,7 +261,7 @@ static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
     nd->v[i] = uniform(r, -0.37, 0.37);
     nd->a[i] = uniform(r, -4.1, 4.1);
   }
-  err = mpgm_eval_points(pb);
+  err = mpgm_eval_points(pb, 1);
   if (!err) err = mpgm_assemble(pb, 1);
   mpgm_test(err == 0, "%s: eval_points and assemble (%d: %s)", name, err, ctx.msg);
   if (err) goto done;
@@ -323,11 +323,11 @@ static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
     if (j < 0) continue;
     const double du0 = nd->du[J];
     nd->du[J] = du0 + e;
-    err = mpgm_eval_points(pb);
+    err = mpgm_eval_points(pb, 1);
     if (!err) err = mpgm_assemble(pb, 0);
     memcpy(Rp, pb->R, sizeof(double) * n);
     nd->du[J] = du0 - e;
-    if (!err) err = mpgm_eval_points(pb);
+    if (!err) err = mpgm_eval_points(pb, 1);
     if (!err) err = mpgm_assemble(pb, 0);
     memcpy(Rm, pb->R, sizeof(double) * n);
     nd->du[J] = du0;
