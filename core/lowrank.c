@@ -41,9 +41,9 @@ static int held_now(const mpgm_cpoints *cp, int t) {
 }
 
 void mpgm_lowrank_free(mpgm_lowrank *lr) {
-  void *arr[] = {lr->held0, lr->col_t, lr->col_c, lr->col_w, lr->col_t2, lr->col_c2, lr->col_w2,
-                 lr->nnz,   lr->idx,   lr->val,   lr->Z,     lr->Z2,     lr->C,      lr->perm,
-                 lr->y,     lr->idx2,  lr->val2,  lr->src,   lr->W};
+  void *arr[] = {lr->held0, lr->col_t, lr->col_c, lr->col_w, lr->col_t2, lr->col_c2,
+                 lr->col_w2, lr->nnz, lr->nnz2, lr->idx, lr->val, lr->idx2, lr->val2,
+                 lr->Z, lr->Z2, lr->C, lr->perm, lr->y, lr->src, lr->W};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   memset(lr, 0, sizeof *lr);
 }
@@ -65,7 +65,8 @@ static int lowrank_alloc(mpgm_problem *pb, int n) {
   MPGM_ALLOC(ctx, lr->col_t2, cap);
   MPGM_ALLOC(ctx, lr->col_c2, cap);
   MPGM_ALLOC(ctx, lr->col_w2, cap);
-  MPGM_ALLOC(ctx, lr->nnz, 2 * cap);
+  MPGM_ALLOC(ctx, lr->nnz, cap);
+  MPGM_ALLOC(ctx, lr->nnz2, cap);
   MPGM_ALLOC(ctx, lr->idx, (size_t)cap * m);
   MPGM_ALLOC(ctx, lr->val, (size_t)cap * m);
   MPGM_ALLOC(ctx, lr->idx2, (size_t)cap * m);
@@ -212,12 +213,12 @@ static int build_columns(mpgm_problem *pb, mpgm_lowrank *lr, int r) {
       memcpy(idx, lr->idx + (size_t)j * m, sizeof(int) * (size_t)k);
       memcpy(val, lr->val + (size_t)j * m, sizeof(double) * (size_t)k);
       memcpy(lr->Z2 + (size_t)q * n, lr->Z + (size_t)j * n, sizeof(double) * (size_t)n);
-      lr->nnz[lr->cap + q] = k;
+      lr->nnz2[q] = k;
       lr->src[q] = -1;
       continue;
     }
     const int k = column(pb, t, c, w, idx, val);
-    lr->nnz[lr->cap + q] = k;
+    lr->nnz2[q] = k;
     lr->src[q] = nnew;
     double *u = lr->W + (size_t)nnew++ * n;
     memset(u, 0, sizeof(double) * (size_t)n);
@@ -245,11 +246,11 @@ int mpgm_lowrank_update(mpgm_problem *pb, int *applied) {
   }
   MPGM_CALL(build_columns(pb, lr, r));
   /* the new set becomes the current one */
-  for (int q = 0; q < r; q++) lr->nnz[q] = lr->nnz[lr->cap + q];
   lr->r = r;
   SWAP(int *, lr->col_t, lr->col_t2);
   SWAP(signed char *, lr->col_c, lr->col_c2);
   SWAP(double *, lr->col_w, lr->col_w2);
+  SWAP(int *, lr->nnz, lr->nnz2);
   SWAP(double *, lr->Z, lr->Z2);
   SWAP(int *, lr->idx, lr->idx2);
   SWAP(double *, lr->val, lr->val2);

@@ -45,8 +45,8 @@ typedef struct mpgm_lowrank {
   signed char *col_c, *col_c2; /**< per column: its component              */
   double *col_w, *col_w2; /**< per column: the change of stiffness (+
                            caught)                                     */
-  int *nnz;           /**< 2 cap: entries of each column (and of the set
-                           being built, from cap on)                  */
+  int *nnz, *nnz2;    /**< per column: its entries (and of the set being
+                           built, update)                             */
   int *idx, *idx2;    /**< per column MPGM_DIM MPGM_SHAPE_MAXNODE slots:
                            equations of its entries                    */
   double *val, *val2; /**< their values, sqrt(|w|) N                       */
