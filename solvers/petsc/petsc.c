@@ -389,7 +389,12 @@ static int pt_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
   PetscReal an = 0.0;
   PT_TRY(ctx, MatNorm(d->A, NORM_INFINITY, &an), MPGM_ERR_SOLVER, "MatNorm");
   d->anorm = an;
-  PT_TRY(ctx, KSPSetUp(d->ksp), MPGM_ERR_SOLVER, "KSPSetUp (the preconditioner)");
+  PT_TRY(ctx, KSPSetUp(d->ksp), MPGM_ERR_SOLVER, "KSPSetUp");
+  /* after the KSP's first solve KSPSetUp returns at once, and PCApply
+   * would set the preconditioner up for the new values inside the next
+   * solve (timed as a solve, its failure found there); PCSetUp does it
+   * here, where it belongs */
+  PT_TRY(ctx, PCSetUp(pc), MPGM_ERR_SOLVER, "PCSetUp (the preconditioner)");
   PCFailedReason why = PC_NOERROR;
   PT_TRY(ctx, PCGetFailedReason(pc, &why), MPGM_ERR_SOLVER, "PCGetFailedReason");
   if (why != PC_NOERROR)
