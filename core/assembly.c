@@ -249,42 +249,64 @@ static inline void add_block(mpgm_problem *pb, int I, int J, int t, const double
   }
 }
 
+/* Block (row slot r, column slot c) of a batch: stored by columns, so
+ * the blocks one point adds to a column lie within MPGM_BLOCK x
+ * MPGM_ASM_BATCH doubles (4 kB in 2-D). */
+static inline double *batch_block(double *kb, int r, int c) {
+  return kb + MPGM_BLOCK * ((size_t)MPGM_ASM_BATCH * c + r);
+}
+
+/* The batch's block (a, b), kept as the transpose of (b, a) when lower,
+ * added into K at place t of column node J's neighbours and zeroed the
+ * second time it is read (an upper block is read twice: transposed in
+ * column a < b, which comes first, then as itself). */
+static inline void flush_block(mpgm_problem *pb, const int *nodes, double *kb, int a, int b,
+                               int t, int half) {
+  const int lower = half && a > b;
+  double *e = lower ? batch_block(kb, b, a) : batch_block(kb, a, b);
+  if (block_zero(e)) return;
+  /* 2-D only: block (a, b) = e, or the transpose of e (3-D: 3x3) */
+  const double ab[MPGM_BLOCK] = {e[0], lower ? e[2] : e[1], lower ? e[1] : e[2], e[3]};
+  add_block(pb, nodes[a], nodes[b], t, ab);
+  if (!lower)
+    for (int q = 0; q < MPGM_BLOCK; q++) e[q] = 0.0;
+}
+
 /* Add the summed matrix of a batch (blocks (a, b) of MPGM_DIM x MPGM_DIM at
- * kb + MPGM_BLOCK (a B + b), B = MPGM_ASM_BATCH, over the union
- * nodes[0..nk)) into K without a stored map, and zero it. Only the pairs
- * some point coupled (their bits in mk) are visited: for each, the row
- * node's place among the column node's sorted neighbours (a binary
- * search) gives its entries of K. Node clouds (one point per group, 20-60
- * nodes) would need maps of hundreds of MB (47 000 points x 4 x 24^2 ints
- * for LME-MPM on the rolling disk), each used once or twice. A written
- * block whose pair is missing from the pattern must be zero (else
- * pattern_missed). With half (a symmetric tangent) the batch holds the
- * blocks a <= b only, and block (a, b), a > b, is read as the transpose
- * of (b, a): half the writes of the points into the batch. Each K entry
- * gets one addition per batch, so the order of the visits does not change
- * a bit of K. */
+ * batch_block(kb, a, b), B = MPGM_ASM_BATCH of them a side, over the union
+ * nodes[0..nk), slot[node] its place there) into K without a stored map,
+ * and zero it. Only the pairs some point coupled (their bits in mk) are
+ * visited: column node J's sorted neighbours, each looked up in slot,
+ * give the coupled rows and their entries of K at once. Node clouds (one
+ * point per group, 20-60 nodes) would need maps of hundreds of MB (47 000
+ * points x 4 x 24^2 ints for LME-MPM on the rolling disk), each used once
+ * or twice. A coupled pair missing from the pattern must have a zero
+ * block (else pattern_missed). With half (a symmetric tangent) the batch
+ * holds the blocks a <= b only, and block (a, b), a > b, is read as the
+ * transpose of (b, a): half the writes of the points into the batch. Each
+ * K entry gets one addition per batch, so the order of the visits does
+ * not change a bit of K. */
 static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb, uint64_t *mk,
-                        int half) {
+                        int half, const int *slot) {
   const int B = MPGM_ASM_BATCH, W = MPGM_ASM_WORDS;
   for (int b = 0; b < nk; b++) {
     const int J = nodes[b];
+    const uint64_t *m = mk + W * b;
+    int found = 0, coupled = 0;
+    for (int t = pb->nbr_ptr[J]; t < pb->nbr_ptr[J + 1]; t++) {
+      const int a = slot[pb->nbr[t]];
+      if (a < 0 || !((m[a >> 6] >> (a & 63)) & 1)) continue;
+      found++;
+      flush_block(pb, nodes, kb, a, b, t, half);
+    }
+    for (int k = 0; k < W; k++) coupled += __builtin_popcountll(m[k]);
+    if (found == coupled) continue;
+    /* coupled pairs outside the pattern: their blocks must be zero */
     for (int k = 0; k < W; k++)
-      for (uint64_t bits = mk[W * b + k]; bits; bits &= bits - 1) {
+      for (uint64_t bits = m[k]; bits; bits &= bits - 1) {
         const int a = 64 * k + __builtin_ctzll(bits), lower = half && a > b;
-        double *e = lower ? kb + MPGM_BLOCK * (b * B + a) : kb + MPGM_BLOCK * (a * B + b);
-        const int t = nbr_find(pb, J, nodes[a]);
-        if (t < 0) { /* a block no point couples is zero: else the pattern misses it */
-          if (!block_zero(e)) pb->pattern_missed = 1;
-          continue;
-        }
-        if (block_zero(e)) continue;
-        /* 2-D only: block (a, b) = e, or the transpose of e (3-D: 3x3) */
-        const double ab[MPGM_BLOCK] = {e[0], lower ? e[2] : e[1], lower ? e[1] : e[2], e[3]};
-        add_block(pb, nodes[a], J, t, ab);
-        /* an upper block is read twice (transposed in column a < b,
-         * which comes first, then as itself): zeroed the second time */
-        if (!lower)
-          for (int q = 0; q < MPGM_BLOCK; q++) e[q] = 0.0;
+        const double *e = lower ? batch_block(kb, b, a) : batch_block(kb, a, b);
+        if (nbr_find(pb, J, nodes[a]) < 0 && !block_zero(e)) pb->pattern_missed = 1;
       }
   }
   memset(mk, 0, sizeof(uint64_t) * (size_t)B * W);
@@ -440,6 +462,50 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
     if (sc[r] >= 0) val[sc[r]] += kl[r];
 }
 
+/* assemble_point_batch's common case (no lift, no mass_only, consistent
+ * mass): each column b of the point's blocks computed for all its rows a
+ * at once, in loops over a that the compiler vectorises, then added into
+ * the batch. Every entry is point_block's expression, operation for
+ * operation, so K is the same to the bit. */
+static void point_batch_rows(const asm_job *j, const mpgm_conn *C, const pt_blocks *q,
+                             const int *loc, double *kb) {
+  const int half = j->half, nk = q->nk, k0 = q->k0;
+  const int geo = j->geo, inertia = j->inertia;
+  const double v = q->v, km = j->kdyn * q->m;
+  double gx[MPGM_SHAPE_MAXNODE], gy[MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE];
+  double e0[MPGM_SHAPE_MAXNODE], e1[MPGM_SHAPE_MAXNODE], e2[MPGM_SHAPE_MAXNODE],
+      e3[MPGM_SHAPE_MAXNODE];
+  for (int a = 0; a < nk; a++) { /* 2-D only: x and y apart */
+    gx[a] = C->g[MPGM_DIM * (k0 + a)];
+    gy[a] = C->g[MPGM_DIM * (k0 + a) + 1];
+    N[a] = C->N[k0 + a];
+  }
+  for (int b = 0; b < nk; b++) {
+    const col_terms c = column_terms(C, q, b);
+    const double d00 = c.DB[0][0], d20 = c.DB[2][0], d01 = c.DB[0][1], d21 = c.DB[2][1];
+    const double d10 = c.DB[1][0], d11 = c.DB[1][1], sh0 = c.sh0, sh1 = c.sh1, Nb = N[b];
+    const int na = half ? b + 1 : nk;
+    for (int a = 0; a < na; a++) {
+      double diag = geo ? v * (gx[a] * sh0 + gy[a] * sh1) : 0.0;
+      if (inertia) diag += km * N[a] * Nb;
+      e0[a] = v * (gx[a] * d00 + gy[a] * d20) + diag;
+      e1[a] = v * (gx[a] * d01 + gy[a] * d21);
+      e2[a] = v * (gy[a] * d10 + gx[a] * d20);
+      e3[a] = v * (gy[a] * d11 + gx[a] * d21) + diag;
+    }
+
+    for (int a = 0; a < na; a++) {
+      if (half && loc[a] > loc[b]) { /* kept as block (b, a) = (a, b)^T; 2-D only: 2x2 */
+        double *f = batch_block(kb, loc[b], loc[a]);
+        f[0] += e0[a]; f[1] += e2[a]; f[2] += e1[a]; f[3] += e3[a];
+      } else {
+        double *e = batch_block(kb, loc[a], loc[b]);
+        e[0] += e0[a]; e[1] += e1[a]; e[2] += e2[a]; e[3] += e3[a];
+      }
+    }
+  }
+}
+
 /* A group of one point (node clouds: nearly every group) added straight
  * into the batch kb at the slots loc of its nodes: the same sums as
  * assemble_group's local matrix added into the batch, without it (with a
@@ -447,21 +513,25 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
  * flush_batch). */
 static void assemble_point_batch(const asm_job *j, int p, const int *loc, double *kb) {
   const mpgm_conn *C = &j->pb->conn;
-  const int half = j->half, B = MPGM_ASM_BATCH;
+  const int half = j->half;
   point_residual(j, p);
   const pt_blocks q = point_blocks(j, p);
   const int nk = q.nk;
+  if (!j->lift && !j->mass_only && !(j->inertia && j->lumped)) {
+    point_batch_rows(j, C, &q, loc, kb);
+    return;
+  }
   for (int b = 0; b < nk; b++) {
     const col_terms c = column_terms(C, &q, b);
-    double *col = kb + MPGM_BLOCK * loc[b], *row = kb + MPGM_BLOCK * (size_t)B * loc[b];
+
     for (int a = 0; a < (half ? b + 1 : nk); a++) {
       double k[MPGM_BLOCK];
       point_block(j, C, &q, &c, a, b, k);
       if (half && loc[a] > loc[b]) { /* kept as block (b, a) = (a, b)^T; 2-D only: 2x2 */
-        double *f = row + MPGM_BLOCK * loc[a];
+        double *f = batch_block(kb, loc[b], loc[a]);
         f[0] += k[0]; f[1] += k[2]; f[2] += k[1]; f[3] += k[3];
       } else {
-        double *e = col + MPGM_BLOCK * (size_t)B * loc[a];
+        double *e = batch_block(kb, loc[a], loc[b]);
         for (int r = 0; r < MPGM_BLOCK; r++) e[r] += k[r];
       }
     }
@@ -491,7 +561,7 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
     int fresh = 0;
     for (int a = 0; a < nk; a++) fresh += slot[nodes[a]] < 0;
     if (nb + fresh > B) {
-      flush_batch(pb, bn, nb, kb, mk, j->half);
+      flush_batch(pb, bn, nb, kb, mk, j->half, slot);
       for (int q = 0; q < nb; q++) slot[bn[q]] = -1;
       nb = 0;
     }
@@ -513,12 +583,12 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
       for (int b = 0; b < nk; b++) {
         if (j->half && loc[a] > loc[b]) continue; /* the batch's upper blocks only */
         const double *e = kl + MPGM_BLOCK * (a * nk + b);
-        double *f = kb + MPGM_BLOCK * (loc[a] * B + loc[b]);
+        double *f = batch_block(kb, loc[a], loc[b]);
         for (int q = 0; q < MPGM_BLOCK; q++) f[q] += e[q];
       }
   }
   if (nb == 0) return;
-  flush_batch(pb, bn, nb, kb, mk, j->half);
+  flush_batch(pb, bn, nb, kb, mk, j->half, slot);
   for (int q = 0; q < nb; q++) slot[bn[q]] = -1;
 }
 
