@@ -377,7 +377,7 @@ static inline pt_blocks point_blocks(const asm_job *j, int p) {
 /* The column terms of node b of a point: DB = D B_b (3 x 2) and
  * sigma h. 2-D only: B_b = [hx 0; 0 hy; hy hx] written out (3-D: 6 x 3),
  * as are sigma h, the blocks of B_a^T D B_b and the geometric term in
- * point_block */
+ * point_column */
 typedef struct {
   double DB[MPGM_NVOIGT][MPGM_DIM], sh0, sh1;
 } col_terms;
@@ -395,33 +395,66 @@ static inline col_terms column_terms(const mpgm_conn *C, const pt_blocks *q, int
   return c;
 }
 
-/* Block (a, b) of the point's tangent (material + geometric + dynamic,
- * or the mass block with j->mass_only) into k; with a lift, the term of
- * a free row of node a and a fixed column of node b subtracted from R. */
-static inline void point_block(const asm_job *j, const mpgm_conn *C, const pt_blocks *q,
-                               const col_terms *c, int a, int b, double k[MPGM_BLOCK]) {
-  const int k0 = q->k0;
-  const double v = q->v;
-  const double gx = C->g[MPGM_DIM * (k0 + a)], gy = C->g[MPGM_DIM * (k0 + a) + 1];
-  double diag = j->geo ? v * (gx * c->sh0 + gy * c->sh1) : 0.0;
-  if (j->inertia && (!j->lumped || a == b))
-    diag += j->kdyn * q->m * C->N[k0 + a] * (j->lumped ? 1.0 : C->N[k0 + b]);
-  if (j->mass_only) { /* 2-D only: diag I */
-    k[0] = diag; k[1] = 0.0; k[2] = 0.0; k[3] = diag;
-  } else {
-    k[0] = v * (gx * c->DB[0][0] + gy * c->DB[2][0]) + diag;
-    k[1] = v * (gx * c->DB[0][1] + gy * c->DB[2][1]);
-    k[2] = v * (gy * c->DB[1][0] + gx * c->DB[2][0]);
-    k[3] = v * (gy * c->DB[1][1] + gx * c->DB[2][1]) + diag;
+/* A point's functions and gradients, copied out once for its columns. */
+typedef struct {
+  double gx[MPGM_SHAPE_MAXNODE], gy[MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE];
+} pt_rows;
+
+static inline void point_rows(const mpgm_conn *C, const pt_blocks *q, pt_rows *r) {
+  for (int a = 0; a < q->nk; a++) { /* 2-D only: x and y apart */
+    r->gx[a] = C->g[MPGM_DIM * (q->k0 + a)];
+    r->gy[a] = C->g[MPGM_DIM * (q->k0 + a) + 1];
+    r->N[a] = C->N[q->k0 + a];
   }
-  if (j->lift) { /* free row of node a, fixed column of node b */
-    const int *dof = j->pb->nodes.dof;
-    const int Ia = C->node[k0 + a], Ib = C->node[k0 + b];
-    double *R = j->pb->R;
+}
+
+/* Column b of a point's blocks, rows a < na: block (a, b) of the tangent
+ * (material + geometric + dynamic, or the mass block with j->mass_only)
+ * as its four entries e0..e3 (row major 2 x 2), in loops over a the
+ * compiler vectorises; with a lift, the term of a free row of node a and
+ * a fixed column of node b subtracted from R. */
+typedef struct {
+  double e0[MPGM_SHAPE_MAXNODE], e1[MPGM_SHAPE_MAXNODE], e2[MPGM_SHAPE_MAXNODE],
+      e3[MPGM_SHAPE_MAXNODE];
+} col_blocks;
+
+static void point_column(const asm_job *j, const mpgm_conn *C, const pt_blocks *q,
+                         const pt_rows *r, int b, int na, col_blocks *k) {
+  const col_terms c = column_terms(C, q, b);
+  const double d00 = c.DB[0][0], d20 = c.DB[2][0], d01 = c.DB[0][1], d21 = c.DB[2][1];
+  const double d10 = c.DB[1][0], d11 = c.DB[1][1], sh0 = c.sh0, sh1 = c.sh1;
+  const double v = q->v, km = j->kdyn * q->m, Nb = j->lumped ? 1.0 : r->N[b];
+  const int geo = j->geo, inertia = j->inertia, lumped = j->lumped;
+  const double *gx = r->gx, *gy = r->gy, *N = r->N;
+  const int consistent = inertia && !lumped;
+  for (int a = 0; a < na; a++) { /* the lumped mass's diagonal block below */
+    double diag = geo ? v * (gx[a] * sh0 + gy[a] * sh1) : 0.0;
+    if (consistent) diag += km * N[a] * Nb;
+    k->e0[a] = v * (gx[a] * d00 + gy[a] * d20) + diag;
+    k->e1[a] = v * (gx[a] * d01 + gy[a] * d21);
+    k->e2[a] = v * (gy[a] * d10 + gx[a] * d20);
+    k->e3[a] = v * (gy[a] * d11 + gx[a] * d21) + diag;
+  }
+  if (inertia && lumped && b < na) {
+    const double diag = (geo ? v * (gx[b] * sh0 + gy[b] * sh1) : 0.0) + km * N[b] * Nb;
+    k->e0[b] = v * (gx[b] * d00 + gy[b] * d20) + diag;
+    k->e3[b] = v * (gy[b] * d11 + gx[b] * d21) + diag;
+  }
+  if (j->mass_only) /* 2-D only: diag I */
+    for (int a = 0; a < na; a++) {
+      const double diag = (a == b || !lumped) && inertia ? 0.0 + km * N[a] * Nb : 0.0;
+      k->e0[a] = diag; k->e1[a] = 0.0; k->e2[a] = 0.0; k->e3[a] = diag;
+    }
+  if (!j->lift) return;
+  const int *dof = j->pb->nodes.dof, Ib = C->node[q->k0 + b];
+  double *R = j->pb->R;
+  for (int a = 0; a < na; a++) { /* free row of node a, fixed column of node b */
+    const int Ia = C->node[q->k0 + a];
+    const double e[MPGM_BLOCK] = {k->e0[a], k->e1[a], k->e2[a], k->e3[a]};
     for (int i = 0; i < MPGM_DIM; i++)
       for (int jj = 0; jj < MPGM_DIM; jj++)
         if (dof[MPGM_DIM * Ia + i] >= 0 && dof[MPGM_DIM * Ib + jj] < 0)
-          R[dof[MPGM_DIM * Ia + i]] -= k[MPGM_DIM * i + jj] * j->lift[MPGM_DIM * Ib + jj];
+          R[dof[MPGM_DIM * Ia + i]] -= e[MPGM_DIM * i + jj] * j->lift[MPGM_DIM * Ib + jj];
   }
 }
 
@@ -438,13 +471,15 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
     const int p = pb->order[t];
     point_residual(j, p);
     const pt_blocks q = point_blocks(j, p);
+    pt_rows rw;
+    col_blocks k;
+    point_rows(C, &q, &rw);
     for (int b = 0; b < nkg; b++) {
-      const col_terms c = column_terms(C, &q, b);
-      for (int a = 0; a < (half ? b + 1 : nkg); a++) {
-        double k[MPGM_BLOCK];
-        point_block(j, C, &q, &c, a, b, k);
+      const int na = half ? b + 1 : nkg;
+      point_column(j, C, &q, &rw, b, na, &k);
+      for (int a = 0; a < na; a++) {
         double *e = kl + MPGM_BLOCK * (a * nkg + b);
-        for (int r = 0; r < MPGM_BLOCK; r++) e[r] += k[r];
+        e[0] += k.e0[a]; e[1] += k.e1[a]; e[2] += k.e2[a]; e[3] += k.e3[a];
       }
     }
   }
@@ -462,50 +497,6 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
     if (sc[r] >= 0) val[sc[r]] += kl[r];
 }
 
-/* assemble_point_batch's common case (no lift, no mass_only, consistent
- * mass): each column b of the point's blocks computed for all its rows a
- * at once, in loops over a that the compiler vectorises, then added into
- * the batch. Every entry is point_block's expression, operation for
- * operation, so K is the same to the bit. */
-static void point_batch_rows(const asm_job *j, const mpgm_conn *C, const pt_blocks *q,
-                             const int *loc, double *kb) {
-  const int half = j->half, nk = q->nk, k0 = q->k0;
-  const int geo = j->geo, inertia = j->inertia;
-  const double v = q->v, km = j->kdyn * q->m;
-  double gx[MPGM_SHAPE_MAXNODE], gy[MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE];
-  double e0[MPGM_SHAPE_MAXNODE], e1[MPGM_SHAPE_MAXNODE], e2[MPGM_SHAPE_MAXNODE],
-      e3[MPGM_SHAPE_MAXNODE];
-  for (int a = 0; a < nk; a++) { /* 2-D only: x and y apart */
-    gx[a] = C->g[MPGM_DIM * (k0 + a)];
-    gy[a] = C->g[MPGM_DIM * (k0 + a) + 1];
-    N[a] = C->N[k0 + a];
-  }
-  for (int b = 0; b < nk; b++) {
-    const col_terms c = column_terms(C, q, b);
-    const double d00 = c.DB[0][0], d20 = c.DB[2][0], d01 = c.DB[0][1], d21 = c.DB[2][1];
-    const double d10 = c.DB[1][0], d11 = c.DB[1][1], sh0 = c.sh0, sh1 = c.sh1, Nb = N[b];
-    const int na = half ? b + 1 : nk;
-    for (int a = 0; a < na; a++) {
-      double diag = geo ? v * (gx[a] * sh0 + gy[a] * sh1) : 0.0;
-      if (inertia) diag += km * N[a] * Nb;
-      e0[a] = v * (gx[a] * d00 + gy[a] * d20) + diag;
-      e1[a] = v * (gx[a] * d01 + gy[a] * d21);
-      e2[a] = v * (gy[a] * d10 + gx[a] * d20);
-      e3[a] = v * (gy[a] * d11 + gx[a] * d21) + diag;
-    }
-
-    for (int a = 0; a < na; a++) {
-      if (half && loc[a] > loc[b]) { /* kept as block (b, a) = (a, b)^T; 2-D only: 2x2 */
-        double *f = batch_block(kb, loc[b], loc[a]);
-        f[0] += e0[a]; f[1] += e2[a]; f[2] += e1[a]; f[3] += e3[a];
-      } else {
-        double *e = batch_block(kb, loc[a], loc[b]);
-        e[0] += e0[a]; e[1] += e1[a]; e[2] += e2[a]; e[3] += e3[a];
-      }
-    }
-  }
-}
-
 /* A group of one point (node clouds: nearly every group) added straight
  * into the batch kb at the slots loc of its nodes: the same sums as
  * assemble_group's local matrix added into the batch, without it (with a
@@ -516,23 +507,19 @@ static void assemble_point_batch(const asm_job *j, int p, const int *loc, double
   const int half = j->half;
   point_residual(j, p);
   const pt_blocks q = point_blocks(j, p);
-  const int nk = q.nk;
-  if (!j->lift && !j->mass_only && !(j->inertia && j->lumped)) {
-    point_batch_rows(j, C, &q, loc, kb);
-    return;
-  }
-  for (int b = 0; b < nk; b++) {
-    const col_terms c = column_terms(C, &q, b);
-
-    for (int a = 0; a < (half ? b + 1 : nk); a++) {
-      double k[MPGM_BLOCK];
-      point_block(j, C, &q, &c, a, b, k);
+  pt_rows rw;
+  col_blocks k;
+  point_rows(C, &q, &rw);
+  for (int b = 0; b < q.nk; b++) {
+    const int na = half ? b + 1 : q.nk;
+    point_column(j, C, &q, &rw, b, na, &k);
+    for (int a = 0; a < na; a++) {
       if (half && loc[a] > loc[b]) { /* kept as block (b, a) = (a, b)^T; 2-D only: 2x2 */
         double *f = batch_block(kb, loc[b], loc[a]);
-        f[0] += k[0]; f[1] += k[2]; f[2] += k[1]; f[3] += k[3];
+        f[0] += k.e0[a]; f[1] += k.e2[a]; f[2] += k.e1[a]; f[3] += k.e3[a];
       } else {
         double *e = batch_block(kb, loc[a], loc[b]);
-        for (int r = 0; r < MPGM_BLOCK; r++) e[r] += k[r];
+        e[0] += k.e0[a]; e[1] += k.e1[a]; e[2] += k.e2[a]; e[3] += k.e3[a];
       }
     }
   }
