@@ -72,7 +72,14 @@ int mpgm_newton_residual(mpgm_problem *pb, mpgm_newton *nt) {
     MPGM_ERROR(pb->ctx, MPGM_ERR_NAN, "Newton iteration %d: residual is not finite", nt->it);
   if (nt->it == 0) {
     info->res0 = res;
+    /* the step's reference: a re-solve after a contact change keeps it
+     * (or its own start, if larger). Taken afresh from the re-solve's
+     * start, ref tightened the tolerance by the factor the first solve
+     * had already gained when the contact set changed (10 to 30 on the
+     * rolling disk: 8 % more iterations for the same answer) */
     nt->ref = fmax(res, nt->fnorm);
+    if (nt->warm) nt->ref = fmax(nt->ref, pb->step_ref);
+    pb->step_ref = nt->ref;
   }
   nt->res = res;
   memmove(nt->rh + 1, nt->rh, sizeof nt->rh - sizeof nt->rh[0]);

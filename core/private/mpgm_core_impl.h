@@ -189,6 +189,7 @@ struct mpgm_problem {
   double *react;     /**< MPGM_DIM per node: support force on the body
                           at fixed components (mpgm_reactions)          */
   long contact_rounds; /**< extra solves of steps whose contact set changed */
+  double step_ref;     /**< the step's reference norm of the residual (newton.c) */
   long step_cuts;    /**< steps rejected and retried with half the step
                           (time.max_cuts; run.c)                        */
   unsigned char *cflip; /**< per node: contact state changed in this step */
