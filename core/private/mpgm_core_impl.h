@@ -316,7 +316,8 @@ typedef struct mpgm_newton {
   int warm;        /**< started from the current increments (a re-solve) */
   int it;          /**< the current iterate: corrections made so far       */
   double fnorm;    /**< |f_ext| over the free equations                   */
-  double ref;      /**< reference norm of the residual: max(|R_0|, fnorm) */
+  double ref;      /**< reference norm: max(|R_0|, fnorm), and a re-solve's
+                        at least the step's (pb->step_ref)             */
   double res;      /**< |R| at the current iterate                        */
   double res_prev; /**< |R| at the previous one                           */
   int factored;    /**< a factorisation for this pattern and fixity exists */
