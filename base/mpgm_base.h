@@ -161,6 +161,8 @@ typedef enum {
   MPGM_C_CONTACT_LOW_RANK,  /**< solver.contact_rank: changes of the
                                  contact set at surface points applied to
                                  the kept factorisation (no refactoring) */
+  MPGM_C_LINE_SEARCHES,     /**< solver.line_search: Newton corrections
+                                 shortened because |R| did not fall     */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

@@ -253,6 +253,9 @@ typedef struct mpgm_scene {
                                  best |R| of the last `stagnation`
                                  iterates is not half the best before
                                  them (0: never; newton.c)              */
+  int line_search;          /**< most backtracks along a correction of
+                                 the current tangent while |R| does not
+                                 fall (0: full corrections; newton.c)   */
   int contact_rank;         /**< modified Newton with contact at points:
                                  spring changes applied to the kept
                                  factorisation, up to this many rank-one

@@ -59,14 +59,68 @@ int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
   return 0;
 }
 
+/* The points' update and R (and K) at the current increments; |R| into
+ * *res. Returns the update's error code (0: none). */
+static int evaluate(mpgm_problem *pb, int want_K, double *res) {
+  int err = mpgm_eval_points(pb, want_K);
+  if (!err) err = mpgm_assemble(pb, want_K);
+  *res = err ? INFINITY : norm2(pb->R, pb->nodes.ndof);
+  return err;
+}
+
+/* du += s delta over the numbered components (as update_increments does
+ * for an iteration that lifts nothing). */
+static void shift_increments(mpgm_problem *pb, double s) {
+  mpgm_nodes *nd = &pb->nodes;
+  for (int i = 0; i < MPGM_DIM * nd->n; i++)
+    if (nd->dof[i] >= 0) nd->du[i] += s * pb->delta[nd->dof[i]];
+}
+
+/* solver.line_search (m > 0): backtracking along the last correction d,
+ * with f = |R|^2 / 2 as the merit function (Dennis and Schnabel 1996,
+ * section 6.3; PETSc's "bt" line search). The correction is kept whole
+ * when |R(du)| <= (1 - 1e-4 a) |R0| at a = 1 (R0 at the iterate it was
+ * computed from, d from the tangent there, so f'(0) = -omega |R0|^2 along
+ * the relaxed d). Otherwise du goes back to du0 + a' d with a' the
+ * minimiser of the quadratic through f(0), f'(0) and f(a), kept within
+ * [0.1 a, 0.5 a]; a trial whose points fail (det F <= 0, the return
+ * mapping, NaN: a recoverable code) halves a. At most m trials; the last
+ * is kept either way (the stagnation test and max_iterations judge what
+ * follows), and a trial that still fails returns its error (the step is
+ * cut). A point flipping between plastic and elastic makes full
+ * corrections overshoot the kink and |R| wander (docs/theory.md section
+ * 6): the search keeps |R| falling instead. err: the full correction's
+ * evaluation; returns the accepted trial's. */
+static int line_search(mpgm_problem *pb, mpgm_newton *nt, int err, double *res) {
+  const double r0 = nt->res_prev, g0 = -nt->omega * r0 * r0, f0 = 0.5 * r0 * r0;
+  double a = 1.0;
+  for (int k = 0; k < pb->scene->line_search; k++) {
+    if (err < 0) return err; /* not a failure of the iterate: no search */
+    if (!err && *res <= (1.0 - 1e-4 * a) * r0) break; /* also false for NaN */
+    double next = 0.5 * a;
+    if (!err && isfinite(*res)) {
+      const double fa = 0.5 * *res * *res, q = -g0 * a * a / (2.0 * (fa - f0 - g0 * a));
+      next = fmin(0.5 * a, fmax(0.1 * a, q));
+    }
+    if (k == 0) mpgm_count(pb->ctx, MPGM_C_LINE_SEARCHES, 1);
+    shift_increments(pb, next - a);
+    a = next;
+    mpgm_err_clear(pb->ctx);
+    err = evaluate(pb, nt->want_K, res);
+  }
+  return err;
+}
+
 int mpgm_newton_residual(mpgm_problem *pb, mpgm_newton *nt) {
   mpgm_newton_info *info = &pb->last;
   /* modified Newton assembles K only when it refactorises, and then the
    * points' tangents D are needed; else the material update skips them */
   nt->want_K = !pb->scene->newton_modified || !nt->factored || pb->lift;
-  MPGM_CALL(mpgm_eval_points(pb, nt->want_K));
-  MPGM_CALL(mpgm_assemble(pb, nt->want_K));
-  double res = norm2(pb->R, pb->nodes.ndof);
+  double res;
+  int err = evaluate(pb, nt->want_K, &res);
+  if (pb->scene->line_search > 0 && nt->it > 0 && nt->searchable && isfinite(nt->res_prev))
+    err = line_search(pb, nt, err, &res);
+  MPGM_CALL(err);
   if (mpgm_fault_due(pb->ctx, MPGM_ERR_NAN, pb->step + 1)) res = NAN; /* tests */
   if (!isfinite(res))
     MPGM_ERROR(pb->ctx, MPGM_ERR_NAN, "Newton iteration %d: residual is not finite", nt->it);
@@ -270,6 +324,7 @@ int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
   if (!isfinite(dd))
     MPGM_ERROR(ctx, MPGM_ERR_NAN, "Newton iteration %d: solution is not finite", nt->it);
   pb->last.du_rel = uu > 0.0 ? sqrt(dd / uu) : 0.0;
+  nt->searchable = !reuse && !pb->lift;
   pb->lift = NULL;
   pb->last.iterations = ++nt->it;
   return 0;

@@ -522,7 +522,6 @@ static int read_time(jr_node *root, mpgm_scene *s) {
     return jr_fail(&tm, "dt", "expected dt <= end (%g s), found %g s", s->t_end, s->dt);
   if (dyn && s->dt > 0.0 && s->t_end / s->dt > 1e8)
     return jr_fail(&tm, "dt", "expected at most 1e8 steps, found end/dt = %g", s->t_end / s->dt);
-
   return 0;
 }
 
@@ -560,6 +559,7 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&so, "reuse_ratio", 0.1, 0.0, 1.0, 1, 1, &s->reuse_ratio));
   MPGM_CALL(jr_num(&so, "relaxation", 1.0, 0.0, 1.0, 1, 0, &s->relaxation));
   MPGM_CALL(jr_int(&so, "stagnation", 5, 0, 1000, &s->stagnation));
+  MPGM_CALL(jr_int(&so, "line_search", 0, 0, 30, &s->line_search));
   MPGM_CALL(jr_int(&so, "contact_rank", 32, 0, 1024, &s->contact_rank));
   MPGM_CALL(jr_num(&so, "contact_check", 1e-3, 0.0, 1.0, 0, 1, &s->contact_check));
   static const char *const ordering_names[] = {"backend", "geometric", NULL};

@@ -327,6 +327,9 @@ typedef struct mpgm_newton {
   double omega;    /**< factor on the corrections (solver.relaxation)     */
   double res_stall; /**< |R| where the iteration was found stalled        */
   int it_stall;    /**< the iterate at which it was (0: none)             */
+  int searchable;  /**< the last correction came from the tangent at the
+                        iterate it started from and lifted nothing
+                        (solver.line_search may shorten it)            */
 } mpgm_newton;
 
 /** Body force, predictor (du = 0, or dt v with time.predictor velocity;
