@@ -15,6 +15,9 @@
 # step's growth backing off (time.grow_backoff true): to 0.2 s
 # every growth of plain GMM-MLS fails, so waiting longer after each failed
 # one saves failed tries and changes no accepted step.
+# And the line search of the MPM case (solver.line_search 4): to 0.5 s
+# plain Newton cuts steps where |R| wanders, the search keeps |R| falling
+# and cuts none, for the same column.
 # usage: column_collapse.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
@@ -24,6 +27,8 @@ source "$src/tests/tools/run_case.bash"
 coarse=(--set mesh.h=0.1 --set time.dt=0.01)
 run_case mpm "$src/cases/column_collapse.json" "${coarse[@]}" --set time.end=0.2
 run_case mpm_before "$src/cases/column_collapse.json" "${coarse[@]}" --set time.end=0.19
+run_case mpm_search "$src/cases/column_collapse.json" "${coarse[@]}" --set time.end=0.5
+run_case mpm_plain "$src/cases/column_collapse.json" "${coarse[@]}" --set solver.line_search=0 --set time.end=0.5
 relax=(--set solver.relaxation=0.5)
 for k in mls lme; do
   run_case "gmm_$k" "$src/cases/column_collapse_gmm.json" "${coarse[@]}" "${relax[@]}" --set shape.kind=$k --set time.end=0.1
@@ -65,6 +70,15 @@ for name, before, T in (("mpm", "mpm_before", 0.2), ("gmm_mls", "gmm_mls_before"
     seq = ", ".join(f"{x / ref:.2e}" for x in r)
     check(rates and max(rates) >= 1.8,
           f"{name}: Newton in the last step: |R|/ref = {seq}; rates {', '.join(f'{x:.2f}' for x in rates)} (>= 1.8)")
+s, p = summary(w, "mpm_search"), summary(w, "mpm_plain")
+c, cp = s["counts"], p["counts"]
+check(s["status"] == p["status"] == "completed" and c["line_searches"] > 0 and c["step_cuts"] == 0
+      and cp["line_searches"] == 0 and cp["step_cuts"] > 0,
+      f"mpm to 0.5 s: line search: {c['line_searches']} corrections shortened, {c['step_cuts']} step cuts, "
+      f"{c['steps']} steps; full corrections: {cp['step_cuts']} cuts, {cp['steps']} steps")
+for k in ("runout", "height"):
+    a, b = s["metrics"][k], p["metrics"][k]
+    check(abs(a - b) <= 5e-4 * b, f"mpm to 0.5 s: the same column with and without the search: {k} {a:.6f} and {b:.6f} m")
 s, p = summary(w, "gmm_mls"), summary(w, "gmm_mls_plain")
 c, cp = s["counts"], p["counts"]
 check(c["newton_relaxations"] > 0 and c["step_cuts"] == 0 and cp["newton_relaxations"] == 0 and cp["step_cuts"] > 0,
