@@ -319,6 +319,7 @@ typedef struct {
   int mass_only; /* K = M, no material or geometric term */
   int lumped;    /* time.mass lumped: M = diag sum_p m_p N_Ip */
   double kdyn;
+  double ks;     /* weight of the stress terms: 1 + time.hht_alpha (1) */
   const double *lift, *an;
   int t0; /* first task of the running phase */
 } asm_job;
@@ -331,7 +332,7 @@ static inline void point_residual(const asm_job *j, int p) {
   const int *dof = pb->nodes.dof;
   double *R = pb->R;
   const double *s = P->sigma_t + MPGM_NSTRESS * p, *an = j->an;
-  const double v = P->vol_t[p], m = P->mass[p];
+  const double v = j->ks * P->vol_t[p], m = P->mass[p];
   const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
   /* 2-D only: a_p, sigma grad N and the force written out per component
    * (3-D: a third component, sigma's xz, yz, zz terms) */
@@ -370,7 +371,7 @@ static inline pt_blocks point_blocks(const asm_job *j, int p) {
   const mpgm_problem *pb = j->pb;
   const mpgm_points *P = &pb->pts;
   const int k0 = pb->conn.ptr[p];
-  return (pt_blocks){P->sigma_t + MPGM_NSTRESS * p, P->D_t + MPGM_NTANGENT * p, P->vol_t[p],
+  return (pt_blocks){P->sigma_t + MPGM_NSTRESS * p, P->D_t + MPGM_NTANGENT * p, j->ks * P->vol_t[p],
                      P->mass[p], k0, pb->conn.ptr[p + 1] - k0};
 }
 
@@ -595,11 +596,15 @@ static void assemble_task(void *arg, int task, int tid) {
 }
 
 /* R = f_ext - f_int - f_inertia and (want_K) K; mass_only: R = f_ext -
- * f_int and K = M (mpgm_assemble_mass). */
+ * f_int and K = M (mpgm_assemble_mass; want_K 0: R only). With
+ * time.hht_alpha a: R = f_ext - (1 + a) f_int - M a_n+1 + a f_int(t_n) and
+ * K = (1 + a) K_T + M / (beta dt^2) (Hilber, Hughes and Taylor 1977; the
+ * stress terms weighted through the points' volume). */
 static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
   mpgm_ctx *ctx = pb->ctx;
+  const double alpha = mass_only ? 0.0 : pb->scene->hht_alpha;
   asm_job j = {.pb = pb, .want_K = want_K, .inertia = pb->fx.inertia, .geo = pb->fx.geometric,
-               .lumped = pb->scene->lumped_mass};
+               .lumped = pb->scene->lumped_mass, .ks = 1.0 + alpha};
   if (mass_only) {
     /* the inertia term of R vanishes with a = 0; the mass term of K is
      * kept with unit weight */
@@ -616,6 +621,8 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
   }
   mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
   memcpy(pb->R, pb->fext, sizeof(double) * (size_t)pb->nodes.ndof);
+  if (alpha != 0.0)
+    for (int i = 0; i < pb->nodes.ndof; i++) pb->R[i] += alpha * pb->fint_n[i];
   if (want_K) memset(pb->K.val, 0, sizeof(double) * (size_t)pb->K.nnz);
   j.an = pb->nodes.a_new;
   j.lift = want_K && !mass_only ? pb->lift : NULL;
@@ -661,6 +668,8 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
 int mpgm_assemble(mpgm_problem *pb, int want_K) { return assemble(pb, want_K, 0); }
 
 int mpgm_assemble_mass(mpgm_problem *pb) { return assemble(pb, 1, 1); }
+
+int mpgm_assemble_static(mpgm_problem *pb) { return assemble(pb, 0, 1); }
 
 int mpgm_reactions(mpgm_problem *pb, double *r) {
   const mpgm_points *P = &pb->pts;

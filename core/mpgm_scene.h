@@ -188,6 +188,9 @@ typedef struct mpgm_scene {
   double dt, t_end;         /**< dynamic: step and end time [s]        */
   int load_steps;           /**< static: number of load steps          */
   double beta, gamma;       /**< Newmark parameters                    */
+  double hht_alpha;         /**< HHT's alpha in [-1/3, 0]: forces weighted
+                                 (1 + alpha) at t_n+1, -alpha at t_n; 0:
+                                 Newmark (newton.c, assembly.c)         */
   int max_cuts;             /**< step control: a step that fails
                                  recoverably is retried with half the
                                  step, down to the scene's step / 2^

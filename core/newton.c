@@ -37,6 +37,18 @@ static int predictor(mpgm_problem *pb, int warm) {
   return any;
 }
 
+/* time.hht_alpha: the internal force of t_n on this step's nodes, f_ext -
+ * R at du = 0 (the stresses of t_n in the configuration of t_n): one more
+ * constitutive update and residual per step. */
+static int hht_start(mpgm_problem *pb) {
+  mpgm_nodes *nd = &pb->nodes;
+  memset(nd->du, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
+  MPGM_CALL(mpgm_eval_points(pb, 0));
+  MPGM_CALL(mpgm_assemble_static(pb));
+  for (int i = 0; i < nd->ndof; i++) pb->fint_n[i] = pb->fext[i] - pb->R[i];
+  return 0;
+}
+
 int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
   const mpgm_nodes *nd = &pb->nodes;
   memset(nt, 0, sizeof *nt);
@@ -45,6 +57,7 @@ int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
   nt->res_prev = INFINITY;
   nt->omega = 1.0;
   if (!warm) MPGM_CALL(mpgm_body_force(pb, pb->t + pb->dt));
+  if (!warm && pb->fint_n) MPGM_CALL(hht_start(pb));
   pb->lift = predictor(pb, warm) ? pb->dubar : NULL;
   /* |f_ext| over the free equations (held contact components have
    * numbered, constrained equations) */

@@ -60,8 +60,10 @@ static int vectors(mpgm_problem *pb) {
   pb->react = calloc(nd, sizeof(double));
   pb->cflip = calloc(nd, 1);
   pb->fix_factored = calloc(nd, 1);
+  if (pb->scene->hht_alpha != 0.0) pb->fint_n = calloc(nd, sizeof(double));
   MPGM_CHECK(pb->ctx, pb->R && pb->fext && pb->delta && pb->dubar && pb->react && pb->cflip &&
-                          pb->fix_factored, MPGM_ERR_NOMEM, "out of memory");
+                          pb->fix_factored && (pb->fint_n || pb->scene->hht_alpha == 0.0),
+             MPGM_ERR_NOMEM, "out of memory");
   return 0;
 }
 
@@ -87,6 +89,11 @@ static int setup(mpgm_problem *pb) {
   if (pb->fx.manufactured) MPGM_CALL(mpgm_mms_setup(pb));
   mpgm_nodes_number(&pb->nodes);
   MPGM_CALL(vectors(pb));
+  /* the springs of contact at points are forces of t_n+1 only */
+  MPGM_CHECK(ctx, !(pb->fx.contact_points && scene->hht_alpha != 0.0), MPGM_ERR_INPUT,
+             "%s: time.hht_alpha: not with contact at surface points (their spring forces are "
+             "not weighted between t_n and t_n+1); use newmark_beta and newmark_gamma",
+             scene->file);
   if (pb->fx.contact_points) MPGM_CALL(mpgm_cpoints_setup(pb));
   if (pb->integ->create) MPGM_CALL(pb->integ->create(pb, &pb->integ_data));
   MPGM_CHECK(ctx, pb->nodes.n == 0 || pb->nodes.ndof > 0, MPGM_ERR_INPUT,
@@ -138,7 +145,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   void *arr[] = {pb->K.colptr, pb->K.rowind, pb->K.val, pb->scatter, pb->scatter_ptr, pb->order,
                  pb->grp_ptr, pb->nbr, pb->nbr_ptr, pb->nbr_off, pb->node_order, pb->perm,
                  pb->kloc, pb->kbatch, pb->kmask, pb->kslot, pb->task_grp, pb->task_pts, pb->R,
-                 pb->fext, pb->delta, pb->dubar, pb->react, pb->cflip, pb->fix_factored, pb->mms_b};
+                 pb->fext, pb->delta, pb->dubar, pb->react, pb->cflip, pb->fix_factored, pb->mms_b, pb->fint_n};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   mpgm_pool_destroy(&pb->pool);
   mpgm_cpoints_free(&pb->cp);

@@ -453,42 +453,6 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
   return 0;
 }
 
-/* "time", explicit analysis: the scheme (an explicit member of the
- * integrator family), the CFL number, the predictor's gamma. The keys are
- * refused with the other analyses, whose integrator ignores them. */
-static int read_explicit(jr_node *tm, mpgm_scene *s) {
-  static const char *const keys[] = {"scheme", "cfl", "npc_gamma", "npc_position",
-                                     "local_damping", "kinetic_damping"};
-  if (s->analysis != MPGM_ANALYSIS_EXPLICIT) {
-    for (int i = 0; i < 6; i++)
-      if (jr_raw(tm, keys[i]) || jr_override_json(tm, keys[i]))
-        return jr_fail(tm, keys[i], "only with time.analysis \"explicit\", found \"%s\"",
-                       analysis_names[s->analysis]);
-    return 0;
-  }
-  const mpgm_integrator_type *const *it = mpgm_integrator_types();
-  const mpgm_integrator_type *ex[16];
-  const char *names[16];
-  int n = 0;
-  for (int i = 0; it[i] && n < 15; i++)
-    if (!it[i]->implicit) {
-      ex[n] = it[i];
-      names[n++] = it[i]->name;
-    }
-  names[n] = NULL;
-  MPGM_CHECK(tm->r->ctx, n > 0, MPGM_ERR_INTERNAL, "no explicit integrator in this build");
-  int k; /* the first explicit integrator of the list is the default */
-  MPGM_CALL(jr_enum(tm, "scheme", names, 0, &k));
-  s->integrator = ex[k];
-  MPGM_CALL(jr_num(tm, "cfl", 0.1, 0.0, 1.0, 1, 0, &s->cfl));
-  MPGM_CALL(jr_num(tm, "npc_gamma", 0.5, 0.0, 1.0, 0, 0, &s->npc_gamma));
-  static const char *const position_names[] = {"newmark", "eq34", NULL};
-  MPGM_CALL(jr_enum(tm, "npc_position", position_names, 0, &s->npc_eq34));
-  MPGM_CALL(jr_num(tm, "local_damping", 0.0, 0.0, 1.0, 0, 1, &s->local_damping));
-  MPGM_CALL(jr_bool(tm, "kinetic_damping", 0, &s->kinetic_damping));
-  return 0;
-}
-
 /* "time": analysis, step and end (dynamic) or load steps (static),
  * Newmark parameters, predictor, step control, initial acceleration. */
 static int read_time(jr_node *root, mpgm_scene *s) {
@@ -501,8 +465,7 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&tm, "dt", expl ? 0.0 : dyn ? NAN : 1.0, 0, INFINITY, !expl, 0, &s->dt));
   MPGM_CALL(jr_num(&tm, "end", dyn ? NAN : 1.0, 0, INFINITY, 1, 0, &s->t_end));
   MPGM_CALL(jr_int(&tm, "load_steps", 1, 1, 1 << 24, &s->load_steps));
-  MPGM_CALL(jr_num(&tm, "newmark_beta", 0.25, 0, 0.5, 1, 0, &s->beta));
-  MPGM_CALL(jr_num(&tm, "newmark_gamma", 0.5, 0.5, 1, 0, 0, &s->gamma));
+  MPGM_CALL(mpgm_scene_read_newmark(&tm, s, analysis_names[s->analysis]));
   static const char *const predictor_names[] = {"zero", "velocity", NULL};
   MPGM_CALL(jr_enum(&tm, "predictor", predictor_names, 0, &s->predictor_velocity));
   MPGM_CALL(jr_int(&tm, "max_cuts", 0, 0, 30, &s->max_cuts));
@@ -516,7 +479,7 @@ static int read_time(jr_node *root, mpgm_scene *s) {
     MPGM_CALL(jr_enum(&tm, "mass", mass_names, 0, &s->lumped_mass));
   static const char *const accel_names[] = {"zero", "equilibrium", NULL};
   MPGM_CALL(jr_enum(&tm, "initial_acceleration", accel_names, 1, &s->initial_accel));
-  MPGM_CALL(read_explicit(&tm, s));
+  MPGM_CALL(mpgm_scene_read_explicit(&tm, s, analysis_names[s->analysis]));
   MPGM_CALL(jr_end(&tm));
   if (dyn && s->dt > s->t_end)
     return jr_fail(&tm, "dt", "expected dt <= end (%g s), found %g s", s->t_end, s->dt);

@@ -178,6 +178,9 @@ struct mpgm_problem {
   int tpt_ptr[2 * MPGM_ASM_CHUNKS + 1]; /**< offsets into task_pts        */
   int *task_pts;     /**< the tasks' points (their groups' points)       */
   double *R, *fext, *delta;
+  double *fint_n;    /**< time.hht_alpha: f_ext - R at the start of the
+                          step (du = 0): the internal force at t_n on this
+                          step's nodes, weighted -alpha in R (NULL: Newmark) */
   double *dubar;     /**< MPGM_DIM per node: prescribed increment of the
                           step                                          */
   const double *lift; /**< when set (first iteration), assembly adds
@@ -225,6 +228,9 @@ int mpgm_assemble(mpgm_problem *pb, int want_K);
  *  mass matrix, with the same pattern (held contact components: identity
  *  rows). For the initial acceleration (step.c). */
 int mpgm_assemble_mass(mpgm_problem *pb);
+/** R = f_ext - f_int at the current iterate, without inertia and without
+ *  HHT's weights (K untouched): the start-of-step forces of time.hht_alpha. */
+int mpgm_assemble_static(mpgm_problem *pb);
 /** (Re)build the sparsity pattern and scatter map from the connectivity. */
 int mpgm_pattern_build(mpgm_problem *pb);
 

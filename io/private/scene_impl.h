@@ -1,5 +1,5 @@
 /* scene_impl.h -- private to io/: pieces of scene loading that live in
- * their own files (scene_boundaries.c, scene_reference.c). */
+ * their own files (scene_boundaries.c, scene_reference.c, scene_time.c). */
 #ifndef MPGM_SCENE_IMPL_H
 #define MPGM_SCENE_IMPL_H
 
@@ -28,5 +28,11 @@ int mpgm_scene_read_obstacles(jr_node *root, mpgm_scene *s);
  *  mesh.domain, -1 on the upper end; a plane inside the domain (contact at
  *  points) by where the bodies are. Errors: MPGM_ERR_INPUT. */
 int mpgm_scene_contact_sides(mpgm_ctx *ctx, mpgm_scene *s);
+
+/** "time": the explicit schemes' keys (refused with the other analyses)
+ *  and Newmark's or HHT's parameters (scene_time.c); analysis: the name of
+ *  s->analysis, for messages. */
+int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis);
+int mpgm_scene_read_newmark(jr_node *tm, mpgm_scene *s, const char *analysis);
 
 #endif
