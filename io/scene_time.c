@@ -1,9 +1,19 @@
 /* scene_time.c -- the time integrator's keys of the "time" block: the
  * explicit schemes, and Newmark's or HHT's parameters of the implicit
  * dynamic one. */
+#include <stdio.h>
+
 #include "mpgm_integrator.h"
 #include "mpgm_json_reader.h"
 #include "scene_impl.h"
+
+/* Bad input at the first of keys[0..n) that the scene (or an --set)
+ * gives: "why" says why it may not be given here. */
+static int refuse_keys(jr_node *tm, const char *const *keys, int n, const char *why) {
+  for (int i = 0; i < n; i++)
+    if (jr_raw(tm, keys[i]) || jr_override_json(tm, keys[i])) return jr_fail(tm, keys[i], "%s", why);
+  return 0;
+}
 
 /* "time", explicit analysis: the scheme (an explicit member of the
  * integrator family), the CFL number, the predictor's gamma. The keys are
@@ -12,11 +22,9 @@ int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis) {
   static const char *const keys[] = {"scheme", "cfl", "npc_gamma", "npc_position",
                                      "local_damping", "kinetic_damping"};
   if (s->analysis != MPGM_ANALYSIS_EXPLICIT) {
-    for (int i = 0; i < 6; i++)
-      if (jr_raw(tm, keys[i]) || jr_override_json(tm, keys[i]))
-        return jr_fail(tm, keys[i], "only with time.analysis \"explicit\", found \"%s\"",
-                       analysis);
-    return 0;
+    char why[96];
+    snprintf(why, sizeof why, "only with time.analysis \"explicit\", found \"%s\"", analysis);
+    return refuse_keys(tm, keys, 6, why);
   }
   const mpgm_integrator_type *const *it = mpgm_integrator_types();
   const mpgm_integrator_type *ex[16];
@@ -54,10 +62,10 @@ int mpgm_scene_read_newmark(jr_node *tm, mpgm_scene *s, const char *analysis) {
   if (s->analysis != MPGM_ANALYSIS_DYNAMIC)
     return jr_fail(tm, "hht_alpha", "only with time.analysis \"dynamic\", found \"%s\"", analysis);
   static const char *const keys[] = {"newmark_beta", "newmark_gamma"};
-  for (int i = 0; i < 2; i++)
-    if (jr_raw(tm, keys[i]) || jr_override_json(tm, keys[i]))
-      return jr_fail(tm, keys[i], "set by time.hht_alpha (%g): beta = (1 - alpha)^2 / 4, gamma = "
-                     "1/2 - alpha; give one or the other", s->hht_alpha);
+  char why[128];
+  snprintf(why, sizeof why, "set by time.hht_alpha (%g): beta = (1 - alpha)^2 / 4, gamma = "
+           "1/2 - alpha; give one or the other", s->hht_alpha);
+  MPGM_CALL(refuse_keys(tm, keys, 2, why));
   s->beta = 0.25 * (1.0 - s->hht_alpha) * (1.0 - s->hht_alpha);
   s->gamma = 0.5 - s->hht_alpha;
   return 0;
