@@ -333,13 +333,18 @@ int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tr
   const int n = nd->n;
   memcpy(nd->fix, g->fix0, MPGM_DIM * (size_t)n);
   memcpy(nd->ubar, g->ubar0, sizeof(double) * MPGM_DIM * (size_t)n);
-  /* a free body node that moved into an obstacle is parked whatever its
-   * mass */
+  /* a free body node on an obstacle's plane or beyond it is parked
+   * whatever its mass. On the plane counts (to round-off): the grid puts
+   * body nodes on it at the start, and were they free in the first step
+   * only, the body would drop onto the obstacle's layers in that step and
+   * be held from the second on (docs/theory.md section 13, "nodes on the
+   * plane") */
+  const double on = 1e-9 * s->h;
   for (int i = 0; i < n; i++) {
     g->parked[i] = 0;
     for (int o = 0; o < s->nobstacle && g->eligible[i]; o++) {
       const mpgm_scene_obstacle *ob = &s->obstacles[o];
-      g->parked[i] |= ob->side * (nd->x[MPGM_DIM * i + ob->axis] - ob->value) > 0.0;
+      g->parked[i] |= ob->side * (nd->x[MPGM_DIM * i + ob->axis] - ob->value) > -on;
     }
   }
   g->nparked = mpgm_light_nodes(c, P->n, P->mass, n, g->eligible, s->min_node_mass, g->mass, g->parked);
