@@ -98,7 +98,7 @@ one_case fem_mc "$src/cases/column_collapse.json" --set method=fem --set mesh.h=
 one_case fem_krylov "$src/cases/column_collapse.json" --set method=fem --set mesh.h=0.2 \
   --set time.end=0.3 --set output.checkpoint_every=7 --set output.every=10 \
   --set 'boundaries=[{"x":0,"condition":"slip"},{"y":0,"condition":"stick"}]' \
-  --set solver.newton=krylov --set solver.forcing=eisenstat_walker
+  --set solver.linear=auto --set solver.newton=krylov --set solver.forcing=eisenstat_walker
 one_case mpm_mc "$block" "${block_sets[@]}" --set output.checkpoint_every=6
 one_case gmm_mls_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kind=mls \
   --set output.checkpoint_every=6
