@@ -163,6 +163,8 @@ typedef enum {
                                  the kept factorisation (no refactoring) */
   MPGM_C_LINE_SEARCHES,     /**< solver.line_search: Newton corrections
                                  shortened because |R| did not fall     */
+  MPGM_C_BFGS_UPDATES,      /**< solver.newton "bfgs": pairs of iterates
+                                 that corrected the kept factorisation  */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

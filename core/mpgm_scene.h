@@ -241,6 +241,8 @@ typedef struct mpgm_scene {
   int max_iter;             /**< Newton iteration limit                */
   int newton_modified;      /**< 1: keep the factorisation while Newton
                                  converges fast enough (reuse_ratio)    */
+  int newton_bfgs;          /**< 1: modified Newton with BFGS updates of
+                                 the kept factorisation (core/bfgs.c)   */
   double reuse_ratio;       /**< modified Newton: refactorise when
                                  |R_k| > reuse_ratio |R_k-1|             */
   int newton_krylov;        /**< 1: Newton-Krylov: GMRES on every

@@ -69,6 +69,7 @@ int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
    * the one of an earlier step) */
   nt->factored = pb->scene->newton_modified && pb->factor_valid &&
                  memcmp(pb->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n) == 0;
+  mpgm_bfgs_reset(pb);
   return 0;
 }
 
@@ -329,8 +330,12 @@ int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
     memcpy(pb->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n);
     MPGM_CALL(mpgm_lowrank_reset(pb));
   }
-  MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
-  if (reuse) mpgm_lowrank_apply(pb, pb->delta);
+  if (sc->newton_bfgs) {
+    MPGM_CALL(mpgm_bfgs_solve(pb, reuse));
+  } else {
+    MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
+    if (reuse) mpgm_lowrank_apply(pb, pb->delta);
+  }
   relax(pb, nt);
   double dd, uu;
   update_increments(pb, &dd, &uu);

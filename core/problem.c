@@ -89,6 +89,7 @@ static int setup(mpgm_problem *pb) {
   if (pb->fx.manufactured) MPGM_CALL(mpgm_mms_setup(pb));
   mpgm_nodes_number(&pb->nodes);
   MPGM_CALL(vectors(pb));
+  MPGM_CALL(mpgm_bfgs_setup(pb));
   /* the springs of contact at points are forces of t_n+1 only */
   MPGM_CHECK(ctx, !(pb->fx.contact_points && scene->hht_alpha != 0.0), MPGM_ERR_INPUT,
              "%s: time.hht_alpha: not with contact at surface points (their spring forces are "
@@ -150,6 +151,7 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   mpgm_pool_destroy(&pb->pool);
   mpgm_cpoints_free(&pb->cp);
   mpgm_lowrank_free(&pb->lr);
+  mpgm_bfgs_free(&pb->bfgs);
   mpgm_solver_destroy(&pb->solver);
   free(pb);
   *pp = NULL;

@@ -510,10 +510,11 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_num(&so, "atol", 1e-10, 0, INFINITY, 0, 0, &s->atol));
   MPGM_CALL(jr_num(&so, "dtol", 1e-10, 0, 1, 1, 1, &s->dtol));
   MPGM_CALL(jr_int(&so, "max_iterations", 25, 1, 1000, &s->max_iter));
-  static const char *const newton_names[] = {"full", "modified", "krylov", NULL};
+  static const char *const newton_names[] = {"full", "modified", "krylov", "bfgs", NULL};
   int newton;
   MPGM_CALL(jr_enum(&so, "newton", newton_names, 0, &newton));
-  s->newton_modified = newton == 1;
+  s->newton_modified = newton == 1 || newton == 3;
+  s->newton_bfgs = newton == 3;
   s->newton_krylov = newton == 2;
   if (s->newton_krylov && s->solver->iterative)
     return jr_fail(&so, "newton", "\"krylov\" preconditions GMRES with the factorisation of a "

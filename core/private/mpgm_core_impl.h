@@ -58,6 +58,22 @@ typedef struct mpgm_lowrank {
   double *W;          /**< per column n values: scratch of update          */
 } mpgm_lowrank;
 
+/** solver.newton "bfgs": the newest pairs kept (bfgs.c). */
+#define MPGM_BFGS_PAIRS 16
+
+/** solver.newton "bfgs": the pairs (s, y) of the iterations since the
+ *  last factorisation (bfgs.c), in a ring of MPGM_BFGS_PAIRS. */
+typedef struct mpgm_bfgs {
+  double *S, *Y;      /**< MPGM_BFGS_PAIRS vectors of the node capacity:
+                           changes of du and of R                      */
+  double rho[MPGM_BFGS_PAIRS]; /**< 1 / (y^T s) of each pair              */
+  int first, k;       /**< the oldest pair's slot; pairs held            */
+  int have_prev;      /**< r_prev, du_prev hold the last iterate         */
+  double *r_prev;     /**< R where the last correction started           */
+  double *du_prev;    /**< du there, over the numbered equations          */
+  double *q;          /**< scratch of the two-loop recursion             */
+} mpgm_bfgs;
+
 /** Chunks of the threaded assembly; a constant, so that the order of the
  *  sums does not depend on the number of threads. */
 #define MPGM_ASM_CHUNKS 16
@@ -198,6 +214,7 @@ struct mpgm_problem {
   unsigned char *cflip; /**< per node: contact state changed in this step */
   mpgm_cpoints cp;   /**< contact at surface points (fx.contact_points)  */
   mpgm_lowrank lr;   /**< contact changes on the kept factorisation      */
+  mpgm_bfgs bfgs;    /**< solver.newton "bfgs": the updates since it      */
 };
 
 /** Load factor at the end of the step being solved: static, the load
@@ -272,6 +289,16 @@ int mpgm_cpoints_update(mpgm_problem *pb);
 int mpgm_lowrank_reset(mpgm_problem *pb);
 int mpgm_lowrank_update(mpgm_problem *pb, int *applied);
 void mpgm_lowrank_apply(mpgm_problem *pb, double *x);
+
+/** solver.newton "bfgs" (core/bfgs.c). setup: the arrays (nothing for
+ *  another Newton); reset: forget the pairs (a new Newton solve); solve:
+ *  delta from R, with the factorisation (and the contact changes on it
+ *  when reuse) corrected by the pairs since it was made; a fresh
+ *  factorisation (reuse 0) forgets them. */
+int mpgm_bfgs_setup(mpgm_problem *pb);
+void mpgm_bfgs_free(mpgm_bfgs *b);
+void mpgm_bfgs_reset(mpgm_problem *pb);
+int mpgm_bfgs_solve(mpgm_problem *pb, int reuse);
 void mpgm_lowrank_free(mpgm_lowrank *lr);
 /** The factor of gravity at time t: static, the load factor; dynamic, the
  *  scene's ramp (gravity_ramp; 1 without one). */

@@ -1,0 +1,126 @@
+/* bfgs.c -- solver.newton "bfgs": modified Newton whose corrections with
+ * a kept factorisation are improved by BFGS updates (Matthies and Strang
+ * 1979, "The solution of nonlinear finite element equations"; Nocedal and
+ * Wright 2006, algorithm 7.4 for the two-loop form).
+ *
+ * Modified Newton solves K0 delta = R with the factorisation of an earlier
+ * tangent K0 and converges linearly, at the rate at which K0 misses the
+ * current tangent. Each of its iterations shows the true tangent along
+ * one direction: the change of the unknowns s_k = du_k+1 - du_k and of the
+ * residual y_k = R_k - R_k+1 (R = f_ext - f_int, so y ~ K s). BFGS
+ * corrects the inverse of K0 by every pair since the factorisation,
+ *
+ *   H_k+1 = (I - rho s y^T) H_k (I - rho y s^T) + rho s s^T,
+ *   rho = 1 / (y^T s),  H_0 = K0^-1,
+ *
+ * applied without forming H (the two-loop recursion: one solve with K0 and
+ * four vector operations per pair), so that the iteration converges
+ * superlinearly with the same factorisation. H stays symmetric and
+ * positive definite when K0 is and every pair has y^T s > 0; a pair
+ * without that curvature (a point yielding or unloading between the
+ * iterates: the residual is only piecewise smooth) is skipped. The pairs
+ * are forgotten at every factorisation and at the start of every Newton
+ * solve (a step, or a re-solve after a contact change: the equations or
+ * the held components may differ); the newest MPGM_BFGS_PAIRS are kept.
+ * H_0 includes the contact changes on the kept factorisation
+ * (solver.contact_rank, lowrank.c). The pairs are updates, counted in
+ * counts.bfgs_updates.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_core_impl.h"
+
+static double dot(const double *a, const double *b, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; i++) s += a[i] * b[i];
+  return s;
+}
+
+static void axpy(double a, const double *x, double *y, int n) {
+  for (int i = 0; i < n; i++) y[i] += a * x[i];
+}
+
+int mpgm_bfgs_setup(mpgm_problem *pb) {
+  mpgm_bfgs *b = &pb->bfgs;
+  if (!pb->scene->newton_bfgs) return 0;
+  const size_t n = MPGM_DIM * (size_t)pb->nodes.cap + 1, m = MPGM_BFGS_PAIRS;
+  b->S = calloc(m * n, sizeof(double));
+  b->Y = calloc(m * n, sizeof(double));
+  b->r_prev = calloc(n, sizeof(double));
+  b->du_prev = calloc(n, sizeof(double));
+  b->q = calloc(n, sizeof(double));
+  MPGM_CHECK(pb->ctx, b->S && b->Y && b->r_prev && b->du_prev && b->q, MPGM_ERR_NOMEM,
+             "out of memory");
+  return 0;
+}
+
+void mpgm_bfgs_free(mpgm_bfgs *b) {
+  void *arr[] = {b->S, b->Y, b->r_prev, b->du_prev, b->q};
+  for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
+  memset(b, 0, sizeof *b);
+}
+
+void mpgm_bfgs_reset(mpgm_problem *pb) {
+  pb->bfgs.k = 0;
+  pb->bfgs.first = 0;
+  pb->bfgs.have_prev = 0;
+}
+
+/* du over the numbered equations into x. */
+static void gather_du(const mpgm_problem *pb, double *x) {
+  const mpgm_nodes *nd = &pb->nodes;
+  for (int i = 0; i < MPGM_DIM * nd->n; i++)
+    if (nd->dof[i] >= 0) x[nd->dof[i]] = nd->du[i];
+}
+
+/* The pair of the last iteration (s, y) from where it started to here,
+ * kept when it has curvature. */
+static void push_pair(mpgm_problem *pb, int n) {
+  mpgm_bfgs *b = &pb->bfgs;
+  const int slot = (b->first + b->k) % MPGM_BFGS_PAIRS;
+  double *s = b->S + (size_t)slot * (size_t)n, *y = b->Y + (size_t)slot * (size_t)n;
+  gather_du(pb, s);
+  for (int i = 0; i < n; i++) {
+    s[i] -= b->du_prev[i];
+    y[i] = b->r_prev[i] - pb->R[i];
+  }
+  const double sy = dot(s, y, n), ss = dot(s, s, n), yy = dot(y, y, n);
+  if (!(sy > 1e-12 * sqrt(ss * yy))) return; /* no curvature (or NaN): skip */
+  b->rho[slot] = 1.0 / sy;
+  if (b->k == MPGM_BFGS_PAIRS)
+    b->first = (b->first + 1) % MPGM_BFGS_PAIRS; /* the oldest goes */
+  else
+    b->k++;
+  mpgm_count(pb->ctx, MPGM_C_BFGS_UPDATES, 1);
+}
+
+int mpgm_bfgs_solve(mpgm_problem *pb, int reuse) {
+  mpgm_bfgs *b = &pb->bfgs;
+  mpgm_ctx *ctx = pb->ctx;
+  const int n = pb->nodes.ndof, m = MPGM_BFGS_PAIRS;
+  if (!reuse) mpgm_bfgs_reset(pb);
+  if (reuse && b->have_prev) push_pair(pb, n);
+  /* the point this correction starts from, for the next pair */
+  memcpy(b->r_prev, pb->R, sizeof(double) * (size_t)n);
+  gather_du(pb, b->du_prev);
+  b->have_prev = 1;
+  double alpha[MPGM_BFGS_PAIRS];
+  memcpy(b->q, pb->R, sizeof(double) * (size_t)n);
+  for (int j = b->k - 1; j >= 0; j--) {
+    const int i = (b->first + j) % m;
+    const double *s = b->S + (size_t)i * (size_t)n, *y = b->Y + (size_t)i * (size_t)n;
+    alpha[j] = b->rho[i] * dot(s, b->q, n);
+    axpy(-alpha[j], y, b->q, n);
+  }
+  MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, b->q, pb->delta));
+  if (reuse) mpgm_lowrank_apply(pb, pb->delta);
+  for (int j = 0; j < b->k; j++) {
+    const int i = (b->first + j) % m;
+    const double *s = b->S + (size_t)i * (size_t)n, *y = b->Y + (size_t)i * (size_t)n;
+    const double beta = b->rho[i] * dot(y, pb->delta, n);
+    axpy(alpha[j] - beta, s, pb->delta, n);
+  }
+  return 0;
+}
