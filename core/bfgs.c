@@ -87,7 +87,13 @@ static void push_pair(mpgm_problem *pb, int n) {
     y[i] = b->r_prev[i] - pb->R[i];
   }
   const double sy = dot(s, y, n), ss = dot(s, s, n), yy = dot(y, y, n);
-  if (!(sy > 1e-12 * sqrt(ss * yy))) return; /* no curvature (or NaN): skip */
+  if (!(sy > 1e-12 * sqrt(ss * yy))) { /* no curvature (or NaN): skip */
+    if (b->k == MPGM_BFGS_PAIRS) {     /* the slot was the oldest pair's */
+      b->first = (b->first + 1) % MPGM_BFGS_PAIRS;
+      b->k--;
+    }
+    return;
+  }
   b->rho[slot] = 1.0 / sy;
   if (b->k == MPGM_BFGS_PAIRS)
     b->first = (b->first + 1) % MPGM_BFGS_PAIRS; /* the oldest goes */
