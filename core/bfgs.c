@@ -21,7 +21,7 @@
  * iterates: the residual is only piecewise smooth) is skipped. The pairs
  * are forgotten at every factorisation and at the start of every Newton
  * solve (a step, or a re-solve after a contact change: the equations or
- * the held components may differ); the newest MPGM_BFGS_PAIRS are kept.
+ * the held components may differ); the newest solver.bfgs_pairs are kept.
  * H_0 includes the contact changes on the kept factorisation
  * (solver.contact_rank, lowrank.c). The pairs are updates, counted in
  * counts.bfgs_updates.
@@ -45,7 +45,8 @@ static void axpy(double a, const double *x, double *y, int n) {
 int mpgm_bfgs_setup(mpgm_problem *pb) {
   mpgm_bfgs *b = &pb->bfgs;
   if (!pb->scene->newton_bfgs) return 0;
-  const size_t n = MPGM_DIM * (size_t)pb->nodes.cap + 1, m = MPGM_BFGS_PAIRS;
+  b->m = pb->scene->bfgs_pairs;
+  const size_t n = MPGM_DIM * (size_t)pb->nodes.cap + 1, m = (size_t)b->m;
   b->S = calloc(m * n, sizeof(double));
   b->Y = calloc(m * n, sizeof(double));
   b->r_prev = calloc(n, sizeof(double));
@@ -79,7 +80,7 @@ static void gather_du(const mpgm_problem *pb, double *x) {
  * kept when it has curvature. */
 static void push_pair(mpgm_problem *pb, int n) {
   mpgm_bfgs *b = &pb->bfgs;
-  const int slot = (b->first + b->k) % MPGM_BFGS_PAIRS;
+  const int slot = (b->first + b->k) % b->m;
   double *s = b->S + (size_t)slot * (size_t)n, *y = b->Y + (size_t)slot * (size_t)n;
   gather_du(pb, s);
   for (int i = 0; i < n; i++) {
@@ -88,15 +89,15 @@ static void push_pair(mpgm_problem *pb, int n) {
   }
   const double sy = dot(s, y, n), ss = dot(s, s, n), yy = dot(y, y, n);
   if (!(sy > 1e-12 * sqrt(ss * yy))) { /* no curvature (or NaN): skip */
-    if (b->k == MPGM_BFGS_PAIRS) {     /* the slot was the oldest pair's */
-      b->first = (b->first + 1) % MPGM_BFGS_PAIRS;
+    if (b->k == b->m) {                /* the slot was the oldest pair's */
+      b->first = (b->first + 1) % b->m;
       b->k--;
     }
     return;
   }
   b->rho[slot] = 1.0 / sy;
-  if (b->k == MPGM_BFGS_PAIRS)
-    b->first = (b->first + 1) % MPGM_BFGS_PAIRS; /* the oldest goes */
+  if (b->k == b->m)
+    b->first = (b->first + 1) % b->m; /* the oldest goes */
   else
     b->k++;
   mpgm_count(pb->ctx, MPGM_C_BFGS_UPDATES, 1);
@@ -105,7 +106,7 @@ static void push_pair(mpgm_problem *pb, int n) {
 int mpgm_bfgs_solve(mpgm_problem *pb, int reuse) {
   mpgm_bfgs *b = &pb->bfgs;
   mpgm_ctx *ctx = pb->ctx;
-  const int n = pb->nodes.ndof, m = MPGM_BFGS_PAIRS;
+  const int n = pb->nodes.ndof, m = b->m;
   if (!reuse) mpgm_bfgs_reset(pb);
   if (reuse && b->have_prev) push_pair(pb, n);
   /* the point this correction starts from, for the next pair */

@@ -24,6 +24,7 @@ extern "C" {
 
 #define MPGM_POLYGON_MAX 256 /**< most vertices of a polygon body */
 #define MPGM_MATRICES_MAX 64 /**< most steps in output.matrices */
+#define MPGM_BFGS_PAIRS_MAX 64 /**< most pairs of solver.newton "bfgs" */
 
 typedef enum {
   MPGM_ANALYSIS_STATIC = 0,  /**< load steps, no inertia                   */
@@ -243,6 +244,8 @@ typedef struct mpgm_scene {
                                  converges fast enough (reuse_ratio)    */
   int newton_bfgs;          /**< 1: modified Newton with BFGS updates of
                                  the kept factorisation (core/bfgs.c)   */
+  int bfgs_pairs;           /**< newton bfgs: the newest pairs kept
+                                 (at most MPGM_BFGS_PAIRS_MAX)          */
   double reuse_ratio;       /**< modified Newton: refactorise when
                                  |R_k| > reuse_ratio |R_k-1|             */
   int newton_krylov;        /**< 1: Newton-Krylov: GMRES on every

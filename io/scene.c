@@ -521,6 +521,7 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
                    "direct solver.linear (auto, cholmod, umfpack, klu, ...), found \"%s\"",
                    s->solver->name);
   MPGM_CALL(jr_num(&so, "reuse_ratio", 0.1, 0.0, 1.0, 1, 1, &s->reuse_ratio));
+  MPGM_CALL(jr_int(&so, "bfgs_pairs", 16, 1, MPGM_BFGS_PAIRS_MAX, &s->bfgs_pairs));
   MPGM_CALL(jr_num(&so, "relaxation", 1.0, 0.0, 1.0, 1, 0, &s->relaxation));
   MPGM_CALL(jr_int(&so, "stagnation", 5, 0, 1000, &s->stagnation));
   MPGM_CALL(jr_int(&so, "line_search", 0, 0, 30, &s->line_search));

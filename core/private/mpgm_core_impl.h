@@ -58,15 +58,16 @@ typedef struct mpgm_lowrank {
   double *W;          /**< per column n values: scratch of update          */
 } mpgm_lowrank;
 
-/** solver.newton "bfgs": the newest pairs kept (bfgs.c). */
-#define MPGM_BFGS_PAIRS 16
+/** solver.newton "bfgs": at most this many pairs (solver.bfgs_pairs). */
+#define MPGM_BFGS_PAIRS MPGM_BFGS_PAIRS_MAX
 
 /** solver.newton "bfgs": the pairs (s, y) of the iterations since the
- *  last factorisation (bfgs.c), in a ring of MPGM_BFGS_PAIRS. */
+ *  last factorisation (bfgs.c), in a ring of solver.bfgs_pairs. */
 typedef struct mpgm_bfgs {
   double *S, *Y;      /**< MPGM_BFGS_PAIRS vectors of the node capacity:
                            changes of du and of R                      */
   double rho[MPGM_BFGS_PAIRS]; /**< 1 / (y^T s) of each pair              */
+  int m;              /**< slots of the ring (solver.bfgs_pairs)         */
   int first, k;       /**< the oldest pair's slot; pairs held            */
   int have_prev;      /**< r_prev, du_prev hold the last iterate         */
   double *r_prev;     /**< R where the last correction started           */

@@ -8,7 +8,9 @@
 #     that of the straight beam), BFGS converges in at most 10 with fewer
 #     factorisations than full Newton, to full Newton's tip deflection
 #     (1e-8): the updates are of the right sign and size, and pairs were
-#     counted (counts.bfgs_updates).
+#     counted (counts.bfgs_updates). With one pair kept (solver.bfgs_pairs
+#     1) the ring drops its oldest pair at every further update, and the
+#     iteration still converges to the same tip; 0 pairs is refused.
 #   - The rolling disk, GMM-LME, coarse (contact at rim points: re-solves
 #     after contact changes, H_0 with the contact changes on the kept
 #     factorisation): the same error (67) as modified Newton to 1e-3
@@ -28,6 +30,9 @@ rd="$src/cases/rolling_disk.json"
 cc="$src/cases/column_collapse.json"
 run_case cl_full "$cl"
 run_case cl_bfgs "$cl" --set solver.newton=bfgs --set solver.reuse_ratio=0.9
+run_case cl_bfgs1 "$cl" --set solver.newton=bfgs --set solver.reuse_ratio=0.9 --set solver.bfgs_pairs=1
+"$exe" check "$cl" --set solver.newton=bfgs --set solver.bfgs_pairs=0 > /dev/null 2> "$work/bad.err"
+echo $? > "$work/bad.rc"
 # expected to stop: 25 iterations are not enough
 "$exe" run "$cl" --quiet --set output.vtk=none --out "$work/cl_modified" \
   --set solver.newton=modified --set solver.reuse_ratio=0.9 > "$work/cl_modified.log" 2>&1
@@ -56,6 +61,16 @@ check(b["status"] == "completed" and abs(t1 - t0) <= 1e-8 * abs(t0),
 check(cb["newton_iterations"] <= 10 and cb["factorizations"] < cf["factorizations"] and cb["bfgs_updates"] > 0,
       f"cantilever, bfgs: {cb['newton_iterations']} iterations (<= 10), {cb['factorizations']} factorisations "
       f"(full Newton {cf['factorizations']}), {cb['bfgs_updates']} updates")
+b1 = summary(w, "cl_bfgs1")
+c1 = b1["counts"]
+check(b1["status"] == "completed" and abs(b1["metrics"]["tip_uy"] - t0) <= 1e-8 * abs(t0) and
+      c1["newton_iterations"] <= 10 and c1["bfgs_updates"] > c1["factorizations"],
+      f"cantilever, bfgs, one pair kept: tip_uy {b1['metrics']['tip_uy']:.12f}, {c1['newton_iterations']} "
+      f"iterations, {c1['bfgs_updates']} updates in {c1['factorizations']} factorisations' windows "
+      f"(more updates than windows: the ring dropped its oldest pair)")
+err, brc = open(f"{w}/bad.err").read(), int(open(f"{w}/bad.rc").read())
+check(brc == 2 and "solver.bfgs_pairs" in err and "[1, 64]" in err,
+      f"bfgs_pairs 0 refused: exit {brc}, {err.strip()[:120]}")
 check(cf["bfgs_updates"] == 0, f"cantilever, full Newton: no updates counted ({cf['bfgs_updates']})")
 rm, rb = summary(w, "rd_modified"), summary(w, "rd_bfgs")
 e0, e1 = rm["metrics"]["error"], rb["metrics"]["error"]
