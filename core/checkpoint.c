@@ -103,7 +103,7 @@ static int all_arrays(mpgm_problem *pb, arr *a) {
 void mpgm_problem_drop_rebuilt(mpgm_problem *pb) {
   pb->pattern_version = -1;
   pb->graph_version = -1;
-  pb->solver->analysed = 0;
+  if (pb->solver) pb->solver->analysed = 0;
   pb->factor_valid = 0;
 }
 
@@ -125,7 +125,7 @@ int mpgm_problem_save(const mpgm_problem *cpb, mpgm_blob *b) {
   const int k = all_arrays(pb, a);
   for (int i = 0; i < k; i++) MPGM_CALL(mpgm_blob_put(ctx, b, a[i].tag, a[i].p, a[i].bytes));
   if (pb->fe->save) MPGM_CALL(pb->fe->save(pb->fe_data, ctx, b));
-  return mpgm_solver_save(pb->solver, ctx, b);
+  return pb->solver ? mpgm_solver_save(pb->solver, ctx, b) : 0; /* explicit: none */
 }
 
 int mpgm_problem_restore(mpgm_problem *pb, mpgm_blob *b) {
@@ -146,7 +146,7 @@ int mpgm_problem_restore(mpgm_problem *pb, mpgm_blob *b) {
   const int k = all_arrays(pb, a);
   for (int i = 0; i < k; i++) MPGM_CALL(mpgm_blob_get(ctx, b, a[i].tag, a[i].p, a[i].bytes));
   if (pb->fe->restore) MPGM_CALL(pb->fe->restore(pb->fe_data, ctx, b));
-  MPGM_CALL(mpgm_solver_restore(pb->solver, ctx, b));
+  if (pb->solver) MPGM_CALL(mpgm_solver_restore(pb->solver, ctx, b));
   mpgm_problem_drop_rebuilt(pb);
   pb->resumed = 1;
   return 0;

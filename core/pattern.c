@@ -371,7 +371,7 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   MPGM_CALL(err);
   pb->pattern_version = pb->conn.version;
-  pb->solver->analysed = 0;
+  if (pb->solver) pb->solver->analysed = 0; /* explicit runs have none */
   pb->factor_valid = 0;
   return scatter_maps(pb);
 }

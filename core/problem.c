@@ -75,10 +75,13 @@ static int setup(mpgm_problem *pb) {
    * positive definite), LU for unsymmetric ones */
   mpgm_solver_opts so = scene->solver_opts;
   so.symmetric = pb->symmetric;
-  /* Newton-Krylov: the scene's direct backend inside the composite */
+  /* Newton-Krylov: the scene's direct backend inside the composite. An
+   * explicit run solves nothing and creates no solver: a scene shared
+   * with implicit runs may name PETSc, which is then not loaded (nor MPI) */
   so.part = scene->newton_krylov ? scene->solver : NULL;
-  MPGM_CALL(mpgm_solver_create(ctx, scene->newton_krylov ? &mpgm_solver_reuse : scene->solver, &so,
-                               &pb->solver));
+  if (scene->analysis != MPGM_ANALYSIS_EXPLICIT)
+    MPGM_CALL(mpgm_solver_create(ctx, scene->newton_krylov ? &mpgm_solver_reuse : scene->solver,
+                                 &so, &pb->solver));
   mpgm_fe_view v;
   mpgm_problem_view(pb, &v);
   mpgm_timer_start(ctx, MPGM_T_SHAPE);
@@ -186,9 +189,9 @@ void mpgm_problem_report(const mpgm_problem *pb, mpgm_report *r) {
   mpgm_problem_cells(pb, &c);
   r->ncells = c.n;
   r->threads = mpgm_pool_size(pb->pool);
-  r->solver = mpgm_solver_name(pb->solver);
-  r->solver_iterative = pb->solver->type->iterative;
-  r->have_solver_stats = mpgm_solver_get_stats(pb->solver, &r->solver_stats) == 0;
+  r->solver = pb->solver ? mpgm_solver_name(pb->solver) : "none";
+  r->solver_iterative = pb->solver && pb->solver->type->iterative;
+  r->have_solver_stats = pb->solver && mpgm_solver_get_stats(pb->solver, &r->solver_stats) == 0;
   if (pb->fx.contact_points) {
     r->contact_points = pb->cp.n;
     r->contact_points_held = pb->cp.held;

@@ -501,8 +501,9 @@ static int read_solver(jr_node *root, mpgm_scene *s) {
   const cJSON *lin = jr_override_json(&so, "linear");
   if (!lin) lin = jr_raw(&so, "linear");
   char why[512];
-  if (cJSON_IsString(lin) && strcmp(lin->valuestring, "petsc") == 0 &&
-      !mpgm_solver_usable("petsc", why, sizeof why))
+  /* an explicit run loads no solver (core/problem.c) */
+  if (s->analysis != MPGM_ANALYSIS_EXPLICIT && cJSON_IsString(lin) &&
+      strcmp(lin->valuestring, "petsc") == 0 && !mpgm_solver_usable("petsc", why, sizeof why))
     return jr_fail(&so, "linear", "\"petsc\" cannot be used: %s", why);
   MPGM_CALL(jr_enum(&so, "linear", svn, 0, &si));
   s->solver = svt[si];
