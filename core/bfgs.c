@@ -83,11 +83,12 @@ static void push_pair(mpgm_problem *pb, int n) {
   const int slot = (b->first + b->k) % b->m;
   double *s = b->S + (size_t)slot * (size_t)n, *y = b->Y + (size_t)slot * (size_t)n;
   gather_du(pb, s);
+  double sy = 0.0, ss = 0.0, yy = 0.0;
   for (int i = 0; i < n; i++) {
     s[i] -= b->du_prev[i];
     y[i] = b->r_prev[i] - pb->R[i];
+    sy += s[i] * y[i], ss += s[i] * s[i], yy += y[i] * y[i];
   }
-  const double sy = dot(s, y, n), ss = dot(s, s, n), yy = dot(y, y, n);
   if (!(sy > 1e-12 * sqrt(ss * yy))) { /* no curvature (or NaN): skip */
     if (b->k == b->m) {                /* the slot was the oldest pair's */
       b->first = (b->first + 1) % b->m;
@@ -113,7 +114,7 @@ int mpgm_bfgs_solve(mpgm_problem *pb, int reuse) {
   memcpy(b->r_prev, pb->R, sizeof(double) * (size_t)n);
   gather_du(pb, b->du_prev);
   b->have_prev = 1;
-  double alpha[MPGM_BFGS_PAIRS];
+  double alpha[MPGM_BFGS_PAIRS_MAX];
   memcpy(b->q, pb->R, sizeof(double) * (size_t)n);
   for (int j = b->k - 1; j >= 0; j--) {
     const int i = (b->first + j) % m;

@@ -58,15 +58,12 @@ typedef struct mpgm_lowrank {
   double *W;          /**< per column n values: scratch of update          */
 } mpgm_lowrank;
 
-/** solver.newton "bfgs": at most this many pairs (solver.bfgs_pairs). */
-#define MPGM_BFGS_PAIRS MPGM_BFGS_PAIRS_MAX
-
 /** solver.newton "bfgs": the pairs (s, y) of the iterations since the
  *  last factorisation (bfgs.c), in a ring of solver.bfgs_pairs. */
 typedef struct mpgm_bfgs {
-  double *S, *Y;      /**< MPGM_BFGS_PAIRS vectors of the node capacity:
+  double *S, *Y;      /**< m vectors of the node capacity each:
                            changes of du and of R                      */
-  double rho[MPGM_BFGS_PAIRS]; /**< 1 / (y^T s) of each pair              */
+  double rho[MPGM_BFGS_PAIRS_MAX]; /**< 1 / (y^T s) of each pair          */
   int m;              /**< slots of the ring (solver.bfgs_pairs)         */
   int first, k;       /**< the oldest pair's slot; pairs held            */
   int have_prev;      /**< r_prev, du_prev hold the last iterate         */
@@ -290,6 +287,7 @@ int mpgm_cpoints_update(mpgm_problem *pb);
 int mpgm_lowrank_reset(mpgm_problem *pb);
 int mpgm_lowrank_update(mpgm_problem *pb, int *applied);
 void mpgm_lowrank_apply(mpgm_problem *pb, double *x);
+void mpgm_lowrank_free(mpgm_lowrank *lr);
 
 /** solver.newton "bfgs" (core/bfgs.c). setup: the arrays (nothing for
  *  another Newton); reset: forget the pairs (a new Newton solve); solve:
@@ -300,7 +298,6 @@ int mpgm_bfgs_setup(mpgm_problem *pb);
 void mpgm_bfgs_free(mpgm_bfgs *b);
 void mpgm_bfgs_reset(mpgm_problem *pb);
 int mpgm_bfgs_solve(mpgm_problem *pb, int reuse);
-void mpgm_lowrank_free(mpgm_lowrank *lr);
 /** The factor of gravity at time t: static, the load factor; dynamic, the
  *  scene's ramp (gravity_ramp; 1 without one). */
 static inline double mpgm_gravity_factor(const mpgm_problem *pb, double t) {
