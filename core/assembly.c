@@ -383,8 +383,7 @@ typedef struct {
   double DB[MPGM_NVOIGT][MPGM_DIM], sh0, sh1;
 } col_terms;
 
-static inline col_terms column_terms(const mpgm_conn *C, const pt_blocks *q, int b) {
-  const double hx = C->g[MPGM_DIM * (q->k0 + b)], hy = C->g[MPGM_DIM * (q->k0 + b) + 1];
+static inline col_terms column_terms(const double hx, const double hy, const pt_blocks *q) {
   const double *D = q->D, *s = q->s;
   col_terms c;
   for (int i = 0; i < MPGM_NVOIGT; i++) {
@@ -396,20 +395,29 @@ static inline col_terms column_terms(const mpgm_conn *C, const pt_blocks *q, int
   return c;
 }
 
-/* A point's functions and gradients, copied out once for its columns. */
+/* A point's functions and gradients, copied out once for its columns:
+ * the n entries of its cloud that enter the tangent, ix their places in
+ * the cloud (all of them, in order, unless conn.tan leaves some out:
+ * shape.tangent_radius). */
 typedef struct {
   double gx[MPGM_SHAPE_MAXNODE], gy[MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE];
+  int ix[MPGM_SHAPE_MAXNODE], n;
 } pt_rows;
 
 static inline void point_rows(const mpgm_conn *C, const pt_blocks *q, pt_rows *r) {
+  const unsigned char *tan = C->tan ? C->tan + q->k0 : NULL;
+  int n = 0;
   for (int a = 0; a < q->nk; a++) { /* 2-D only: x and y apart */
-    r->gx[a] = C->g[MPGM_DIM * (q->k0 + a)];
-    r->gy[a] = C->g[MPGM_DIM * (q->k0 + a) + 1];
-    r->N[a] = C->N[q->k0 + a];
+    if (tan && !tan[a]) continue;
+    r->gx[n] = C->g[MPGM_DIM * (q->k0 + a)];
+    r->gy[n] = C->g[MPGM_DIM * (q->k0 + a) + 1];
+    r->N[n] = C->N[q->k0 + a];
+    r->ix[n++] = a;
   }
+  r->n = n;
 }
 
-/* Column b of a point's blocks, rows a < na: block (a, b) of the tangent
+/* Column b of a point's blocks (places in r), rows a < na: block (a, b) of the tangent
  * (material + geometric + dynamic, or the mass block with j->mass_only)
  * as its four entries e0..e3 (row major 2 x 2), in loops over a the
  * compiler vectorises; with a lift, the term of a free row of node a and
@@ -421,7 +429,7 @@ typedef struct {
 
 static void point_column(const asm_job *j, const mpgm_conn *C, const pt_blocks *q,
                          const pt_rows *r, int b, int na, col_blocks *k) {
-  const col_terms c = column_terms(C, q, b);
+  const col_terms c = column_terms(r->gx[b], r->gy[b], q);
   const double d00 = c.DB[0][0], d20 = c.DB[2][0], d01 = c.DB[0][1], d21 = c.DB[2][1];
   const double d10 = c.DB[1][0], d11 = c.DB[1][1], sh0 = c.sh0, sh1 = c.sh1;
   const double v = q->v, km = j->kdyn * q->m, Nb = j->lumped ? 1.0 : r->N[b];
@@ -447,10 +455,10 @@ static void point_column(const asm_job *j, const mpgm_conn *C, const pt_blocks *
       k->e0[a] = diag; k->e1[a] = 0.0; k->e2[a] = 0.0; k->e3[a] = diag;
     }
   if (!j->lift) return;
-  const int *dof = j->pb->nodes.dof, Ib = C->node[q->k0 + b];
+  const int *dof = j->pb->nodes.dof, Ib = C->node[q->k0 + r->ix[b]];
   double *R = j->pb->R;
   for (int a = 0; a < na; a++) { /* free row of node a, fixed column of node b */
-    const int Ia = C->node[q->k0 + a];
+    const int Ia = C->node[q->k0 + r->ix[a]];
     const double e[MPGM_BLOCK] = {k->e0[a], k->e1[a], k->e2[a], k->e3[a]};
     for (int i = 0; i < MPGM_DIM; i++)
       for (int jj = 0; jj < MPGM_DIM; jj++)
@@ -475,11 +483,11 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
     pt_rows rw;
     col_blocks k;
     point_rows(C, &q, &rw);
-    for (int b = 0; b < nkg; b++) {
-      const int na = half ? b + 1 : nkg;
+    for (int b = 0; b < rw.n; b++) {
+      const int na = half ? b + 1 : rw.n;
       point_column(j, C, &q, &rw, b, na, &k);
       for (int a = 0; a < na; a++) {
-        double *e = kl + MPGM_BLOCK * (a * nkg + b);
+        double *e = kl + MPGM_BLOCK * (rw.ix[a] * nkg + rw.ix[b]);
         e[0] += k.e0[a]; e[1] += k.e1[a]; e[2] += k.e2[a]; e[3] += k.e3[a];
       }
     }
@@ -503,7 +511,8 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
  * assemble_group's local matrix added into the batch, without it (with a
  * symmetric tangent, each pair's one block a <= b of the batch, see
  * flush_batch). */
-static void assemble_point_batch(const asm_job *j, int p, const int *loc, double *kb) {
+static void assemble_point_batch(const asm_job *j, int p, const int *loc_all, double *kb,
+                                 uint64_t *mk) {
   const mpgm_conn *C = &j->pb->conn;
   const int half = j->half;
   point_residual(j, p);
@@ -511,8 +520,11 @@ static void assemble_point_batch(const asm_job *j, int p, const int *loc, double
   pt_rows rw;
   col_blocks k;
   point_rows(C, &q, &rw);
-  for (int b = 0; b < q.nk; b++) {
-    const int na = half ? b + 1 : q.nk;
+  int loc[MPGM_SHAPE_MAXNODE]; /* the slots of the entries in the tangent */
+  for (int a = 0; a < rw.n; a++) loc[a] = loc_all[rw.ix[a]];
+  mark_cloud(mk, loc, rw.n);
+  for (int b = 0; b < rw.n; b++) {
+    const int na = half ? b + 1 : rw.n;
     point_column(j, C, &q, &rw, b, na, &k);
     for (int a = 0; a < na; a++) {
       if (half && loc[a] > loc[b]) { /* kept as block (b, a) = (a, b)^T; 2-D only: 2x2 */
@@ -561,8 +573,7 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
       loc[a] = slot[nodes[a]];
     }
     if (pb->grp_ptr[g + 1] - pb->grp_ptr[g] == 1) {
-      assemble_point_batch(j, p, loc, kb);
-      mark_cloud(mk, loc, nk);
+      assemble_point_batch(j, p, loc, kb, mk);
       continue;
     }
     assemble_group(j, g, kl);

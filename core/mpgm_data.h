@@ -114,6 +114,11 @@ typedef struct mpgm_conn {
    * increments pversion when it changes them (and version with it) */
   const int *pptr, *pnode;
   int pversion;
+  /* optional (NULL: every entry): per entry of the material points, 1 when
+   * its node enters the point's tangent terms (node clouds with
+   * shape.tangent_radius: the nodes of the point's pattern list), owned
+   * by the front end; R always takes every entry */
+  const unsigned char *tan;
   /* the transpose, node -> entries of the material points
    * (mpgm_conn_transpose): for node I the entries tk[tptr[I] ..
    * tptr[I + 1]) in increasing order, tp the point of each; a sum over

@@ -178,15 +178,23 @@ const double *mpgm_clouds_radii(const mpgm_clouds *c);
  *  discretisation/skin.c): per material point the nodes within its search
  *  radius plus the skin, kept while they hold every cloud. */
 typedef struct mpgm_skin mpgm_skin;
-/** A skin of `skin` metres (> 0). Errors: MPGM_ERR_INPUT, MPGM_ERR_NOMEM. */
-int mpgm_skin_create(mpgm_ctx *ctx, double skin, mpgm_skin **out);
+/** A skin of `skin` metres (> 0); rt > 0: the lists and the tangent
+ *  stop at the tangent radius rt [m] (shape.tangent_radius; 0: the
+ *  clouds'). Errors: MPGM_ERR_INPUT, MPGM_ERR_NOMEM. */
+int mpgm_skin_create(mpgm_ctx *ctx, double skin, double rt, mpgm_skin **out);
 void mpgm_skin_destroy(mpgm_skin *s);
 /** After the step's clouds C (np material points at xp with search radii
  *  rp, lists by increasing node id; the nodes of tree at their
- *  positions): keep the lists while every cloud is within its point's
- *  list, else build them again (*rebuilt = 1). Errors: MPGM_ERR_NOMEM. */
+ *  positions xn): keep the lists while every cloud (with a tangent
+ *  radius: its nodes within rt) is within its point's list, else build
+ *  them again (*rebuilt = 1). With a tangent radius and tan not NULL,
+ *  tan[k] = 1 for the entries k of C in the lists, else 0 (valid while
+ *  mpgm_skin_ptr is not NULL). wide: this step takes whole clouds (the
+ *  tangent radius is not applied, tan is not written; lists built so are
+ *  built again at the first update without wide). Errors: MPGM_ERR_NOMEM. */
 int mpgm_skin_update(mpgm_skin *s, mpgm_ctx *ctx, int np, const double *xp, const double *rp,
-                     const mpgm_conn *C, const struct mpgm_kdtree *tree, int *rebuilt);
+                     const double *xn, const mpgm_conn *C, const struct mpgm_kdtree *tree,
+                     int wide, unsigned char *tan, int *rebuilt);
 /** The lists (np + 1 offsets, the nodes), or NULL when a list would have
  *  exceeded 4 MPGM_SHAPE_MAXNODE nodes at the last build (no skin then). */
 const int *mpgm_skin_ptr(const mpgm_skin *s);

@@ -14,6 +14,13 @@
  * the clouds is then in the pattern, and the entries outside the clouds
  * are exact zeros of K: the answer is that of the pattern without skin,
  * up to the round-off of another elimination order.
+ *
+ * With a tangent radius rt (shape.tangent_radius) the lists hold the nodes
+ * within min(r_p, rt) + skin, and they hold while every node of a cloud
+ * within rt of its point is in its list. The tangent then couples only
+ * the nodes of each point's list (conn.tan), while the residual takes the
+ * whole cloud: K is that of smaller clouds, an approximation of the
+ * Jacobian that modified Newton corrects by iterating on the exact R.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -28,6 +35,8 @@
 
 struct mpgm_skin {
   double skin;  /**< [m]                                               */
+  double rt;    /**< the tangent radius [m] (0: the clouds' own)       */
+  int wide;     /**< the lists were built without the tangent radius  */
   int np;       /**< material points of the last build                 */
   int valid;    /**< the lists are built and usable                   */
   int *ptr;     /**< np + 1 offsets into node                          */
@@ -35,12 +44,14 @@ struct mpgm_skin {
   int cap;      /**< room of node                                      */
 };
 
-int mpgm_skin_create(mpgm_ctx *ctx, double skin, mpgm_skin **out) {
+int mpgm_skin_create(mpgm_ctx *ctx, double skin, double rt, mpgm_skin **out) {
   *out = NULL;
   MPGM_CHECK(ctx, skin > 0.0 && isfinite(skin), MPGM_ERR_INPUT, "pattern skin %g m: expected > 0", skin);
+  MPGM_CHECK(ctx, rt >= 0.0 && isfinite(rt), MPGM_ERR_INPUT, "tangent radius %g m: expected >= 0", rt);
   mpgm_skin *s;
   MPGM_ALLOC(ctx, s, 1);
   s->skin = skin;
+  s->rt = rt;
   *out = s;
   return 0;
 }
@@ -63,16 +74,30 @@ static int size_for(mpgm_ctx *ctx, mpgm_skin *s, int np) {
   return 0;
 }
 
+/* The squared distance of x and y. */
+static inline double dist2(const double *x, const double *y) {
+  double d = 0.0;
+  for (int i = 0; i < MPGM_DIM; i++) d += (x[i] - y[i]) * (x[i] - y[i]);
+  return d;
+}
+
 /* 1 when every cloud of C (the first np lists, by increasing node id) is
- * within its point's list. */
-static int still_holds(const mpgm_skin *s, int np, const mpgm_conn *C) {
+ * within its point's list; with a tangent radius, every node of a cloud
+ * within rt of its point (xp the points, xn the nodes), and tan (when not
+ * NULL) marks the entries of C in the lists. */
+static int still_holds(const mpgm_skin *s, int np, const mpgm_conn *C, const double *xp,
+                       const double *xn, double rt, unsigned char *tan) {
   if (!s->valid || s->np != np) return 0;
+  const double rt2 = rt * rt;
   for (int p = 0; p < np; p++) {
     int t = s->ptr[p];
     const int tend = s->ptr[p + 1];
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       while (t < tend && s->node[t] < C->node[k]) t++;
-      if (t == tend || s->node[t] != C->node[k]) return 0;
+      const int in = t < tend && s->node[t] == C->node[k];
+      if (tan) tan[k] = (unsigned char)in;
+      if (in) continue;
+      if (rt == 0.0 || dist2(xp + MPGM_DIM * p, xn + MPGM_DIM * C->node[k]) <= rt2) return 0;
     }
   }
   return 1;
@@ -80,7 +105,7 @@ static int still_holds(const mpgm_skin *s, int np, const mpgm_conn *C) {
 
 /* The lists: for each point the nodes of tree within rp + skin. 0, or 1
  * when a list would exceed SKIN_MAXLIST (the skin is given up). */
-static int build(mpgm_ctx *ctx, mpgm_skin *s, const double *xp, const double *rp,
+static int build(mpgm_ctx *ctx, mpgm_skin *s, const double *xp, const double *rp, double rt,
                  const mpgm_kdtree *tree, int *overflow) {
   int idx[SKIN_MAXLIST];
   double d2[SKIN_MAXLIST];
@@ -88,7 +113,8 @@ static int build(mpgm_ctx *ctx, mpgm_skin *s, const double *xp, const double *rp
   int k = 0;
   s->ptr[0] = 0;
   for (int p = 0; p < s->np; p++) {
-    const int n = mpgm_kdtree_radius(tree, xp + MPGM_DIM * p, rp[p] + s->skin, SKIN_MAXLIST, idx, d2);
+    const double r = rt > 0.0 && rt < rp[p] ? rt : rp[p];
+    const int n = mpgm_kdtree_radius(tree, xp + MPGM_DIM * p, r + s->skin, SKIN_MAXLIST, idx, d2);
     if (n > SKIN_MAXLIST) {
       *overflow = 1;
       return 0;
@@ -109,14 +135,26 @@ static int build(mpgm_ctx *ctx, mpgm_skin *s, const double *xp, const double *rp
 }
 
 int mpgm_skin_update(mpgm_skin *s, mpgm_ctx *ctx, int np, const double *xp, const double *rp,
-                     const mpgm_conn *C, const mpgm_kdtree *tree, int *rebuilt) {
+                     const double *xn, const mpgm_conn *C, const mpgm_kdtree *tree,
+                     int wide, unsigned char *tan, int *rebuilt) {
   *rebuilt = 0;
-  if (still_holds(s, np, C)) return 0;
+  const double rt = wide ? 0.0 : s->rt;
+  if (rt == 0.0) tan = NULL;
+  /* lists built wide are built again once the tangent radius applies,
+   * unless no cloud reaches past it (then they are the narrow lists) */
+  int narrow = 0;
+  if (s->wide && rt > 0.0)
+    for (int p = 0; p < np && !narrow; p++) narrow = rp[p] > rt;
+  if (!narrow) s->wide = s->wide && rt == 0.0;
+  if (!narrow && still_holds(s, np, C, xp, xn, rt, tan)) return 0;
   *rebuilt = 1;
   MPGM_CALL(size_for(ctx, s, np));
   int overflow;
-  MPGM_CALL(build(ctx, s, xp, rp, tree, &overflow));
+  MPGM_CALL(build(ctx, s, xp, rp, rt, tree, &overflow));
   s->valid = !overflow;
+  s->wide = s->rt > 0.0 && rt == 0.0;
+  /* the new lists' marks (they hold every cloud by construction) */
+  if (s->valid && tan) still_holds(s, np, C, xp, xn, rt, tan);
   return 0;
 }
 
@@ -125,7 +163,8 @@ const int *mpgm_skin_ptr(const mpgm_skin *s) { return s->valid ? s->ptr : NULL; 
 const int *mpgm_skin_node(const mpgm_skin *s) { return s->valid ? s->node : NULL; }
 
 int mpgm_skin_save(const mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b) {
-  const int head[2] = {s->valid, s->np};
+  /* valid 2: lists built wide (a format of valid 0 or 1 before) */
+  const int head[2] = {s->valid ? 1 + s->wide : 0, s->np};
   MPGM_CALL(mpgm_blob_put(ctx, b, "skin.head", head, sizeof head));
   if (!s->valid) return 0;
   MPGM_CALL(mpgm_blob_put(ctx, b, "skin.ptr", s->ptr, ((size_t)s->np + 1) * sizeof(int)));
@@ -137,6 +176,7 @@ int mpgm_skin_restore(mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b) {
   MPGM_CALL(mpgm_blob_get(ctx, b, "skin.head", head, sizeof head));
   s->valid = 0;
   if (!head[0]) return 0;
+  s->wide = head[0] == 2;
   MPGM_CHECK(ctx, head[1] >= 0, MPGM_ERR_INPUT, "checkpoint: pattern skin of %d points", head[1]);
   MPGM_CALL(size_for(ctx, s, head[1]));
   MPGM_CALL(mpgm_blob_get(ctx, b, "skin.ptr", s->ptr, ((size_t)s->np + 1) * sizeof(int)));

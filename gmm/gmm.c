@@ -59,6 +59,9 @@ typedef struct gmm_data {
   unsigned char *skip;   /**< per node: not among the step's nodes           */
   /* shape.skin > 0 (else NULL) */
   mpgm_skin *skin;       /**< the pattern's lists, a skin wider than clouds */
+  unsigned char *tan;    /**< shape.tangent_radius: per entry of the material
+                              points, in the tangent (conn.tan)            */
+  int tancap;            /**< room of tan                                   */
   unsigned char *fix;    /**< MPGM_DIM per node: the last step's fixity      */
   uint64_t lists_hash;   /**< restarts: hash of the last step's node lists  */
   int restored;          /**< lists_hash stands for the lists (a restart)   */
@@ -79,6 +82,7 @@ static void gmm_destroy(void *self) {
   free(d->xs);
   free(d->skip);
   mpgm_skin_destroy(d->skin);
+  free(d->tan);
   free(d->fix);
   free(d);
 }
@@ -104,7 +108,7 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
   }
   MPGM_CALL(mpgm_kdtree_create(ctx, v->nodes->x, v->nodes->n, 0, &d->tree));
   if (s->skin > 0.0) {
-    MPGM_CALL(mpgm_skin_create(ctx, s->skin * s->h, &d->skin));
+    MPGM_CALL(mpgm_skin_create(ctx, s->skin * s->h, s->tangent_radius, &d->skin));
     MPGM_ALLOC(ctx, d->fix, MPGM_DIM * (size_t)v->nodes->n);
     d->nfix = v->nodes->n;
   }
@@ -166,9 +170,21 @@ static int skin_versions(const mpgm_fe_view *v, gmm_data *d, int same) {
   mpgm_conn *C = v->conn;
   const mpgm_nodes *nd = v->nodes;
   int rebuilt;
+  const int ne = C->ptr[v->pts->n]; /* the material points' entries */
+  if (v->scene->tangent_radius > 0.0 && ne > d->tancap) {
+    free(d->tan);
+    d->tancap = 0;
+    d->tan = malloc((size_t)ne + (size_t)ne / 4 + 1);
+    MPGM_CHECK(ctx, d->tan, MPGM_ERR_NOMEM, "out of memory (the tangent's entries)");
+    d->tancap = ne + ne / 4 + 1;
+  }
   mpgm_timer_start(ctx, MPGM_T_ANALYSE);
-  const int err = mpgm_skin_update(d->skin, ctx, v->pts->n, v->pts->x,
-                                   mpgm_clouds_radii(d->clouds), C, d->tree, &rebuilt);
+  /* the first step solves M a_0 = R for the initial acceleration with
+   * the tangent's pattern: that solve is not corrected by Newton, so the
+   * first step takes whole clouds (shape.tangent_radius) */
+  const int wide = v->step == 0;
+  const int err = mpgm_skin_update(d->skin, ctx, v->pts->n, v->pts->x, mpgm_clouds_radii(d->clouds),
+                                   v->nodes->x, C, d->tree, wide, d->tan, &rebuilt);
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   MPGM_CALL(err);
   /* after a restart the last step's lists are known by their hash (so
@@ -179,6 +195,7 @@ static int skin_versions(const mpgm_fe_view *v, gmm_data *d, int same) {
   memcpy(d->fix, nd->fix, MPGM_DIM * (size_t)nd->n);
   C->pptr = mpgm_skin_ptr(d->skin);
   C->pnode = mpgm_skin_node(d->skin);
+  C->tan = C->pptr && !wide ? d->tan : NULL; /* NULL without a tangent radius */
   if (rebuilt || !C->pptr) {
     C->pversion++;
     C->version++;

@@ -396,6 +396,7 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   s->min_nodes = 0;
   s->max_enlarge = 0;
   s->skin = 0.0;
+  s->tangent_radius = 0.0;
   if (s->shape->needs_cell) return 0;
   MPGM_CALL(jr_num(sh, "gamma", 1.8, 0.0, INFINITY, 1, 0, &p->gamma));
   MPGM_CALL(jr_num(sh, "tol_support", 1e-6, 0.0, 1.0, 1, 1, &p->tol_support));
@@ -414,6 +415,11 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   if (s->skin > 0.0 && !gmm)
     return jr_fail(sh, "skin", "the pattern skin of persistent nodes' clouds: expected method "
                    "\"gmm\", found \"%s\"", s->frontend->name);
+  MPGM_CALL(jr_num(sh, "tangent_radius", 0.0, 0.0, INFINITY, 0, 0, &s->tangent_radius));
+  if (s->tangent_radius > 0.0 && !(s->skin > 0.0))
+    return jr_fail(sh, "tangent_radius", "a tangent of smaller clouds is built on the pattern "
+                   "skin's lists: expected method \"gmm\" with shape.skin > 0, found method "
+                   "\"%s\" and skin %g", s->frontend->name, s->skin);
   return 0;
 }
 
