@@ -168,8 +168,9 @@ typedef struct mpgm_scene {
                                  mesh.h (0: a pattern per change of the
                                  clouds; discretisation/skin.c)        */
   double tangent_radius;    /**< gmm: the tangent couples the nodes
-                                 within this radius [m] (and the skin)
-                                 of each point only; 0: the clouds'    */
+                                 within this radius (a multiple of
+                                 mesh.h; and the skin) of each point
+                                 only; 0: the clouds'                  */
   /* mesh */
   double h;                 /**< cell size [m]                         */
   int cell;                 /**< mpgm_cell_kind                        */

@@ -108,7 +108,7 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
   }
   MPGM_CALL(mpgm_kdtree_create(ctx, v->nodes->x, v->nodes->n, 0, &d->tree));
   if (s->skin > 0.0) {
-    MPGM_CALL(mpgm_skin_create(ctx, s->skin * s->h, s->tangent_radius, &d->skin));
+    MPGM_CALL(mpgm_skin_create(ctx, s->skin * s->h, s->tangent_radius * s->h, &d->skin));
     MPGM_ALLOC(ctx, d->fix, MPGM_DIM * (size_t)v->nodes->n);
     d->nfix = v->nodes->n;
   }

@@ -415,7 +415,7 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   if (s->skin > 0.0 && !gmm)
     return jr_fail(sh, "skin", "the pattern skin of persistent nodes' clouds: expected method "
                    "\"gmm\", found \"%s\"", s->frontend->name);
-  MPGM_CALL(jr_num(sh, "tangent_radius", 0.0, 0.0, INFINITY, 0, 0, &s->tangent_radius));
+  MPGM_CALL(jr_num(sh, "tangent_radius", 0.0, 0.0, 1000.0, 0, 0, &s->tangent_radius));
   if (s->tangent_radius > 0.0 && !(s->skin > 0.0))
     return jr_fail(sh, "tangent_radius", "a tangent of smaller clouds is built on the pattern "
                    "skin's lists: expected method \"gmm\" with shape.skin > 0, found method "

@@ -29,10 +29,10 @@ rd=(run "$src/cases/rolling_disk.json" --quiet --set method=gmm --set shape.kind
     --set shape.gamma=0.8 --set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.2
     --set output.vtk=none --set solver.contact_check=0)
 "$exe" "${rd[@]}" --out rd_full > rd_full.log 2>&1
-"$exe" "${rd[@]}" --set shape.tangent_radius=10 --out rd_wide > rd_wide.log 2>&1
-"$exe" "${rd[@]}" --set shape.tangent_radius=0.1414213562 --out rd_t > rd_t.log 2>&1
+"$exe" "${rd[@]}" --set shape.tangent_radius=100 --out rd_wide > rd_wide.log 2>&1
+"$exe" "${rd[@]}" --set shape.tangent_radius=2.8284271247 --out rd_t > rd_t.log 2>&1
 "$exe" "${rd[@]}" --set shape.radius=0.1414213562 --out rd_cut > rd_cut.log 2>&1
-"$exe" "${rd[@]}" --set shape.tangent_radius=0.1414213562 --set solver.newton=full \
+"$exe" "${rd[@]}" --set shape.tangent_radius=2.8284271247 --set solver.newton=full \
   --out rd_tfull > rd_tfull.log 2>&1
 
 r=$(python3 - <<'PY'
@@ -73,7 +73,7 @@ done <<< "$r"
 # a restart from the checkpoint of the first step (whole clouds: it solves
 # for the initial acceleration) must narrow the lists at the second step as
 # the uninterrupted run does: a failure made on purpose at step 2 stops B
-ck=("${rd[@]}" --set time.end=0.04 --set shape.tangent_radius=0.1414213562
+ck=("${rd[@]}" --set time.end=0.04 --set shape.tangent_radius=2.8284271247
     --set output.checkpoint_every=1)
 "$exe" "${ck[@]}" --out ck_A > ck_A.log 2>&1
 MPGM_TEST_FAULT=nan:2:99 "$exe" "${ck[@]}" --out ck_B > ck_B.log 2>&1
@@ -92,8 +92,8 @@ case "$r" in OK*) ok "restart from step 1: ${r#OK }" ;; *) ko "restart from step
 
 cc=(run "$src/cases/column_collapse_gmm.json" --quiet --set shape.kind=lme --set mesh.h=0.1
     --set time.end=0.2 --set output.vtk=none --set solver.linear=auto --set solver.forcing=fixed)
-"$exe" "${cc[@]}" --out cc_full > cc_full.log 2>&1
-"$exe" "${cc[@]}" --set shape.tangent_radius=0.2 --out cc_t > cc_t.log 2>&1
+"$exe" "${cc[@]}" --set shape.tangent_radius=0 --out cc_full > cc_full.log 2>&1
+"$exe" "${cc[@]}" --set shape.tangent_radius=2 --out cc_t > cc_t.log 2>&1
 r=$(python3 - <<'PY'
 import json
 f, t = (json.load(open(f"{d}/summary.json")) for d in ("cc_full", "cc_t"))
