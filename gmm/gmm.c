@@ -179,10 +179,12 @@ static int skin_versions(const mpgm_fe_view *v, gmm_data *d, int same) {
     d->tancap = ne + ne / 4 + 1;
   }
   mpgm_timer_start(ctx, MPGM_T_ANALYSE);
-  /* the first step solves M a_0 = R for the initial acceleration with
-   * the tangent's pattern: that solve is not corrected by Newton, so the
-   * first step takes whole clouds (shape.tangent_radius) */
-  const int wide = v->step == 0;
+  /* a dynamic run's first step solves M a_0 = R for the initial
+   * acceleration (time.initial_acceleration) on the tangent's pattern:
+   * Newton does not correct that solve, so that step takes whole clouds
+   * (shape.tangent_radius); every other step, and static runs, the
+   * tangent radius */
+  const int wide = v->step == 0 && v->fx->inertia && v->scene->initial_accel;
   const int err = mpgm_skin_update(d->skin, ctx, v->pts->n, v->pts->x, mpgm_clouds_radii(d->clouds),
                                    v->nodes->x, C, d->tree, wide, d->tan, &rebuilt);
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);

@@ -56,7 +56,7 @@ PY
 }
 
 cc=(run "$src/cases/column_collapse_gmm.json" --quiet --set mesh.h=0.1 --set time.end=0.3
-    --set output.vtk=none --set solver.newton=full --set shape.tangent_radius=0)
+    --set output.vtk=none --set solver.newton=full)
 "$exe" "${cc[@]}" --set shape.skin=0 --out cc_0 > cc_0.log 2>&1
 # a thin skin, so that the lists are built again several times (6 in 60
 # steps): a kept list that missed a cloud would show here

@@ -17,6 +17,8 @@
 #   - a restart from the first step's checkpoint is the run not interrupted;
 #   - the same on the GMM-LME column collapse (Mohr-Coulomb: an unsymmetric
 #     tangent, UMFPACK), short;
+#   - a static run (the cantilever), narrow from its first step: no
+#     initial acceleration to solve;
 # then the refusals: no skin, a negative radius, another method.
 #
 # usage: tangent_radius.sh MPGM_EXE SOURCE_DIR WORK_DIR
@@ -105,6 +107,26 @@ PY
 )
 case "$r" in OK*) ok "column collapse, GMM-LME, tangent radius 2 h: ${r#OK }" ;;
              *) ko "column collapse: ${r#BAD }" ;; esac
+
+# a static run has no initial acceleration: the narrow tangent from the
+# first step, the same tip
+ct=(run "$src/cases/cantilever.json" --quiet --set method=gmm --set shape.kind=lme
+    --set shape.gamma=0.8 --set output.vtk=none)
+"$exe" "${ct[@]}" --out ct_full > ct_full.log 2>&1
+"$exe" "${ct[@]}" --set shape.tangent_radius=3 --out ct_t > ct_t.log 2>&1
+r=$(python3 - <<'PY'
+import json
+f, t = (json.load(open(f"{d}/summary.json")) for d in ("ct_full", "ct_t"))
+a, b = f["metrics"]["tip_uy"], t["metrics"]["tip_uy"]
+ok = (f["status"] == t["status"] == "completed" and abs(a - b) <= 1e-9 * abs(a)
+      and t["counts"]["nnz"] < 0.7 * f["counts"]["nnz"])
+print(("OK " if ok else "BAD ") + f"tip {a:.12f} / {b:.12f} m, K {f['counts']['nnz']} -> "
+      f"{t['counts']['nnz']} entries from the first step, Newton its "
+      f"{f['counts']['newton_iterations']} -> {t['counts']['newton_iterations']}")
+PY
+)
+case "$r" in OK*) ok "static cantilever, GMM-LME 0.8, tangent radius 3 h: ${r#OK }" ;;
+             *) ko "static cantilever: ${r#BAD }" ;; esac
 
 expect 2 'shape.tangent_radius' "a tangent radius without the pattern skin is refused" \
   "$exe" run "$src/cases/column_collapse_gmm.json" --set shape.skin=0 \
