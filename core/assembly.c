@@ -54,10 +54,11 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
        * keep the total displacement (MPM's grid is reset every step) */
       for (int c = 0; c < MPGM_TENSOR; c++) F[c] = P->F[MPGM_TENSOR * p + c] + H[c];
       P->vol_t[p] = P->vol0[p];
-      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) { /* g = dN; 2-D only: x, y apart */
-        C->g[MPGM_DIM * k] = C->dN[MPGM_DIM * k];
-        C->g[MPGM_DIM * k + 1] = C->dN[MPGM_DIM * k + 1];
-      }
+      if (want_D) /* g = dN, for the tangent; 2-D only: x, y apart */
+        for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+          C->g[MPGM_DIM * k] = C->dN[MPGM_DIM * k];
+          C->g[MPGM_DIM * k + 1] = C->dN[MPGM_DIM * k + 1];
+        }
       err = m->type->update(m, MPGM_KIN_SMALL, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
                             D_t ? D_t + MPGM_NTANGENT * p : NULL);
     } else {
@@ -70,14 +71,16 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
       }
       mul2(dF, P->F + MPGM_TENSOR * p, F);
       P->vol_t[p] = J * P->vol[p];
-      /* gradients at the iterate: g = dN dF^-1. 2-D only: the 2x2 inverse
+      /* gradients at the iterate, g = dN dF^-1, for the tangent only (the
+       * residual takes dN, see point_residual). 2-D only: the 2x2 inverse
        * and the product written out (3-D: the 3x3 inverse) */
       const double i00 = dF[3] / J, i01 = -dF[1] / J, i10 = -dF[2] / J, i11 = dF[0] / J;
-      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-        const double a = C->dN[MPGM_DIM * k], b = C->dN[MPGM_DIM * k + 1];
-        C->g[MPGM_DIM * k] = a * i00 + b * i10;
-        C->g[MPGM_DIM * k + 1] = a * i01 + b * i11;
-      }
+      if (want_D)
+        for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
+          const double a = C->dN[MPGM_DIM * k], b = C->dN[MPGM_DIM * k + 1];
+          C->g[MPGM_DIM * k] = a * i00 + b * i10;
+          C->g[MPGM_DIM * k + 1] = a * i01 + b * i11;
+        }
       err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
                             D_t ? D_t + MPGM_NTANGENT * p : NULL);
     }
@@ -324,6 +327,25 @@ typedef struct {
   int t0; /* first task of the running phase */
 } asm_job;
 
+/* The stress of point p on the gradients of the step's start, B =
+ * sigma dF^-T, so that its force on node a is v B dN_a = v sigma g_a with
+ * g_a = dN_a dF^-1, the gradient at the iterate: the residual reads dN,
+ * and the iterate's gradients g are made only for a tangent (eval_range).
+ * Small kinematics: g = dN and B = sigma. 2-D only: the 2x2 inverse and
+ * product written out (3-D: 3x3; sigma's xz, yz, zz terms). */
+static inline void stress_on_dN(const mpgm_problem *pb, int p, double B[MPGM_TENSOR]) {
+  const double *s = pb->pts.sigma_t + MPGM_NSTRESS * p;
+  if (!pb->fx.geometric) {
+    B[0] = s[0]; B[1] = s[2]; B[2] = s[2]; B[3] = s[1];
+    return;
+  }
+  const double *dF = pb->pts.dF_t + MPGM_TENSOR * p;
+  const double J = dF[0] * dF[3] - dF[1] * dF[2];
+  const double i00 = dF[3] / J, i01 = -dF[1] / J, i10 = -dF[2] / J, i11 = dF[0] / J;
+  B[0] = s[0] * i00 + s[2] * i01; B[1] = s[0] * i10 + s[2] * i11;
+  B[2] = s[2] * i00 + s[1] * i01; B[3] = s[2] * i10 + s[1] * i11;
+}
+
 /* Internal (and inertial) force of point p subtracted from R. */
 static inline void point_residual(const asm_job *j, int p) {
   const mpgm_problem *pb = j->pb;
@@ -331,9 +353,11 @@ static inline void point_residual(const asm_job *j, int p) {
   const mpgm_conn *C = &pb->conn;
   const int *dof = pb->nodes.dof;
   double *R = pb->R;
-  const double *s = P->sigma_t + MPGM_NSTRESS * p, *an = j->an;
+  const double *an = j->an;
   const double v = j->ks * P->vol_t[p], m = P->mass[p];
   const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
+  double s[MPGM_TENSOR];
+  stress_on_dN(pb, p, s);
   /* 2-D only: a_p, sigma grad N and the force written out per component
    * (3-D: a third component, sigma's xz, yz, zz terms) */
   double ap[MPGM_DIM] = {0};
@@ -344,8 +368,8 @@ static inline void point_residual(const asm_job *j, int p) {
     }
   for (int a = 0; a < nk; a++) {
     const int I = C->node[k0 + a];
-    const double gx = C->g[MPGM_DIM * (k0 + a)], gy = C->g[MPGM_DIM * (k0 + a) + 1];
-    double f0 = v * (s[0] * gx + s[2] * gy), f1 = v * (s[2] * gx + s[1] * gy);
+    const double gx = C->dN[MPGM_DIM * (k0 + a)], gy = C->dN[MPGM_DIM * (k0 + a) + 1];
+    double f0 = v * (s[0] * gx + s[1] * gy), f1 = v * (s[2] * gx + s[3] * gy);
     if (j->lumped) { /* m_p N_a a_a: the row sum of the consistent term */
       ap[0] = an[MPGM_DIM * I];
       ap[1] = an[MPGM_DIM * I + 1];
@@ -694,8 +718,9 @@ int mpgm_reactions(mpgm_problem *pb, double *r) {
                               pb->fx.gravity ? f * pb->scene->gravity[1] : 0.0};
   memset(r, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   for (int p = 0; p < P->n; p++) {
-    const double *s = P->sigma_t + MPGM_NSTRESS * p, v = P->vol_t[p], m = P->mass[p];
-    double ap[MPGM_DIM] = {0};
+    const double v = P->vol_t[p], m = P->mass[p];
+    double s[MPGM_TENSOR], ap[MPGM_DIM] = {0};
+    stress_on_dN(pb, p, s);
     if (inertia && !lumped)
       for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
         ap[0] += C->N[k] * nd->a_new[MPGM_DIM * C->node[k]];
@@ -708,9 +733,9 @@ int mpgm_reactions(mpgm_problem *pb, double *r) {
         ap[0] = nd->a_new[MPGM_DIM * I];
         ap[1] = nd->a_new[MPGM_DIM * I + 1];
       }
-      const double gx = C->g[MPGM_DIM * k], gy = C->g[MPGM_DIM * k + 1], mN = m * C->N[k];
-      r[MPGM_DIM * I] += v * (s[0] * gx + s[2] * gy) + mN * (ap[0] - g[0]);
-      r[MPGM_DIM * I + 1] += v * (s[2] * gx + s[1] * gy) + mN * (ap[1] - g[1]);
+      const double gx = C->dN[MPGM_DIM * k], gy = C->dN[MPGM_DIM * k + 1], mN = m * C->N[k];
+      r[MPGM_DIM * I] += v * (s[0] * gx + s[1] * gy) + mN * (ap[0] - g[0]);
+      r[MPGM_DIM * I + 1] += v * (s[2] * gx + s[3] * gy) + mN * (ap[1] - g[1]);
     }
   }
   for (int i = 0; i < MPGM_DIM * nd->n; i++)
