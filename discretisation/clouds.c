@@ -24,6 +24,7 @@
  *   3. the entries with N = 0 and grad N = 0 are dropped.
  */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -136,7 +137,7 @@ static int drop_skipped(const mpgm_clouds *c, int n, int cap, int *idx, double *
  * nearest). */
 static int cloud(const mpgm_clouds *c, const double x[MPGM_DIM], double r, int cap, int *idx,
                  double *d2) {
-  return drop_skipped(c, mpgm_kdtree_radius(c->tree, x, r, cap, idx, d2), cap, idx, d2);
+  return drop_skipped(c, mpgm_kdtree_radius_set(c->tree, x, r, cap, idx, d2), cap, idx, d2);
 }
 
 /* The cloud of x: nodes within *r (starting at the caller's radius),
@@ -174,7 +175,39 @@ static int next_nearest(const mpgm_clouds *c, const double x[MPGM_DIM], int n, d
   }
 }
 
+/* the widest range of values mpgm_sort_ints sorts through a bitmap */
+#define SORT_BITMAP_WORDS 128
+
+/* Distinct values a[0..n) in a range below 64 SORT_BITMAP_WORDS from lo:
+ * set as bits, read back in order. Returns 0 (a unchanged) at a repeated
+ * value. */
+static int sort_by_bitmap(int *a, int n, int lo, int words) {
+  uint64_t bits[SORT_BITMAP_WORDS];
+  memset(bits, 0, sizeof(uint64_t) * (size_t)words);
+  for (int i = 0; i < n; i++) {
+    const unsigned v = (unsigned)(a[i] - lo);
+    const uint64_t b = (uint64_t)1 << (v & 63);
+    if (bits[v >> 6] & b) return 0;
+    bits[v >> 6] |= b;
+  }
+  int k = 0;
+  for (int w = 0; w < words; w++)
+    for (uint64_t x = bits[w]; x; x &= x - 1) a[k++] = lo + 64 * w + __builtin_ctzll(x);
+  return 1;
+}
+
 void mpgm_sort_ints(int *a, int n) {
+  if (n < 2) return;
+  /* a cloud's node ids lie within a few rows of the nodes' numbering: a
+   * bitmap of their range orders them in O(n + range / 64) */
+  int lo = a[0], hi = a[0];
+  for (int i = 1; i < n; i++) {
+    if (a[i] < lo) lo = a[i];
+    if (a[i] > hi) hi = a[i];
+  }
+  if ((long)hi - lo < 64L * SORT_BITMAP_WORDS &&
+      sort_by_bitmap(a, n, lo, (int)(((long)hi - lo) / 64 + 1)))
+    return;
   for (int i = 1; i < n; i++) {
     const int v = a[i];
     int j = i - 1;

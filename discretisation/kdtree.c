@@ -447,15 +447,15 @@ static void rad_overflow(rad_out *o, int j, double d) {
   }
 }
 
-int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap,
-                       int *idx, double *d2) {
-  if (!t || !t->valid || t->n == 0 || !(radius >= 0.0) || !isfinite(q[0]) || !isfinite(q[1]))
-    return 0;
+/* The ball's points into o (the cap nearest when more); o->cnt counts them
+ * all. The order is the tree's: mpgm_kdtree_radius sorts them. */
+static void radius_search(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius,
+                          rad_out *out) {
   const double qx = q[0], qy = q[1], r2 = radius * radius;
   const double *xy = t->xy;
   const int *perm = t->perm;
   const kd_node *nodes = t->nodes;
-  rad_out o = {idx, d2, cap > 0 ? cap : 0, 0};
+  rad_out o = *out;
   struct {
     int node;
     double g[MPGM_DIM];
@@ -497,10 +497,29 @@ int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[MPGM_DIM], double ra
     --sp;
     node = stack[sp].node, g[0] = stack[sp].g[0], g[1] = stack[sp].g[1];
   }
+  *out = o;
+}
+
+int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap,
+                       int *idx, double *d2) {
+  if (!t || !t->valid || t->n == 0 || !(radius >= 0.0) || !isfinite(q[0]) || !isfinite(q[1]))
+    return 0;
+  rad_out o = {idx, d2, cap > 0 ? cap : 0, 0};
+  radius_search(t, q, radius, &o);
   if (o.cnt > o.cap)
     heap_sort_down(o.idx, o.d2, o.cap);
   else
     sort_results(o.idx, o.d2, o.cnt);
+  return o.cnt;
+}
+
+int mpgm_kdtree_radius_set(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap,
+                           int *idx, double *d2) {
+  if (!t || !t->valid || t->n == 0 || !(radius >= 0.0) || !isfinite(q[0]) || !isfinite(q[1]))
+    return 0;
+  rad_out o = {idx, d2, cap > 0 ? cap : 0, 0};
+  radius_search(t, q, radius, &o);
+  if (o.cnt > o.cap) heap_sort_down(o.idx, o.d2, o.cap);
   return o.cnt;
 }
 

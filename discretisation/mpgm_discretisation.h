@@ -165,8 +165,9 @@ void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch
 int mpgm_clouds_build(mpgm_clouds *c, const mpgm_fe_view *v, const struct mpgm_kdtree *tree,
                       const unsigned char *skip, mpgm_conn *out);
 
-/** Sort a short list of ints in place, increasing (insertion sort: the
- *  clouds' and the skin's node lists). */
+/** Sort a short list of ints in place, increasing (the clouds' and the
+ *  skin's node lists): distinct values within a range of 8192 through a
+ *  bitmap, others by insertion. */
 void mpgm_sort_ints(int *a, int n);
 
 /** The search radius [m] each point's cloud had at the last

@@ -120,6 +120,14 @@ void mpgm_kdtree_destroy(mpgm_kdtree **t);
 int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap,
                        int *idx, double *d2);
 
+/** The same ball as mpgm_kdtree_radius, for callers that order the points
+ *  themselves (node clouds sort them by index): when m <= cap, idx and d2
+ *  hold them in no particular order (the tree's); when m > cap, the cap
+ *  nearest, ordered by (d2, index), as mpgm_kdtree_radius gives them. The
+ *  sort it leaves out is most of the search's cost at clouds of 50 nodes. */
+int mpgm_kdtree_radius_set(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap,
+                           int *idx, double *d2);
+
 /** k nearest points, ordered by (d2, index): the first k of a brute-force
  *  list sorted by (d2, index), ties at the k-th distance included.
  *  @param t   tree

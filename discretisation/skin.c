@@ -114,7 +114,7 @@ static int build(mpgm_ctx *ctx, mpgm_skin *s, const double *xp, const double *rp
   s->ptr[0] = 0;
   for (int p = 0; p < s->np; p++) {
     const double r = rt > 0.0 && rt < rp[p] ? rt : rp[p];
-    const int n = mpgm_kdtree_radius(tree, xp + MPGM_DIM * p, r + s->skin, SKIN_MAXLIST, idx, d2);
+    const int n = mpgm_kdtree_radius_set(tree, xp + MPGM_DIM * p, r + s->skin, SKIN_MAXLIST, idx, d2);
     if (n > SKIN_MAXLIST) {
       *overflow = 1;
       return 0;

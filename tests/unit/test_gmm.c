@@ -330,7 +330,50 @@ static void run_merge(const char *path) {
   }
 }
 
+static int int_cmp(const void *a, const void *b) {
+  const int x = *(const int *)a, y = *(const int *)b;
+  return (x > y) - (x < y);
+}
+
+/* mpgm_sort_ints (the clouds' node lists) against qsort: distinct values
+ * in a narrow range (its bitmap), repeated values, a wide range and
+ * negative values (its insertion sort), and the edge of the bitmap's range. */
+static void run_sort_ints(void) {
+  unsigned s = 12345u;
+  const int spans[6] = {1, 60, 900, 8191, 8192, 1 << 30};
+  for (int c = 0; c < 6; c++)
+    for (int rep = 0; rep < 2; rep++) /* rep 1: repeated values allowed */
+      for (int trial = 0; trial < 50; trial++) {
+        int a[200], b[200];
+        const int n = trial % 2 ? 1 + trial * 3 : trial, base = c == 5 ? -(1 << 29) : 77;
+        for (int i = 0; i < n; i++) {
+          s = s * 1103515245u + 12345u;
+          a[i] = base + (int)((s >> 1) % (unsigned)spans[c]);
+        }
+        if (!rep) { /* distinct: drop repeats */
+          int m = 0;
+          for (int i = 0; i < n; i++) {
+            int seen = 0;
+            for (int k = 0; k < m && !seen; k++) seen = a[k] == a[i];
+            if (!seen) a[m++] = a[i];
+          }
+          memcpy(b, a, sizeof(int) * (size_t)m);
+          mpgm_sort_ints(a, m);
+          qsort(b, (size_t)m, sizeof(int), int_cmp);
+          mpgm_test(m == 0 || memcmp(a, b, sizeof(int) * (size_t)m) == 0,
+                    "sort_ints: %d distinct values in a range of %d", m, spans[c]);
+        } else {
+          memcpy(b, a, sizeof(int) * (size_t)n);
+          mpgm_sort_ints(a, n);
+          qsort(b, (size_t)n, sizeof(int), int_cmp);
+          mpgm_test(n == 0 || memcmp(a, b, sizeof(int) * (size_t)n) == 0,
+                    "sort_ints: %d values with repeats in a range of %d", n, spans[c]);
+        }
+      }
+}
+
 int main(void) {
+  run_sort_ints();
   char dir[] = "/tmp/mpgm_test_gmm_XXXXXX";
   if (!mkdtemp(dir)) {
     mpgm_test(0, "mkdtemp");

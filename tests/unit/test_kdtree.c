@@ -65,6 +65,16 @@ static int same_prefix(const hit *h, int m, const int *idx, const double *d2) {
   return 1;
 }
 
+/* idx/d2 (m of them, in any order) the same set as the first m brute-force
+ * hits: sorted into scratch by (d2, index) and compared */
+static int same_set(const hit *h, int m, const int *idx, const double *d2, hit *scratch) {
+  for (int a = 0; a < m; a++) scratch[a].d2 = d2[a], scratch[a].i = idx[a];
+  qsort(scratch, (size_t)m, sizeof *scratch, hit_cmp);
+  for (int a = 0; a < m; a++)
+    if (scratch[a].i != h[a].i || scratch[a].d2 != h[a].d2) return 0;
+  return 1;
+}
+
 /* ------------------------------------------------------------ point sets */
 
 static double gauss(rng *r) {
@@ -209,8 +219,11 @@ static void compare_tree(const char *name, int leaf, const mpgm_kdtree *t, const
   double radii[16] = {0.0, 1e-3 * L, 0.02 * L, 0.08 * L, 0.3 * L, 1e10, INFINITY};
   int nr = 7;
   if (h > 0) radii[nr++] = h, radii[nr++] = 2 * h, radii[nr++] = 5 * h, radii[nr++] = 0.5 * h;
+  hit *scratch = malloc(sizeof(hit) * (size_t)(n > 0 ? n : 1));
+  mpgm_test(scratch != NULL, "scratch for the unordered radius search");
+  if (!scratch) return;
   for (int a = 0; a < nr; a++) {
-    int bad = 0, bad_small = 0, total = 0;
+    int bad = 0, bad_small = 0, bad_set = 0, total = 0;
     const int stride = radii[a] >= 1e10 ? 4 : 1; /* huge: all points, every 4th query */
     for (int k = 0; k < nq; k += stride) {
       const hit *hb = brute + (size_t)k * n;
@@ -218,6 +231,13 @@ static void compare_tree(const char *name, int leaf, const mpgm_kdtree *t, const
       const int got = mpgm_kdtree_radius(t, q + 2 * k, radii[a], n, b->idx, b->d2);
       bad += got != m || !same_prefix(hb, m, b->idx, b->d2);
       total += m;
+      /* unordered: the same set; with a buffer of m/2, the nearest in order */
+      const int gs = mpgm_kdtree_radius_set(t, q + 2 * k, radii[a], n, b->idx, b->d2);
+      bad_set += gs != m || !same_set(hb, m, b->idx, b->d2, scratch);
+      if (m > 1 && mpgm_kdtree_radius_set(t, q + 2 * k, radii[a], m / 2, b->idx, b->d2) != m)
+        bad_set++;
+      else if (m > 1)
+        bad_set += !same_prefix(hb, m / 2, b->idx, b->d2);
       /* too small buffers (every third query): the full count, the nearest
        * cap in order */
       const int caps[3] = {0, m / 2, m - 1};
@@ -235,7 +255,12 @@ static void compare_tree(const char *name, int leaf, const mpgm_kdtree *t, const
               "%s (n = %d, leaf %d): radius %.4g, buffers of 0, m/2, m-1: count m, the nearest cap "
               "(%d differ)",
               name, n, leaf, radii[a], bad_small);
+    mpgm_test(bad_set == 0,
+              "%s (n = %d, leaf %d): radius %.4g, unordered search: the same set, the nearest "
+              "m/2 in order with a buffer of m/2 (%d differ)",
+              name, n, leaf, radii[a], bad_set);
   }
+  free(scratch);
   const int ks[8] = {1, 2, 7, 16, 33, 100, n, n + 5};
   for (int a = 0; a < 8; a++) {
     const int kk = ks[a];
