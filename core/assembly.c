@@ -346,19 +346,6 @@ static inline void stress_on_dN(const mpgm_problem *pb, int p, double B[MPGM_TEN
   B[2] = s[2] * i00 + s[1] * i01; B[3] = s[2] * i10 + s[1] * i11;
 }
 
-/* Ask for the cloud entries of point p (the next one in the task's order)
- * while the current one is summed: the task order is not the storage order
- * (groups go by first node), so each point's entries start a new stream,
- * which the hardware prefetcher would pick up only after a few misses.
- * Cache lines of 64 bytes: 8 / MPGM_DIM entries of dN, 8 of N, 16 of node. Cuts the
- * residual-only assembly of Table 1's GMM-LME gamma 0.8 run by a fifth. */
-static inline void prefetch_point(const mpgm_conn *C, int p) {
-  const int k0 = C->ptr[p], k1 = C->ptr[p + 1];
-  for (int k = k0; k < k1; k += 8 / MPGM_DIM) __builtin_prefetch(C->dN + MPGM_DIM * k);
-  for (int k = k0; k < k1; k += 8) __builtin_prefetch(C->N + k);
-  for (int k = k0; k < k1; k += 16) __builtin_prefetch(C->node + k);
-}
-
 /* Internal (and inertial) force of point p subtracted from R. */
 static inline void point_residual(const asm_job *j, int p) {
   const mpgm_problem *pb = j->pb;
@@ -639,11 +626,7 @@ static void assemble_task(void *arg, int task, int tid) {
     for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++) assemble_group(j, pb->task_grp[i], kl);
   } else { /* residual only: the task's points as one flat list, in the
             * same order as above (so R is the same to the last bit) */
-    const int i1 = pb->tpt_ptr[t + 1];
-    for (int i = pb->tpt_ptr[t]; i < i1; i++) {
-      if (i + 1 < i1) prefetch_point(&pb->conn, pb->task_pts[i + 1]);
-      point_residual(j, pb->task_pts[i]);
-    }
+    for (int i = pb->tpt_ptr[t]; i < pb->tpt_ptr[t + 1]; i++) point_residual(j, pb->task_pts[i]);
   }
 }
 
