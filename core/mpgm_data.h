@@ -103,7 +103,8 @@ typedef struct mpgm_conn {
   double *dN;     /**< grad N at the start-of-step configuration,
                        MPGM_DIM each                                    */
   double *g;      /**< grad N at the current iterate, MPGM_DIM each
-                       (work)                                           */
+                       (work; formed only by an evaluation of the points
+                       for a tangent: the residual reads dN)            */
   int version;    /**< incremented by a front end when the node set,
                        fixity or matrix pattern changes                  */
   int map_version;/**< incremented when only the point -> node lists

@@ -231,10 +231,11 @@ int mpgm_order_nodes(mpgm_ctx *ctx, int n, const int *ptr, const int *adj, const
 /** Number equations of free components (node-major); sets nodes->ndof. */
 void mpgm_nodes_number(mpgm_nodes *nd);
 
-/** Evaluate trial state at the current increment nodes.du: F, stress,
- *  current gradients and, when want_D, the tangents D (explicit schemes
- *  assemble no matrix; modified Newton solving with its kept
- *  factorisation needs none). Exposed for tests. */
+/** Evaluate trial state at the current increment nodes.du: F, stress
+ *  and, when want_D, the tangents D and the current gradients conn.g
+ *  (explicit schemes assemble no matrix; modified Newton solving with its
+ *  kept factorisation needs none; the residual reads the start-of-step
+ *  gradients). Exposed for tests. */
 int mpgm_eval_points(mpgm_problem *pb, int want_D);
 /** Assemble R = f_ext - f_int (- f_inertia) and, if want_K, the tangent
  *  into pb->K (pattern must exist). Exposed for tests. */
