@@ -500,26 +500,29 @@ static void radius_search(const mpgm_kdtree *t, const double q[MPGM_DIM], double
   *out = o;
 }
 
+/* The ball of both radius searches into o: the count, and the points in
+ * the tree's order, or the cap nearest in order when there are more. */
+static void ball(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap, int *idx,
+                 double *d2, rad_out *o) {
+  *o = (rad_out){idx, d2, cap > 0 ? cap : 0, 0};
+  if (!t || !t->valid || t->n == 0 || !(radius >= 0.0) || !isfinite(q[0]) || !isfinite(q[1]))
+    return;
+  radius_search(t, q, radius, o);
+  if (o->cnt > o->cap) heap_sort_down(o->idx, o->d2, o->cap);
+}
+
 int mpgm_kdtree_radius(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap,
                        int *idx, double *d2) {
-  if (!t || !t->valid || t->n == 0 || !(radius >= 0.0) || !isfinite(q[0]) || !isfinite(q[1]))
-    return 0;
-  rad_out o = {idx, d2, cap > 0 ? cap : 0, 0};
-  radius_search(t, q, radius, &o);
-  if (o.cnt > o.cap)
-    heap_sort_down(o.idx, o.d2, o.cap);
-  else
-    sort_results(o.idx, o.d2, o.cnt);
+  rad_out o;
+  ball(t, q, radius, cap, idx, d2, &o);
+  if (o.cnt <= o.cap) sort_results(o.idx, o.d2, o.cnt);
   return o.cnt;
 }
 
 int mpgm_kdtree_radius_set(const mpgm_kdtree *t, const double q[MPGM_DIM], double radius, int cap,
                            int *idx, double *d2) {
-  if (!t || !t->valid || t->n == 0 || !(radius >= 0.0) || !isfinite(q[0]) || !isfinite(q[1]))
-    return 0;
-  rad_out o = {idx, d2, cap > 0 ? cap : 0, 0};
-  radius_search(t, q, radius, &o);
-  if (o.cnt > o.cap) heap_sort_down(o.idx, o.d2, o.cap);
+  rad_out o;
+  ball(t, q, radius, cap, idx, d2, &o);
   return o.cnt;
 }
 
