@@ -11,6 +11,10 @@
 /* 2x2 helpers, row major {a00, a01, a10, a11}. 2-D only: written out for
  * MPGM_DIM = 2 (3-D: the 3x3 determinant and product). */
 static inline double det2(const double *a) { return a[0] * a[3] - a[1] * a[2]; }
+/* inverse of a with determinant J (a 2x2 row major). */
+static inline void inv2(const double *a, double J, double *ia) {
+  ia[0] = a[3] / J; ia[1] = -a[1] / J; ia[2] = -a[2] / J; ia[3] = a[0] / J;
+}
 static inline void mul2(const double *a, const double *b, double *c) {
   c[0] = a[0] * b[0] + a[1] * b[2];
   c[1] = a[0] * b[1] + a[1] * b[3];
@@ -72,15 +76,17 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
       mul2(dF, P->F + MPGM_TENSOR * p, F);
       P->vol_t[p] = J * P->vol[p];
       /* gradients at the iterate, g = dN dF^-1, for the tangent only (the
-       * residual takes dN, see point_residual). 2-D only: the 2x2 inverse
+       * residual takes dN, see stress_on_dN). 2-D only: the 2x2 inverse
        * and the product written out (3-D: the 3x3 inverse) */
-      const double i00 = dF[3] / J, i01 = -dF[1] / J, i10 = -dF[2] / J, i11 = dF[0] / J;
-      if (want_D)
+      if (want_D) {
+        double iF[MPGM_TENSOR];
+        inv2(dF, J, iF);
         for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
           const double a = C->dN[MPGM_DIM * k], b = C->dN[MPGM_DIM * k + 1];
-          C->g[MPGM_DIM * k] = a * i00 + b * i10;
-          C->g[MPGM_DIM * k + 1] = a * i01 + b * i11;
+          C->g[MPGM_DIM * k] = a * iF[0] + b * iF[2];
+          C->g[MPGM_DIM * k + 1] = a * iF[1] + b * iF[3];
         }
+      }
       err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
                             D_t ? D_t + MPGM_NTANGENT * p : NULL);
     }
@@ -340,10 +346,10 @@ static inline void stress_on_dN(const mpgm_problem *pb, int p, double B[MPGM_TEN
     return;
   }
   const double *dF = pb->pts.dF_t + MPGM_TENSOR * p;
-  const double J = dF[0] * dF[3] - dF[1] * dF[2];
-  const double i00 = dF[3] / J, i01 = -dF[1] / J, i10 = -dF[2] / J, i11 = dF[0] / J;
-  B[0] = s[0] * i00 + s[2] * i01; B[1] = s[0] * i10 + s[2] * i11;
-  B[2] = s[2] * i00 + s[1] * i01; B[3] = s[2] * i10 + s[1] * i11;
+  double iF[MPGM_TENSOR];
+  inv2(dF, det2(dF), iF);
+  B[0] = s[0] * iF[0] + s[2] * iF[1]; B[1] = s[0] * iF[2] + s[2] * iF[3];
+  B[2] = s[2] * iF[0] + s[1] * iF[1]; B[3] = s[2] * iF[2] + s[1] * iF[3];
 }
 
 /* Internal (and inertial) force of point p subtracted from R. */
