@@ -171,6 +171,9 @@ typedef struct mpgm_scene {
                                  within this radius (a multiple of
                                  mesh.h; and the skin) of each point
                                  only; 0: the clouds'                  */
+  double tangent_tol;       /**< gmm, lme: the weight at which the
+                                 tangent's radius is set (0: given by
+                                 tangent_radius or none)               */
   /* mesh */
   double h;                 /**< cell size [m]                         */
   int cell;                 /**< mpgm_cell_kind                        */

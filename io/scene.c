@@ -387,6 +387,23 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   return jr_end(&o);
 }
 
+/* shape.tangent_tol: the tangent's radius where the LME weight exp(-gamma
+ * r^2 / h^2) falls to tol, r_t = h sqrt(-ln tol / gamma), so that one
+ * setting leaves out weights of the same size at every gamma (a radius in h
+ * suits one gamma only). Sets tangent_radius; the two exclude each other. */
+static int read_tangent_tol(jr_node *sh, mpgm_scene *s) {
+  MPGM_CALL(jr_num(sh, "tangent_tol", 0.0, 0.0, 1.0, 0, 1, &s->tangent_tol));
+  if (!(s->tangent_tol > 0.0)) return 0;
+  if (strcmp(s->shape->name, "lme") != 0)
+    return jr_fail(sh, "tangent_tol", "a tangent cut by the LME weight: expected shape.kind "
+                   "\"lme\", found \"%s\" (use shape.tangent_radius)", s->shape->name);
+  if (s->tangent_radius > 0.0)
+    return jr_fail(sh, "tangent_tol", "expected shape.tangent_radius or shape.tangent_tol, found "
+                   "both (radius %g h, tol %g)", s->tangent_radius, s->tangent_tol);
+  s->tangent_radius = sqrt(-log(s->tangent_tol) / s->shape_par.gamma);
+  return 0;
+}
+
 /* Parameters of the meshfree kinds (shape.*; docs/scene-format.md, "shape").
  * The cell-based kind "fe" takes none, so its only key is "kind". The length
  * scale h = mesh.h is set once the mesh is read. */
@@ -397,6 +414,7 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   s->max_enlarge = 0;
   s->skin = 0.0;
   s->tangent_radius = 0.0;
+  s->tangent_tol = 0.0;
   if (s->shape->needs_cell) return 0;
   MPGM_CALL(jr_num(sh, "gamma", 1.8, 0.0, INFINITY, 1, 0, &p->gamma));
   MPGM_CALL(jr_num(sh, "tol_support", 1e-6, 0.0, 1.0, 1, 1, &p->tol_support));
@@ -416,8 +434,10 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
     return jr_fail(sh, "skin", "the pattern skin of persistent nodes' clouds: expected method "
                    "\"gmm\", found \"%s\"", s->frontend->name);
   MPGM_CALL(jr_num(sh, "tangent_radius", 0.0, 0.0, 1000.0, 0, 0, &s->tangent_radius));
+  MPGM_CALL(read_tangent_tol(sh, s));
+  const char *key = s->tangent_tol > 0.0 ? "tangent_tol" : "tangent_radius";
   if (s->tangent_radius > 0.0 && !(s->skin > 0.0))
-    return jr_fail(sh, "tangent_radius", "a tangent of smaller clouds is built on the pattern "
+    return jr_fail(sh, key, "a tangent of smaller clouds is built on the pattern "
                    "skin's lists: expected method \"gmm\" with shape.skin > 0, found method "
                    "\"%s\" and skin %g", s->frontend->name, s->skin);
   return 0;

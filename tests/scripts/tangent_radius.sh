@@ -19,7 +19,10 @@
 #     tangent, UMFPACK), short;
 #   - a static run (the cantilever), narrow from its first step: no
 #     initial acceleration to solve;
-# then the refusals: no skin, a negative radius, another method.
+#   - shape.tangent_tol, the radius where the LME weight falls to a
+#     tolerance, gives the run of the radius it stands for, to the bit;
+# then the refusals: no skin, a negative radius, another method, a
+# tolerance with MLS, with a radius, of 1, without the skin.
 #
 # usage: tangent_radius.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
@@ -71,6 +74,23 @@ while IFS= read -r line; do
   case "$line" in OK*) ok "rolling disk, GMM-LME 0.8: ${line#OK }" ;;
                   *) ko "rolling disk, GMM-LME 0.8: ${line#BAD }" ;; esac
 done <<< "$r"
+
+# shape.tangent_tol: the radius where the LME weight falls to tol; at
+# gamma 0.8, tol exp(-6.4) is the radius 2 sqrt(2) h of rd_t, to the bit
+"$exe" "${rd[@]}" --set shape.tangent_tol=0.001661557273173934 --out rd_tol > rd_tol.log 2>&1
+r=$(python3 - <<'PY'
+import csv, json
+(t, ts), (w, ws) = ((json.load(open(f"{d}/summary.json")),
+                     [{k: v for k, v in r.items() if k != "wall_s"} for r in csv.DictReader(open(f"{d}/steps.csv"))])
+                    for d in ("rd_t", "rd_tol"))
+ok = (w["status"] == "completed" and t["metrics"] == w["metrics"] and ts == ws
+      and t["counts"]["nnz"] == w["counts"]["nnz"])
+print(("OK " if ok else "BAD ") + f"status {w['status']}, K {t['counts']['nnz']} / {w['counts']['nnz']} "
+      f"entries, the same steps.csv and metrics: {ok}")
+PY
+)
+case "$r" in OK*) ok "tangent_tol exp(-6.4) at gamma 0.8 is the radius 2 sqrt(2) h: ${r#OK }" ;;
+             *) ko "tangent_tol: ${r#BAD }" ;; esac
 
 # a restart from the checkpoint of the first step (whole clouds: it solves
 # for the initial acceleration) must narrow the lists at the second step as
@@ -136,6 +156,17 @@ expect 2 'shape.tangent_radius' "a negative tangent radius is refused" \
 expect 2 'shape.tangent_radius' "a tangent radius with method mpm is refused" \
   "$exe" run "$src/cases/column_collapse.json" --set shape.kind=lme \
   --set shape.tangent_radius=0.2 --out bad3
+
+expect 2 'shape.tangent_tol' "a tangent tolerance with MLS is refused" \
+  "$exe" run "$src/cases/column_collapse_gmm.json" --set shape.tangent_tol=1e-3 --out bad4
+expect 2 'shape.tangent_tol' "a tangent tolerance and a tangent radius together are refused" \
+  "$exe" run "$src/cases/column_collapse_gmm.json" --set shape.kind=lme --set shape.tangent_tol=1e-3 \
+  --set shape.tangent_radius=2 --out bad5
+expect 2 'shape.tangent_tol' "a tangent tolerance of 1 is refused" \
+  "$exe" run "$src/cases/column_collapse_gmm.json" --set shape.kind=lme --set shape.tangent_tol=1 --out bad6
+expect 2 'shape.tangent_tol' "a tangent tolerance without the pattern skin is refused" \
+  "$exe" run "$src/cases/column_collapse_gmm.json" --set shape.kind=lme --set shape.skin=0 \
+  --set shape.tangent_tol=1e-3 --out bad7
 
 echo "$npass passed, $nfail failed"
 [ "$nfail" -eq 0 ]
