@@ -387,20 +387,26 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   return jr_end(&o);
 }
 
-/* shape.tangent_tol: the tangent's radius where the LME weight exp(-gamma
- * r^2 / h^2) falls to tol, r_t = h sqrt(-ln tol / gamma), so that one
- * setting leaves out weights of the same size at every gamma (a radius in h
- * suits one gamma only). Sets tangent_radius; the two exclude each other. */
+/* shape.tangent_tol: the tangent's radius (in h) where the kind's weight
+ * falls to tol (the kind's weight_radius; LME: sqrt(-ln tol / gamma)), so
+ * that one setting leaves out weights of the same size at every gamma (a
+ * radius in h suits one gamma only). Sets tangent_radius; the two exclude
+ * each other. */
 static int read_tangent_tol(jr_node *sh, mpgm_scene *s) {
   MPGM_CALL(jr_num(sh, "tangent_tol", 0.0, 0.0, 1.0, 0, 1, &s->tangent_tol));
   if (!(s->tangent_tol > 0.0)) return 0;
-  if (strcmp(s->shape->name, "lme") != 0)
-    return jr_fail(sh, "tangent_tol", "a tangent cut by the LME weight: expected shape.kind "
-                   "\"lme\", found \"%s\" (use shape.tangent_radius)", s->shape->name);
+  if (!s->shape->weight_radius)
+    return jr_fail(sh, "tangent_tol", "a tangent cut where the weight falls to tol: expected a "
+                   "kind with such a weight (\"lme\"), found \"%s\" (use shape.tangent_radius)",
+                   s->shape->name);
   if (s->tangent_radius > 0.0)
     return jr_fail(sh, "tangent_tol", "expected shape.tangent_radius or shape.tangent_tol, found "
                    "both (radius %g h, tol %g)", s->tangent_radius, s->tangent_tol);
-  s->tangent_radius = sqrt(-log(s->tangent_tol) / s->shape_par.gamma);
+  mpgm_shape_params unit = s->shape_par; /* mesh.h is not read yet: in units of h */
+  unit.h = 1.0;
+  if (s->shape->weight_radius(&unit, s->tangent_tol, &s->tangent_radius))
+    return jr_fail(sh, "tangent_tol", "no radius for tol %g with gamma %g", s->tangent_tol,
+                   s->shape_par.gamma);
   return 0;
 }
 

@@ -66,6 +66,15 @@ enum { HULL_INSIDE = 0, HULL_BOUNDARY = 1, HULL_OUTSIDE = 2 };
 /* Line search: a step halved this often has stalled. */
 #define LME_MAX_HALVINGS 40
 
+/* Where the weight exp(-beta r^2), beta = gamma / h^2, falls to w. */
+static int lme_weight_radius(const mpgm_shape_params *par, double w, double *R) {
+  *R = 0.0;
+  if (!par || !(par->h > 0.0) || !(w > 0.0 && w < 1.0)) return MPGM_ERR_INPUT;
+  const double gamma = mpgm_shape_dflt(par->gamma, MPGM_LME_GAMMA);
+  *R = par->h * sqrt(-log(w) / gamma);
+  return isfinite(*R) ? 0 : MPGM_ERR_INPUT;
+}
+
 static int lme_radius(const mpgm_shape_params *par, double *R) {
   *R = 0.0;
   if (!par || !(par->h > 0.0)) return MPGM_ERR_INPUT;
@@ -75,11 +84,9 @@ static int lme_radius(const mpgm_shape_params *par, double *R) {
     *R = par->radius;
     return 0;
   }
-  const double gamma = mpgm_shape_dflt(par->gamma, MPGM_LME_GAMMA);
   const double tol = par->tol_support > 0.0 && par->tol_support < 1.0 ? par->tol_support
                                                                        : MPGM_LME_TOL_SUPPORT;
-  *R = par->h * sqrt(-log(tol) / gamma);
-  return isfinite(*R) ? 0 : MPGM_ERR_INPUT;
+  return lme_weight_radius(par, tol, R);
 }
 
 /* Where the origin lies with respect to the convex hull of the points v
@@ -320,4 +327,5 @@ const mpgm_shapefn_type mpgm_shapefn_lme = {
     .needs_cell = 0,
     .eval = lme_eval,
     .support_radius = lme_radius,
+    .weight_radius = lme_weight_radius,
 };

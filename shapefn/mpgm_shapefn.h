@@ -172,6 +172,11 @@ typedef struct mpgm_shapefn_type {
   /** Optional (NULL for cell-based kinds): radius [m] of the node search
    *  around a point. Returns 0 or MPGM_ERR_INPUT (no length scale). */
   int (*support_radius)(const mpgm_shape_params *par, double *radius);
+  /** Optional (NULL for kinds without a weight that falls with distance):
+   *  the distance [m] at which the kind's weight falls to w (0 < w < 1) of
+   *  its value at the point; LME h sqrt(-ln w / gamma). Returns 0 or
+   *  MPGM_ERR_INPUT. shape.tangent_tol sets the tangent's radius by it. */
+  int (*weight_radius)(const mpgm_shape_params *par, double w, double *radius);
 } mpgm_shapefn_type;
 
 /** Radius [m] within which a meshfree kind needs the nodes of a point (the
