@@ -520,70 +520,6 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   return 0;
 }
 
-/* "solver": the linear solver backend and Newton's settings. */
-static int read_solver(jr_node *root, mpgm_scene *s) {
-  jr_node so;
-  MPGM_CALL(jr_child(root, "solver", 0, &so));
-  const mpgm_solver_type *const *svt = mpgm_solver_types();
-  const char *svn[16];
-  int nsv = 0;
-  for (; svt[nsv] && nsv < 15; nsv++) svn[nsv] = svt[nsv]->name;
-  svn[nsv] = NULL;
-  int si; /* the first backend of the list, "auto", is the default */
-  const cJSON *lin = jr_override_json(&so, "linear");
-  if (!lin) lin = jr_raw(&so, "linear");
-  char why[512];
-  /* an explicit run loads no solver (core/problem.c) */
-  if (s->analysis != MPGM_ANALYSIS_EXPLICIT && cJSON_IsString(lin) &&
-      strcmp(lin->valuestring, "petsc") == 0 && !mpgm_solver_usable("petsc", why, sizeof why))
-    return jr_fail(&so, "linear", "\"petsc\" cannot be used: %s", why);
-  MPGM_CALL(jr_enum(&so, "linear", svn, 0, &si));
-  s->solver = svt[si];
-  MPGM_CALL(jr_num(&so, "rtol", 1e-9, 0, 1, 1, 1, &s->rtol));
-  MPGM_CALL(jr_num(&so, "atol", 1e-10, 0, INFINITY, 0, 0, &s->atol));
-  MPGM_CALL(jr_num(&so, "dtol", 1e-10, 0, 1, 1, 1, &s->dtol));
-  MPGM_CALL(jr_int(&so, "max_iterations", 25, 1, 1000, &s->max_iter));
-  static const char *const newton_names[] = {"full", "modified", "krylov", "bfgs", NULL};
-  int newton;
-  MPGM_CALL(jr_enum(&so, "newton", newton_names, 0, &newton));
-  s->newton_modified = newton == 1 || newton == 3;
-  s->newton_bfgs = newton == 3;
-  s->newton_krylov = newton == 2;
-  if (s->newton_krylov && s->solver->iterative)
-    return jr_fail(&so, "newton", "\"krylov\" preconditions GMRES with the factorisation of a "
-                   "direct solver.linear (auto, cholmod, umfpack, klu, ...), found \"%s\"",
-                   s->solver->name);
-  MPGM_CALL(jr_num(&so, "reuse_ratio", 0.1, 0.0, 1.0, 1, 1, &s->reuse_ratio));
-  MPGM_CALL(jr_int(&so, "bfgs_pairs", 16, 1, MPGM_BFGS_PAIRS_MAX, &s->bfgs_pairs));
-  MPGM_CALL(jr_num(&so, "relaxation", 1.0, 0.0, 1.0, 1, 0, &s->relaxation));
-  MPGM_CALL(jr_int(&so, "stagnation", 5, 0, 1000, &s->stagnation));
-  MPGM_CALL(jr_int(&so, "line_search", 0, 0, 30, &s->line_search));
-  MPGM_CALL(jr_int(&so, "contact_rank", 32, 0, 1024, &s->contact_rank));
-  MPGM_CALL(jr_num(&so, "contact_check", 1e-3, 0.0, 1.0, 0, 1, &s->contact_check));
-  static const char *const ordering_names[] = {"backend", "geometric", NULL};
-  MPGM_CALL(jr_enum(&so, "ordering", ordering_names, 0, &s->ordering_nd));
-  MPGM_CALL(jr_int(&so, "threads", 1, 0, 256, &s->threads));
-  /* iterative backends (gmres); the direct ones ignore them */
-  s->solver_opts = mpgm_solver_opts_default();
-  MPGM_CALL(jr_num(&so, "linear_tol", s->solver_opts.tol, 0, 1, 1, 1, &s->solver_opts.tol));
-  MPGM_CALL(jr_int(&so, "linear_restart", s->solver_opts.restart, 1, 1000, &s->solver_opts.restart));
-  MPGM_CALL(jr_int(&so, "linear_max_iterations", s->solver_opts.max_iter, 1, 10000000,
-                   &s->solver_opts.max_iter));
-  MPGM_CALL(jr_int(&so, "refactor_iterations", s->solver_opts.refactor_iterations, 1, 100000,
-                   &s->solver_opts.refactor_iterations));
-  static const char *const forcing_names[] = {"fixed", "eisenstat_walker", NULL};
-  MPGM_CALL(jr_enum(&so, "forcing", forcing_names, 0, &s->forcing_ew));
-  const int petsc = strcmp(svn[si], "petsc") == 0;
-  if (!petsc && (jr_raw(&so, "petsc") || jr_override_json(&so, "petsc")))
-    return jr_fail(&so, "petsc", "PETSc's options: only with solver.linear \"petsc\", found "
-                   "\"%s\"", svn[si]);
-  if (petsc)
-    MPGM_CALL(jr_str(&so, "petsc", "", s->solver_opts.petsc, sizeof s->solver_opts.petsc));
-  MPGM_CALL(jr_end(&so));
-
-  return 0;
-}
-
 /* "manufactured" (optional): a manufactured solution of Tran et al. 2019
  * section 4 drives the run (docs/theory.md section 21). Its law is the
  * neo-Hookean one: the scene has one material of that type, finite
@@ -670,7 +606,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
                                                                        : "an implicit analysis");
   }
 
-  MPGM_CALL(read_solver(root, s));
+  MPGM_CALL(mpgm_scene_read_solver(root, s));
   MPGM_CALL(read_materials(root, s));
   for (int i = 0; i < s->nmat; i++) {
     jr_node m = {.r = root->r};

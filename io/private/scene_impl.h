@@ -1,5 +1,6 @@
 /* scene_impl.h -- private to io/: pieces of scene loading that live in
- * their own files (scene_boundaries.c, scene_reference.c, scene_time.c). */
+ * their own files (scene_boundaries.c, scene_reference.c, scene_solver.c,
+ * scene_time.c). */
 #ifndef MPGM_SCENE_IMPL_H
 #define MPGM_SCENE_IMPL_H
 
@@ -34,5 +35,10 @@ int mpgm_scene_contact_sides(mpgm_ctx *ctx, mpgm_scene *s);
  *  s->analysis, for messages. */
 int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis);
 int mpgm_scene_read_newmark(jr_node *tm, mpgm_scene *s, const char *analysis);
+
+/** "solver": the linear backend, its options and Newton's settings
+ *  (scene_solver.c; after "time", whose analysis decides whether PETSc is
+ *  loaded). */
+int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s);
 
 #endif
