@@ -165,6 +165,10 @@ typedef enum {
                                  shortened because |R| did not fall     */
   MPGM_C_BFGS_UPDATES,      /**< solver.newton "bfgs": pairs of iterates
                                  that corrected the kept factorisation  */
+  MPGM_C_LINEAR_FALLBACKS,  /**< solver.linear_fallback: matrices the
+                                 iterative backend could not solve (or
+                                 precondition), factorised by the direct
+                                 fallback                               */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

@@ -78,10 +78,14 @@ static int setup(mpgm_problem *pb) {
   /* Newton-Krylov: the scene's direct backend inside the composite. An
    * explicit run solves nothing and creates no solver: a scene shared
    * with implicit runs may name PETSc, which is then not loaded (nor MPI) */
-  so.part = scene->newton_krylov ? scene->solver : NULL;
+  so.part = scene->newton_krylov || so.fallback ? scene->solver : NULL;
+  /* an iterative backend with a direct one for the matrices it cannot do
+   * (solver.linear_fallback) */
+  const mpgm_solver_type *st = scene->newton_krylov ? &mpgm_solver_reuse
+                               : so.fallback        ? &mpgm_solver_fallback
+                                                    : scene->solver;
   if (scene->analysis != MPGM_ANALYSIS_EXPLICIT)
-    MPGM_CALL(mpgm_solver_create(ctx, scene->newton_krylov ? &mpgm_solver_reuse : scene->solver,
-                                 &so, &pb->solver));
+    MPGM_CALL(mpgm_solver_create(ctx, st, &so, &pb->solver));
   mpgm_fe_view v;
   mpgm_problem_view(pb, &v);
   mpgm_timer_start(ctx, MPGM_T_SHAPE);

@@ -618,6 +618,10 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
     if (s->solver && s->solver->needs_spd && !s->mats[i].symmetric)
       return jr_fail(&m, "type", "material has an unsymmetric tangent: solver.linear \"%s\" needs a "
                      "symmetric matrix (use \"umfpack\" or \"auto\")", s->solver->name);
+    const mpgm_solver_type *fb = s->solver_opts.fallback;
+    if (fb && fb->needs_spd && !s->mats[i].symmetric)
+      return jr_fail(&m, "type", "material has an unsymmetric tangent: solver.linear_fallback \"%s\" "
+                     "needs a symmetric matrix (use \"umfpack\" or \"auto\")", fb->name);
   }
   MPGM_CALL(read_bodies(root, s));
   MPGM_CALL(mpgm_scene_read_boundaries(root, s));

@@ -8,6 +8,32 @@
 #include "scene_impl.h"
 
 /* "solver": the linear solver backend and Newton's settings. */
+/* solver.linear_fallback: "none" or a direct backend, which factorises the
+ * matrices an iterative solver.linear cannot solve or precondition
+ * (solvers/fallback.c); read only with an iterative linear (so that a
+ * resolved scene of a direct one does not carry it), refused with a
+ * direct linear and so with Newton-Krylov (whose linear is direct). */
+static int read_fallback(jr_node *so, mpgm_scene *s) {
+  const mpgm_solver_type *const *svt = mpgm_solver_types();
+  const char *names[16] = {"none"};
+  int n = 1;
+  for (int i = 0; svt[i] && n < 15; i++)
+    if (!svt[i]->iterative) names[n++] = svt[i]->name;
+  names[n] = NULL;
+  s->solver_opts.fallback = NULL;
+  if (!s->solver->iterative) { /* read only with an iterative linear, as solver.petsc */
+    if (jr_raw(so, "linear_fallback") || jr_override_json(so, "linear_fallback"))
+      return jr_fail(so, "linear_fallback", "a direct backend for the solves an iterative "
+                     "solver.linear (gmres, petsc) cannot finish: expected an iterative linear, "
+                     "found \"%s\"", s->solver->name);
+    return 0;
+  }
+  int k;
+  MPGM_CALL(jr_enum(so, "linear_fallback", names, 0, &k));
+  s->solver_opts.fallback = k ? mpgm_solver_type_find(names[k]) : NULL;
+  return 0;
+}
+
 int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {
   jr_node so;
   MPGM_CALL(jr_child(root, "solver", 0, &so));
@@ -60,6 +86,7 @@ int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {
                    &s->solver_opts.refactor_iterations));
   static const char *const forcing_names[] = {"fixed", "eisenstat_walker", NULL};
   MPGM_CALL(jr_enum(&so, "forcing", forcing_names, 0, &s->forcing_ew));
+  MPGM_CALL(read_fallback(&so, s));
   const int petsc = strcmp(svn[si], "petsc") == 0;
   if (!petsc && (jr_raw(&so, "petsc") || jr_override_json(&so, "petsc")))
     return jr_fail(&so, "petsc", "PETSc's options: only with solver.linear \"petsc\", found "

@@ -60,10 +60,14 @@ typedef struct mpgm_solver_opts {
                      whose factorisation preconditions GMRES; NULL     */
   int refactor_iterations; /**< reuse: refactorise after a solve of more
                      Krylov iterations than this (default 20)          */
+  const struct mpgm_solver_type *fallback; /**< fallback: the direct
+                     backend that factorises a matrix the iterative
+                     opts.part could not solve or precondition; NULL   */
 } mpgm_solver_opts;
 
 /** The default options (tol 1e-10, restart 100, max_iter 5000,
- *  symmetric 1, petsc "", part NULL, refactor_iterations 20). */
+ *  symmetric 1, petsc "", part NULL, refactor_iterations 20, fallback
+ *  NULL). */
 mpgm_solver_opts mpgm_solver_opts_default(void);
 
 /** 1 when the backend `name` can be used; 0 with the reason in msg (of
@@ -152,6 +156,13 @@ typedef struct mpgm_solver {
  *  it needs opts.part): GMRES on the current matrix preconditioned by the
  *  last factorisation of the direct backend opts.part (solvers/reuse.c). */
 extern const mpgm_solver_type mpgm_solver_reuse;
+
+/** solver.linear_fallback's composite (not in the list: it needs
+ *  opts.part, iterative, and opts.fallback, direct): the iterative part's
+ *  solves, and a matrix it cannot solve or precondition (MPGM_ERR_LINEAR,
+ *  MPGM_ERR_SINGULAR) factorised and solved by the direct part, counted in
+ *  ctx->count[MPGM_C_LINEAR_FALLBACKS] (solvers/fallback.c). */
+extern const mpgm_solver_type mpgm_solver_fallback;
 
 /** Find a backend by name; NULL if none. */
 const mpgm_solver_type *mpgm_solver_type_find(const char *name);

@@ -9,8 +9,15 @@
 #   - a Krylov solve that stops short (-ksp_max_it 2) is a recoverable
 #     failure: the step is cut, with PETSc's reason (DIVERGED_ITS) in
 #     summary.json's step_cuts, counted in linear_not_converged;
+#   - with solver.linear_fallback, a Krylov solve that stops short hands its
+#     matrix to the direct backend instead: the cantilever with every CG
+#     solve stopped at 1 iteration and cholmod as the fallback is cholmod's
+#     run to the bit, each matrix counted (linear_fallbacks); the short
+#     column with GMRES stopped at 2 iterations and umfpack as the fallback
+#     runs to its end with no cut, umfpack's runout and height to 1e-12;
 #   - bad input exits 2 and says why: an option PETSc did not use (a typo),
-#     solver.petsc with another backend;
+#     solver.petsc with another backend, a Cholesky fallback with an
+#     unsymmetric material;
 #   - bench-solvers runs PETSc's configurations on the column's unsymmetric
 #     systems: each agrees with UMFPACK (direct to 1e-8, iterative to the
 #     tolerance), CG and Cholesky are left out as "not symmetric".
@@ -39,6 +46,11 @@ run_case cc_mumps "$cc" "${short[@]}" --set solver.linear=petsc \
   --set "solver.petsc=-ksp_max_it 2" --set time.max_cuts=2 --out "$work/cc_short" \
   > "$work/cc_short.log" 2>&1
 echo $? > "$work/cc_short.rc"
+# the same with a direct fallback for the failed solves
+run_case cl_fallback "$cl" --set solver.linear=petsc --set "solver.petsc=-ksp_max_it 1" \
+  --set solver.linear_fallback=cholmod
+run_case cc_fallback "$cc" "${short[@]}" --set solver.linear=petsc --set "solver.petsc=-ksp_max_it 2" \
+  --set time.max_cuts=2 --set solver.linear_fallback=umfpack
 bad() { # NAME ARGS...: a run that must be refused
   local name="$1"; shift
   "$exe" run "$cl" --quiet --set output.vtk=none --out "$work/bad_$name" "$@" > /dev/null \
@@ -47,6 +59,9 @@ bad() { # NAME ARGS...: a run that must be refused
 }
 bad typo --set solver.linear=petsc --set "solver.petsc=-pc_typo gamg"
 bad other --set solver.linear=cholmod --set "solver.petsc=-pc_type gamg"
+"$exe" run "$cc" --quiet --set output.vtk=none --set solver.linear_fallback=cholmod \
+  --out "$work/bad_chol" > /dev/null 2> "$work/bad_chol.err"
+echo $? > "$work/bad_chol.rc"
 "$exe" bench-solvers "$work/cc_umfpack" --repeat 1 --out "$work/bench.csv" \
   --only umfpack,petsc,petsc:gmres-boomeramg,petsc:gmres-gamg,petsc:gmres-ilu,petsc:mumps-lu,petsc:cg-gamg,petsc:mumps-cholesky \
   > "$work/bench.md" 2> "$work/bench.err"
@@ -89,12 +104,33 @@ check(rc("cc_short") == 1 and s["status"] == "failed" and len(cuts) == 2 and
       f"-ksp_max_it 2: exit {rc('cc_short')}, {len(cuts)} cuts with PETSc's reason, "
       f"{s['counts']['linear_not_converged']} solves counted short; {s['message'][:160]}")
 
+c = summary(w, "cl_cholmod")
+s = summary(w, "cl_fallback")
+sc, cc_ = s["counts"], c["counts"]
+check(s["status"] == "completed" and s["metrics"]["tip_uy"] == ref and
+      sc["newton_iterations"] == cc_["newton_iterations"] and
+      sc["linear_fallbacks"] == sc["linear_not_converged"] == cc_["factorizations"],
+      f"cantilever, CG stopped at 1 iteration, cholmod fallback: tip_uy {s['metrics']['tip_uy']!r} "
+      f"= cholmod's {ref!r} to the bit, {sc['linear_fallbacks']} matrices handed over "
+      f"({cc_['factorizations']} factorisations in cholmod's run)")
+s = summary(w, "cc_fallback")
+sc = s["counts"]
+ok = s["status"] == "completed" and sc["steps"] == u["counts"]["steps"] and sc["step_cuts"] == 0
+for k in ("runout", "height"):
+    ok = ok and abs(s["metrics"][k] - u["metrics"][k]) <= 1e-12 * abs(u["metrics"][k])
+check(ok and sc["linear_fallbacks"] > 0,
+      f"column, GMRES stopped at 2 iterations, umfpack fallback: {s['status']}, {sc['steps']} steps, "
+      f"{sc['step_cuts']} cuts, runout {s['metrics']['runout']:.12f} height "
+      f"{s['metrics']['height']:.12f} = umfpack's to 1e-12; {sc['linear_fallbacks']} matrices "
+      f"handed over, {sc['linear_not_converged']} Krylov solves short")
+
 def bad(name, *words):
     err = open(f"{w}/bad_{name}.err").read()
     check(rc(f"bad_{name}") == 2 and all(x in err for x in words) and "Sanitizer" not in err,
           f"refused ({name}): exit {rc('bad_' + name)}, {err.strip()[:200]}")
 bad("typo", "solver.petsc", "did not use -pc_typo")
 bad("other", "solver.petsc", "only with solver.linear \"petsc\"")
+bad("chol", "materials.soil.type", "solver.linear_fallback \"cholmod\" needs a symmetric matrix")
 
 check(rc("bench") == 0, f"bench-solvers exits 0 ({rc('bench')}): " + open(f"{w}/bench.err").read()[-300:])
 rows = list(csv.DictReader(open(f"{w}/bench.csv")))
