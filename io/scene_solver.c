@@ -10,9 +10,9 @@
 /* "solver": the linear solver backend and Newton's settings. */
 /* solver.linear_fallback: "none" or a direct backend, which factorises the
  * matrices an iterative solver.linear cannot solve or precondition
- * (solvers/fallback.c); read only with an iterative linear (so that a
- * resolved scene of a direct one does not carry it), refused with a
- * direct linear and so with Newton-Krylov (whose linear is direct). */
+ * (solvers/fallback.c). A direct linear ignores it, as it ignores
+ * linear_tol: a case that names a fallback for its PETSc solves can then
+ * be run with --set solver.linear=umfpack as it is. */
 static int read_fallback(jr_node *so, mpgm_scene *s) {
   const mpgm_solver_type *const *svt = mpgm_solver_types();
   const char *names[16] = {"none"};
@@ -20,17 +20,9 @@ static int read_fallback(jr_node *so, mpgm_scene *s) {
   for (int i = 0; svt[i] && n < 15; i++)
     if (!svt[i]->iterative) names[n++] = svt[i]->name;
   names[n] = NULL;
-  s->solver_opts.fallback = NULL;
-  if (!s->solver->iterative) { /* read only with an iterative linear, as solver.petsc */
-    if (jr_raw(so, "linear_fallback") || jr_override_json(so, "linear_fallback"))
-      return jr_fail(so, "linear_fallback", "a direct backend for the solves an iterative "
-                     "solver.linear (gmres, petsc) cannot finish: expected an iterative linear, "
-                     "found \"%s\"", s->solver->name);
-    return 0;
-  }
   int k;
   MPGM_CALL(jr_enum(so, "linear_fallback", names, 0, &k));
-  s->solver_opts.fallback = k ? mpgm_solver_type_find(names[k]) : NULL;
+  s->solver_opts.fallback = k && s->solver->iterative ? mpgm_solver_type_find(names[k]) : NULL;
   return 0;
 }
 
