@@ -6,9 +6,10 @@
 #   - the column collapse, coarse and short (Mohr-Coulomb: an unsymmetric
 #     tangent, GMRES + ILU(0) by default; GMRES + BoomerAMG, MUMPS LU):
 #     runout and height the same as umfpack's to 1e-6, as many steps;
-#   - a Krylov solve that stops short (-ksp_max_it 2) is a recoverable
-#     failure: the step is cut, with PETSc's reason (DIVERGED_ITS) in
-#     summary.json's step_cuts, counted in linear_not_converged;
+#   - a Krylov solve that stops short (-ksp_max_it 2) without a fallback
+#     (solver.linear_fallback none) is a recoverable failure: the step is
+#     cut, with PETSc's reason (DIVERGED_ITS) in summary.json's step_cuts,
+#     counted in linear_not_converged;
 #   - with solver.linear_fallback, a Krylov solve that stops short hands its
 #     matrix to the direct backend instead: the cantilever with every CG
 #     solve stopped at 1 iteration and cholmod as the fallback is cholmod's
@@ -42,8 +43,10 @@ run_case cc_amg "$cc" "${short[@]}" --set solver.linear=petsc --set "solver.pets
 run_case cc_mumps "$cc" "${short[@]}" --set solver.linear=petsc \
   --set "solver.petsc=-ksp_type preonly -pc_type lu -pc_factor_mat_solver_type mumps"
 # every solve stops after 2 iterations: cut twice, then the run fails
+# (without the case's fallback)
 "$exe" run "$cc" "${short[@]}" --quiet --set output.vtk=none --set solver.linear=petsc \
-  --set "solver.petsc=-ksp_max_it 2" --set time.max_cuts=2 --out "$work/cc_short" \
+  --set "solver.petsc=-ksp_max_it 2" --set time.max_cuts=2 --set solver.linear_fallback=none \
+  --out "$work/cc_short" \
   > "$work/cc_short.log" 2>&1
 echo $? > "$work/cc_short.rc"
 # the same with a direct fallback for the failed solves
