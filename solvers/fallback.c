@@ -94,16 +94,23 @@ static int fb_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *p
 }
 
 /* The iterative part could not do d->A (code err, its reason in ctx):
- * the direct part factorises it. Returns the direct part's code. */
+ * the direct part factorises it. Returns the direct part's code; when it
+ * fails too, neither part holds a factorisation of A, and a solve before
+ * the next factor is refused rather than made with older factors. */
 static int hand_over(fb_data *d, mpgm_ctx *ctx, int err) {
   mpgm_log(ctx, MPGM_LOG_WARNING, "%s; %s factorises this matrix instead (solver.linear_fallback)",
            ctx->msg[0] ? ctx->msg : mpgm_code_str(err), d->fallback->name);
   mpgm_err_clear(ctx);
   mpgm_count(ctx, MPGM_C_LINEAR_FALLBACKS, 1);
-  d->on_direct = 1;
+  const mpgm_csc *A = d->A;
+  d->A = NULL;
+  d->on_direct = 0;
   if (!d->direct) MPGM_CALL(mpgm_solver_create(ctx, d->fallback, &d->opts, &d->direct));
-  if (!d->direct->analysed) MPGM_CALL(mpgm_solver_analyse(d->direct, ctx, d->A, d->perm));
-  return mpgm_solver_factor(d->direct, ctx, d->A);
+  if (!d->direct->analysed) MPGM_CALL(mpgm_solver_analyse(d->direct, ctx, A, d->perm));
+  MPGM_CALL(mpgm_solver_factor(d->direct, ctx, A));
+  d->A = A;
+  d->on_direct = 1;
+  return MPGM_OK;
 }
 
 /* The preconditioner; one that cannot be built hands A over at once. */

@@ -9,9 +9,10 @@
  * logged as a warning; later solves with that factorisation stay on the
  * direct part; the next factor goes back to the iterative part; a
  * preconditioner that cannot be built (ILU(0)'s zero pivot) hands over at
- * factor; a matrix both refuse is the recoverable MPGM_ERR_SINGULAR; a new
- * pattern is analysed again by the direct part; the composite refuses
- * parts of the wrong kinds. */
+ * factor; a matrix both refuse is the recoverable MPGM_ERR_SINGULAR, and
+ * no solve is then made with older factors; a new pattern is analysed
+ * again by the direct part; the composite refuses parts of the wrong
+ * kinds. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -204,6 +205,13 @@ static void check_factor(void) {
             "fallback: a singular matrix is refused by both parts: MPGM_ERR_SINGULAR (%d), "
             "recoverable, \"%s\"; %ld analyses (4: each part, each pattern)", e, ctx.msg,
             ctx.count[MPGM_C_ANALYSES]);
+  /* neither part holds its factorisation: no solve with older factors */
+  double c[2] = {1, 1}, y[2] = {0, 0};
+  mpgm_ctx_init(&ctx);
+  e = mpgm_solver_solve(s, &ctx, c, y);
+  mpgm_test(e == MPGM_ERR_INTERNAL && y[0] == 0.0 && y[1] == 0.0,
+            "fallback: a solve after both parts refused the matrix is refused (%d: %s), not made "
+            "with the 3 x 3's factors", e, ctx.msg);
   mpgm_solver_destroy(&s);
 }
 
