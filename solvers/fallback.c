@@ -33,7 +33,11 @@
  * counted as their own (the failed Krylov solve also in
  * MPGM_C_LINEAR_NOT_CONVERGED); the composite is not (type->composite).
  * The direct part is created and analysed when it is first needed, and
- * analysed again after a new pattern when it is next needed.
+ * analysed again after a new pattern when it is next needed. There is no
+ * part operation: a matrix handed to mpgm_solver_part (the consistent
+ * mass matrix) goes through the fallback too, as a Krylov solve that
+ * stops short says nothing wrong of the matrix (where auto's Cholesky
+ * refusing a mass matrix does: it is not positive definite).
  */
 #include "mpgm_solver.h"
 
