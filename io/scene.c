@@ -615,13 +615,13 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
       return jr_fail(&m, "type", "\"%s\" is a small-strain law: expected kinematics \"small\" or a "
                      "finite-strain material (neo_hookean), found kinematics \"finite\"",
                      s->mats[i].type->name);
-    if (s->solver && s->solver->needs_spd && !s->mats[i].symmetric)
-      return jr_fail(&m, "type", "material has an unsymmetric tangent: solver.linear \"%s\" needs a "
-                     "symmetric matrix (use \"umfpack\" or \"auto\")", s->solver->name);
-    const mpgm_solver_type *fb = s->solver_opts.fallback;
-    if (fb && fb->needs_spd && !s->mats[i].symmetric)
-      return jr_fail(&m, "type", "material has an unsymmetric tangent: solver.linear_fallback \"%s\" "
-                     "needs a symmetric matrix (use \"umfpack\" or \"auto\")", fb->name);
+    /* the backends that may factorise its tangent */
+    const mpgm_solver_type *const by[2] = {s->solver, s->solver_opts.fallback};
+    static const char *const key[2] = {"linear", "linear_fallback"};
+    for (int k = 0; k < 2; k++)
+      if (by[k] && by[k]->needs_spd && !s->mats[i].symmetric)
+        return jr_fail(&m, "type", "material has an unsymmetric tangent: solver.%s \"%s\" needs a "
+                       "symmetric matrix (use \"umfpack\" or \"auto\")", key[k], by[k]->name);
   }
   MPGM_CALL(read_bodies(root, s));
   MPGM_CALL(mpgm_scene_read_boundaries(root, s));

@@ -140,8 +140,11 @@ static int fb_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   return mpgm_solver_solve(d->direct, ctx, d->b, x);
 }
 
+/* On the direct part: its own solve_many (CHOLMOD's supernodal solve does
+ * the columns at once); else column by column, each with its fallback. */
 static int fb_solve_many(void *data, mpgm_ctx *ctx, int nrhs, const double *B, double *X) {
   fb_data *d = data;
+  if (d->on_direct) return mpgm_solver_solve_many(d->direct, ctx, d->n, nrhs, B, X);
   for (int j = 0; j < nrhs; j++)
     MPGM_CALL(fb_solve(d, ctx, B + (size_t)j * d->n, X + (size_t)j * d->n));
   return 0;

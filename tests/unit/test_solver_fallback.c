@@ -163,6 +163,16 @@ static void check_solves(void) {
     mpgm_test(e == 0 && same(B, R, 2 * A.n) && ctx.count[MPGM_C_LINEAR_FALLBACKS] == 2,
               "fallback: two right-hand sides at once, aliased: umfpack's bits (%d; %ld handed "
               "over)", e, ctx.count[MPGM_C_LINEAR_FALLBACKS]);
+    /* again with that factorisation: the direct part's own solve_many */
+    for (int i = 0; i < 2 * A.n; i++) B[i] = cos(0.02 * i);
+    direct(&A, B, R);
+    direct(&A, B + A.n, R + A.n);
+    const long its = ctx.count[MPGM_C_LINEAR_ITERATIONS];
+    if (!e) e = mpgm_solver_solve_many(s, &ctx, A.n, 2, B, B);
+    mpgm_test(e == 0 && same(B, R, 2 * A.n) && ctx.count[MPGM_C_LINEAR_FALLBACKS] == 2 &&
+                  ctx.count[MPGM_C_LINEAR_ITERATIONS] == its,
+              "fallback: two more right-hand sides with that factorisation go to umfpack at once, "
+              "no Krylov try (%d; %ld handed over)", e, ctx.count[MPGM_C_LINEAR_FALLBACKS]);
   }
   free(B);
   free(R);
