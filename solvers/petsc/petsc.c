@@ -478,12 +478,22 @@ static int pt_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   if (why == KSP_DIVERGED_PC_FAILED)
     MPGM_ERROR(ctx, MPGM_ERR_SINGULAR, "petsc: the preconditioner failed in the solve (%s)",
                KSPConvergedReasons[why]);
+  /* GMRES's DIVERGED_BREAKDOWN on mpgm's tangents is PETSc's restart check:
+   * the recursion's residual far from the true one (docs/theory.md, 18) */
+  KSPType kt = NULL;
+  const int gmres = !KSPGetType(d->ksp, &kt) && kt && strcmp(kt, KSPGMRES) == 0;
+  const char *hint = gmres && why == KSP_DIVERGED_BREAKDOWN
+                         ? " (PETSc's check at a GMRES restart: the residual of the "
+                           "recursion was far from the true one, the Krylov basis having lost "
+                           "its orthogonality; -ksp_gmres_cgs_refinement_type refine_ifneeded "
+                           "in solver.petsc re-orthogonalises)"
+                         : "";
   if (!ok)
     MPGM_ERROR(ctx, MPGM_ERR_LINEAR, "petsc: the Krylov solve did not converge: %s after %d "
-               "iterations, |b - A x| / |b| = %.3g (tolerance %g)",
+               "iterations, |b - A x| / |b| = %.3g (tolerance %g)%s",
                why < 0 ? KSPConvergedReasons[why] : "its residual stalled above the tolerance and "
                                                      "above round-off",
-               its, rel, d->opts.tol);
+               its, rel, d->opts.tol, hint);
   return MPGM_OK;
 }
 

@@ -16,6 +16,8 @@
 #     run to the bit, each matrix counted (linear_fallbacks); the short
 #     column with GMRES stopped at 2 iterations and umfpack as the fallback
 #     runs to its end with no cut, umfpack's runout and height to 1e-12;
+#   - GMRES stopped by PETSc's breakdown check at a restart: the message
+#     names DIVERGED_BREAKDOWN and the remedy (re-orthogonalisation);
 #   - bad input exits 2 and says why: an option PETSc did not use (a typo),
 #     solver.petsc with another backend, a Cholesky fallback with an
 #     unsymmetric material;
@@ -49,6 +51,13 @@ run_case cc_mumps "$cc" "${short[@]}" --set solver.linear=petsc \
   --out "$work/cc_short" \
   > "$work/cc_short.log" 2>&1
 echo $? > "$work/cc_short.rc"
+# GMRES stopped at its first restart by PETSc's breakdown check (made to
+# fire with a zero tolerance): the reason and the remedy in the message
+"$exe" run "$cc" "${short[@]}" --quiet --set output.vtk=none --set solver.linear=petsc \
+  --set "solver.petsc=-ksp_gmres_breakdown_tolerance 1e-300" --set solver.linear_restart=3 \
+  --set time.max_cuts=1 --set solver.linear_fallback=none --out "$work/cc_breakdown" \
+  > "$work/cc_breakdown.log" 2>&1
+echo $? > "$work/cc_breakdown.rc"
 # the same with a direct fallback for the failed solves
 run_case cl_fallback "$cl" --set solver.linear=petsc --set "solver.petsc=-ksp_max_it 1" \
   --set solver.linear_fallback=cholmod
@@ -106,6 +115,13 @@ check(rc("cc_short") == 1 and s["status"] == "failed" and len(cuts) == 2 and
       all("DIVERGED_ITS" in c["reason"] for c in cuts) and s["counts"]["linear_not_converged"] == 3,
       f"-ksp_max_it 2: exit {rc('cc_short')}, {len(cuts)} cuts with PETSc's reason, "
       f"{s['counts']['linear_not_converged']} solves counted short; {s['message'][:160]}")
+s = summary(w, "cc_breakdown")
+cuts = s.get("step_cuts", [])
+check(rc("cc_breakdown") == 1 and s["status"] == "failed" and len(cuts) == 1 and
+      all("DIVERGED_BREAKDOWN" in c["reason"] and "refine_ifneeded" in c["reason"]
+          for c in cuts) and "DIVERGED_BREAKDOWN" in s["message"],
+      f"GMRES breakdown at a restart: exit {rc('cc_breakdown')}, {len(cuts)} cut, the reason "
+      f"and the remedy in the message; {s['message'][:200]}")
 
 c = summary(w, "cl_cholmod")
 s = summary(w, "cl_fallback")
