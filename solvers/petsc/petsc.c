@@ -75,6 +75,8 @@ typedef struct pt_data {
   Vec b, x;              /**< vectors without arrays of their own            */
   Vec r;                 /**< the true residual b - A x                      */
   KSP ksp;
+  int direct;            /**< the KSP is PREONLY (a factorisation, MUMPS)    */
+  int gmres;             /**< the KSP is GMRES (its breakdowns explained)    */
   int ready;             /**< 1 after a successful factor                    */
   int checked;           /**< 1 once the options were checked for use        */
   int iterations;        /**< iterations of the last solve                   */
@@ -252,7 +254,9 @@ static int make_ksp(mpgm_ctx *ctx, pt_data *d, int symmetric) {
          "PetscOptionsHasName");
   KSPType kt;
   PT_TRY(ctx, KSPGetType(d->ksp, &kt), MPGM_ERR_SOLVER, "KSPGetType");
-  if (!set && strcmp(kt, KSPPREONLY) != 0)
+  d->direct = strcmp(kt, KSPPREONLY) == 0;
+  d->gmres = strcmp(kt, KSPGMRES) == 0;
+  if (!set && !d->direct)
     PT_TRY(ctx, KSPSetNormType(d->ksp, KSP_NORM_UNPRECONDITIONED), MPGM_ERR_SOLVER,
            "KSPSetNormType");
   return MPGM_OK;
@@ -438,9 +442,7 @@ static PetscErrorCode true_residual(pt_data *d, double *rel, int *floor) {
  * *ok: the true residual is within the tolerance or at round-off. */
 #define ROUNDS 4
 static PetscErrorCode krylov(pt_data *d, int *its, KSPConvergedReason *why, double *rel, int *ok) {
-  KSPType kt;
-  PetscCall(KSPGetType(d->ksp, &kt));
-  const int direct = strcmp(kt, KSPPREONLY) == 0;
+  const int direct = d->direct;
   int floor = 0;
   *its = 0;
   PetscCall(KSPSetInitialGuessNonzero(d->ksp, PETSC_FALSE));
@@ -480,9 +482,7 @@ static int pt_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
                KSPConvergedReasons[why]);
   /* GMRES's DIVERGED_BREAKDOWN on mpgm's tangents is PETSc's restart check:
    * the recursion's residual far from the true one (docs/theory.md, 18) */
-  KSPType kt = NULL;
-  const int gmres = !KSPGetType(d->ksp, &kt) && kt && strcmp(kt, KSPGMRES) == 0;
-  const char *hint = gmres && why == KSP_DIVERGED_BREAKDOWN
+  const char *hint = d->gmres && why == KSP_DIVERGED_BREAKDOWN
                          ? " (PETSc's check at a GMRES restart: the residual of the "
                            "recursion was far from the true one, the Krylov basis having lost "
                            "its orthogonality; -ksp_gmres_cgs_refinement_type refine_ifneeded "
