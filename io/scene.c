@@ -431,6 +431,14 @@ static int read_shape_params(jr_node *sh, mpgm_scene *s) {
   MPGM_CALL(jr_num(sh, "max_cond", 0.0, 0.0, INFINITY, 0, 0, &p->max_cond));
   MPGM_CALL(jr_int(sh, "min_nodes", 0, 0, MPGM_SHAPE_MAXNODE, &s->min_nodes));
   MPGM_CALL(jr_int(sh, "max_enlarge", 16, 0, MPGM_SHAPE_MAXNODE, &s->max_enlarge));
+  /* the grid functions a particle domain averages (CPDI, CPLS) */
+  static const char *const grid_fn_names[] = {"bilinear", "quadratic_bspline", NULL};
+  int gf;
+  MPGM_CALL(jr_enum(sh, "grid_functions", grid_fn_names, 0, &gf));
+  if (gf && !s->shape->domain)
+    return jr_fail(sh, "grid_functions", "the grid functions of particle domains: expected "
+                   "shape.kind \"cpdi\" or \"cpls\", found \"%s\"", s->shape->name);
+  p->grid_order = gf + 1;
   /* GMM keeps its pattern while the clouds stay within a tenth of h more
    * than their radius (docs/benchmarks.md: the rolling disk's GMM-LME
    * 1.45x faster, the column collapse unchanged) */

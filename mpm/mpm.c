@@ -77,6 +77,14 @@ static void mpm_destroy(void *self) {
   free(d);
 }
 
+/* Whether grid node X lies on the edge of the grid's box. */
+static int on_grid_edge(const mpgm_grid *g, const double X[MPGM_DIM]) {
+  const double tol = 1e-9 * g->h;
+  for (int c = 0; c < MPGM_DIM; c++)
+    if (fabs(X[c] - g->min[c]) <= tol || fabs(X[c] - g->max[c]) <= tol) return 1;
+  return 0;
+}
+
 /* Particles of every body at the Gauss points of the cells that lie in it
  * (mpgm_grid_fill: the rule GMM shares for its grid-filled bodies; the
  * first body containing a point owns it), the probes, and the tracers on
@@ -152,6 +160,11 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
       mpgm_grid_node(g, k, X);
       if (!mpgm_boundary_selects(&s->bcs[i], X)) continue;
       hits++;
+      MPGM_CHECK(ctx, d->gpar.grid_order != 2 || on_grid_edge(g, X), MPGM_ERR_INPUT,
+                 "%s: boundaries.%d (\"%s\"): with shape.grid_functions \"quadratic_bspline\" a "
+                 "support holds the field only on the edge of the grid (mesh.domain), where one "
+                 "node's spline alone is non-zero; found grid node (%g, %g) inside it: expected "
+                 "the grid's edge on the support", s->file, i, s->bcs[i].name, X[0], X[1]);
       for (int c = 0; c < MPGM_DIM; c++)
         d->gfix[MPGM_DIM * k + c] |= (unsigned char)s->bcs[i].fix[c];
       if (s->bcs[i].condition == MPGM_COND_CONTACT) /* normal axis, body side */
@@ -346,7 +359,8 @@ static int cell_point(void *arg, int p, mpgm_conn_task *t) {
 /* A grid kind's functions at point p from the grid nodes that may reach
  * it: uGIMP the 4 x 4 block around its square (every node within h + lp
  * < 1.5 h); a kind with a domain (CPDI; its half-axes r1, r2, none for a
- * tracer) every node within h of the domain's bounding box. The zero ones
+ * tracer) every node within h (quadratic B-splines: 2 h) of the domain's
+ * bounding box. The zero ones
  * dropped, appended to t (grid node ids); 0, or the evaluation's error
  * with its reason in t->msg. */
 static int grid_point(void *arg, int p, mpgm_conn_task *t) {
@@ -366,10 +380,11 @@ static int grid_point(void *arg, int p, mpgm_conn_task *t) {
   if (v->scene->shape->domain) { /* 2-D only: the box's extents in x and y */
     const double ex = dom ? fabs(dom[0]) + fabs(dom[2]) : 0.0;
     const double ey = dom ? fabs(dom[1]) + fabs(dom[3]) : 0.0;
-    i0 = (int)floor((x[0] - ex - g->min[0]) / g->h);
-    i1 = (int)floor((x[0] + ex - g->min[0]) / g->h) + 1;
-    j0 = (int)floor((x[1] - ey - g->min[1]) / g->h);
-    j1 = (int)floor((x[1] + ey - g->min[1]) / g->h) + 1;
+    const int pad = j->d->gpar.grid_order == 2; /* the splines reach 1.5 h */
+    i0 = (int)floor((x[0] - ex - g->min[0]) / g->h) - pad;
+    i1 = (int)floor((x[0] + ex - g->min[0]) / g->h) + 1 + pad;
+    j0 = (int)floor((x[1] - ey - g->min[1]) / g->h) - pad;
+    j1 = (int)floor((x[1] + ey - g->min[1]) / g->h) + 1 + pad;
     if ((long)(i1 - i0 + 1) * (j1 - j0 + 1) > MPGM_SHAPE_MAXNODE)
       why = "the particle's domain spans more grid nodes than a point may have (MPGM_SHAPE_MAXNODE)";
   }

@@ -9,8 +9,10 @@
  *   x_1 = x_p - r1 - r2,  x_2 = x_p + r1 - r2,  x_3 = x_p + r1 + r2,
  *   x_4 = x_p - r1 + r2,
  *
- * carry the values of the grid's bilinear hats phi_I, and over the domain
- * phi_I is replaced by the bilinear interpolant of those four values. Its
+ * carry the values of the grid's functions phi_I (the bilinear hats, or
+ * with shape.grid_functions "quadratic_bspline" the quadratic B-splines),
+ * and over the domain phi_I is replaced by the bilinear interpolant of
+ * those four values. Its
  * mean over the domain (volume V = 4 |r1 x r2|) and the mean of its
  * gradient are
  *
@@ -21,17 +23,24 @@
  * with phi_c = phi_I(x_c). The factor is 1/V with V the full domain (4
  * times the parallelogram of r1, r2): with it, sum_I dN_Ip x_I = identity,
  * the gradient of a linear field is exact (tests/unit/test_cpdi.c; the
- * derivation is in docs/theory.md, "CPDI"). Both sums use the hats, which
- * reproduce linear fields, at points the bilinear map reaches linearly.
+ * derivation is in docs/theory.md, "CPDI"). Both sums use grid functions
+ * that reproduce linear fields, at points the bilinear map reaches
+ * linearly.
  *
- * Nodes: the caller gives the grid nodes whose hats may reach a corner (MPM
- * takes every node within h of the domain's bounding box). A corner beyond
+ * The quadratic B-splines are C1: the error of the grid's velocity field is
+ * then smooth, and its difference over a domain's corners is O(h^2) where
+ * the hats' kinks make it O(h) (docs/theory.md section 21.5: on 004's
+ * vortex at A = 1 rad this is what keeps second order).
+ *
+ * Nodes: the caller gives the grid nodes whose functions may reach a corner
+ * (MPM takes every node within h, 2 h for the splines, of the domain's
+ * bounding box). A corner beyond
  * the grid's box (par->grid_lo, grid_hi; a point on a support at the
  * grid's edge has its domain's edge there, and the smallest shear or
  * rounding takes a corner past it) is pulled back onto the box's edge,
  * counted in info->clamped: the corner values still sum to 1 (momentum is
- * kept), linear reproduction is lost at that point only. Each corner's hats
- * must sum to 1; a corner where the grid has no node (no box given) fails
+ * kept), linear reproduction is lost at that point only. Each corner's
+ * functions must sum to 1; a corner where the grid has no node (no box given) fails
  * with MPGM_SHAPE_OFF_GRID, a domain with r1 x r2 <= 0 (turned inside out)
  * with MPGM_SHAPE_INVERTED. A query without a domain (probes and surface
  * tracers, which have none) gets the hats and their gradients at x_p. */
@@ -56,20 +65,75 @@ static inline double hat(double dx, double dy, double h, double *gx, double *gy)
   return wx * wy;
 }
 
+/* The node-centred quadratic B-spline of a grid of spacing h at offset
+ * d = x - x_I (support |d| < 1.5 h), and (g) its derivative. */
+static inline double bspline2(double d, double h, double *g) {
+  const double r = fabs(d) / h, sg = d >= 0.0 ? 1.0 : -1.0;
+  if (r >= 1.5) {
+    *g = 0.0;
+    return 0.0;
+  }
+  if (r < 0.5) {
+    *g = -2.0 * r * sg / h;
+    return 0.75 - r * r;
+  }
+  *g = -(1.5 - r) * sg / h;
+  return 0.5 * (1.5 - r) * (1.5 - r);
+}
+
+/* One direction of the quadratic functions at x of the node at xn on the
+ * grid [lo, hi] (no edge when hi <= lo). Past an edge the node that would
+ * sit a cell outside is a ghost whose value is extrapolated linearly,
+ * v_ghost = 2 v_edge - v_next: its spline goes to the edge node twice and
+ * to the next one negated. The functions then still sum to 1 and
+ * reproduce linear fields up to the edge, and at the edge itself only the
+ * edge node's is non-zero (1), so a support there fixes the value. */
+static double bspline2_edge(double x, double xn, double h, double lo, double hi, double *g) {
+  double w = bspline2(x - xn, h, g);
+  if (!(hi > lo)) return w;
+  const double tol = 1e-9 * h;
+  double gg;
+  for (int side = 0; side < 2; side++) {
+    const double edge = side ? hi : lo, ghost = side ? hi + h : lo - h;
+    const double next = side ? hi - h : lo + h;
+    const double c = fabs(xn - edge) <= tol ? 2.0 : fabs(xn - next) <= tol ? -1.0 : 0.0;
+    if (c == 0.0) continue;
+    w += c * bspline2(x - ghost, h, &gg);
+    *g += c * gg;
+  }
+  return w;
+}
+
+/* The grid function of node xn at x (par->grid_order: 1 the hats, 2 the
+ * quadratic B-splines with the ghost rule at the grid box's edges), and
+ * (gx, gy; optional) its gradient. */
+static double gridfn(const mpgm_shape_params *par, const double *x, const double *xn,
+                     double *gx, double *gy) {
+  if (par->grid_order != 2) return hat(x[0] - xn[0], x[1] - xn[1], par->h, gx, gy);
+  double g0, g1;
+  const double w0 = bspline2_edge(x[0], xn[0], par->h, par->grid_lo[0], par->grid_hi[0], &g0);
+  const double w1 = bspline2_edge(x[1], xn[1], par->h, par->grid_lo[1], par->grid_hi[1], &g1);
+  if (gx) {
+    *gx = g0 * w1;
+    *gy = w0 * g1;
+  }
+  return w0 * w1;
+}
+
 static int cpdi_radius(const mpgm_shape_params *par, double *R) {
   *R = 0.0;
   if (!par || !(par->h > 0.0)) return MPGM_ERR_INPUT;
-  *R = sqrt(2.0) * par->h; /* a point's own hats; a domain reaches farther */
+  /* a point's own functions; a domain reaches farther */
+  *R = (par->grid_order == 2 ? 1.5 : 1.0) * sqrt(2.0) * par->h;
   return 0;
 }
 
-/* Without a domain: the hats at x_p. */
+/* Without a domain: the grid functions at x_p. */
 static int point_eval(const mpgm_shape_query *q, double *N, double *dN) {
-  const double h = q->par->h;
   double sum = 0.0;
   int nsup = 0;
   for (int a = 0; a < q->n; a++) {
-    N[a] = hat(q->xp[0] - q->xn[2 * a], q->xp[1] - q->xn[2 * a + 1], h, dN + 2 * a, dN + 2 * a + 1);
+    N[a] = gridfn(q->par, q->xp, q->xn + 2 * a, dN + 2 * a, dN + 2 * a + 1);
     sum += N[a];
     nsup += N[a] > 0.0;
   }
@@ -84,7 +148,7 @@ static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
   if (!q->par || !(q->par->h > 0.0))
     return mpgm_shape_fail(q, N, dN, MPGM_ERR_INPUT, MPGM_SHAPE_BAD_INPUT);
   if (!q->domain) return point_eval(q, N, dN);
-  const double h = q->par->h, *r = q->domain; /* r1 = (r[0], r[1]), r2 = (r[2], r[3]) */
+  const double *r = q->domain; /* r1 = (r[0], r[1]), r2 = (r[2], r[3]) */
   const double cross = r[0] * r[3] - r[1] * r[2];
   if (!(cross > 0.0)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_INVERTED);
   const double V = 4.0 * cross;
@@ -107,7 +171,7 @@ static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
   for (int a = 0; a < q->n; a++) {
     double phi[4];
     for (int c = 0; c < 4; c++) {
-      phi[c] = hat(xc[c][0] - q->xn[2 * a], xc[c][1] - q->xn[2 * a + 1], h, NULL, NULL);
+      phi[c] = gridfn(q->par, xc[c], q->xn + 2 * a, NULL, NULL);
       sum[c] += phi[c];
     }
     const double d13 = phi[0] - phi[2], d24 = phi[1] - phi[3];

@@ -70,6 +70,8 @@ typedef struct mpgm_shape_params {
   double half_width;  /**< half side lp of a particle's square [m] (required,
                            0 < lp <= h / 2; a scene sets h / (2 sqrt(ppc)))  */
   /* CPDI */
+  int grid_order;     /**< grid functions: 1 (also 0) the bilinear hats,
+                           2 the quadratic B-splines (shape.grid_functions) */
   double grid_lo[2], grid_hi[2]; /**< the grid's box [m]: a domain corner
                            beyond it is pulled back onto its edge (the
                            point itself must lie inside); no box when

@@ -15,7 +15,14 @@
  *   - a corner off the grid fails with MPGM_SHAPE_OFF_GRID, a domain
  *     turned inside out with MPGM_SHAPE_INVERTED (N = dN = 0, no NaN);
  *     with the grid's box given, a corner beyond it is pulled back onto
- *     its edge and counted, and N, grad N still sum to 1 and 0.
+ *     its edge and counted, and N, grad N still sum to 1 and 0;
+ *   - the quadratic B-splines (shape.grid_functions "quadratic_bspline"):
+ *     the same reproduction under a general F, also where domains reach
+ *     the grid box's edges (the ghost rule), only the edge nodes non-zero
+ *     on the edge, and a quadratic field's gradient exact at the particle
+ *     (the spline through its nodal values is off by a constant, h^2 / 8
+ *     times its second derivative in each direction), which the hats miss
+ *     by O(h): why the splines keep the rate on the vortex.
  */
 #include "mpgm_shapefn.h"
 #include "mpgm_test.h"
@@ -198,6 +205,88 @@ static void check_point_and_failures(void) {
             "cpdi: no length scale is MPGM_ERR_INPUT");
 }
 
+/* Sums over the nodes of the quadratic splines at (xp, domain r) on the
+ * grid's box [-R H, R H]^2: |sum N - 1|, |sum N x_I - x_p|, |sum grad N| H,
+ * |sum x_I (x) grad N - 1| and, for f = x^2 + 3 x y - 2 y^2, |sum f_I grad
+ * N - grad f(x_p)| H (order: 1 hats, 2 splines). */
+static int spline_sums(int order, const double xp[2], const double *r, double err[5]) {
+  static double xn[2 * NG];
+  grid(xn);
+  const mpgm_shape_params par = {.h = H, .grid_order = order, .grid_lo = {-R * H, -R * H},
+                                 .grid_hi = {R * H, R * H}};
+  double N[NG], dN[2 * NG];
+  const mpgm_shape_query q = {.n = NG, .xn = xn, .xp = {xp[0], xp[1]}, .cell = -1, .par = &par,
+                              .domain = r};
+  if (mpgm_shapefn_type_find("cpdi")->eval(&q, N, dN)) return 1;
+  double s = 0, x[2] = {0, 0}, g[2] = {0, 0}, G[4] = {0, 0, 0, 0}, gf[2] = {0, 0};
+  for (int a = 0; a < NG; a++) {
+    const double X = xn[2 * a], Y = xn[2 * a + 1], f = X * X + 3 * X * Y - 2 * Y * Y;
+    s += N[a];
+    for (int i = 0; i < 2; i++) {
+      x[i] += N[a] * xn[2 * a + i];
+      g[i] += dN[2 * a + i];
+      gf[i] += f * dN[2 * a + i];
+      for (int j = 0; j < 2; j++) G[2 * i + j] += xn[2 * a + i] * dN[2 * a + j];
+    }
+  }
+  err[0] = fabs(s - 1.0);
+  err[1] = fmax(fabs(x[0] - xp[0]), fabs(x[1] - xp[1]));
+  err[2] = fmax(fabs(g[0]), fabs(g[1])) * H;
+  err[3] = fmax(fmax(fabs(G[0] - 1), fabs(G[3] - 1)), fmax(fabs(G[1]), fabs(G[2])));
+  err[4] = fmax(fabs(gf[0] - (2 * xp[0] + 3 * xp[1])), fabs(gf[1] - (3 * xp[0] - 4 * xp[1]))) * H;
+  return 0;
+}
+
+static void check_quadratic(void) {
+  const double Fs[3][4] = {{1.3, 0.4, -0.2, 0.8}, {0.6, -0.5, 0.7, 1.1}, {1.0, 0.0, 0.0, 1.0}};
+  /* inside (corners 2 h or more from the box), then near its edges: the
+   * box is [-1, 1]^2, corners within 0.5 h and 1.5 h of an edge */
+  const double in[3][2] = {{0.013, -0.071}, {0.2, 0.25}, {-0.31, 0.17}};
+  const double edge[3][2] = {{-0.93, 0.11}, {0.87, 0.91}, {0.05, -0.81}};
+  double worst_in[5] = {0, 0, 0, 0, 0}, worst_edge[4] = {0, 0, 0, 0}, hats = 0.0;
+  int fails = 0;
+  for (int f = 0; f < 3; f++)
+    for (int k = 0; k < 3; k++) {
+      double r[4], e[5];
+      domain(Fs[f], 0.11, 0.07, r);
+      fails += spline_sums(2, in[k], r, e);
+      for (int i = 0; i < 5; i++) worst_in[i] = fmax(worst_in[i], e[i]);
+      fails += spline_sums(1, in[k], r, e);
+      hats = fmax(hats, e[4]);
+      domain(Fs[f], 0.03, 0.02, r);
+      fails += spline_sums(2, edge[k], r, e);
+      for (int i = 0; i < 4; i++) worst_edge[i] = fmax(worst_edge[i], e[i]);
+    }
+  mpgm_test(fails == 0, "cpdi quadratic: every domain evaluates (%d failed)", fails);
+  mpgm_test(fmax(worst_in[0], worst_in[2]) < 1e-13 && worst_in[1] < 1e-13 && worst_in[3] < 1e-13,
+            "cpdi quadratic: sum N = 1, sum N x_I = x_p, sum grad N = 0, sum x_I (x) grad N = "
+            "identity under stretch, shear and turn (%.1e %.1e %.1e %.1e)",
+            worst_in[0], worst_in[1], worst_in[2], worst_in[3]);
+  mpgm_test(fmax(worst_edge[0], worst_edge[2]) < 1e-13 && worst_edge[1] < 1e-13 &&
+            worst_edge[3] < 1e-13, "cpdi quadratic: the same with corners within 1.5 h of the "
+            "box's edges, by the ghost rule (%.1e %.1e %.1e %.1e)",
+            worst_edge[0], worst_edge[1], worst_edge[2], worst_edge[3]);
+  mpgm_test(worst_in[4] < 1e-12 && hats > 1e-3,
+            "cpdi quadratic: a quadratic field's gradient exact at the particle (%.1e, times h); "
+            "the hats miss it by %.1e", worst_in[4], hats);
+  /* on the edge x = -1 (no domain: a tracer) only the edge column carries
+   * a value, so a support there holds the field */
+  static double xn[2 * NG];
+  grid(xn);
+  const mpgm_shape_params par = {.h = H, .grid_order = 2, .grid_lo = {-R * H, -R * H},
+                                 .grid_hi = {R * H, R * H}};
+  double N[NG], dN[2 * NG], off = 0.0, on = 0.0;
+  const mpgm_shape_query q = {.n = NG, .xn = xn, .xp = {-R * H, 0.07}, .cell = -1, .par = &par};
+  const int err = mpgm_shapefn_type_find("cpdi")->eval(&q, N, dN);
+  for (int a = 0; a < NG; a++) {
+    if (xn[2 * a] == -R * H) on += N[a];
+    else off = fmax(off, fabs(N[a]));
+  }
+  mpgm_test(!err && off == 0.0 && fabs(on - 1.0) < 1e-14,
+            "cpdi quadratic: on the box's edge only the edge nodes are non-zero (%.1e; sum %.15g)",
+            off, on);
+}
+
 int main(void) {
   mpgm_test(mpgm_shapefn_type_find("cpdi") != NULL, "cpdi registered");
   if (!mpgm_shapefn_type_find("cpdi")) return mpgm_test_summary();
@@ -205,5 +294,6 @@ int main(void) {
   check_quadrature();
   check_ugimp();
   check_point_and_failures();
+  check_quadratic();
   return mpgm_test_summary();
 }
