@@ -11,6 +11,7 @@ import os
 import sys
 
 SHAPES = {"fe": "MPM Q4", "ugimp": "uGIMP", "cpdi": "CPDI", "cpls": "CPLS"}
+GRIDS = {"quadratic_bspline": "quadratic B-splines", "bilinear": "bilinear"}
 KEYS = [("metrics.mms_u_rms", "u"), ("metrics.mms_v_rms", "v"), ("metrics.mms_sigma_rms", "σ")]
 
 
@@ -57,7 +58,7 @@ def table(rs, keys, label):
             e = [num(r, k) if ok else float("nan") for k, _ in KEYS]
             o = [order(p, x, num(prev, "mesh.h"), h) if prev is not None else float("nan")
                  for p, x in zip(prev_e, e)] if prev is not None else [float("nan")] * 3
-            name = ", ".join([SHAPES.get(key[0], key[0])] + [str(k) for k in key[1:]])
+            name = ", ".join([SHAPES.get(key[0], key[0])] + [GRIDS.get(k, str(k)) for k in key[1:] if k])
             out.append("| %s | %.4g | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
                 name, h, r.get("status", "?"), fmt(e[0]), fmt(e[1]), fmt(e[2]), fmt(o[0], "%.2f"),
                 fmt(o[1], "%.2f"), fmt(o[2], "%.2f"),
@@ -113,8 +114,9 @@ def main(res, work):
         print("![ring: error against wall time](img/mms_ring_error_time.png)\n")
     if vortex:
         print("#### Generalized vortex (`cases/mms_vortex.json`)\n")
-        print(table(vortex, ["shape.kind"], "shape") + "\n")
+        print(table(vortex, ["shape.kind", "shape.grid_functions"], "shape") + "\n")
         print("![vortex: error against h](img/mms_vortex_error_h.png)\n")
+        print("![vortex: stress error against h](img/mms_vortex_sigma_error_h.png)\n")
         print("![vortex: error against wall time](img/mms_vortex_error_time.png)\n")
         print("![vortex, MPM Q4](img/mms_vortex_fe.png) ![vortex, CPLS](img/mms_vortex_cpls.png)\n")
 

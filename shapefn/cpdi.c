@@ -207,8 +207,8 @@ const mpgm_shapefn_type mpgm_shapefn_cpls = {
 const mpgm_shapefn_type mpgm_shapefn_cpdi = {
     .name = "cpdi",
     .doc = "convected particle domain interpolation (CPDI1, Sadeghirad et al. 2011): bilinear "
-           "hats averaged over the particle's parallelogram r_k = F r_k^0 from its corners; "
-           "regular grids only (method mpm)",
+           "hats (or quadratic B-splines, shape.grid_functions) averaged over the particle's "
+           "parallelogram r_k = F r_k^0 from its corners; regular grids only (method mpm)",
     .needs_cell = 0,
     .grid_only = 1,
     .domain = 1,
