@@ -360,9 +360,8 @@ static int cell_point(void *arg, int p, mpgm_conn_task *t) {
  * it: uGIMP the 4 x 4 block around its square (every node within h + lp
  * < 1.5 h); a kind with a domain (CPDI; its half-axes r1, r2, none for a
  * tracer) every node within h (quadratic B-splines: 2 h) of the domain's
- * bounding box. The zero ones
- * dropped, appended to t (grid node ids); 0, or the evaluation's error
- * with its reason in t->msg. */
+ * bounding box. The zero ones dropped, appended to t (grid node ids); 0,
+ * or the evaluation's error with its reason in t->msg. */
 static int grid_point(void *arg, int p, mpgm_conn_task *t) {
   const shape_job *j = arg;
   const mpgm_fe_view *v = j->v;

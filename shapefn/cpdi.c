@@ -12,9 +12,8 @@
  * carry the values of the grid's functions phi_I (the bilinear hats, or
  * with shape.grid_functions "quadratic_bspline" the quadratic B-splines),
  * and over the domain phi_I is replaced by the bilinear interpolant of
- * those four values. Its
- * mean over the domain (volume V = 4 |r1 x r2|) and the mean of its
- * gradient are
+ * those four values. Its mean over the domain (volume V = 4 |r1 x r2|)
+ * and the mean of its gradient are
  *
  *   N_Ip    = (1/4) sum_c phi_I(x_c),
  *   dN_Ip/dx = (1/V) [(phi_1 - phi_3)(r1y - r2y) + (phi_2 - phi_4)(r1y + r2y)],
@@ -29,21 +28,21 @@
  *
  * The quadratic B-splines are C1: the error of the grid's velocity field is
  * then smooth, and its difference over a domain's corners is O(h^2) where
- * the hats' kinks make it O(h) (docs/theory.md section 21.5: on 004's
+ * the hats' kinks make it O(h) (docs/theory.md section 21.6: on 004's
  * vortex at A = 1 rad this is what keeps second order).
  *
  * Nodes: the caller gives the grid nodes whose functions may reach a corner
  * (MPM takes every node within h, 2 h for the splines, of the domain's
- * bounding box). A corner beyond
- * the grid's box (par->grid_lo, grid_hi; a point on a support at the
- * grid's edge has its domain's edge there, and the smallest shear or
- * rounding takes a corner past it) is pulled back onto the box's edge,
- * counted in info->clamped: the corner values still sum to 1 (momentum is
- * kept), linear reproduction is lost at that point only. Each corner's
- * functions must sum to 1; a corner where the grid has no node (no box given) fails
- * with MPGM_SHAPE_OFF_GRID, a domain with r1 x r2 <= 0 (turned inside out)
- * with MPGM_SHAPE_INVERTED. A query without a domain (probes and surface
- * tracers, which have none) gets the hats and their gradients at x_p. */
+ * bounding box). A corner beyond the grid's box (par->grid_lo, grid_hi; a
+ * point on a support at the grid's edge has its domain's edge there, and
+ * the smallest shear or rounding takes a corner past it) is pulled back
+ * onto the box's edge, counted in info->clamped: the corner values still
+ * sum to 1 (momentum is kept), linear reproduction is lost at that point
+ * only. Each corner's functions must sum to 1; a corner where the grid has
+ * no node (no box given) fails with MPGM_SHAPE_OFF_GRID, a domain with
+ * r1 x r2 <= 0 (turned inside out) with MPGM_SHAPE_INVERTED. A query
+ * without a domain (probes and surface tracers, which have none) gets the
+ * grid functions and their gradients at x_p. */
 #include "mpgm_shapefn_impl.h"
 
 #include <math.h>
