@@ -70,32 +70,57 @@ static double hatn(int a, const double x[2]) {
   return hat1(x[0] - xi) * hat1(x[1] - yi);
 }
 
+/* Sums over the nodes of cpdi's functions with parameters par at (xp,
+ * domain r): |sum N - 1|, |sum N x_I - x_p|, |sum grad N| H,
+ * |sum x_I (x) grad N - 1| and, for f = x^2 + 3 x y - 2 y^2, |sum f_I grad
+ * N - grad f(x_p)| H. Returns the evaluation's error. */
+static int sums(const mpgm_shape_params *par, const double xp[2], const double *r, double err[5]) {
+  static double xn[2 * NG];
+  grid(xn);
+  double N[NG], dN[2 * NG];
+  const mpgm_shape_query q = {.n = NG, .xn = xn, .xp = {xp[0], xp[1]}, .cell = -1, .par = par,
+                              .domain = r};
+  if (mpgm_shapefn_type_find("cpdi")->eval(&q, N, dN)) return 1;
+  double s = 0, x[2] = {0, 0}, g[2] = {0, 0}, G[4] = {0, 0, 0, 0}, gf[2] = {0, 0};
+  for (int a = 0; a < NG; a++) {
+    const double X = xn[2 * a], Y = xn[2 * a + 1], f = X * X + 3 * X * Y - 2 * Y * Y;
+    s += N[a];
+    for (int i = 0; i < 2; i++) {
+      x[i] += N[a] * xn[2 * a + i];
+      g[i] += dN[2 * a + i];
+      gf[i] += f * dN[2 * a + i];
+      for (int j = 0; j < 2; j++) G[2 * i + j] += xn[2 * a + i] * dN[2 * a + j];
+    }
+  }
+  err[0] = fabs(s - 1.0);
+  err[1] = fmax(fabs(x[0] - xp[0]), fabs(x[1] - xp[1]));
+  err[2] = fmax(fabs(g[0]), fabs(g[1])) * H;
+  err[3] = fmax(fmax(fabs(G[0] - 1), fabs(G[3] - 1)), fmax(fabs(G[1]), fabs(G[2])));
+  err[4] = fmax(fabs(gf[0] - (2 * xp[0] + 3 * xp[1])), fabs(gf[1] - (3 * xp[0] - 4 * xp[1]))) * H;
+  return 0;
+}
+
+/* sums() on the grid's box [-R H, R H]^2 (order: 1 hats, 2 splines) */
+static int spline_sums(int order, const double xp[2], const double *r, double err[5]) {
+  const mpgm_shape_params par = {.h = H, .grid_order = order, .grid_lo = {-R * H, -R * H},
+                                 .grid_hi = {R * H, R * H}};
+  return sums(&par, xp, r, err);
+}
+
 static void check_reproduction(void) {
   const double Fs[3][4] = {{1.3, 0.4, -0.2, 0.8}, {0.6, -0.5, 0.7, 1.1}, {1.0, 0.0, 0.0, 1.0}};
   const double xps[3][2] = {{0.013, -0.071}, {0.2, 0.25}, {-0.31, 0.17}};
+  const mpgm_shape_params par = {.h = H};
   double worst[4] = {0, 0, 0, 0};
   for (int f = 0; f < 3; f++)
     for (int k = 0; k < 3; k++) {
-      double r[4], N[NG], dN[2 * NG], xn[2 * NG];
+      double r[4], e[5];
       domain(Fs[f], 0.11, 0.07, r);
-      grid(xn);
-      if (eval("cpdi", xps[k], r, 0.0, N, dN, NULL)) {
+      if (sums(&par, xps[k], r, e)) {
         mpgm_test(0, "cpdi: F %d, point %d evaluates", f, k);
         continue;
       }
-      double s = 0, x[2] = {0, 0}, g[2] = {0, 0}, G[4] = {0, 0, 0, 0};
-      for (int a = 0; a < NG; a++) {
-        s += N[a];
-        for (int i = 0; i < 2; i++) {
-          x[i] += N[a] * xn[2 * a + i];
-          g[i] += dN[2 * a + i];
-          for (int j = 0; j < 2; j++) G[2 * i + j] += xn[2 * a + i] * dN[2 * a + j];
-        }
-      }
-      worst[0] = fmax(worst[0], fabs(s - 1.0));
-      worst[1] = fmax(worst[1], fmax(fabs(x[0] - xps[k][0]), fabs(x[1] - xps[k][1])));
-      worst[2] = fmax(worst[2], fmax(fabs(g[0]), fabs(g[1])) * H);
-      worst[3] = fmax(worst[3], fmax(fmax(fabs(G[0] - 1), fabs(G[3] - 1)), fmax(fabs(G[1]), fabs(G[2]))));
+      for (int i = 0; i < 4; i++) worst[i] = fmax(worst[i], e[i]);
     }
   mpgm_test(worst[0] < 1e-13, "cpdi: sum N = 1 under stretch, shear and turn (%.1e)", worst[0]);
   mpgm_test(worst[1] < 1e-13, "cpdi: sum N x_I = x_p (%.1e m)", worst[1]);
@@ -203,38 +228,6 @@ static void check_point_and_failures(void) {
   const mpgm_shape_query q = {.n = 1, .xn = mid, .xp = {0, 0}, .cell = -1, .par = NULL};
   mpgm_test(mpgm_shapefn_type_find("cpdi")->eval(&q, N, dN) == MPGM_ERR_INPUT,
             "cpdi: no length scale is MPGM_ERR_INPUT");
-}
-
-/* Sums over the nodes of the quadratic splines at (xp, domain r) on the
- * grid's box [-R H, R H]^2: |sum N - 1|, |sum N x_I - x_p|, |sum grad N| H,
- * |sum x_I (x) grad N - 1| and, for f = x^2 + 3 x y - 2 y^2, |sum f_I grad
- * N - grad f(x_p)| H (order: 1 hats, 2 splines). */
-static int spline_sums(int order, const double xp[2], const double *r, double err[5]) {
-  static double xn[2 * NG];
-  grid(xn);
-  const mpgm_shape_params par = {.h = H, .grid_order = order, .grid_lo = {-R * H, -R * H},
-                                 .grid_hi = {R * H, R * H}};
-  double N[NG], dN[2 * NG];
-  const mpgm_shape_query q = {.n = NG, .xn = xn, .xp = {xp[0], xp[1]}, .cell = -1, .par = &par,
-                              .domain = r};
-  if (mpgm_shapefn_type_find("cpdi")->eval(&q, N, dN)) return 1;
-  double s = 0, x[2] = {0, 0}, g[2] = {0, 0}, G[4] = {0, 0, 0, 0}, gf[2] = {0, 0};
-  for (int a = 0; a < NG; a++) {
-    const double X = xn[2 * a], Y = xn[2 * a + 1], f = X * X + 3 * X * Y - 2 * Y * Y;
-    s += N[a];
-    for (int i = 0; i < 2; i++) {
-      x[i] += N[a] * xn[2 * a + i];
-      g[i] += dN[2 * a + i];
-      gf[i] += f * dN[2 * a + i];
-      for (int j = 0; j < 2; j++) G[2 * i + j] += xn[2 * a + i] * dN[2 * a + j];
-    }
-  }
-  err[0] = fabs(s - 1.0);
-  err[1] = fmax(fabs(x[0] - xp[0]), fabs(x[1] - xp[1]));
-  err[2] = fmax(fabs(g[0]), fabs(g[1])) * H;
-  err[3] = fmax(fmax(fabs(G[0] - 1), fabs(G[3] - 1)), fmax(fabs(G[1]), fabs(G[2])));
-  err[4] = fmax(fabs(gf[0] - (2 * xp[0] + 3 * xp[1])), fabs(gf[1] - (3 * xp[0] - 4 * xp[1]))) * H;
-  return 0;
 }
 
 static void check_quadratic(void) {
