@@ -27,7 +27,7 @@ fail() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
 
 out="$work/cc"
 "$exe" run "$src/cases/column_collapse_gmm.json" --quiet --set shape.kind=lme --set shape.gamma=0.8 \
-  --set mesh.h=0.2 --set time.end=0.8 --set mesh.node_motion=interpolated --set output.every=10 \
+  --set mesh.h=0.2 --set time.dt=0.005 --set time.end=0.8 --set mesh.node_motion=interpolated --set output.every=10 \
   --set output.times=[] --set 'output.fields=["id"]' --set output.vtk=ascii --out "$out" \
   > "$work/stdout" 2> "$work/stderr"
 rc=$?

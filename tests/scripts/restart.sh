@@ -105,13 +105,13 @@ one_case gmm_mls_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kin
 one_case gmm_lme_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kind=lme \
   --set output.checkpoint_every=6
 one_case gmm_lme_nodes "$src/cases/column_collapse_gmm.json" --set shape.kind=lme \
-  --set shape.gamma=0.8 --set mesh.node_motion=interpolated --set mesh.h=0.2 --set time.end=0.3 \
+  --set shape.gamma=0.8 --set mesh.node_motion=interpolated --set mesh.h=0.2 --set time.dt=0.005 --set time.end=0.3 \
   --set output.checkpoint_every=5 --set output.times=[0.1]
 one_case gmm_lme_disk "$src/cases/rolling_disk.json" --set method=gmm --set shape.kind=lme \
   --set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.2 --set output.every=5 \
   --set output.checkpoint_every=4
 one_case gmm_lme_cc "$src/cases/column_collapse_gmm.json" --set shape.kind=lme --set mesh.h=0.2 \
-  --set time.end=0.3 --set output.checkpoint_every=5 --set output.times=[0.1]
+  --set time.dt=0.005 --set time.end=0.3 --set output.checkpoint_every=5 --set output.times=[0.1]
 one_case gmm_skin_disk "$src/cases/rolling_disk.json" --set method=gmm --set shape.kind=lme \
   --set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.2 --set output.every=5 \
   --set output.checkpoint_every=4 --set shape.skin=0.25

@@ -55,7 +55,7 @@ print(("OK " if ok else "BAD ") + "; ".join(out))
 PY
 }
 
-cc=(run "$src/cases/column_collapse_gmm.json" --quiet --set mesh.h=0.1 --set time.end=0.3
+cc=(run "$src/cases/column_collapse_gmm.json" --quiet --set mesh.h=0.1 --set time.dt=0.005 --set time.end=0.3
     --set output.vtk=none --set solver.newton=full)
 "$exe" "${cc[@]}" --set shape.skin=0 --out cc_0 > cc_0.log 2>&1
 # a thin skin, so that the lists are built again several times (6 in 60

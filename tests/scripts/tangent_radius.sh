@@ -113,7 +113,7 @@ PY
 case "$r" in OK*) ok "restart from step 1: ${r#OK }" ;; *) ko "restart from step 1: ${r#BAD }" ;; esac
 
 cc=(run "$src/cases/column_collapse_gmm.json" --quiet --set shape.kind=lme --set mesh.h=0.1
-    --set time.end=0.2 --set output.vtk=none --set solver.linear=auto --set solver.forcing=fixed)
+    --set time.dt=0.005 --set time.end=0.2 --set output.vtk=none --set solver.linear=auto --set solver.forcing=fixed)
 "$exe" "${cc[@]}" --set shape.tangent_radius=0 --out cc_full > cc_full.log 2>&1
 "$exe" "${cc[@]}" --set shape.tangent_radius=2 --out cc_t > cc_t.log 2>&1
 r=$(python3 - <<'PY'
