@@ -280,7 +280,8 @@ typedef struct mpgm_scene {
                                  (iterative solves only); 0: linear_tol */
   double contact_check;     /**< contact: check the active set once
                                  |R| <= contact_check ref (0: only at
-                                 convergence)                          */
+                                 convergence); default 1e-6 with contact
+                                 at points, 1e-3 otherwise             */
   int ordering_nd;          /**< 1: fill-reducing order by geometric
                                  nested dissection of the node graph
                                  (core/ordering.c); 0: the backend's own

@@ -614,8 +614,12 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
                                                                        : "an implicit analysis");
   }
 
-  MPGM_CALL(mpgm_scene_read_solver(root, s));
   MPGM_CALL(read_materials(root, s));
+  MPGM_CALL(read_bodies(root, s));
+  MPGM_CALL(mpgm_scene_read_boundaries(root, s));
+  MPGM_CALL(mpgm_scene_read_obstacles(root, s));
+  /* after the boundaries: a default follows them (solver.contact_check) */
+  MPGM_CALL(mpgm_scene_read_solver(root, s));
   for (int i = 0; i < s->nmat; i++) {
     jr_node m = {.r = root->r};
     snprintf(m.path, sizeof m.path, "materials.%s", s->mats[i].name);
@@ -631,9 +635,6 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
         return jr_fail(&m, "type", "material has an unsymmetric tangent: solver.%s \"%s\" needs a "
                        "symmetric matrix (use \"umfpack\" or \"auto\")", key[k], by[k]->name);
   }
-  MPGM_CALL(read_bodies(root, s));
-  MPGM_CALL(mpgm_scene_read_boundaries(root, s));
-  MPGM_CALL(mpgm_scene_read_obstacles(root, s));
   const double g0[2] = {0, 0};
   MPGM_CALL(jr_vec2(root, "gravity", g0, s->gravity));
   MPGM_CALL(jr_num(root, "gravity_ramp", 0.0, 0.0, INFINITY, 0, 0, &s->gravity_ramp));

@@ -38,7 +38,8 @@ int mpgm_scene_read_newmark(jr_node *tm, mpgm_scene *s, const char *analysis);
 
 /** "solver": the linear backend, its options and Newton's settings
  *  (scene_solver.c; after "time", whose analysis decides whether PETSc is
- *  loaded). */
+ *  loaded, and after "boundaries", on which contact_check's default
+ *  depends). */
 int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s);
 
 #endif

@@ -9,7 +9,10 @@
 # - the turned scene gives the turned motion at every step (Q4 grid: the
 #   quarter turn maps grid, particles and surface points onto themselves),
 #   which checks the x-plane, body-on-the-minus-side code path against the
-#   floor's.
+#   floor's;
+# - the contact set's check defaults to |R| <= 1e-6 ref with contact at
+#   points (a point caught during a solve is anchored from that iterate) and
+#   to 1e-3 with contact at grid nodes; a given value is kept.
 # usage: contact_points.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
 exe="$1"; src="$2"; work="$3"
@@ -19,9 +22,9 @@ source "$src/tests/tools/run_case.bash"
 run_case floor "$src/tests/scenes/block_on_floor.json"
 run_case wall "$src/tests/scenes/block_on_wall.json"
 [ $fail -eq 0 ] || { echo "0 passed, 1 failed"; exit 1; }
-/usr/bin/python3 - "$work" <<'PY'
-import csv, json, math, sys
-w = sys.argv[1]
+/usr/bin/python3 - "$work" "$exe" "$src" <<'PY'
+import csv, json, math, subprocess, sys
+w, exe, src = sys.argv[1:4]
 npass = nfail = 0
 def check(ok, msg):
     global npass, nfail
@@ -32,6 +35,18 @@ for name in ("floor", "wall"):
           and c["contact_point_releases"] == 0 and c["contact_points_unenforced"] == 0,
           f"{name}: {c['contact_points']} surface points, {c['contact_points_held']} held at the end "
           f"(the 41 of the bottom edge), {c['contact_point_releases']} let go")
+def resolved_check(*sets):
+    out = subprocess.run([exe, "check", f"{src}/tests/scenes/block_on_floor.json"]
+                         + [a for k in sets for a in ("--set", k)], capture_output=True, text=True)
+    if out.returncode != 0:
+        return f"does not load: {out.stderr.strip()}"
+    return json.loads(out.stdout[:out.stdout.index("\neffects:")])["solver"]["contact_check"]
+cc = [json.load(open(f"{w}/{n}/summary.json"))["scene"]["solver"]["contact_check"] for n in ("floor", "wall")]
+nodes = resolved_check("boundaries.0.enforce=nodes", "mesh.domain.min=[0,0]")
+given = resolved_check("solver.contact_check=1e-3")
+check(cc == [1e-6, 1e-6] and nodes == 1e-3 and given == 1e-3,
+      f"contact check: {cc[0]:g} and {cc[1]:g} at points (default 1e-6), {nodes} at grid nodes "
+      f"(default 1e-3), {given} when the scene gives 1e-3 at points")
 rows = {n: list(csv.DictReader(open(f"{w}/{n}/probes.csv"))) for n in ("floor", "wall")}
 # turned: (ux, uy) on the floor is (-uy, ux) on the wall
 scale = max(abs(float(r[k])) for r in rows["floor"] for k in r if k.endswith(("_ux", "_uy")))

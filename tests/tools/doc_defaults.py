@@ -177,6 +177,10 @@ def expected(text, resolved):
         if sol not in ("ring", "vortex"):
             raise LookupError("ring and vortex only")
         t = m.group(1 if sol == "ring" else 2)
+    m = re.fullmatch(r'(\S+); `enforce` `"points"`: (\S+)', t)
+    if m:  # a default of scenes with a contact at surface points
+        pts = any(b.get("enforce") == "points" for b in resolved.get("boundaries", []))
+        t = m.group(2 if pts else 1)
     m = re.fullmatch(r"(explicit|dynamic): (.+)", t)
     if m:  # a key of explicit (implicit dynamic) analysis only
         if resolved.get("time", {}).get("analysis") != m.group(1):
