@@ -363,6 +363,13 @@ int mpgm_polygon_check(const double *p, int n, char *msg, size_t len);
 int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[MPGM_DIM],
                         const double hi[MPGM_DIM]);
 
+/** 1 when some boundary of s is a contact at surface points. */
+static inline int mpgm_scene_contact_at_points(const mpgm_scene *s) {
+  for (int i = 0; i < s->nbc; i++)
+    if (mpgm_bc_at_points(&s->bcs[i])) return 1;
+  return 0;
+}
+
 /** 1 when a scene boundary selects the node at X (plane within tol, or box). */
 int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[MPGM_DIM]);
 

@@ -13,9 +13,7 @@
 #include "mpgm_kdtree.h"
 
 int mpgm_gmm_uses_grid(const mpgm_scene *s) {
-  int grid = s->nobstacle > 0;
-  for (int i = 0; i < s->nbc; i++) /* contact at surface points */
-    grid |= mpgm_bc_at_points(&s->bcs[i]);
+  int grid = s->nobstacle > 0 || mpgm_scene_contact_at_points(s);
   for (int b = 0; b < s->nbody; b++) grid |= s->bodies[b].geometry != MPGM_GEOM_RECTANGLE;
   return grid;
 }

@@ -69,9 +69,8 @@ int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {
    * the iterate at which the set is checked, so that iterate's error stays
    * in the answer: such scenes check at 1e-6 (docs/theory.md section 17).
    * Grid nodes are held on the plane itself, and 1e-3 saves iterations. */
-  int at_points = 0;
-  for (int i = 0; i < s->nbc; i++) at_points |= mpgm_bc_at_points(&s->bcs[i]);
-  MPGM_CALL(jr_num(&so, "contact_check", at_points ? 1e-6 : 1e-3, 0.0, 1.0, 0, 1, &s->contact_check));
+  const double check_def = mpgm_scene_contact_at_points(s) ? 1e-6 : 1e-3;
+  MPGM_CALL(jr_num(&so, "contact_check", check_def, 0.0, 1.0, 0, 1, &s->contact_check));
   static const char *const ordering_names[] = {"backend", "geometric", NULL};
   MPGM_CALL(jr_enum(&so, "ordering", ordering_names, 0, &s->ordering_nd));
   MPGM_CALL(jr_int(&so, "threads", 1, 0, 256, &s->threads));
