@@ -49,7 +49,7 @@ static const char *const counter_names[MPGM_C_COUNT] = {
     "cpls_linear_nodes", "cpls_projected_nodes", "linear_not_converged",
     "factor_reuses", "patterns_kept", "kinetic_resets", "newton_relaxations",
     "newton_stagnations", "contact_low_rank", "line_searches", "bfgs_updates",
-    "linear_fallbacks"};
+    "linear_fallbacks", "factor_renewals"};
 
 const char *mpgm_counter_name(int id) {
   return (id >= 0 && id < MPGM_C_COUNT) ? counter_names[id] : "?";

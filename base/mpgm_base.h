@@ -169,6 +169,10 @@ typedef enum {
                                  iterative backend could not solve (or
                                  precondition), factorised by the direct
                                  fallback                               */
+  MPGM_C_FACTOR_RENEWALS,   /**< solver.newton "modified" / "bfgs": kept
+                                 factorisations renewed in a solve's last
+                                 iterations because their rate could not
+                                 reach the tolerance in those left       */
   MPGM_C_COUNT
 } mpgm_counter_id;
 

@@ -302,24 +302,32 @@ static void relax(mpgm_problem *pb, mpgm_newton *nt) {
 }
 
 /* Modified Newton keeps the last factorisation while the residual drops
- * by reuse_ratio per iteration and, at the rate it drops, reaches the
- * tolerance within the iterations left; else it refactorises. The second
- * condition matters where the kept tangent gives a rate just inside
- * reuse_ratio: on the rolling disk (GMM-LME gamma 0.8, dt 0.002, step 27)
- * a re-solve after a contact change fell by 0.49 per iteration from
- * |R|/ref 0.5, never refactorised, and stopped at max_iterations with
- * |R|/ref 3.6e-9 against rtol 1e-9: a step cut that one new
- * factorisation avoids (docs/theory.md section 6). */
+ * by reuse_ratio per iteration; else it refactorises. It also renews one
+ * that cannot finish: when at most RENEW_RESERVE iterations are left and,
+ * at the rate |R| now falls, reaching the tolerance would take more. On
+ * the rolling disk (GMM-LME gamma 0.8, dt 0.002, step 27) a re-solve after
+ * a contact change fell by 0.49 per iteration, inside reuse_ratio 0.5,
+ * from |R|/ref 0.5, and stopped at max_iterations with |R|/ref 3.6e-9
+ * against rtol 1e-9: the step was cut. Renewing only for the last
+ * iterations, not as soon as the rate first falls short, leaves every
+ * solve that finishes in time on its path: renewing at once also renewed
+ * in solves whose rate then improved, and moved which steps an inverted
+ * iterate cuts (docs/theory.md section 6). By then |R| has fallen by at
+ * least reuse_ratio per iteration, and full Newton needs one to three
+ * more. */
+#define RENEW_RESERVE 4
 static int keep_factor(const mpgm_problem *pb, const mpgm_newton *nt) {
   const mpgm_scene *sc = pb->scene;
   if (!sc->newton_modified || !nt->factored || pb->lift) return 0;
   if (nt->it == 0) return 1;
   if (!(nt->res <= sc->reuse_ratio * nt->res_prev)) return 0;
+  const int left = sc->max_iter - nt->it;
   const double tau = fmax(sc->atol, sc->rtol * nt->ref);
-  if (nt->res <= tau || nt->res == 0.0) return 1;
+  if (left > RENEW_RESERVE || nt->res <= tau || nt->res == 0.0) return 1;
   const double rate = nt->res / nt->res_prev; /* in (0, reuse_ratio] */
-  const double needed = log(tau / nt->res) / log(rate);
-  return needed <= (double)(sc->max_iter - nt->it);
+  if (log(tau / nt->res) / log(rate) <= (double)left) return 1;
+  mpgm_count(pb->ctx, MPGM_C_FACTOR_RENEWALS, 1);
+  return 0;
 }
 
 int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {

