@@ -178,6 +178,11 @@ static int stagnated(const mpgm_newton *nt, const mpgm_newton_info *info, int w,
   return *recent > 0.5 * *before;
 }
 
+/* Newton's residual tolerance: |R| <= max(atol, rtol ref) converges. */
+static double res_tolerance(const mpgm_scene *sc, const mpgm_newton *nt) {
+  return fmax(sc->atol, sc->rtol * nt->ref);
+}
+
 int mpgm_newton_test(mpgm_problem *pb, const mpgm_newton *nt, int *done) {
   const mpgm_scene *sc = pb->scene;
   const mpgm_newton_info *info = &pb->last;
@@ -187,7 +192,7 @@ int mpgm_newton_test(mpgm_problem *pb, const mpgm_newton *nt, int *done) {
    * or the last correction negligible against the step's increment (the
    * residual then sits at its round-off floor, which grows with the
    * problem's size and stiffness) */
-  const int res_ok = res <= sc->atol || res <= sc->rtol * nt->ref;
+  const int res_ok = res <= res_tolerance(sc, nt);
   /* tests: a stall made on purpose ends Newton as its iteration limit does */
   const int stall = it > 0 && mpgm_fault_due(pb->ctx, MPGM_ERR_NOT_CONVERGED, pb->step + 1);
   *done = !stall && !pb->lift && (res_ok || (it > 0 && info->du_rel <= sc->dtol));
@@ -268,7 +273,7 @@ static double forcing(const mpgm_problem *pb, mpgm_newton *nt) {
     if (safe > 0.1) eta = fmax(eta, safe);
   }
   if (nt->ref > 0.0) eta = fmin(eta, nt->res / nt->ref);
-  const double tau = fmax(sc->atol, sc->rtol * nt->ref);
+  const double tau = res_tolerance(sc, nt);
   if (nt->res > 0.0) eta = fmax(eta, 0.5 * tau / nt->res);
   eta = fmax(fmin(eta, eta_max), sc->solver_opts.tol);
   nt->eta = eta;
@@ -322,8 +327,8 @@ static int keep_factor(const mpgm_problem *pb, const mpgm_newton *nt) {
   if (nt->it == 0) return 1;
   if (!(nt->res <= sc->reuse_ratio * nt->res_prev)) return 0;
   const int left = sc->max_iter - nt->it;
-  const double tau = fmax(sc->atol, sc->rtol * nt->ref);
-  if (left > RENEW_RESERVE || nt->res <= tau || nt->res == 0.0) return 1;
+  const double tau = res_tolerance(sc, nt);
+  if (left > RENEW_RESERVE || nt->res <= tau) return 1;
   const double rate = nt->res / nt->res_prev; /* in (0, reuse_ratio] */
   if (log(tau / nt->res) / log(rate) <= (double)left) return 1;
   mpgm_count(pb->ctx, MPGM_C_FACTOR_RENEWALS, 1);
