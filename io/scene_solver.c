@@ -43,6 +43,12 @@ int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {
   if (s->analysis != MPGM_ANALYSIS_EXPLICIT && cJSON_IsString(lin) &&
       strcmp(lin->valuestring, "petsc") == 0 && !mpgm_solver_usable("petsc", why, sizeof why))
     return jr_fail(&so, "linear", "\"petsc\" cannot be used: %s", why);
+  /* mpgm's own GMRES + ILU(0), retired in issue 19: PETSc's was faster
+   * on every system measured, with the same iterations */
+  if (cJSON_IsString(lin) && strcmp(lin->valuestring, "gmres") == 0)
+    return jr_fail(&so, "linear", "\"gmres\" (mpgm's own GMRES + ILU(0)) was retired: use \"petsc\", "
+                   "whose default for an unsymmetric tangent is GMRES + ILU(0) (solver.petsc "
+                   "\"-ksp_type gmres -pc_type ilu\" for any tangent)");
   MPGM_CALL(jr_enum(&so, "linear", svn, 0, &si));
   s->solver = svt[si];
   MPGM_CALL(jr_num(&so, "rtol", 1e-9, 0, 1, 1, 1, &s->rtol));
@@ -74,7 +80,7 @@ int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {
   static const char *const ordering_names[] = {"backend", "geometric", NULL};
   MPGM_CALL(jr_enum(&so, "ordering", ordering_names, 0, &s->ordering_nd));
   MPGM_CALL(jr_int(&so, "threads", 1, 0, 256, &s->threads));
-  /* iterative backends (gmres); the direct ones ignore them */
+  /* iterative backends (petsc); the direct ones ignore them */
   s->solver_opts = mpgm_solver_opts_default();
   MPGM_CALL(jr_num(&so, "linear_tol", s->solver_opts.tol, 0, 1, 1, 1, &s->solver_opts.tol));
   MPGM_CALL(jr_int(&so, "linear_restart", s->solver_opts.restart, 1, 1000, &s->solver_opts.restart));

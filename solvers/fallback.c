@@ -1,5 +1,5 @@
 /* fallback.c -- the composite backend of solver.linear_fallback: an
- * iterative backend (petsc, gmres) with a direct one for the matrices it
+ * iterative backend (petsc) with a direct one for the matrices it
  * cannot solve.
  *
  * A Krylov solve can fail where the tangent itself is fine: GMRES with

@@ -1,6 +1,7 @@
 /* mpgm_krylov.h -- restarted GMRES with a preconditioner given as a
- * function: the Krylov kernel of the backends `gmres` (ILU(0)) and `reuse`
- * (the last factorisation of a direct backend, for Newton-Krylov).
+ * function: the Krylov kernel of the backend `reuse` (the last
+ * factorisation of a direct backend, for Newton-Krylov) and of the unit
+ * tests' GMRES + ILU(0) (tests/unit/support_ilu_gmres.c).
  *
  * GMRES(m) (Saad & Schultz 1986) on A M^-1 y = b, x = M^-1 y (right
  * preconditioning: the residual GMRES minimises is the true one,

@@ -48,7 +48,7 @@ typedef struct mpgm_solver_stats {
 typedef struct mpgm_solver_opts {
   double tol;   /**< iterative: relative residual |b - A x| / |b| a solve
                      must reach (default 1e-10)                          */
-  int restart;  /**< gmres: Krylov vectors per cycle (default 100)       */
+  int restart;  /**< GMRES: Krylov vectors per cycle (default 100)       */
   int max_iter; /**< iterative: iterations per solve before it fails with
                      MPGM_ERR_LINEAR (default 5000)                      */
   int symmetric; /**< "auto": 1 when the matrices will be symmetric

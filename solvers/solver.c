@@ -16,7 +16,6 @@
   X(mpgm_solver_cholmod_supernodal)                                            \
   X(mpgm_solver_umfpack)                                                       \
   X(mpgm_solver_klu)                                                           \
-  X(mpgm_solver_gmres)                                                         \
   X(mpgm_solver_petsc) /* a module loaded on first use: plugin.c */
 
 int mpgm_solver_plugin_load(const char *name, char *msg, size_t len); /* plugin.c */

@@ -5,8 +5,9 @@
 # agree on the solution to 1e-8 relative (the iterative one to its
 # tolerance); the CSV has one row per system and backend (PETSc: one per
 # preset, CG or GMRES with BoomerAMG, GAMG or incomplete factors, and
-# MUMPS). The new backends run whole scenes too: klu, gmres and petsc give
-# cholmod's tip_uy to 1e-8.
+# MUMPS). The new backends run whole scenes too: klu and petsc give
+# cholmod's tip_uy to 1e-8; the retired "gmres" is refused with a pointer
+# to petsc.
 # Bad input (a malformed .mtx, a missing right-hand side, no systems, bad
 # options) exits 2 with a message naming the file and line.
 # usage: bench_solvers.sh MPGM_EXE SOURCE_DIR WORK_DIR
@@ -27,13 +28,15 @@ run_case mtx3 "$scene" --set mesh.h=0.5 --set time.load_steps=3 --set output.mat
 "$exe" bench-solvers "$work/mtx" --repeat 2 --out "$work/bench.csv" > "$work/bench.md" 2> "$work/bench.err"
 echo $? > "$work/bench.rc"
 # a matrices folder given directly, the default CSV, two backends
-"$exe" bench-solvers "$work/mtx/matrices" --repeat 1 --only umfpack,gmres --tol 1e-12 \
+"$exe" bench-solvers "$work/mtx/matrices" --repeat 1 --only umfpack,petsc:gmres-ilu --tol 1e-12 \
   > "$work/tight.md" 2> "$work/tight.err"
 echo $? > "$work/tight.rc"
 # whole runs with each backend (the default cantilever, h = 0.125)
-for s in cholmod cholmod_simplicial cholmod_supernodal umfpack klu gmres petsc auto; do
+for s in cholmod cholmod_simplicial cholmod_supernodal umfpack klu petsc auto; do
   run_case "run_$s" "$scene" --set solver.linear=$s
 done
+"$exe" check "$scene" --set solver.linear=gmres > /dev/null 2> "$work/retired.err"
+echo $? > "$work/retired.rc"
 # bad input: each must exit 2 with a message naming the file (and line)
 bad() { # NAME EXPECT ARGS...: runs bench-solvers ARGS, records rc and stderr
   local name="$1"; shift
@@ -89,7 +92,7 @@ rows = list(csv.DictReader(open(f"{w}/bench.csv")))
 # PETSc's configurations (solvers/plugin.c): scripts/setup.sh installs PETSc
 petsc_iter = ["cg-boomeramg", "cg-gamg", "cg-icc", "gmres-boomeramg", "gmres-gamg", "gmres-ilu"]
 petsc_direct = ["mumps-cholesky", "mumps-lu"]
-iterative = ["gmres"] + ["petsc:" + p for p in petsc_iter]
+iterative = ["petsc:" + p for p in petsc_iter]
 backends = ["auto", "cholmod", "cholmod_simplicial", "cholmod_supernodal", "umfpack", "klu"] + \
     ["petsc:" + p for p in petsc_direct] + iterative
 systems = sorted({r["matrix"] for r in rows})
@@ -130,22 +133,26 @@ check(md.startswith("| matrix | n | nnz | backend |") and md.count("\n") == 2 + 
 check(rc("tight") == 0 and os.path.exists(f"{w}/mtx/matrices/bench_solvers.csv"),
       "a matrices folder given directly; the CSV goes to its bench_solvers.csv by default")
 t = list(csv.DictReader(open(f"{w}/mtx/matrices/bench_solvers.csv")))
-tg = [r for r in t if r["backend"] == "gmres"]
-check(len(t) == 2 * its and all(r["status"] == "ok" and num(r, "diff_ref") <= 1e-8 for r in tg),
-      "--only umfpack,gmres --tol 1e-12: gmres agrees with UMFPACK to 1e-8 (" +
+tg = [r for r in t if r["backend"] == "petsc:gmres-ilu"]
+check(len(t) == 2 * its and len(tg) == its and
+      all(r["status"] == "ok" and num(r, "diff_ref") <= 1e-8 for r in tg),
+      "--only umfpack,petsc:gmres-ilu --tol 1e-12: GMRES + ILU(0) agrees with UMFPACK to 1e-8 (" +
       ", ".join(f"{num(r, 'diff_ref'):.1e}" for r in tg) + ")")
 
 ref = summary(w, "run_cholmod")["metrics"]["tip_uy"]
-for b in ("cholmod_simplicial", "cholmod_supernodal", "umfpack", "klu", "gmres", "petsc", "auto"):
+for b in ("cholmod_simplicial", "cholmod_supernodal", "umfpack", "klu", "petsc", "auto"):
     sb = summary(w, f"run_{b}")
     v = sb["metrics"]["tip_uy"]
     check(sb["status"] == "completed" and abs(v - ref) <= 1e-8 * abs(ref),
           f"solver.linear={b}: tip_uy {v:.15f} = cholmod's {ref:.15f} to 1e-8")
-sg = summary(w, "run_gmres")
-check(sg["solver"] == "gmres" and sg["counts"].get("linear_iterations", 0) > 0 and
+sg = summary(w, "run_petsc")
+check(sg["solver"] == "petsc" and sg["counts"].get("linear_iterations", 0) > 0 and
       sg["counts"].get("solver_memory_peak", 0) > 0,
-      f"gmres run: linear_iterations {sg['counts'].get('linear_iterations')}, memory "
+      f"petsc run: linear_iterations {sg['counts'].get('linear_iterations')}, memory "
       f"{sg['counts'].get('solver_memory_peak')} B in summary.json")
+err = open(f"{w}/retired.err").read()
+check(rc("retired") == 2 and "solver.linear" in err and "retired" in err and '"petsc"' in err,
+      f"solver.linear gmres is refused, pointing to petsc: exit {rc('retired')}, {err.strip()[:160]}")
 check(summary(w, "run_auto")["solver"] == "cholmod", "auto still picks cholmod for the symmetric tangent")
 
 def bad(name, *words):

@@ -8,8 +8,8 @@
 #     tip agrees to 1e-6 (the solves are inexact) in at most one more
 #     Newton iteration per step;
 #   - the column collapse, coarse and short (MPM, Mohr-Coulomb: an
-#     unsymmetric tangent): Newton-Krylov with forcing, and GMRES + ILU(0)
-#     with forcing, give UMFPACK's runout and height to 1e-6; Newton stays
+#     unsymmetric tangent): Newton-Krylov with forcing, and PETSc's GMRES +
+#     ILU(0) (solver.linear petsc's default there) with forcing, give UMFPACK's runout and height to 1e-6; Newton stays
 #     quadratic in the last (plastic) step; the forcing takes fewer Krylov
 #     iterations than solving every system to 1e-10;
 #   - UL-FEM (the pattern stays): one factorisation serves several steps;
@@ -31,12 +31,12 @@ run_case cl_krylov "$cl" --set time.load_steps=2 --set solver.newton=krylov
 run_case cl_krylov_ew "$cl" --set time.load_steps=2 --set solver.newton=krylov "${ew[@]}"
 run_case cc_full "$cc" "${coarse[@]}"
 run_case cc_krylov "$cc" "${coarse[@]}" --set solver.newton=krylov "${ew[@]}"
-run_case cc_gmres "$cc" "${coarse[@]}" --set solver.linear=gmres
-run_case cc_gmres_ew "$cc" "${coarse[@]}" --set solver.linear=gmres "${ew[@]}"
+run_case cc_gmres "$cc" "${coarse[@]}" --set solver.linear=petsc
+run_case cc_gmres_ew "$cc" "${coarse[@]}" --set solver.linear=petsc "${ew[@]}"
 run_case fem_krylov "$cc" --set method=fem --set mesh.h=0.2 --set time.end=0.2 --set solver.linear=auto \
   --set 'boundaries=[{"x":0,"condition":"slip"},{"y":0,"condition":"stick"}]' \
   --set solver.newton=krylov "${ew[@]}"
-"$exe" check "$cl" --set solver.newton=krylov --set solver.linear=gmres > /dev/null 2> "$work/bad.err"
+"$exe" check "$cl" --set solver.newton=krylov --set solver.linear=petsc > /dev/null 2> "$work/bad.err"
 echo $? > "$work/bad.rc"
 
 /usr/bin/python3 - "$work" "$src" <<'PY'
@@ -90,7 +90,7 @@ check(f["status"] == "completed" and fc["factorizations"] < fc["steps"],
       f"{fc['newton_iterations']} Newton iterations: the pattern stays and one serves several steps")
 err = open(f"{w}/bad.err").read()
 rc = int(open(f"{w}/bad.rc").read())
-check(rc == 2 and "solver.newton" in err and "direct" in err, f"krylov with gmres refused: exit {rc}, {err.strip()[:160]}")
+check(rc == 2 and "solver.newton" in err and "direct" in err, f"krylov with petsc refused: exit {rc}, {err.strip()[:160]}")
 done()
 PY
 rc=$?

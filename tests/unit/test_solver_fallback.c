@@ -1,5 +1,6 @@
 /* test_solver_fallback.c -- solver.linear_fallback (solvers/fallback.c):
- * an iterative backend (the built-in gmres, so the test needs no PETSc)
+ * an iterative backend (GMRES + ILU(0) of support_ilu_gmres.c, so the
+ * test needs no PETSc)
  * whose failed solves go to a direct backend (umfpack).
  *
  * The direct part must give the direct backend's own answer to the bit
@@ -20,7 +21,7 @@
 #include "mpgm_solver.h"
 #include "mpgm_test.h"
 
-extern const mpgm_solver_type mpgm_solver_gmres;
+extern const mpgm_solver_type test_solver_ilu_gmres; /* support_ilu_gmres.c */
 extern const mpgm_solver_type mpgm_solver_umfpack;
 
 /* The 5-point matrix of a convection-diffusion problem on an nx x ny grid:
@@ -109,7 +110,7 @@ static void check_solves(void) {
   mpgm_ctx_set_logger(&ctx, logger, NULL, MPGM_LOG_WARNING);
   mpgm_csc A;
   mpgm_solver *s = NULL;
-  const mpgm_solver_opts o = opts_with(&mpgm_solver_gmres, &mpgm_solver_umfpack);
+  const mpgm_solver_opts o = opts_with(&test_solver_ilu_gmres, &mpgm_solver_umfpack);
   double *b = NULL, *x = NULL, *ref = NULL;
   if (convection(30, 30, &A) || !(b = malloc(900 * sizeof(double))) ||
       !(x = malloc(900 * sizeof(double))) || !(ref = malloc(900 * sizeof(double))) ||
@@ -196,7 +197,7 @@ static void check_factor(void) {
   mpgm_ctx ctx;
   mpgm_ctx_init(&ctx);
   mpgm_solver *s = NULL;
-  const mpgm_solver_opts o = opts_with(&mpgm_solver_gmres, &mpgm_solver_umfpack);
+  const mpgm_solver_opts o = opts_with(&test_solver_ilu_gmres, &mpgm_solver_umfpack);
   double b[3] = {1, 2, 3}, x[3], ref[3];
   direct(&A, b, ref);
   int e = mpgm_solver_create(&ctx, &mpgm_solver_fallback, &o, &s);
@@ -231,8 +232,8 @@ static void check_refusals(void) {
     const mpgm_solver_type *part, *fb;
     const char *what;
   } bad[] = {{&mpgm_solver_umfpack, &mpgm_solver_umfpack, "a direct part"},
-             {&mpgm_solver_gmres, &mpgm_solver_gmres, "an iterative fallback"},
-             {&mpgm_solver_gmres, NULL, "no fallback"},
+             {&test_solver_ilu_gmres, &test_solver_ilu_gmres, "an iterative fallback"},
+             {&test_solver_ilu_gmres, NULL, "no fallback"},
              {NULL, &mpgm_solver_umfpack, "no part"}};
   for (int i = 0; i < 4; i++) {
     mpgm_ctx ctx;

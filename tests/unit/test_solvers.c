@@ -752,7 +752,7 @@ int main(void) {
       if (k >= 0) snprintf(cur.opts.petsc, sizeof cur.opts.petsc, "%s", t->presets[k].options);
       check_spd(t);
       check_hard(t);
-      if (k < 0 && !t->needs_spd && strcmp(t->name, "gmres") != 0) check_zero_pivot(t);
+      if (k < 0 && !t->needs_spd) check_zero_pivot(t);
       check_given_order(t);
       if (cur.iterative) check_iterative(t);
       check_misuse(t);

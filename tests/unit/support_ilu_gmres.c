@@ -1,25 +1,22 @@
-/* gmres.c -- restarted GMRES with an ILU(0) preconditioner: the iterative
- * backend (docs/theory.md, "Iterative linear solver").
+/* support_ilu_gmres.c -- restarted GMRES with an ILU(0) preconditioner, a
+ * backend for the unit tests only: a small iterative backend that needs no
+ * PETSc and reports a zero pivot of its preconditioner at factor, so that
+ * test_solver_fallback can drive solvers/fallback.c through every way an
+ * iterative part fails. Until issue 19 it was the scene backend
+ * `solver.linear` "gmres"; PETSc's GMRES + ILU(0) replaced it there, being
+ * faster on every system of bench/solvers with the same iterations
+ * (docs/benchmarks.md, "Sparse linear solvers").
  *
  * factor computes the incomplete LU factorisation of A on A's own pattern
  * (ILU(0): L unit lower triangular, U upper triangular, L + U - I with the
  * pattern of A, (L U)_ij = A_ij on that pattern); solve runs GMRES(m)
- * (Saad & Schultz 1986) on A M^-1 y = b, x = M^-1 y, M = L U (right
- * preconditioning: the residual GMRES minimises is the true one,
- * |b - A x|), modified Gram-Schmidt, Givens rotations, x_0 = 0. A cycle
- * ends after m = opts.restart Krylov vectors or when the updated residual
- * reaches opts.tol |b|; the true residual is then computed, and the solve
- * ends when |b - A x| <= opts.tol |b| or fails (MPGM_ERR_LINEAR,
- * recoverable: the run loop cuts the step) after opts.max_iter iterations
- * in all. The Krylov iteration is the kernel of solvers/krylov.c; this
- * file is its ILU(0) preconditioner.
+ * (solvers/krylov.c: right preconditioning, modified Gram-Schmidt, x_0 = 0)
+ * until |b - A x| <= opts.tol |b| or fails (MPGM_ERR_LINEAR, recoverable)
+ * after opts.max_iter iterations in all.
  *
  * The instance keeps its own copy of the pattern (analyse) and of the
- * factorised values (factor): GMRES multiplies by A in solve, and the core
- * may refill its matrix in between. A given order (solver.ordering
- * geometric) is not used: ILU(0) works on the equations in their own
- * order, which follows the node numbering; nested-dissection orders are
- * known to weaken ILU preconditioners (Benzi 2002, section 6).
+ * factorised values (factor): GMRES multiplies by A in solve. A given
+ * order is not used.
  */
 #include "mpgm_krylov.h"
 #include "mpgm_solver.h"
@@ -248,9 +245,9 @@ static int gm_stats(void *data, mpgm_solver_stats *st) {
 }
 
 /** Restarted GMRES, right-preconditioned with ILU(0), for general square
- *  matrices; converges to opts.tol or fails with MPGM_ERR_LINEAR. */
-const mpgm_solver_type mpgm_solver_gmres = {
-    .name = "gmres",
+ *  matrices; converges to opts.tol or fails with MPGM_ERR_LINEAR (tests). */
+const mpgm_solver_type test_solver_ilu_gmres = {
+    .name = "ilu_gmres",
     .doc = "restarted GMRES with an ILU(0) preconditioner (iterative), any square matrix",
     .needs_spd = 0,
     .iterative = 1,
