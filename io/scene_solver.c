@@ -44,7 +44,7 @@ int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {
       strcmp(lin->valuestring, "petsc") == 0 && !mpgm_solver_usable("petsc", why, sizeof why))
     return jr_fail(&so, "linear", "\"petsc\" cannot be used: %s", why);
   /* mpgm's own GMRES + ILU(0), retired in issue 19: PETSc's was faster
-   * on every system measured, with the same iterations */
+   * on every system of bench/solvers that either converged on */
   if (cJSON_IsString(lin) && strcmp(lin->valuestring, "gmres") == 0)
     return jr_fail(&so, "linear", "\"gmres\" (mpgm's own GMRES + ILU(0)) was retired: use \"petsc\", "
                    "whose default for an unsymmetric tangent is GMRES + ILU(0) (solver.petsc "

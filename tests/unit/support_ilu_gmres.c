@@ -4,7 +4,7 @@
  * test_solver_fallback can drive solvers/fallback.c through every way an
  * iterative part fails. Until issue 19 it was the scene backend
  * `solver.linear` "gmres"; PETSc's GMRES + ILU(0) replaced it there, being
- * faster on every system of bench/solvers with the same iterations
+ * faster on every system of bench/solvers that either converged on
  * (docs/benchmarks.md, "Sparse linear solvers").
  *
  * factor computes the incomplete LU factorisation of A on A's own pattern
