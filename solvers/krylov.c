@@ -1,6 +1,6 @@
 /* krylov.c -- restarted GMRES, right-preconditioned, with the operator and
- * the preconditioner as functions (mpgm_krylov.h; docs/theory.md,
- * "Iterative linear solver"). */
+ * the preconditioner as functions (mpgm_krylov.h; docs/theory.md section
+ * 18, "Iterative linear solvers"). */
 #include "mpgm_krylov.h"
 
 #include <float.h>
