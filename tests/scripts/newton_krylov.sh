@@ -31,8 +31,8 @@ run_case cl_krylov "$cl" --set time.load_steps=2 --set solver.newton=krylov
 run_case cl_krylov_ew "$cl" --set time.load_steps=2 --set solver.newton=krylov "${ew[@]}"
 run_case cc_full "$cc" "${coarse[@]}"
 run_case cc_krylov "$cc" "${coarse[@]}" --set solver.newton=krylov "${ew[@]}"
-run_case cc_gmres "$cc" "${coarse[@]}" --set solver.linear=petsc
-run_case cc_gmres_ew "$cc" "${coarse[@]}" --set solver.linear=petsc "${ew[@]}"
+run_case cc_petsc "$cc" "${coarse[@]}" --set solver.linear=petsc
+run_case cc_petsc_ew "$cc" "${coarse[@]}" --set solver.linear=petsc "${ew[@]}"
 run_case fem_krylov "$cc" --set method=fem --set mesh.h=0.2 --set time.end=0.2 --set solver.linear=auto \
   --set 'boundaries=[{"x":0,"condition":"slip"},{"y":0,"condition":"stick"}]' \
   --set solver.newton=krylov "${ew[@]}"
@@ -61,7 +61,7 @@ check(ew["status"] == "completed" and abs(ew["metrics"]["tip_uy"] - t0) <= 1e-6 
       f"{ce['newton_iterations']} Newton iterations (at most {cf['newton_iterations']} + 2)")
 
 u = summary(w, "cc_full")
-for name, what in (("cc_krylov", "Newton-Krylov + forcing"), ("cc_gmres_ew", "GMRES + ILU(0) + forcing")):
+for name, what in (("cc_krylov", "Newton-Krylov + forcing"), ("cc_petsc_ew", "GMRES + ILU(0) + forcing")):
     s = summary(w, name)
     ok = s["status"] == "completed"
     for k in ("runout", "height"):
@@ -76,7 +76,7 @@ for name, what in (("cc_krylov", "Newton-Krylov + forcing"), ("cc_gmres_ew", "GM
     check(rates and max(rates) >= 1.8,
           f"column collapse, {what}: Newton in the last step: |R|/ref = "
           f"{', '.join(f'{x / ref:.2e}' for x in r)}; rates {', '.join(f'{x:.2f}' for x in rates)} (>= 1.8)")
-g, ge = summary(w, "cc_gmres")["counts"], summary(w, "cc_gmres_ew")["counts"]
+g, ge = summary(w, "cc_petsc")["counts"], summary(w, "cc_petsc_ew")["counts"]
 check(ge["linear_iterations"] < g["linear_iterations"],
       f"column collapse, GMRES + ILU(0): {ge['linear_iterations']} Krylov iterations with the forcing "
       f"term, {g['linear_iterations']} solving every system to 1e-10")

@@ -121,7 +121,7 @@ static int gm_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *p
 static int gm_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
   gm_data *d = data;
   MPGM_CHECK(ctx, d->lu && A->n == d->n && A->nnz == d->nnz, MPGM_ERR_INTERNAL,
-             "gmres: factor of order %d (%d entries), analysed %d (%d)", A->n, A->nnz, d->n,
+             "ilu_gmres: factor of order %d (%d entries), analysed %d (%d)", A->n, A->nnz, d->n,
              d->nnz);
   const int n = d->n, *Ap = d->Ap, *Ai = d->Ai, *diag = d->diag;
   int *mark = d->mark;
@@ -138,7 +138,7 @@ static int gm_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
   for (int j = 0; j < n; j++) {
     if (diag[j] < 0)
       MPGM_ERROR(ctx, MPGM_ERR_SINGULAR,
-                 "gmres: ILU(0) of a matrix without diagonal entry in "
+                 "ilu_gmres: ILU(0) of a matrix without diagonal entry in "
                  "column %d of %d (structurally singular)",
                  j, n);
     for (int p = Ap[j]; p < Ap[j + 1]; p++) mark[Ai[p]] = p;
@@ -158,7 +158,7 @@ static int gm_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
     const double piv = lu[diag[j]];
     if (!(piv != 0.0 && isfinite(piv)))
       MPGM_ERROR(ctx, MPGM_ERR_SINGULAR,
-                 "gmres: ILU(0) pivot %g in column %d of %d (the matrix "
+                 "ilu_gmres: ILU(0) pivot %g in column %d of %d (the matrix "
                  "is singular, or too far from diagonally dominant for ILU(0))",
                  piv, j, n);
     for (int p = diag[j] + 1; p < Ap[j + 1]; p++) lu[p] /= piv;
@@ -209,18 +209,18 @@ static int precondition(void *user, mpgm_ctx *ctx, const double *v, double *z) {
  * MPGM_ERR_INTERNAL (no valid factorisation). */
 static int gm_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   gm_data *d = data;
-  MPGM_CHECK(ctx, d->factored, MPGM_ERR_INTERNAL, "gmres: solve without a valid factorisation");
+  MPGM_CHECK(ctx, d->factored, MPGM_ERR_INTERNAL, "ilu_gmres: solve without a valid factorisation");
   const mpgm_krylov_op op = {.user = d, .matvec = matvec, .precond = precondition,
                              .anorm = d->anorm};
   mpgm_gmres_result r;
   MPGM_CALL(mpgm_gmres(&d->ws, ctx, &op, b, x, d->opts.tol, d->opts.max_iter, &r));
   d->iterations = r.iterations;
   if (!isfinite(r.relres))
-    MPGM_ERROR(ctx, MPGM_ERR_LINEAR, "gmres: %s not finite after %d iterations",
+    MPGM_ERROR(ctx, MPGM_ERR_LINEAR, "ilu_gmres: %s not finite after %d iterations",
                r.iterations ? "residual" : "right-hand side", r.iterations);
   if (!r.converged)
     MPGM_ERROR(ctx, MPGM_ERR_LINEAR,
-               "gmres: not converged in %d iterations (solver.linear_max_iterations; restart %d): "
+               "ilu_gmres: not converged in %d iterations (solver.linear_max_iterations; restart %d): "
                "|b - A x| / |b| = %.3e > %.3e (solver.linear_tol)",
                r.iterations, d->ws.m, r.relres, d->opts.tol);
   return MPGM_OK;
