@@ -160,7 +160,7 @@ def block_table(pre, extra):
             print(f"| {label} | did not run | | | | |{' |' if extra else ''} | |")
             continue
         m = s.get("metrics", {})
-        st = s["status"] + ("" if s["status"] == "completed" else f": {s.get('message', '')[:120]}")
+        st = s["status"] + ("" if s["status"] == "completed" else f": {s.get('message', '')[:120]}".replace("|", "\\|"))
         ratio = f"{m['bottom_stress_ratio']:.4f}" if "bottom_stress_ratio" in m else ""
         rng = (f"{m['bottom_stress_ratio_min']:.{4 if extra else 2}f} to "
                f"{m['bottom_stress_ratio_max']:.{4 if extra else 2}f}" if "bottom_stress_ratio_min" in m else "")
