@@ -13,8 +13,9 @@ fail=0
 # the refusals: a non-zero exit and a message naming the mistake, nothing written
 before=$(md5sum "$src/docs/benchmarks.md")
 for args in "--check column_collapse" "--no-run no_such_part" "--bogus" "column_collapse"; do
+  # (a timeout: were a refusal lost, a bare call would start every benchmark)
   # shellcheck disable=SC2086
-  if "$src/bench/report" $args > "$work/out" 2> "$work/err"; then
+  if timeout 60 "$src/bench/report" $args > "$work/out" 2> "$work/err"; then
     echo "FAIL: bench/report $args succeeded"; fail=1
   elif ! grep -q "bench/report:" "$work/err"; then
     echo "FAIL: bench/report $args: no message"; cat "$work/err"; fail=1
