@@ -1,9 +1,11 @@
 /* main.c -- the mpgm command line: run, check, material, bench-solvers;
  * study, plot and render (study.h). Only app/ decides exit codes: 0 success,
- * 1 simulation failed, 2 bad input, 3 I/O error. */
+ * 1 simulation failed, 2 bad input, 3 I/O error; a run stopped by SIGINT or
+ * SIGTERM after a step, 128 + the signal (as the shell reports a signal). */
 #define _XOPEN_SOURCE 700
 #include <cjson/cJSON.h>
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -251,6 +253,26 @@ static int restart_scene(const args *a, mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm
   return 0;
 }
 
+/* The signal that asked `mpgm run` to stop (0: none); the run stops after
+ * the step in progress (mpgm_run_opts.stop). The handler resets itself, so
+ * a second signal ends the process at once. */
+static volatile sig_atomic_t run_stop = 0;
+static void on_run_stop(int sig) {
+  static const char msg[] = "\nmpgm: stopping after the step in progress (again to stop at once)\n";
+  run_stop = sig;
+  if (write(STDERR_FILENO, msg, sizeof msg - 1) < 0) { /* nothing to do */ }
+}
+
+static void run_signals(int on) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on ? on_run_stop : SIG_DFL;
+  sa.sa_flags = on ? (int)SA_RESETHAND : 0;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
+
 static int cmd_run(const args *a, mpgm_ctx *ctx) {
   mpgm_scene *s = NULL;
   mpgm_checkpoint ck = {0};
@@ -262,13 +284,18 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
   }
   const char *dir = a->restart ? a->restart : a->out ? a->out : s->out_dir;
   mpgm_run_opts opts = {.out_dir = dir, .per_iteration = a->per_iteration,
-                        .restart = a->restart ? &ck : NULL};
+                        .restart = a->restart ? &ck : NULL, .stop = &run_stop};
   term_log tl = {0};
   mpgm_ctx_set_logger(ctx, term_logger, &tl, a->progress ? MPGM_LOG_PROGRESS : MPGM_LOG_INFO);
+  run_signals(1);
   err = mpgm_run(ctx, s, &opts);
+  run_signals(0);
   if (tl.open_line) fputc('\n', stderr);
   int rc;
-  if (err) {
+  if (err == MPGM_ERR_INTERRUPTED) { /* the shell's code of a signal's end */
+    fprintf(stderr, "mpgm: %s\n", ctx->msg);
+    rc = 128 + run_stop;
+  } else if (err) {
     rc = report_error(ctx, err);
     if (rc == EXIT_SIM)
       fprintf(stderr, "mpgm: output written up to the last completed step is in %s "

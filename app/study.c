@@ -391,7 +391,10 @@ static void finish_run(session *ss, int i, int ws, int interrupted) {
   r->pid = 0;
   ss->running--;
   cJSON *s = mpgm_study_summary(st, r);
-  if (interrupted && !s) {
+  const cJSON *ss_status = s ? cJSON_GetObjectItemCaseSensitive(s, "status") : NULL;
+  const int stopped = cJSON_IsString(ss_status) && strcmp(ss_status->valuestring, "interrupted") == 0;
+  if (interrupted && (!s || stopped)) { /* stopped by the study: not a result */
+    cJSON_Delete(s);
     r->state = RUN_PENDING;
     r->exit_code = -1;
     r->status[0] = r->message[0] = '\0';
@@ -409,6 +412,8 @@ static void finish_run(session *ss, int i, int ws, int interrupted) {
     status = "crashed";
     snprintf(lmsg, sizeof lmsg, "killed by signal %d (%s)", WTERMSIG(ws), strsignal(WTERMSIG(ws)));
     msg = lmsg;
+  } else if (stopped) { /* by a signal from outside the study */
+    status = "interrupted";
   } else if (r->exit_code == 0) {
     status = s ? cJSON_GetObjectItemCaseSensitive(s, "status")->valuestring : "error";
     if (!s) msg = "exit status 0 but no summary.json";
@@ -479,7 +484,7 @@ static void run_all(session *ss) {
     sigsuspend(&wait_mask); /* until a child ends or a signal asks to stop */
   }
   if (stop_signal) {
-    fprintf(stderr, "mpgm study: %s received: stopping %d running run(s)\n", strsignal(stop_signal), ss->running);
+    fprintf(stderr, "mpgm study: %s received: stopping %d running run(s) after their steps in progress\n", strsignal(stop_signal), ss->running);
     for (int i = 0; i < ss->st->nrun; i++)
       if (ss->st->runs[i].state == RUN_RUNNING) kill((pid_t)ss->st->runs[i].pid, SIGTERM);
     if (ss->running) reap(ss, 1);

@@ -21,6 +21,7 @@ const char *mpgm_code_str(int code) {
   case MPGM_ERR_SOLVER: return "linear solver failure";
   case MPGM_ERR_INTERNAL: return "internal error";
   case MPGM_ERR_DOMAIN: return "point left the background grid";
+  case MPGM_ERR_INTERRUPTED: return "interrupted";
   case MPGM_ERR_JACOBIAN: return "det F <= 0 (inverted point or cell)";
   case MPGM_ERR_NOT_CONVERGED: return "Newton did not converge";
   case MPGM_ERR_DIVERGED: return "Newton diverged";

@@ -59,6 +59,7 @@ typedef enum {
   MPGM_ERR_SOLVER = -5,      /**< linear solver failed (not recoverable) */
   MPGM_ERR_INTERNAL = -6,    /**< broken invariant: a bug               */
   MPGM_ERR_DOMAIN = -7,      /**< a point left the background grid      */
+  MPGM_ERR_INTERRUPTED = -8, /**< the caller asked the run to stop       */
   /* recoverable */
   MPGM_ERR_JACOBIAN = 1,     /**< det F <= 0 or inverted cell            */
   MPGM_ERR_NOT_CONVERGED = 2,/**< Newton exceeded its iteration limit     */

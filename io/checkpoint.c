@@ -162,7 +162,8 @@ int mpgm_checkpoint_read(mpgm_ctx *ctx, const char *dir, mpgm_checkpoint *ck) {
              "--restart %s: no such folder", dir);
   MPGM_CHECK(ctx, stat(ck->path, &st) == 0 || errno != ENOENT, MPGM_ERR_INPUT,
              "--restart %s: the folder holds no checkpoint.mpgm (a run writes one every "
-             "output.checkpoint_every steps; that key is 0, none, by default)", dir);
+             "output.checkpoint_every steps, that key is 0, none, by default, and when a signal "
+             "stops it)", dir);
   char *buf;
   size_t len;
   MPGM_CALL(mpgm_read_file(ctx, ck->path, SIZE_MAX - 1, &buf, &len));

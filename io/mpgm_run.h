@@ -2,6 +2,8 @@
 #ifndef MPGM_RUN_H
 #define MPGM_RUN_H
 
+#include <signal.h>
+
 #include "mpgm_core.h"
 
 #ifdef __cplusplus
@@ -15,6 +17,13 @@ typedef struct mpgm_run_opts {
   struct mpgm_checkpoint *restart; /**< continue from this checkpoint (read
                             from out_dir by mpgm_checkpoint_read, of this
                             scene); NULL: a new run                       */
+  const volatile sig_atomic_t *stop; /**< may be NULL; once *stop is
+                            non-zero (a signal handler of the caller's
+                            sets it) the run stops after the step in
+                            progress: that step's fields, the histories, a
+                            checkpoint to continue from and summary.json
+                            (status "interrupted") are written, and
+                            mpgm_run returns MPGM_ERR_INTERRUPTED          */
 } mpgm_run_opts;
 
 /** Run a loaded scene with its front end (scene->frontend). Writes DIR/summary.json (also on

@@ -221,6 +221,7 @@ typedef struct out_monitor {
   const mpgm_run_result *res; /**< the run's result so far (its cuts)    */
   double t_hist;              /**< wall clock of the last rewrite of the
                                    histories (probes.csv, steps.csv)     */
+  const volatile sig_atomic_t *stop; /**< mpgm_run_opts.stop             */
 } out_monitor;
 
 /* The histories are rewritten whole (atomically) with a VTK output, but at
@@ -229,6 +230,27 @@ typedef struct out_monitor {
  * steps (an explicit run of 24,000 steps spent 40 ms a step on it). The
  * run's end writes them in any case. */
 #define HIST_PERIOD 1.0
+
+/* The stop asked for after this step (mpgm_run_opts.stop): its fields when
+ * they were not due anyway, and a checkpoint to continue from; finish()
+ * writes the histories and summary.json. After the last step the run is
+ * complete and is not stopped. */
+static int stop_here(out_monitor *m, const mpgm_problem *pb, int fields) {
+  mpgm_ctx *ctx = m->ctx;
+  const mpgm_scene *s = mpgm_problem_scene(pb);
+  const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
+  mpgm_report r;
+  mpgm_problem_report(pb, &r);
+  if (r.t >= (dyn ? s->t_end : 1.0) * (1.0 - 1e-9)) return 0;
+  mpgm_timer_start(ctx, MPGM_T_OUTPUT);
+  int err = fields ? 0 : mpgm_output_vtk(ctx, m->o, pb);
+  if (!err) err = mpgm_checkpoint_write(ctx, m->o->dir, pb, m->o, m->res);
+  mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
+  if (err) return err;
+  MPGM_ERROR(ctx, MPGM_ERR_INTERRUPTED, "interrupted after step %ld (%s %.9g): its results and a "
+             "checkpoint are written; continue with: mpgm run --restart %s", r.step,
+             dyn ? "t =" : "load factor", r.t, m->o->dir);
+}
 
 static int output_step(void *user, const mpgm_problem *pb, int fields, double wall) {
   out_monitor *m = user;
@@ -246,6 +268,7 @@ static int output_step(void *user, const mpgm_problem *pb, int fields, double wa
     }
   }
   mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
+  if (!err && m->stop && *m->stop) err = stop_here(m, pb, fields);
   return err;
 }
 
@@ -274,6 +297,10 @@ static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, run_state *rs
     rs->status = "failed";
     rs->message = res->message;
     rs->failed_step = res->failed_step;
+  } else if (err == MPGM_ERR_INTERRUPTED) { /* stopped between steps */
+    snprintf(io_msg, sizeof io_msg, "%s", ctx->msg);
+    rs->status = "interrupted";
+    rs->message = io_msg;
   } else if (err) { /* the outputs of a converged step, or the start's */
     mpgm_report r;
     mpgm_problem_report(pb, &r);
@@ -327,7 +354,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_run_opts *opts) {
     mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
   }
   if (!err) {
-    out_monitor m = {ctx, &o, &res, -HIST_PERIOD};
+    out_monitor m = {ctx, &o, &res, -HIST_PERIOD, opts ? opts->stop : NULL};
     const mpgm_monitor mon = {.user = &m, .step = output_step, .checkpoint = output_checkpoint};
     const mpgm_run_control rc = {.monitor = &mon, .time_split = opts && opts->per_iteration, .t0 = t0};
     err = mpgm_problem_run(pb, &rc, &res);
