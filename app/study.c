@@ -391,8 +391,8 @@ static void finish_run(session *ss, int i, int ws, int interrupted) {
   r->pid = 0;
   ss->running--;
   cJSON *s = mpgm_study_summary(st, r);
-  const cJSON *ss_status = s ? cJSON_GetObjectItemCaseSensitive(s, "status") : NULL;
-  const int stopped = cJSON_IsString(ss_status) && strcmp(ss_status->valuestring, "interrupted") == 0;
+  const cJSON *sum_status = s ? cJSON_GetObjectItemCaseSensitive(s, "status") : NULL;
+  const int stopped = cJSON_IsString(sum_status) && strcmp(sum_status->valuestring, "interrupted") == 0;
   if (interrupted && (!s || stopped)) { /* stopped by the study: not a result */
     cJSON_Delete(s);
     r->state = RUN_PENDING;

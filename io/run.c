@@ -180,6 +180,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddStringToObject(j, "status", rs->status);
   cJSON_AddStringToObject(j, "message", rs->message);
   if (rs->failed_step >= 0) cJSON_AddNumberToObject(j, "failed_step", (double)rs->failed_step);
+  cJSON_AddStringToObject(j, "version", mpgm_version()); /* the code that made the results */
   cJSON_AddStringToObject(j, "scene_file", s->file);
   cJSON_AddItemToObject(j, "scene", cJSON_Duplicate((const cJSON *)s->resolved, 1));
   cJSON_AddStringToObject(j, "method", s->frontend->name);
