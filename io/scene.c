@@ -528,46 +528,6 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   return 0;
 }
 
-/* "manufactured" (optional): a manufactured solution of Tran et al. 2019
- * section 4 drives the run (docs/theory.md section 21). Its law is the
- * neo-Hookean one: the scene has one material of that type, finite
- * kinematics and a dynamic or explicit analysis; E, nu and the density
- * are the material's. */
-static int read_manufactured(jr_node *root, mpgm_scene *s) {
-  if (!jr_raw(root, "manufactured") && !jr_override_json(root, "manufactured")) return 0;
-  jr_node mn;
-  MPGM_CALL(jr_child(root, "manufactured", 1, &mn));
-  static const char *const names[] = {"vibration", "ring", "vortex", NULL};
-  int k;
-  MPGM_CALL(jr_enum(&mn, "solution", names, -1, &k));
-  mpgm_mms *m = &s->mms;
-  memset(m, 0, sizeof *m);
-  MPGM_CALL(mpgm_mms_parse_kind(names[k], &m->kind) ? MPGM_ERR_INTERNAL : 0);
-  MPGM_CALL(jr_num(&mn, "A", NAN, 0.0, INFINITY, 1, 0, &m->A));
-  if (m->kind != MPGM_MMS_RING) MPGM_CALL(jr_num(&mn, "L", 1.0, 0.0, INFINITY, 1, 0, &m->L));
-  if (m->kind != MPGM_MMS_VIBRATION) {
-    const int ring = m->kind == MPGM_MMS_RING;
-    MPGM_CALL(jr_num(&mn, "ri", ring ? 0.4 : 0.75, 0.0, INFINITY, 1, 0, &m->ri));
-    MPGM_CALL(jr_num(&mn, "ro", ring ? 0.6 : 1.25, 0.0, INFINITY, 1, 0, &m->ro));
-    if (!(m->ro > m->ri)) return jr_fail(&mn, "ro", "expected ro > ri = %g, found %g", m->ri, m->ro);
-  }
-  MPGM_CALL(jr_end(&mn));
-  if (s->analysis == MPGM_ANALYSIS_STATIC)
-    return jr_fail(root, "manufactured", "a motion in time: expected time.analysis \"dynamic\" or "
-                   "\"explicit\", found \"static\"");
-  if (s->nmat != 1 || strcmp(s->mats[0].type->name, "neo_hookean") != 0 ||
-      s->kinematics != MPGM_KIN_FINITE)
-    return jr_fail(root, "manufactured", "the solutions are derived for the neo-Hookean law: expected "
-                   "one material of type \"neo_hookean\" and kinematics \"finite\", found %d "
-                   "material(s)%s%s", s->nmat, s->nmat ? ", the first " : "",
-                   s->nmat ? s->mats[0].type->name : "");
-  m->E = mpgm_material_param(&s->mats[0], "E");
-  m->nu = mpgm_material_param(&s->mats[0], "nu");
-  m->rho0 = s->mats[0].density;
-  s->manufactured = 1;
-  return 0;
-}
-
 static int read_scene(jr_node *root, mpgm_scene *s) {
   char desc[2048];
   MPGM_CALL(jr_str(root, "description", "", desc, sizeof desc));
@@ -642,7 +602,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
     return jr_fail(root, "gravity_ramp", "ramps gravity in time: expected time.analysis \"dynamic\" "
                    "or \"explicit\" (static runs ramp it with the load factor), found \"static\"");
   MPGM_CALL(read_probes(root, s));
-  MPGM_CALL(read_manufactured(root, s));
+  MPGM_CALL(mpgm_scene_read_manufactured(root, s));
   MPGM_CALL(mpgm_reference_read(root, s));
   MPGM_CALL(read_output(root, s));
   MPGM_CALL(jr_end(root));

@@ -13,6 +13,10 @@
 /** Read the optional top-level "reference" block into s->reference
  *  (after the probes and the time block were read). */
 int mpgm_reference_read(jr_node *root, mpgm_scene *s);
+/** Read the optional "manufactured" block into s->mms (after the
+ *  materials, the bodies and the time block), checking that every body
+ *  lies where the solution is defined. */
+int mpgm_scene_read_manufactured(jr_node *root, mpgm_scene *s);
 
 /** The array at key (NULL when absent; an --set override replaces it);
  *  bad input when it is not an array. */

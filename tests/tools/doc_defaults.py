@@ -75,15 +75,22 @@ SCENES = {
     # a ring body: its sector's angles
     "mpm_ring": {"method": "mpm", "mesh": MESH, "materials": {"nh": MATERIALS["nh"]},
                  "bodies": [{"material": "nh", "ring": {"centre": [2.0, 1.0], "inner": 0.3, "outer": 0.6}}]},
-    # manufactured solutions: the vibration's L, the ring's and the vortex's radii
+    # manufactured solutions: the vibration's L, the ring's and the vortex's
+    # radii (each on the bodies its solution holds on: the strip 0 <= x <= L,
+    # the annulus ri <= R <= ro of its default radii)
     "mpm_mms_vib": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
-                    "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK],
+                    "materials": {"nh": MATERIALS["nh"]},
+                    "bodies": [{"material": "nh", "rectangle": {"min": [0.0, 0.0], "max": [1.0, 0.5]}}],
                     "manufactured": {"solution": "vibration", "A": 0.01}},
     "mpm_mms_ring": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
-                     "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK],
+                     "materials": {"nh": MATERIALS["nh"]},
+                     "bodies": [{"material": "nh", "ring": {"centre": [0.0, 0.0], "inner": 0.4, "outer": 0.6,
+                                                            "from": 0.0, "to": 90.0}}],
                      "manufactured": {"solution": "ring", "A": 0.01}},
     "mpm_mms_vortex": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
-                       "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK],
+                       "materials": {"nh": MATERIALS["nh"]},
+                       "bodies": [{"material": "nh", "ring": {"centre": [0.0, 0.0], "inner": 0.75, "outer": 1.25,
+                                                              "from": 0.0, "to": 90.0}}],
                        "manufactured": {"solution": "vortex", "A": 0.01}},
 }
 
