@@ -93,12 +93,24 @@ static void counts_json(cJSON *c, const mpgm_problem *pb, const mpgm_report *r, 
 }
 
 /* summary.json "metrics" and "probes": the final probe displacements, the
- * reach of the bodies, conservation checks, the reference's errors. */
-static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o) {
+ * reach of the bodies, conservation checks, the reference's errors. A run
+ * that did not complete (failed, interrupted, io_error) has them as
+ * "metrics_at_stop" and "probes_at_stop" instead, with the time (or load
+ * factor) "t" and the "step" of the last converged step they were taken
+ * at (in the metrics, and in each probe): they are not a finished run's
+ * numbers, and studies and plots, which read "metrics", do not take them
+ * for one. */
+static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o, int complete) {
   const mpgm_scene *s = mpgm_problem_scene(pb);
   const mpgm_points *P = mpgm_problem_points(pb);
-  cJSON *m = cJSON_AddObjectToObject(j, "metrics");
-  cJSON *pr = cJSON_AddObjectToObject(j, "probes");
+  cJSON *m = cJSON_AddObjectToObject(j, complete ? "metrics" : "metrics_at_stop");
+  cJSON *pr = cJSON_AddObjectToObject(j, complete ? "probes" : "probes_at_stop");
+  if (!complete) {
+    mpgm_report r;
+    mpgm_problem_report(pb, &r);
+    cJSON_AddNumberToObject(m, "t", r.t);
+    cJSON_AddNumberToObject(m, "step", (double)r.step);
+  }
   for (int k = 0; k < P->nprobe; k++) {
     const int p = P->n + k;
     char key[MPGM_NAME_LEN + 8];
@@ -109,6 +121,10 @@ static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o)
     cJSON *q = cJSON_AddObjectToObject(pr, s->probes[k].name);
     cJSON_AddItemToObject(q, "x", cJSON_CreateDoubleArray(s->probes[k].x, 2));
     cJSON_AddItemToObject(q, "u", cJSON_CreateDoubleArray(P->u + 2 * p, 2));
+    if (!complete) {
+      cJSON_AddItemToObject(q, "t", cJSON_Duplicate(cJSON_GetObjectItemCaseSensitive(m, "t"), 0));
+      cJSON_AddItemToObject(q, "step", cJSON_Duplicate(cJSON_GetObjectItemCaseSensitive(m, "step"), 0));
+    }
   }
   double mass = 0.0, vol = 0.0, xmax = -INFINITY, ymax = -INFINITY;
   for (int p = 0; p < P->n; p++) {
@@ -198,7 +214,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
    * waited for cores other jobs held, and its wall times are inflated */
   if (isfinite(rs->cpu)) cJSON_AddNumberToObject(j, "cpu_s", rs->cpu);
   newton_json(j, &r.last);
-  metrics_json(j, pb, o);
+  metrics_json(j, pb, o, strcmp(rs->status, "completed") == 0);
   cuts_json(j, res);
   cJSON *out = cJSON_AddObjectToObject(j, "output");
   cJSON_AddStringToObject(out, "dir", o->dir);

@@ -198,6 +198,13 @@ st = [r["status"] for r in rows]
 check(st == ["completed", "failed", "bad input"], f"failed and bad-input runs are rows: {st}")
 check("step 9" in rows[1]["message"] and rows[1]["exit_code"] == "1", f"failed run: message {rows[1]['message'][:60]}")
 check("mesh.h" in rows[2]["message"] and rows[2]["exit_code"] == "2", f"bad input run: {rows[2]['message'][:70]}")
+# the failed run's metrics are apart from the completed run's, with the
+# load factor and step they were taken at (step 8 of 10 converged)
+f = rows[1]
+check(rows[0]["metrics.tip_uy"] != "" and f.get("metrics.tip_uy", "") == "" and f["metrics_at_stop.tip_uy"] != ""
+      and abs(float(f["metrics_at_stop.t"]) - 0.8) < 1e-12 and f["metrics_at_stop.step"] == "8",
+      f"failed run: metrics_at_stop (t {f.get('metrics_at_stop.t')}, step {f.get('metrics_at_stop.step')}), "
+      f"no metrics.* ({f.get('metrics.tip_uy')!r})")
 check(all(len(list(csv.DictReader(open(f"{w}/slow_{s}/study.csv")))) == 6 and
           all(r["status"] == "completed" for r in csv.DictReader(open(f"{w}/slow_{s}/study.csv")))
           for s in ("TERM", "KILL")), "resumed studies: 6 rows, all completed")

@@ -11,7 +11,8 @@ out.csv of `mpgm material`). The record holds what a refactor must not
 change and nothing that may change between two runs of the same binary:
 
 - from summary.json: status, failed_step, method, shape, solver, effects,
-  counts (not clock_reads, which counts timer calls), metrics, probes,
+  counts (not clock_reads, which counts timer calls), metrics, probes
+  (of a run that did not complete: metrics_at_stop, probes_at_stop),
   newton_last_step (residual history of the last step) and the step cuts
   (step, time, size and error code; not the message's wording);
 - the SHA-256 of probes.csv, of steps.csv without its timing columns
@@ -59,6 +60,16 @@ def last_file(folder, prefix):
 
 def run_record(d):
     s = json.load(open(os.path.join(d, "summary.json")))
+    # a run that did not complete has its metrics and probes as
+    # "metrics_at_stop" / "probes_at_stop", with the time and step they were
+    # taken at; the record keeps the numbers under the blocks' plain names
+    for k in ("metrics", "probes"):
+        if k + "_at_stop" in s:
+            block = s[k + "_at_stop"]
+            if k == "metrics":
+                s[k] = {m: v for m, v in block.items() if m not in ("t", "step")}
+            else:
+                s[k] = {n: {f: v for f, v in q.items() if f not in ("t", "step")} for n, q in block.items()}
     rec = {k: s[k] for k in ("status", "failed_step", "method", "shape", "solver", "effects",
                              "counts", "metrics", "probes", "newton_last_step") if k in s}
     rec["counts"] = {k: v for k, v in rec["counts"].items() if k != "clock_reads"}
