@@ -253,12 +253,23 @@ static int restart_scene(const args *a, mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm
   return 0;
 }
 
-/* The signal that asked `mpgm run` to stop (0: none); the run stops after
- * the step in progress (mpgm_run_opts.stop). The handler resets itself, so
- * a second signal ends the process at once. */
-static volatile sig_atomic_t run_stop = 0;
+/* The signal that asked `mpgm run` to stop (0: none). Once the run is set
+ * up (run_running, mpgm_run_opts.running) it stops at the next Newton
+ * iteration or step and writes its records (mpgm_run_opts.stop); before,
+ * in the set-up (the bodies filled, the nodes and points made: nothing of
+ * the run is written yet, and it may take seconds), the process ends at
+ * once, by the signal's own action.
+ * The handler resets itself, so a second signal ends the process at once. */
+static volatile sig_atomic_t run_stop = 0, run_running = 0;
 static void on_run_stop(int sig) {
-  static const char msg[] = "\nmpgm: stopping after the step in progress (again to stop at once)\n";
+  static const char msg[] = "\nmpgm: stopping at the next Newton iteration or step (again to stop at once)\n";
+  static const char now[] = "\nmpgm: stopped during the set-up: nothing of the run was written\n";
+  if (!run_running) {
+    if (write(STDERR_FILENO, now, sizeof now - 1) < 0) { /* nothing to do */ }
+    signal(sig, SIG_DFL);
+    raise(sig);
+    return;
+  }
   run_stop = sig;
   if (write(STDERR_FILENO, msg, sizeof msg - 1) < 0) { /* nothing to do */ }
 }
@@ -284,7 +295,7 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
   }
   const char *dir = a->restart ? a->restart : a->out ? a->out : s->out_dir;
   mpgm_run_opts opts = {.out_dir = dir, .per_iteration = a->per_iteration,
-                        .restart = a->restart ? &ck : NULL, .stop = &run_stop};
+                        .restart = a->restart ? &ck : NULL, .stop = &run_stop, .running = &run_running};
   term_log tl = {0};
   mpgm_ctx_set_logger(ctx, term_logger, &tl, a->progress ? MPGM_LOG_PROGRESS : MPGM_LOG_INFO);
   run_signals(1);
@@ -294,7 +305,7 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
   int rc;
   if (err == MPGM_ERR_INTERRUPTED) { /* the shell's code of a signal's end */
     fprintf(stderr, "mpgm: %s\n", ctx->msg);
-    rc = 128 + run_stop;
+    rc = 128 + (run_stop ? run_stop : SIGTERM); /* MPGM_TEST_FAULT interrupt: as SIGTERM */
   } else if (err) {
     rc = report_error(ctx, err);
     if (rc == EXIT_SIM)
@@ -387,7 +398,8 @@ static int test_fault(mpgm_ctx *ctx) {
   if (!v || !*v) return 0;
   static const struct { const char *name; int code; } kinds[] = {
       {"return_map", MPGM_ERR_RETURN_MAP}, {"jacobian", MPGM_ERR_JACOBIAN},
-      {"shape", MPGM_ERR_SHAPE}, {"not_converged", MPGM_ERR_NOT_CONVERGED}, {"nan", MPGM_ERR_NAN}};
+      {"shape", MPGM_ERR_SHAPE}, {"not_converged", MPGM_ERR_NOT_CONVERGED}, {"nan", MPGM_ERR_NAN},
+      {"interrupt", MPGM_ERR_INTERRUPTED}};
   char kind[32];
   long step;
   int times, used = 0;
@@ -399,7 +411,7 @@ static int test_fault(mpgm_ctx *ctx) {
         return 0;
       }
   fprintf(stderr, "mpgm: MPGM_TEST_FAULT=%s: expected KIND:STEP:TIMES with KIND one of return_map, "
-          "jacobian, shape, not_converged, nan, STEP >= 1 and TIMES >= 0\n", v);
+          "jacobian, shape, not_converged, nan, interrupt, STEP >= 1 and TIMES >= 0\n", v);
   return EXIT_INPUT;
 }
 

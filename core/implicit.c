@@ -80,12 +80,24 @@ static void commit(mpgm_problem *pb) {
  * Returns 0 or an error code; *again = the contact update's mask when it
  * stopped early because the contact set changed on the way (solve the step
  * again). */
+/* A stop asked for (a signal, mpgm_run_control.stop): the step is
+ * abandoned here, before the next assembly or factorisation, rather than
+ * after its last iteration, which may be minutes away. MPGM_TEST_FAULT
+ * interrupt:STEP asks for one at the first iteration of STEP (tests). */
+static int stop_asked(mpgm_problem *pb, const mpgm_newton *nt) {
+  if ((pb->stop && *pb->stop) || (nt->it == 1 && mpgm_fault_due(pb->ctx, MPGM_ERR_INTERRUPTED, pb->step + 1)))
+    MPGM_ERROR(pb->ctx, MPGM_ERR_INTERRUPTED, "stop asked for in step %ld at its Newton iteration %d",
+               pb->step + 1, nt->it);
+  return 0;
+}
+
 static int newton(mpgm_problem *pb, int warm, int *again) {
   const mpgm_scene *sc = pb->scene;
   const int contact = pb->fx.contact || pb->fx.contact_points;
   mpgm_newton nt;
   MPGM_CALL(mpgm_newton_init(pb, &nt, warm));
   for (int checked = 0;;) {
+    MPGM_CALL(stop_asked(pb, &nt));
     MPGM_CALL(mpgm_newton_residual(pb, &nt));
     /* contact: check the active set once, as soon as the residual is below
      * contact_check of the reference, rather than only at convergence: a
@@ -103,6 +115,7 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
     int done;
     MPGM_CALL(mpgm_newton_test(pb, &nt, &done));
     if (done) return 0;
+    MPGM_CALL(stop_asked(pb, &nt));
     MPGM_CALL(mpgm_newton_iterate(pb, &nt));
   }
 }

@@ -14,6 +14,8 @@
 #ifndef MPGM_CORE_H
 #define MPGM_CORE_H
 
+#include <signal.h>
+
 #include "mpgm_data.h"
 #include "mpgm_frontend.h"
 #include "mpgm_integrator.h"
@@ -123,6 +125,13 @@ typedef struct mpgm_run_control {
   int time_split;  /**< 1: log every step's time split (level INFO)        */
   double t0;       /**< wall clock at the start of the run (mpgm_wtime), for
                         the progress line's elapsed time and ETA          */
+  const volatile sig_atomic_t *stop; /**< may be NULL; once *stop is
+                        non-zero (a signal handler sets it) the run stops
+                        before the next step, or abandons the step in
+                        progress at its next Newton iteration (nothing of
+                        it is committed: the problem is as the last
+                        converged step left it), and returns
+                        MPGM_ERR_INTERRUPTED                              */
 } mpgm_run_control;
 
 /** A rejected (cut) step. */
@@ -151,7 +160,9 @@ typedef struct mpgm_run_result {
  *  a step that would pass one of output.times ends on it. Cuts are logged
  *  (WARNING) and recorded, every step logs a progress line (PROGRESS).
  *  Returns 0, the code of the step that failed (res->failed, the message
- *  in res->message, the step's own in ctx), or the monitor's code. */
+ *  in res->message, the step's own in ctx), the monitor's code, or
+ *  MPGM_ERR_INTERRUPTED when rc->stop asked for a stop between steps or
+ *  in one (the step abandoned, its work counters undone). */
 int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_result *res);
 void mpgm_run_result_free(mpgm_run_result *r);
 

@@ -142,13 +142,29 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
     pb->dt = sp->dt0;
   }
   int err = 0;
+  pb->stop = rc->stop;
   while (!err && pb->t < sp->end - 1e-9 * sp->dt0) {
+    if (rc->stop && *rc->stop) { /* asked for before this step */
+      err = mpgm_err_set(ctx, MPGM_ERR_INTERRUPTED, __FILE__, __LINE__, "stop asked for before step %ld",
+                         pb->step + 1);
+      break;
+    }
     const int on_time = next_dt(pb, sp);
     double before[MPGM_T_COUNT];
     memcpy(before, ctx->t, sizeof before);
+    long count[MPGM_C_COUNT];
+    memcpy(count, ctx->count, sizeof count);
+    const long rounds = pb->contact_rounds;
+    const mpgm_newton_info last = pb->last;
     const long k = pb->step + 1;
     const double ts = mpgm_wtime();
     err = mpgm_step(pb);
+    if (err == MPGM_ERR_INTERRUPTED) { /* abandoned: its work is not counted */
+      memcpy(ctx->count, count, sizeof count);
+      pb->contact_rounds = rounds;
+      pb->last = last;
+      break;
+    }
     if (err > 0 && sp->level < s->max_cuts) {
       cut(pb, sp, k, err, res);
       err = 0;
@@ -174,5 +190,6 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
     err = after_step(pb, rc, on_time, mpgm_wtime() - ts);
     progress(pb, sp->end, rc->t0);
   }
+  pb->stop = NULL;
   return err;
 }

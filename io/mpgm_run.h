@@ -19,11 +19,23 @@ typedef struct mpgm_run_opts {
                             scene); NULL: a new run                       */
   const volatile sig_atomic_t *stop; /**< may be NULL; once *stop is
                             non-zero (a signal handler of the caller's
-                            sets it) the run stops after the step in
-                            progress: that step's fields, the histories, a
-                            checkpoint to continue from and summary.json
-                            (status "interrupted") are written, and
-                            mpgm_run returns MPGM_ERR_INTERRUPTED          */
+                            sets it) the run stops: an explicit step in
+                            progress ends (it is short), an implicit one
+                            is abandoned at its next Newton iteration
+                            (nothing of it is committed). The last
+                            converged step's fields (when not written
+                            yet), the histories, a checkpoint to continue
+                            from and summary.json (status "interrupted")
+                            are written, and mpgm_run returns
+                            MPGM_ERR_INTERRUPTED                          */
+  volatile sig_atomic_t *running; /**< may be NULL; mpgm_run sets *running
+                            to 1 once the problem is set up (the bodies
+                            filled, the nodes and points made), before it
+                            touches the results folder. Before that
+                            nothing of the run is written, and a caller
+                            may end the process at once on a signal
+                            instead of asking *stop (a set-up of millions
+                            of points takes seconds)                     */
 } mpgm_run_opts;
 
 /** Run a loaded scene with its front end (scene->frontend). Writes DIR/summary.json (also on

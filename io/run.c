@@ -239,6 +239,9 @@ typedef struct out_monitor {
   double t_hist;              /**< wall clock of the last rewrite of the
                                    histories (probes.csv, steps.csv)     */
   const volatile sig_atomic_t *stop; /**< mpgm_run_opts.stop             */
+  int last_fields;            /**< the last converged step (or the initial
+                                   state) has its fields written          */
+  int stopped;                /**< stop_here wrote the stop's records    */
 } out_monitor;
 
 /* The histories are rewritten whole (atomically) with a VTK output, but at
@@ -264,6 +267,7 @@ static int stop_here(out_monitor *m, const mpgm_problem *pb, int fields) {
   if (!err) err = mpgm_checkpoint_write(ctx, m->o->dir, pb, m->o, m->res);
   mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
   if (err) return err;
+  m->stopped = 1;
   MPGM_ERROR(ctx, MPGM_ERR_INTERRUPTED, "interrupted after step %ld (%s %.9g): its results and a "
              "checkpoint are written; continue with: mpgm run --restart %s", r.step,
              dyn ? "t =" : "load factor", r.t, m->o->dir);
@@ -285,6 +289,7 @@ static int output_step(void *user, const mpgm_problem *pb, int fields, double wa
     }
   }
   mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
+  if (!err) m->last_fields = fields;
   if (!err && m->stop && *m->stop) err = stop_here(m, pb, fields);
   return err;
 }
@@ -355,6 +360,8 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_run_opts *opts) {
   const double t0 = mpgm_wtime(), cpu0 = process_cpu();
   mpgm_problem *pb = NULL;
   MPGM_CALL(mpgm_problem_create(ctx, s, NULL, &pb));
+  /* the set-up is done: from here a stop asked for leaves records */
+  if (opts && opts->running) *opts->running = 1;
   mpgm_output o;
   mpgm_run_result res = {.failed_step = -1};
   int err = start(ctx, pb, &o, opts && opts->out_dir ? opts->out_dir : s->out_dir, opts, &res);
@@ -371,10 +378,17 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_run_opts *opts) {
     mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
   }
   if (!err) {
-    out_monitor m = {ctx, &o, &res, -HIST_PERIOD, opts ? opts->stop : NULL};
+    out_monitor m = {ctx, &o, &res, -HIST_PERIOD, opts ? opts->stop : NULL, 1, 0};
     const mpgm_monitor mon = {.user = &m, .step = output_step, .checkpoint = output_checkpoint};
-    const mpgm_run_control rc = {.monitor = &mon, .time_split = opts && opts->per_iteration, .t0 = t0};
+    const mpgm_run_control rc = {.monitor = &mon, .time_split = opts && opts->per_iteration, .t0 = t0,
+                                 .stop = m.stop};
     err = mpgm_problem_run(pb, &rc, &res);
+    /* stopped before a step or in one (not by stop_here after a step): the
+     * last converged step's fields, if not written, and a checkpoint */
+    if (err == MPGM_ERR_INTERRUPTED && !m.stopped) {
+      mpgm_err_clear(ctx);
+      err = stop_here(&m, pb, m.last_fields);
+    }
   }
   run_state rs = {.res = &res, .wall = mpgm_wtime() - t0, .cpu = process_cpu() - cpu0};
   err = finish(ctx, pb, &o, &rs, err);

@@ -132,6 +132,9 @@ struct mpgm_problem {
   double *mms_b;     /**< manufactured solution: the body force per unit
                           mass at each material point, MPGM_DIM each,
                           at the time of the last mpgm_mms_forces       */
+  const volatile sig_atomic_t *stop; /**< mpgm_run_control.stop of the run
+                          in progress (NULL: none): Newton looks at it
+                          before each iteration                          */
   int resumed;       /**< restored from a checkpoint (mpgm_problem_restore):
                           the run continues its step control and result */
   /* linear system */

@@ -24,6 +24,9 @@ case_run() {
     "$work/$name.ref/summary.json" 2>/dev/null || echo 1)
   "$exe" run "$@" --set output.vtk=none --out "$work/$name" > "$work/$name.out" 2> "$work/$name.err" &
   local pid=$!
+  # once the results folder exists the run is set up, and a signal stops it
+  # with its records (before, in the set-up, it ends the process at once)
+  for _ in $(seq 1 600); do [ -d "$work/$name" ] && break; sleep 0.05; done
   sleep "$(python3 -c "print(max(0.2, $wall / 3))")"
   kill "-$sig" "$pid"
   wait "$pid"
