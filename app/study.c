@@ -238,10 +238,12 @@ static int complete_earlier(const mpgm_study *st, study_run *r, int rerun_failed
   const char *status = cJSON_GetObjectItemCaseSensitive(s, "status")->valuestring;
   const cJSON *msg = cJSON_GetObjectItemCaseSensitive(s, "message");
   int done = 0;
-  /* a run whose outputs could not be written (disk full) is not a result:
-   * it runs again, as a run with no summary would */
+  /* a run whose outputs could not be written (disk full), or that a
+   * signal stopped (the study's, or one from outside it: a batch system's
+   * time limit), is not a result: it runs again, as a run with no summary
+   * would */
   if (!r->resolved || !same_scene(st, r, scene)) *stale = 1;
-  else if (strcmp(status, "io_error") == 0) done = 0;
+  else if (strcmp(status, "io_error") == 0 || strcmp(status, "interrupted") == 0) done = 0;
   else if (!rerun_failed || strcmp(status, "completed") == 0) done = 1;
   if (done) {
     snprintf(r->status, sizeof r->status, "%s", status);
