@@ -318,6 +318,11 @@ typedef struct mpgm_scene {
   mpgm_reference reference; /**< reference solution; type NULL if none  */
   /* output */
   char out_dir[MPGM_PATH_LEN];
+  int from_file;            /**< 1: loaded from a scene file (its
+                                 output.dir must stay below the current
+                                 folder); 0: from a run's own record (the
+                                 resolved scene of a checkpoint or a
+                                 summary.json)                         */
   int every;                /**< write VTK every n steps                */
   int checkpoint_every;     /**< write a checkpoint every n steps (0: never) */
   int ntimes;               /**< output.times: entries of times         */

@@ -335,13 +335,31 @@ static int read_matrices(jr_node *o, mpgm_scene *s) {
   return 0;
 }
 
+/* 1 when path is relative and none of its parts is "..": a folder below
+ * the current one. */
+static int below_here(const char *path) {
+  if (path[0] == '/' || path[0] == '~') return 0;
+  for (const char *p = path; *p;) {
+    const size_t n = strcspn(p, "/");
+    if (n == 2 && p[0] == '.' && p[1] == '.') return 0;
+    p += n + (p[n] == '/');
+  }
+  return 1;
+}
+
 static int read_output(jr_node *root, mpgm_scene *s) {
   jr_node o;
   MPGM_CALL(jr_child(root, "output", 0, &o));
   char def[MPGM_PATH_LEN];
   snprintf(def, sizeof def, "results/%s", s->stem);
+  const int from_scene = s->from_file && jr_raw(&o, "dir") && !jr_override_json(&o, "dir");
   MPGM_CALL(jr_str(&o, "dir", def, s->out_dir, sizeof s->out_dir));
   if (!s->out_dir[0]) return jr_fail(&o, "dir", "expected a folder path, found an empty string");
+  if (from_scene && !below_here(s->out_dir))
+    return jr_fail(&o, "dir", "a scene names its results folder below the current folder (a scene "
+                   "from elsewhere must not write outside it): expected a relative path without "
+                   "'..', found \"%s\"; give that folder with --out DIR or --set output.dir=DIR",
+                   s->out_dir);
   MPGM_CALL(jr_int(&o, "every", 1, 1, 1 << 30, &s->every));
   MPGM_CALL(jr_int(&o, "checkpoint_every", 0, 0, 1 << 30, &s->checkpoint_every));
   MPGM_CALL(jr_enum(&o, "vtk", vtk_names, MPGM_VTK_OUT_BINARY, &s->vtk));
@@ -631,9 +649,10 @@ static int parse_sets(mpgm_ctx *ctx, const char *file, int nset, const char *con
 }
 
 /* Read the scene doc (owned, freed here) named file, with overrides. */
-static int scene_read(mpgm_ctx *ctx, const char *file, cJSON *doc, int nset,
+static int scene_read(mpgm_ctx *ctx, const char *file, cJSON *doc, int from_file, int nset,
                       const char *const *sets, mpgm_scene **out) {
   mpgm_scene *s = calloc(1, sizeof *s);
+  if (s) s->from_file = from_file;
   jr_override *ov = calloc(nset ? nset : 1, sizeof *ov);
   int err = (!s || !ov) ? mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory") : 0;
   jr_reader r = {.ctx = ctx, .file = file, .ov = ov, .nov = nset};
@@ -670,7 +689,7 @@ int mpgm_scene_load(mpgm_ctx *ctx, const char *file, int nset,
   *out = NULL;
   cJSON *doc = NULL;
   MPGM_CALL(jr_parse_file(ctx, file, &doc));
-  return scene_read(ctx, file, doc, nset, sets, out);
+  return scene_read(ctx, file, doc, 1, nset, sets, out);
 }
 
 int mpgm_scene_load_text(mpgm_ctx *ctx, const char *name, const char *text, size_t len, int nset,
@@ -678,7 +697,7 @@ int mpgm_scene_load_text(mpgm_ctx *ctx, const char *name, const char *text, size
   *out = NULL;
   cJSON *doc = NULL;
   MPGM_CALL(jr_parse_text(ctx, name, text, len, &doc));
-  return scene_read(ctx, name, doc, nset, sets, out);
+  return scene_read(ctx, name, doc, 0, nset, sets, out);
 }
 
 int mpgm_scene_load_json(mpgm_ctx *ctx, const char *name, const void *json, mpgm_scene **out) {
@@ -686,7 +705,7 @@ int mpgm_scene_load_json(mpgm_ctx *ctx, const char *name, const void *json, mpgm
   MPGM_CHECK(ctx, cJSON_IsObject((const cJSON *)json), MPGM_ERR_INPUT, "%s: expected a JSON object (a scene)", name);
   cJSON *doc = cJSON_Duplicate((const cJSON *)json, 1);
   MPGM_CHECK(ctx, doc, MPGM_ERR_NOMEM, "out of memory (scene %s)", name);
-  return scene_read(ctx, name, doc, 0, NULL, out);
+  return scene_read(ctx, name, doc, 0, 0, NULL, out);
 }
 
 void mpgm_scene_destroy(mpgm_scene **sp) {
