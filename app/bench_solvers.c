@@ -12,6 +12,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "mpgm_file.h"
 #include "mpgm_mtx.h"
 
 #define PATH_CAP  4096
@@ -326,6 +327,27 @@ static int bench_one(mpgm_ctx *ctx, const mpgm_bench_opts *o, const char *dir, c
   return err;
 }
 
+/* The CSV must not replace a system it reads (--out naming one, or a hard
+ * link of one). */
+static int refuse_overwrite(mpgm_ctx *ctx, const char *dir, struct dirent **list, int nk,
+                            const char *csvpath) {
+  char (*path)[PATH_CAP + 256] = calloc((size_t)(2 * nk), sizeof *path);
+  const char **in = calloc((size_t)(2 * nk), sizeof *in);
+  int err = path && in ? 0 : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
+  for (int i = 0; i < nk && !err; i++) {
+    const char *k = list[i]->d_name;
+    snprintf(path[2 * i], sizeof path[2 * i], "%s/%s", dir, k);
+    snprintf(path[2 * i + 1], sizeof path[2 * i + 1], "%s/%.*s_b.mtx", dir, (int)(strlen(k) - strlen("_K.mtx")), k);
+    in[2 * i] = path[2 * i];
+    in[2 * i + 1] = path[2 * i + 1];
+  }
+  const mpgm_write_path out = {csvpath, MPGM_WRITE_FILE};
+  if (!err) err = mpgm_refuse_overwrite(ctx, &out, 1, in, 2 * nk);
+  free(path);
+  free(in);
+  return err;
+}
+
 int mpgm_bench_solvers(mpgm_ctx *ctx, const mpgm_bench_opts *o, FILE *table) {
   MPGM_CHECK(ctx, o && o->dir && o->repeat >= 1, MPGM_ERR_INPUT, "bench-solvers: bad arguments");
   char dir[PATH_CAP];
@@ -355,12 +377,8 @@ int mpgm_bench_solvers(mpgm_ctx *ctx, const mpgm_bench_opts *o, FILE *table) {
   else
     snprintf(csvpath, sizeof csvpath, "%s/bench_solvers.csv", dir);
   FILE *csv = NULL;
-  if (!err) {
-    csv = fopen(csvpath, "w");
-    if (!csv)
-      err = mpgm_err_set(ctx, MPGM_ERR_IO, __FILE__, __LINE__, "%s: cannot write: %s", csvpath,
-                         strerror(errno));
-  }
+  if (!err) err = refuse_overwrite(ctx, dir, list, nk, csvpath);
+  if (!err) err = mpgm_fopen_write(ctx, csvpath, &csv);
   if (!err) {
     /* the runs' default (solver.threads = 1); says which BLAS runs */
     const int applied = mpgm_solver_threads(1);

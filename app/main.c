@@ -18,6 +18,7 @@
 #include "material_driver.h"
 #include "exit_code.h"
 #include "mpgm_checkpoint.h"
+#include "mpgm_file.h"
 #include "mpgm_run.h"
 #include "mpgm_scene_io.h"
 #include "study.h"
@@ -194,7 +195,15 @@ static int cmd_material(const args *a, mpgm_ctx *ctx) {
     if (dot && dot != csv) *dot = '\0';
     strncat(csv, ".csv", sizeof csv - strlen(csv) - 1);
   }
-  int err = mpgm_material_driver(ctx, a->scene, csv);
+  /* the CSV must not replace the input: --out naming it, a hard link of
+   * it, or an input named like the default */
+  const mpgm_write_path out = {csv, MPGM_WRITE_FILE};
+  int err = mpgm_refuse_overwrite(ctx, &out, 1, &a->scene, 1);
+  if (err && !a->out)
+    snprintf(ctx->msg + strlen(ctx->msg), sizeof ctx->msg - strlen(ctx->msg),
+             " (%s is the default output: the input's name with .csv, in the current folder; "
+             "give --out FILE.csv)", csv);
+  if (!err) err = mpgm_material_driver(ctx, a->scene, csv);
   if (err) {
     const int rc = report_error(ctx, err);
     if (rc == EXIT_SIM) fprintf(stderr, "mpgm: the increments before the failure are in %s\n", csv);
@@ -294,6 +303,15 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
     return report_error(ctx, err);
   }
   const char *dir = a->restart ? a->restart : a->out ? a->out : s->out_dir;
+  /* the scene kept in its results folder under a name the run writes is
+   * refused (a restart's checkpoint.mpgm is read whole before it is
+   * rewritten, so it is no input here) */
+  err = mpgm_refuse_run_overwrite(ctx, dir, &a->scene, 1);
+  if (err) {
+    mpgm_checkpoint_free(&ck);
+    mpgm_scene_destroy(&s);
+    return report_error(ctx, err);
+  }
   mpgm_run_opts opts = {.out_dir = dir, .per_iteration = a->per_iteration,
                         .restart = a->restart ? &ck : NULL, .stop = &run_stop, .running = &run_running};
   term_log tl = {0};

@@ -15,12 +15,12 @@
 #include "material_driver.h"
 
 #include <cjson/cJSON.h>
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "mpgm_file.h"
 #include "mpgm_json_reader.h"
 #include "mpgm_scene_io.h"
 #include "mpgm_scene.h"
@@ -325,9 +325,7 @@ int mpgm_material_driver(mpgm_ctx *ctx, const char *file, const char *out_csv) {
   cJSON_Delete(doc);
   FILE *f = NULL;
   if (!err) {
-    f = fopen(out_csv, "w");
-    if (!f) err = mpgm_err_set(ctx, MPGM_ERR_IO, __FILE__, __LINE__, "%s: cannot write: %s",
-                               out_csv, strerror(errno));
+    err = mpgm_fopen_write(ctx, out_csv, &f);
   }
   if (!err) err = drive(ctx, file, d, f);
   if (f && fclose(f) && !err)

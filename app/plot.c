@@ -279,8 +279,13 @@ static int draw(mpgm_ctx *ctx, const plot_ctx *p, const char *name, const char *
   fprintf(fv, "set terminal svg size 960,640 enhanced dynamic font 'Arial,11'\nset output '%s.svg'\nreplot\n"
               "unset output\n", name);
   MPGM_CALL(mpgm_atomic_close(ctx, path, fv));
-  FILE *in = fopen(path, "r");
-  MPGM_CHECK(ctx, in, MPGM_ERR_IO, "%s: cannot read back", path);
+  for (int ext = 0; ext < 2; ext++) { /* gnuplot must not wait on a FIFO there */
+    char pic[STUDY_PATH + 80];
+    snprintf(pic, sizeof pic, "%s/%s.%s", p->dir, name, ext ? "svg" : "png");
+    MPGM_CALL(mpgm_output_regular(ctx, pic));
+  }
+  FILE *in;
+  MPGM_CALL(mpgm_fopen_regular(ctx, path, (size_t)1 << 30, &in, NULL));
   mpgm_gnuplot g;
   int err = mpgm_gnuplot_open(ctx, &g, p->dir);
   char buf[1 << 14];
@@ -458,6 +463,29 @@ static int plot_main(mpgm_ctx *ctx, plot_ctx *p, const char *csv, const mpgm_plo
   return err;
 }
 
+void mpgm_plot_outputs(const char *dir, const char *x, char names[][STUDY_PATH + 96], mpgm_write_path *w) {
+  const char *xshort = strrchr(x, '.') ? strrchr(x, '.') + 1 : x;
+  static const char *const ext[] = {"gp", "png", "svg"};
+  for (int k = 0; k < STUDY_PLOT_FILES; k++) {
+    /* plot_ctx.xshort holds 63 characters */
+    snprintf(names[k], STUDY_PATH + 96, "%s/study_error_%.63s.%s", dir, k < 3 ? xshort : "time", ext[k % 3]);
+    w[k] = (mpgm_write_path){names[k], k % 3 ? MPGM_WRITE_FILE : MPGM_WRITE_ATOMIC};
+  }
+}
+
+/* The pictures and scripts, and --out itself, must not replace the CSV or
+ * the study.json they are drawn from. */
+static int refuse_overwrite(mpgm_ctx *ctx, const char *dir, const mpgm_plot_opts *o, const char *x,
+                            const char *csv, const char *csvdir) {
+  char names[STUDY_PLOT_FILES][STUDY_PATH + 96], saved[STUDY_PATH + 16];
+  mpgm_write_path w[STUDY_PLOT_FILES + 1];
+  mpgm_plot_outputs(dir, x, names, w);
+  w[STUDY_PLOT_FILES] = (mpgm_write_path){o->out, MPGM_WRITE_FILE};
+  snprintf(saved, sizeof saved, "%s/study.json", csvdir);
+  const char *in[] = {csv, saved};
+  return mpgm_refuse_overwrite(ctx, w, STUDY_PLOT_FILES + 1, in, 2);
+}
+
 int mpgm_plot(mpgm_ctx *ctx, const char *csv, const mpgm_plot_opts *o) {
   MPGM_CALL(mpgm_gnuplot_check(ctx));
   plot_ctx *p = calloc(1, sizeof *p);
@@ -470,7 +498,8 @@ int mpgm_plot(mpgm_ctx *ctx, const char *csv, const mpgm_plot_opts *o) {
   snprintf(p->dir, sizeof p->dir, "%s", o->out ? o->out : csvdir);
   saved sv;
   read_saved(csvdir, &sv);
-  int err = o->out ? mpgm_mkdir_p(ctx, o->out) : 0;
+  int err = refuse_overwrite(ctx, p->dir, o, o->x ? o->x : sv.x ? sv.x : "mesh.h", csv, csvdir);
+  if (!err && o->out) err = mpgm_mkdir_p(ctx, o->out);
   if (!err) err = plot_main(ctx, p, csv, o, &sv);
   cJSON_Delete(sv.doc);
   mpgm_table_free(&p->t);

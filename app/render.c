@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "gnuplot.h"
+#include "mpgm_file.h"
 #include "mpgm_json_reader.h"
 #include "mpgm_output.h"
 #include "mpgm_vtk.h"
@@ -298,6 +299,38 @@ static void preamble(FILE *gp, const ropts *o, const double *view, const double 
   fprintf(gp, " noenhanced\nset style fill solid noborder\n");
 }
 
+/* The pictures (--sheet, or DIR/NAME_tT.png, and --out itself) must not
+ * replace what they are drawn from: points.pvd, summary.json, the frames;
+ * and gnuplot, which writes them, must not wait on a FIFO there. */
+static int refuse_overwrite(mpgm_ctx *ctx, const ropts *o, const char *outdir, const mpgm_pvd_list *pvd,
+                            const frame *fr, int nfr) {
+  char (*in)[STUDY_PATH + 64] = calloc((size_t)nfr + 2, sizeof *in);
+  char (*png)[STUDY_PATH + 96] = calloc((size_t)nfr, sizeof *png);
+  const char **inp = calloc((size_t)nfr + 2, sizeof *inp);
+  mpgm_write_path *w = calloc((size_t)nfr + 2, sizeof *w);
+  int err = in && png && inp && w ? 0 : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
+  int n = 0;
+  if (!err) {
+    snprintf(in[0], sizeof in[0], "%s/points.pvd", o->run);
+    snprintf(in[1], sizeof in[1], "%s/summary.json", o->run);
+    for (int i = 0; i < nfr; i++) snprintf(in[2 + i], sizeof in[2 + i], "%s/%s", o->run, pvd->file[fr[i].index]);
+    for (int i = 0; i < nfr + 2; i++) inp[i] = in[i];
+    if (o->out) w[n++] = (mpgm_write_path){o->out, MPGM_WRITE_FILE};
+    if (o->sheet) w[n++] = (mpgm_write_path){o->sheet, MPGM_WRITE_FILE};
+    for (int i = 0; i < nfr && !o->sheet; i++) {
+      snprintf(png[i], sizeof png[i], "%s/%s_t%s.png", outdir, o->field, fr[i].token);
+      w[n++] = (mpgm_write_path){png[i], MPGM_WRITE_FILE};
+    }
+    err = mpgm_refuse_overwrite(ctx, w, n, inp, nfr + 2);
+    for (int k = o->out ? 1 : 0; k < n && !err; k++) err = mpgm_output_regular(ctx, w[k].path); /* gnuplot's */
+  }
+  free(in);
+  free(png);
+  free(inp);
+  free(w);
+  return err;
+}
+
 static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame *fr, int *nfr) {
   char path[STUDY_PATH + 64], outdir[STUDY_PATH];
   MPGM_CALL(mpgm_gnuplot_check(ctx));
@@ -367,6 +400,7 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
   snprintf(name, sizeof name, "%s", o->title ? o->title : slash && slash[1] ? slash + 1 : o->run);
   snprintf(outdir, sizeof outdir, "%s", o->out ? o->out : o->run);
   if (!o->out) strncat(outdir, "/render", sizeof outdir - strlen(outdir) - 1);
+  MPGM_CALL(refuse_overwrite(ctx, o, outdir, pvd, fr, *nfr));
   if (!o->sheet) MPGM_CALL(mpgm_mkdir_p(ctx, outdir));
   /* default sizes: the panel's height follows the view's aspect */
   const double aspect = (view[3] - view[2]) / (view[1] - view[0]);

@@ -172,20 +172,31 @@ static int validate(mpgm_ctx *ctx, mpgm_study *st) {
   return 0;
 }
 
-/* Last "mpgm: " line of the run's log (its error message). */
+/* Last "mpgm: " line of the run's log (its error message), from its last
+ * LOG_TAIL bytes: the message is at the end, and a log that grew long
+ * (warnings of every step) is not read whole. A log that is no regular
+ * file (a FIFO put in its place) gives no message. */
+enum { LOG_TAIL = 1 << 20 };
 static void log_message(const mpgm_study *st, const study_run *r, char *buf, size_t cap) {
   char path[STUDY_PATH + STUDY_NAME + 32], line[1024];
   mpgm_study_run_dir(st, r, "log.txt", path, sizeof path);
   buf[0] = '\0';
-  FILE *f = fopen(path, "r");
-  if (!f) return;
-  while (fgets(line, sizeof line, f)) {
+  mpgm_ctx quiet;
+  mpgm_ctx_init(&quiet);
+  FILE *f;
+  size_t size, left = LOG_TAIL;
+  if (mpgm_fopen_regular(&quiet, path, MPGM_READ_MAX, &f, &size)) return;
+  if (size > LOG_TAIL && fseeko(f, (off_t)(size - LOG_TAIL), SEEK_SET) == 0)
+    if (fgets(line, sizeof line, f)) left -= strlen(line); /* a line cut by the seek */
+  while (left > 0 && fgets(line, sizeof line, f)) {
+    const size_t n = strlen(line);
+    left = n < left ? left - n : 0;
     line[strcspn(line, "\r\n")] = '\0';
     if (strncmp(line, "mpgm: ", 6) == 0 && !strstr(line, "output written up to")) {
-      size_t n = strlen(line + 6);
-      if (n >= cap) n = cap - 1;
-      memcpy(buf, line + 6, n);
-      buf[n] = '\0';
+      size_t k = strlen(line + 6);
+      if (k >= cap) k = cap - 1;
+      memcpy(buf, line + 6, k);
+      buf[k] = '\0';
     }
   }
   fclose(f);
@@ -320,8 +331,7 @@ static void start_run(session *ss, int i) {
     if (unlink(path) != 0 && errno != ENOENT)
       mpgm_err_set(&c, MPGM_ERR_IO, __FILE__, __LINE__, "%s: cannot remove: %s", path, strerror(errno));
     snprintf(path, sizeof path, "%s/log.txt", dir);
-    if (!c.code && (fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666)) < 0)
-      mpgm_err_set(&c, MPGM_ERR_IO, __FILE__, __LINE__, "%s: %s", path, strerror(errno));
+    if (!c.code) mpgm_open_write(&c, path, &fd);
   }
   char *sets[MAX_SETS];
   int n = c.code ? 0 : run_sets(st, r, ss->threads, sets);
@@ -568,6 +578,37 @@ static int report(const session *ss, double t0) {
   return done + skip == st->nrun ? 0 : 1;
 }
 
+/* Nothing the study writes may replace its inputs, the study file and the
+ * scenes: OUT itself, study.json, study.csv, .lock, the plots, and the
+ * run folders under OUT/runs, whose log.txt and summary.json the study
+ * replaces before each run (the runs check their own outputs). */
+static int refuse_overwrite(mpgm_ctx *ctx, const mpgm_study *st) {
+  const char **in = calloc((size_t)st->nrun + 2, sizeof *in);
+  MPGM_CHECK(ctx, in, MPGM_ERR_NOMEM, "out of memory (study)");
+  int nin = 0;
+  in[nin++] = st->file;
+  in[nin++] = st->scene;
+  for (int i = 0; i < st->nrun; i++) { /* each scene once */
+    int seen = 0;
+    for (int k = 0; k < nin && !seen; k++) seen = strcmp(in[k], st->runs[i].scene) == 0;
+    if (!seen) in[nin++] = st->runs[i].scene;
+  }
+  static const char *const files[] = {"study.json", "study.csv", ".lock", "runs"};
+  char names[4 + STUDY_PLOT_FILES][STUDY_PATH + 96];
+  mpgm_write_path w[5 + STUDY_PLOT_FILES];
+  w[0] = (mpgm_write_path){st->out, MPGM_WRITE_FILE};
+  for (int k = 0; k < 4; k++) {
+    snprintf(names[k], sizeof names[k], "%s/%s", st->out, files[k]);
+    w[1 + k] = (mpgm_write_path){names[k], k < 2 ? MPGM_WRITE_ATOMIC : k == 2 ? MPGM_WRITE_FILE : MPGM_WRITE_FOLDER};
+  }
+  const char *x = cJSON_GetStringValue(
+      cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(st->record, "plot"), "x"));
+  mpgm_plot_outputs(st->out, x ? x : "mesh.h", names + 4, w + 5);
+  const int err = mpgm_refuse_overwrite(ctx, w, 5 + STUDY_PLOT_FILES, in, nin);
+  free(in);
+  return err;
+}
+
 /* The study: load, check, run, gather, draw. Returns 0 or an error code
  * (message in ctx); *rc: 0 every run completed, 1 not, 128 + signal when
  * a signal stopped it. */
@@ -578,6 +619,7 @@ static int study_main(mpgm_ctx *ctx, const opts *o, mpgm_study *st, int *rc) {
   MPGM_CHECK(ctx, strlen(st->out) + STUDY_NAME + 64 < MPGM_PATH_LEN, MPGM_ERR_INPUT,
              "%s: out: the results folder's name is too long (%zu characters)", o->file, strlen(st->out));
   MPGM_CALL(validate(ctx, st));
+  MPGM_CALL(refuse_overwrite(ctx, st));
   session ss;
   memset(&ss, 0, sizeof ss);
   ss.st = st;

@@ -15,6 +15,7 @@
 
 #include "exit_code.h"
 #include "mpgm_base.h"
+#include "mpgm_file.h"
 #include "table.h"
 
 enum { STUDY_PATH = 4096, STUDY_NAME = 256, STUDY_MAX_RUNS = 10000, STUDY_MAX_KEYS = 32 };
@@ -107,6 +108,13 @@ typedef struct mpgm_plot_opts {
  *  study.csv. Errors: MPGM_ERR_INPUT (no such metric, nothing to plot),
  *  MPGM_ERR_IO (gnuplot missing or failing). */
 int mpgm_plot(mpgm_ctx *ctx, const char *csv, const mpgm_plot_opts *o);
+
+/** The files `mpgm plot` writes into dir when its x key is x:
+ *  study_error_<last part of x> and study_error_time, each as .gp (written
+ *  atomically), .png and .svg; their paths into names, the entries of
+ *  mpgm_refuse_overwrite into w. */
+enum { STUDY_PLOT_FILES = 6 };
+void mpgm_plot_outputs(const char *dir, const char *x, char names[][STUDY_PATH + 96], mpgm_write_path *w);
 
 /** Command entries: argv as main's; they return the exit code. */
 int mpgm_cmd_study(int argc, char **argv);

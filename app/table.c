@@ -10,6 +10,10 @@
 
 #include "mpgm_file.h"
 
+/* The largest CSV read (a study.csv of ten thousand runs and two hundred
+ * columns is about 40 MiB). */
+#define TABLE_MAX_FILE ((size_t)1 << 30)
+
 void mpgm_format_double(double v, char *buf, size_t cap) {
   if (v == floor(v) && fabs(v) < 1e15) { /* whole numbers as such: 640, not 6.4e+02 */
     snprintf(buf, cap, "%.0f", v);
@@ -183,7 +187,7 @@ int mpgm_table_read(mpgm_ctx *ctx, const char *path, mpgm_table *t) {
   memset(t, 0, sizeof *t);
   char *text;
   size_t n;
-  MPGM_CALL(mpgm_read_file(ctx, path, (size_t)1 << 30, &text, &n));
+  MPGM_CALL(mpgm_read_file(ctx, path, TABLE_MAX_FILE, &text, &n));
   int err = 0;
   if (!err && n == 0) err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: empty file", path);
   const char *p = text;

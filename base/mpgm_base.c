@@ -1,14 +1,12 @@
-/* mpgm_base.c -- error table, context, clock. */
+/* mpgm_base.c -- error table, context, clock (the readers of files: read.c). */
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_base.h"
 
-#include <errno.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 
 const char *mpgm_code_str(int code) {
@@ -107,55 +105,10 @@ double mpgm_wtime(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* Refuse what cannot be a file's content: a folder, a device (/dev/zero
- * would be read without end). Pipes and FIFOs are read, up to max bytes. */
-static int read_file_kind(mpgm_ctx *ctx, FILE *f, const char *path) {
-  struct stat st;
-  if (fstat(fileno(f), &st) != 0) return 0; /* the read will say what is wrong */
-  const char *kind = S_ISDIR(st.st_mode)   ? "a folder"
-                     : S_ISCHR(st.st_mode) ? "a character device"
-                     : S_ISBLK(st.st_mode) ? "a block device"
-                     : S_ISSOCK(st.st_mode) ? "a socket"
-                                            : NULL;
-  if (!kind) return 0;
-  fclose(f);
-  MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: is %s, not a regular file", path, kind);
-}
-
 const char *mpgm_version(void) {
 #ifdef MPGM_VERSION_STRING
   return MPGM_VERSION_STRING;
 #else
   return "unknown";
 #endif
-}
-
-int mpgm_read_file(mpgm_ctx *ctx, const char *path, size_t max, char **text, size_t *len) {
-  *text = NULL;
-  if (len) *len = 0;
-  FILE *f = fopen(path, "rb");
-  MPGM_CHECK(ctx, f, MPGM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-  MPGM_CALL(read_file_kind(ctx, f, path));
-  size_t cap = 1 << 16, n = 0, k;
-  char *buf = malloc(cap);
-  while (buf && n <= max && (k = fread(buf + n, 1, cap - n - 1, f)) > 0) {
-    n += k;
-    if (n + 1 == cap && n <= max) {
-      char *nb = cap < SIZE_MAX / 2 ? realloc(buf, cap *= 2) : NULL;
-      if (!nb) free(buf);
-      buf = nb;
-    }
-  }
-  const int bad = ferror(f);
-  fclose(f);
-  MPGM_CHECK(ctx, buf, MPGM_ERR_NOMEM, "%s: out of memory", path);
-  if (bad || n > max) {
-    free(buf);
-    if (bad) MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: read error", path);
-    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: larger than %zu bytes, the most this file may have", path, max);
-  }
-  buf[n] = '\0';
-  *text = buf;
-  if (len) *len = n;
-  return 0;
 }

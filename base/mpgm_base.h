@@ -13,6 +13,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -245,11 +246,40 @@ int mpgm_err_set(mpgm_ctx *ctx, int code, const char *file, int line,
 /** Forget a recorded (recoverable) error, e.g. after a step cut. */
 void mpgm_err_clear(mpgm_ctx *ctx);
 
-/** Read a whole file of at most max bytes into *text (malloc'd,
- *  NUL-terminated; the caller frees it; binary content may hold NULs), its
- *  length in *len (may be NULL). Errors: MPGM_ERR_IO (cannot open or read,
- *  with the path), MPGM_ERR_INPUT (a folder or a device, not a file; more
- *  than max bytes), MPGM_ERR_NOMEM. */
+/** The most any file mpgm reads may have: every reader's own bound is at
+ *  most this (16 GiB; checkpoints are held to it, the other inputs to far
+ *  less: docs/scene-format.md, "Files a run reads and writes"). */
+#define MPGM_READ_MAX ((size_t)16 << 30)
+
+/** What a file of this st_mode is, for messages: "a regular file", "a
+ *  folder", "a pipe or FIFO", "a socket", "a character device", "a block
+ *  device". */
+const char *mpgm_file_kind(unsigned mode);
+
+/** Open path for reading, a regular file only (read.c). The name is
+ *  checked first (stat, which follows symbolic links: a link to a regular
+ *  file is fine), so a FIFO, a pipe, a socket, a device or a folder is
+ *  refused without being opened; the file is then opened non-blocking and
+ *  what was opened checked again (fstat) before O_NONBLOCK is cleared, so
+ *  no read can block for a writer. *fd receives the descriptor (the caller
+ *  closes it), *size (may be NULL) the file's size now. Errors:
+ *  MPGM_ERR_INPUT ("PATH: is a pipe or FIFO, not a regular file"; larger
+ *  than max bytes, which is clamped to MPGM_READ_MAX), MPGM_ERR_IO (cannot
+ *  open: "PATH: cannot open: REASON"). */
+int mpgm_open_regular(mpgm_ctx *ctx, const char *path, size_t max, int *fd, size_t *size);
+/** mpgm_open_regular as a stdio stream for reading; *f (the caller
+ *  fcloses it). A line reader still counts the bytes it reads against max:
+ *  a file may grow while it is read. */
+int mpgm_fopen_regular(mpgm_ctx *ctx, const char *path, size_t max, FILE **f, size_t *size);
+/** Record "PATH: larger than MAX, the most this file may have"
+ *  (MPGM_ERR_INPUT) and return the code. */
+int mpgm_err_too_large(mpgm_ctx *ctx, const char *path, size_t max);
+
+/** Read a whole regular file (mpgm_open_regular) of at most max bytes into
+ *  *text (malloc'd, NUL-terminated; the caller frees it; binary content may
+ *  hold NULs), its length in *len (may be NULL). A file that grows past max
+ *  while it is read is refused too. Errors: as mpgm_open_regular;
+ *  MPGM_ERR_IO (read error), MPGM_ERR_NOMEM. */
 int mpgm_read_file(mpgm_ctx *ctx, const char *path, size_t max, char **text, size_t *len);
 
 /** mpgm's version and the commit it was built from, e.g. "0.1.0

@@ -1,16 +1,60 @@
 /* file.c -- files written atomically ("PATH.tmp", then rename: a reader
- * never sees half a file, a failed write leaves the old file), folders
- * made and emptied. See mpgm_file.h. */
+ * never sees half a file, a failed write leaves the old file), files opened
+ * for writing without blocking, folders made and emptied, and the check
+ * that no command writes over its own input (overwrite.c). See
+ * mpgm_file.h. */
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_file.h"
 
 #include <cjson/cJSON.h>
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+/* ------------------------------------------------------------------------ */
+/* Files opened for writing                                                 */
+/* ------------------------------------------------------------------------ */
+
+int mpgm_open_write(mpgm_ctx *ctx, const char *path, int *fd_out) {
+  *fd_out = -1;
+  /* O_NONBLOCK: a FIFO without a reader fails at once (ENXIO) instead of
+   * waiting for one for ever */
+  const int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_NONBLOCK | O_NOCTTY | O_CLOEXEC, 0666);
+  if (fd < 0 && errno == ENXIO)
+    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: cannot write: a pipe or FIFO that nobody reads", path);
+  MPGM_CHECK(ctx, fd >= 0, MPGM_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+  const int fl = fcntl(fd, F_GETFL);
+  if (fl < 0 || fcntl(fd, F_SETFL, fl & ~O_NONBLOCK) != 0) {
+    const int e = errno;
+    close(fd);
+    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: cannot write: %s", path, strerror(e));
+  }
+  *fd_out = fd;
+  return 0;
+}
+
+int mpgm_output_regular(mpgm_ctx *ctx, const char *path) {
+  struct stat st;
+  if (stat(path, &st) != 0 || S_ISREG(st.st_mode)) return 0; /* absent, or a file to replace */
+  MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: is %s, not a regular file: no output is written there", path,
+             mpgm_file_kind((unsigned)st.st_mode));
+}
+
+int mpgm_fopen_write(mpgm_ctx *ctx, const char *path, FILE **f) {
+  *f = NULL;
+  int fd;
+  MPGM_CALL(mpgm_open_write(ctx, path, &fd));
+  *f = fdopen(fd, "w");
+  if (*f) return 0;
+  const int e = errno;
+  close(fd);
+  MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: cannot write: %s", path, strerror(e));
+}
 
 /* ------------------------------------------------------------------------ */
 /* Atomic files                                                             */
@@ -42,8 +86,20 @@ int mpgm_atomic_open(mpgm_ctx *ctx, const char *path, void **fp_out) {
   char t[TMPNAME_CAP];
   MPGM_CHECK(ctx, tmp_name(path, t), MPGM_ERR_IO, "%s: %s", path,
              strerror(ENAMETOOLONG));
-  FILE *fp = fopen(t, "wb");
-  MPGM_CHECK(ctx, fp != NULL, MPGM_ERR_IO, "%s: %s", path, strerror(errno));
+  /* a new file of our own: whatever stands at PATH.tmp (a temporary a
+   * killed run left, a FIFO, a symbolic link to elsewhere) is removed
+   * first, not opened and written through */
+  if (unlink(t) != 0 && errno != ENOENT)
+    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: %s", t, strerror(errno));
+  const int fd = open(t, O_WRONLY | O_CREAT | O_EXCL | O_NOCTTY | O_CLOEXEC, 0666);
+  MPGM_CHECK(ctx, fd >= 0, MPGM_ERR_IO, "%s: %s", path, strerror(errno));
+  FILE *fp = fdopen(fd, "wb");
+  if (!fp) {
+    const int e = errno;
+    close(fd);
+    remove(t);
+    MPGM_ERROR(ctx, MPGM_ERR_IO, "%s: %s", path, strerror(e));
+  }
   *fp_out = fp;
   return MPGM_OK;
 }

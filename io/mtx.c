@@ -92,6 +92,10 @@ int mpgm_mtx_write_vec(mpgm_ctx *ctx, const char *path, const double *b, int n,
 
 /* ---- reading ------------------------------------------------------------ */
 
+/* The largest Matrix Market file read: about 40 bytes an entry, so a
+ * hundred million entries. */
+#define MTX_MAX_FILE ((size_t)4 << 30)
+
 typedef struct reader {
   mpgm_ctx *ctx;
   const char *path;
@@ -99,6 +103,7 @@ typedef struct reader {
   char *line; /**< current line, without its newline */
   size_t cap;
   long lineno; /**< its number, from 1 */
+  size_t bytes; /**< read so far (held to MTX_MAX_FILE: a file may grow) */
 } reader;
 
 /* The current line for messages: quoted, at most 60 characters. */
@@ -134,6 +139,8 @@ static int next_line(reader *r, int skip) {
       return 0;
     }
     r->lineno++;
+    r->bytes += (size_t)len;
+    if (r->bytes > MTX_MAX_FILE) return mpgm_err_too_large(r->ctx, r->path, MTX_MAX_FILE);
     if ((size_t)len != strlen(r->line)) {
       r->line[0] = '\0';
       MPGM_ERROR(r->ctx, MPGM_ERR_INPUT,
@@ -354,8 +361,7 @@ done:
 int mpgm_mtx_read_csc(mpgm_ctx *ctx, const char *path, mpgm_csc *A) {
   memset(A, 0, sizeof *A);
   reader r = {.ctx = ctx, .path = path};
-  r.f = fopen(path, "r");
-  MPGM_CHECK(ctx, r.f, MPGM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  MPGM_CALL(mpgm_fopen_regular(ctx, path, MTX_MAX_FILE, &r.f, NULL));
   triplets T = {0};
   int n = 0, sym = 0;
   int err = read_coordinate(&r, &n, &sym, &T);
@@ -409,8 +415,7 @@ int mpgm_mtx_read_vec(mpgm_ctx *ctx, const char *path, double **b, int *n) {
   *b = NULL;
   *n = 0;
   reader r = {.ctx = ctx, .path = path};
-  r.f = fopen(path, "r");
-  MPGM_CHECK(ctx, r.f, MPGM_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  MPGM_CALL(mpgm_fopen_regular(ctx, path, MTX_MAX_FILE, &r.f, NULL));
   int err = read_array(&r, b, n);
   fclose(r.f);
   free(r.line);

@@ -15,6 +15,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The largest files read back: a frame of material points or of the mesh
+ * (ten million points of every field in binary take about 2 GiB), and a
+ * .pvd collection (about 80 bytes a frame). */
+#define VTK_MAX_FILE ((size_t)4 << 30)
+#define PVD_MAX_FILE ((size_t)64 << 20)
+
 typedef struct rd {
   mpgm_ctx *ctx;
   const char *path;
@@ -149,7 +155,7 @@ int mpgm_vtk_read(mpgm_ctx *ctx, const char *path, mpgm_vtk_grid **out) {
   *out = NULL;
   rd r = {ctx, path, NULL, 0, 0, 0};
   char *buf;
-  MPGM_CALL(mpgm_read_file(ctx, path, SIZE_MAX - 1, &buf, &r.len));
+  MPGM_CALL(mpgm_read_file(ctx, path, VTK_MAX_FILE, &buf, &r.len));
   r.b = buf;
   mpgm_vtk_grid *g = calloc(1, sizeof *g);
   int err = g ? read_body(&r, g) : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
@@ -214,7 +220,7 @@ int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out) {
   memset(out, 0, sizeof *out);
   char *buf;
   size_t len;
-  MPGM_CALL(mpgm_read_file(ctx, path, SIZE_MAX - 1, &buf, &len));
+  MPGM_CALL(mpgm_read_file(ctx, path, PVD_MAX_FILE, &buf, &len));
   int err = 0;
   if (!strstr(buf, "<VTKFile") || !strstr(buf, "type=\"Collection\""))
     err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: not a .pvd collection", path);
