@@ -281,6 +281,11 @@ int mpgm_err_too_large(mpgm_ctx *ctx, const char *path, size_t max);
  *  while it is read is refused too. Errors: as mpgm_open_regular;
  *  MPGM_ERR_IO (read error), MPGM_ERR_NOMEM. */
 int mpgm_read_file(mpgm_ctx *ctx, const char *path, size_t max, char **text, size_t *len);
+/** 1 when path names a place below the folder it is taken from: not
+ *  empty, relative (no leading '/' or '~') and without a ".." part. A path
+ *  read from a file (a scene's output.dir, a .pvd's frames) must be one,
+ *  so that a file from elsewhere cannot reach outside that folder. */
+int mpgm_path_below(const char *path);
 
 /** mpgm's version and the commit it was built from, e.g. "0.1.0
  *  (1a2b3c4d5e6f)": what a checkpoint records. */

@@ -141,3 +141,13 @@ int mpgm_read_file(mpgm_ctx *ctx, const char *path, size_t max, char **text, siz
   if (len) *len = n;
   return 0;
 }
+
+int mpgm_path_below(const char *path) {
+  if (!path[0] || path[0] == '/' || path[0] == '~') return 0;
+  for (const char *p = path; *p;) {
+    const size_t n = strcspn(p, "/");
+    if (n == 2 && p[0] == '.' && p[1] == '.') return 0;
+    p += n + (p[n] == '/');
+  }
+  return 1;
+}

@@ -322,6 +322,13 @@ int jr_parse_text(mpgm_ctx *ctx, const char *file, const char *text, size_t len,
   if (jr_strict_check(text, len, &at, why, sizeof why)) {
     line_col(text, at, &line, &col);
     excerpt(text, len, at, near);
+    /* a text that does not even begin as a JSON document (any file may be
+     * named where a scene is expected: /etc/shadow) is not repeated */
+    size_t k = 0;
+    while (k < len && strchr(" \t\r\n", text[k]) && text[k]) k++;
+    if (k >= len || (text[k] != '{' && text[k] != '['))
+      MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: line %d, column %d: JSON syntax error: not a JSON document (it "
+                 "does not begin with '{' or '['; its content is not repeated here)", file, line, col);
     MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: line %d, column %d: JSON syntax error: %s (near '%s'%s)",
                file, line, col, why, near, near[0] ? "" : ", the end of the file");
   }

@@ -335,18 +335,6 @@ static int read_matrices(jr_node *o, mpgm_scene *s) {
   return 0;
 }
 
-/* 1 when path is relative and none of its parts is "..": a folder below
- * the current one. */
-static int below_here(const char *path) {
-  if (path[0] == '/' || path[0] == '~') return 0;
-  for (const char *p = path; *p;) {
-    const size_t n = strcspn(p, "/");
-    if (n == 2 && p[0] == '.' && p[1] == '.') return 0;
-    p += n + (p[n] == '/');
-  }
-  return 1;
-}
-
 static int read_output(jr_node *root, mpgm_scene *s) {
   jr_node o;
   MPGM_CALL(jr_child(root, "output", 0, &o));
@@ -355,7 +343,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   const int from_scene = s->from_file && jr_raw(&o, "dir") && !jr_override_json(&o, "dir");
   MPGM_CALL(jr_str(&o, "dir", def, s->out_dir, sizeof s->out_dir));
   if (!s->out_dir[0]) return jr_fail(&o, "dir", "expected a folder path, found an empty string");
-  if (from_scene && !below_here(s->out_dir))
+  if (from_scene && !mpgm_path_below(s->out_dir))
     return jr_fail(&o, "dir", "a scene names its results folder below the current folder (a scene "
                    "from elsewhere must not write outside it): expected a relative path without "
                    "'..', found \"%s\"; give that folder with --out DIR or --set output.dir=DIR",

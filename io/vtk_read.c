@@ -101,7 +101,10 @@ static int bounded(rd *r, long v, const char *line) {
 static int read_body(rd *r, mpgm_vtk_grid *g) {
   char line[512];
   if (!next_line(r, line, sizeof line) || strcmp(line, "# vtk DataFile Version 3.0") != 0)
-    return malformed(r, "'# vtk DataFile Version 3.0'", r->pos ? line : NULL);
+    /* not a VTK file at all: what it holds is not repeated (a .pvd may
+     * name any file; its first line can be a secret) */
+    MPGM_ERROR(r->ctx, MPGM_ERR_INPUT, "%s: not a legacy VTK file: expected '# vtk DataFile Version "
+               "3.0' as its first line", r->path);
   if (!next_line(r, g->title, sizeof g->title)) return malformed(r, "a title line", NULL);
   if (!next_line(r, line, sizeof line)) return malformed(r, "ASCII or BINARY", NULL);
   if (strcmp(line, "BINARY") == 0) r->binary = 1;
@@ -230,6 +233,11 @@ int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out) {
     if (!e || !attribute(p, e, "timestep", t, sizeof t) || !attribute(p, e, "file", f, sizeof f)) {
       err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
                          "%s: a DataSet without timestep or file attribute", path);
+      break;
+    }
+    if (!mpgm_path_below(f)) { /* a collection from elsewhere must not open /etc/... */
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: DataSet file \"%.200s\": "
+                         "expected a path inside the run's folder (relative, without '..')", path, f);
       break;
     }
     char *end;
