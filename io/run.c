@@ -338,6 +338,8 @@ static int start(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, const char *di
 int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_run_opts *opts) {
   const double t0 = mpgm_wtime(), cpu0 = process_cpu();
   mpgm_problem *pb = NULL;
+  /* solver.petsc judged by PETSc before anything is written */
+  MPGM_CALL(mpgm_scene_check_solver(ctx, s));
   MPGM_CALL(mpgm_problem_create(ctx, s, NULL, &pb));
   mpgm_output o;
   mpgm_run_result res = {.failed_step = -1};
