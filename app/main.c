@@ -155,7 +155,12 @@ static int report_error(const mpgm_ctx *ctx, int code) {
 static int cmd_check(const args *a, mpgm_ctx *ctx) {
   mpgm_scene *s = NULL;
   int err = mpgm_scene_load(ctx, a->scene, a->nset, a->sets, &s);
-  if (err) return report_error(ctx, err);
+  /* what PETSc makes of solver.petsc, as mpgm run judges it */
+  if (!err) err = mpgm_scene_check_solver(ctx, s);
+  if (err) {
+    mpgm_scene_destroy(&s);
+    return report_error(ctx, err);
+  }
   char *text = mpgm_scene_resolved_json(s);
   mpgm_effects fx;
   mpgm_effects_of_scene(s, &fx);

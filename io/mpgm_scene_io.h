@@ -38,6 +38,16 @@ int mpgm_scene_load_json(mpgm_ctx *ctx, const char *name, const void *json, mpgm
  *  "FILE: path.key: expected ..., found ..." in ctx. */
 int mpgm_material_load(mpgm_ctx *ctx, const char *file, const char *path, const void *json,
                        mpgm_material *mat);
+/** The options of the scene's linear solver judged as its first
+ *  factorisation would judge them, before a run writes anything: for
+ *  solver.linear "petsc" (also with a linear_fallback) in an implicit
+ *  analysis, PETSc's KSP and PC set up once on a test system with the
+ *  symmetry of the scene's tangent (mpgm_solver_check: this loads and
+ *  starts PETSc and MPI); 0 at once otherwise. The loader itself holds
+ *  solver.petsc to mpgm's policy only, without PETSc. Errors:
+ *  MPGM_ERR_INPUT "FILE: solver.petsc: ..." (an option PETSc refuses or
+ *  does not use), or the backend's code when it cannot start. */
+int mpgm_scene_check_solver(mpgm_ctx *ctx, const mpgm_scene *s);
 /** Free a scene (accepts NULL, nulls the pointer). */
 void mpgm_scene_destroy(mpgm_scene **s);
 /** The resolved scene as indented JSON (caller frees with free()). */

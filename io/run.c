@@ -359,6 +359,8 @@ static int start(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, const char *di
 int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_run_opts *opts) {
   const double t0 = mpgm_wtime(), cpu0 = process_cpu();
   mpgm_problem *pb = NULL;
+  /* solver.petsc judged by PETSc before anything is written */
+  MPGM_CALL(mpgm_scene_check_solver(ctx, s));
   MPGM_CALL(mpgm_problem_create(ctx, s, NULL, &pb));
   /* the set-up is done: from here a stop asked for leaves records */
   if (opts && opts->running) *opts->running = 1;

@@ -1,9 +1,12 @@
 /* scene_solver.c -- the "solver" block: the linear solver backend (a
  * member of the solver family, solvers/) with its options, and Newton's
- * settings. */
+ * settings; and the check of the backend's options before a run
+ * (mpgm_scene_check_solver). */
 #include <string.h>
 
 #include "mpgm_json_reader.h"
+#include "mpgm_petsc_options.h"
+#include "mpgm_scene_io.h"
 #include "mpgm_solver.h"
 #include "scene_impl.h"
 
@@ -95,9 +98,35 @@ int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {
   if (!petsc && (jr_raw(&so, "petsc") || jr_override_json(&so, "petsc")))
     return jr_fail(&so, "petsc", "PETSc's options: only with solver.linear \"petsc\", found "
                    "\"%s\"", svn[si]);
-  if (petsc)
+  if (petsc) {
     MPGM_CALL(jr_str(&so, "petsc", "", s->solver_opts.petsc, sizeof s->solver_opts.petsc));
+    /* mpgm's policy, without PETSc: what PETSc itself makes of the options
+     * is mpgm_scene_check_solver's */
+    char why[400];
+    if (mpgm_petsc_options_parse(s->solver_opts.petsc, NULL, why, sizeof why))
+      return jr_fail(&so, "petsc", "%s (docs/scene-format.md, \"PETSc options are confined\")", why);
+  }
+  s->solver_opts.file = s->file; /* the backend's messages of bad options name it */
   MPGM_CALL(jr_end(&so));
 
   return 0;
+}
+
+/* PETSc's own judgement of solver.petsc needs PETSc (the module, MPI: 0.4 s
+ * to start), which the loader does not start: the scene fuzzer, studies
+ * and restarts load scenes without solving anything. `mpgm check` and
+ * mpgm_run call this instead, after the load and before any output. */
+int mpgm_scene_check_solver(mpgm_ctx *ctx, const mpgm_scene *s) {
+  /* an explicit run creates no solver (core/problem.c), so it judges none */
+  if (s->analysis == MPGM_ANALYSIS_EXPLICIT || !s->solver->check) return 0;
+  /* the options as core/problem.c hands them to the instance it creates,
+   * with the tangent's symmetry (every material's), which picks PETSc's
+   * defaults (CG + ICC(0) or GMRES + ILU(0)) and so decides which options
+   * are read; solver.linear_fallback's composite hands the same options to
+   * its iterative part */
+  mpgm_solver_opts o = s->solver_opts;
+  o.symmetric = 1;
+  for (int i = 0; i < s->nmat; i++) o.symmetric &= s->mats[i].symmetric;
+  o.part = o.fallback = NULL;
+  return mpgm_solver_check(ctx, s->solver, &o);
 }

@@ -63,11 +63,14 @@ typedef struct mpgm_solver_opts {
   const struct mpgm_solver_type *fallback; /**< fallback: the direct
                      backend that factorises a matrix the iterative
                      opts.part could not solve or precondition; NULL   */
+  const char *file; /**< the scene file the options come from, named in
+                     the messages of options that are bad input
+                     ("FILE: solver.petsc: ..."); borrowed; NULL: none */
 } mpgm_solver_opts;
 
 /** The default options (tol 1e-10, restart 100, max_iter 5000,
  *  symmetric 1, petsc "", part NULL, refactor_iterations 20, fallback
- *  NULL). */
+ *  NULL, file NULL). */
 mpgm_solver_opts mpgm_solver_opts_default(void);
 
 /** 1 when the backend `name` can be used; 0 with the reason in msg (of
@@ -143,6 +146,11 @@ typedef struct mpgm_solver_type {
    *  nothing to keep (factorisations are rebuilt, not saved). */
   int (*save)(const void *data, mpgm_ctx *ctx, struct mpgm_blob *b);
   int (*restore)(void *data, mpgm_ctx *ctx, struct mpgm_blob *b);
+  /** Optional: judge the options before a run (a backend with options of
+   *  its own, solver.petsc): an instance with opts set up on a small test
+   *  system whose symmetry is opts->symmetric, then destroyed; an option
+   *  refused or not used is MPGM_ERR_INPUT. NULL: nothing to judge. */
+  int (*check)(mpgm_ctx *ctx, const mpgm_solver_opts *opts);
 } mpgm_solver_type;
 
 /** A solver instance. */
@@ -168,6 +176,16 @@ extern const mpgm_solver_type mpgm_solver_fallback;
 const mpgm_solver_type *mpgm_solver_type_find(const char *name);
 /** All backends, NULL-terminated. */
 const mpgm_solver_type *const *mpgm_solver_types(void);
+
+/** The options of `type` judged before a run, as its first factorisation
+ *  would judge them (type->check: PETSc's KSP and PC set up once on a test
+ *  system of a few hundred equations with opts->symmetric's symmetry,
+ *  which loads and starts PETSc); 0 at once for a backend without options
+ *  of its own. Errors: MPGM_ERR_INPUT with "FILE: solver.petsc: ..." (an
+ *  option refused by mpgm's policy, refused by PETSc, or not used), or the
+ *  backend's code when it cannot start (MPGM_ERR_UNSUPPORTED, _SOLVER,
+ *  _NOMEM). Leaves ctx's timers and counters as they were. */
+int mpgm_solver_check(mpgm_ctx *ctx, const mpgm_solver_type *type, const mpgm_solver_opts *opts);
 
 /** Create/destroy an instance (opts NULL: the defaults; destroy accepts
  *  NULL, nulls the pointer). */

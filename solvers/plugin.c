@@ -132,6 +132,12 @@ static int px_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   return real->solve(data, ctx, b, x);
 }
 static int px_stats(void *data, mpgm_solver_stats *st) { return real->stats(data, st); }
+static int px_check(mpgm_ctx *ctx, const mpgm_solver_opts *opts) {
+  char msg[512];
+  MPGM_CHECK(ctx, mpgm_solver_plugin_load("petsc", msg, sizeof msg) == 0, MPGM_ERR_UNSUPPORTED,
+             "solver petsc: %s", msg);
+  return real->check(ctx, opts);
+}
 static int px_tolerance(void *data, double tol) { return real->tolerance(data, tol); }
 
 /* PETSc's configurations that `mpgm bench-solvers` compares: CG or GMRES
@@ -162,4 +168,5 @@ const mpgm_solver_type mpgm_solver_petsc = {
     .solve = px_solve,
     .stats = px_stats,
     .tolerance = px_tolerance,
+    .check = px_check,
 };

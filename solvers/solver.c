@@ -56,6 +56,11 @@ int mpgm_solver_usable(const char *name, char *msg, size_t len) {
 
 void mpgm_solver_finalize(void) { mpgm_solver_plugin_finalize(); }
 
+int mpgm_solver_check(mpgm_ctx *ctx, const mpgm_solver_type *type, const mpgm_solver_opts *opts) {
+  MPGM_CHECK(ctx, type != NULL && opts != NULL, MPGM_ERR_INPUT, "mpgm_solver_check: NULL argument");
+  return type->check ? type->check(ctx, opts) : MPGM_OK;
+}
+
 /** Create an instance of `type` with options opts (NULL: the defaults)
  *  in *out (NULL on failure).
  *  Errors: MPGM_ERR_INPUT (NULL arguments, options out of range),

@@ -12,7 +12,13 @@
  * MUMPS factors), solve runs the Krylov method.
  *
  * Options: the scene's solver.petsc string, PETSc's own command-line
- * syntax, goes into PETSc's options database under a prefix of the
+ * syntax, is split by mpgm (solvers/petsc_options.c, which holds every
+ * option to the policy of docs/scene-format.md, "PETSc options are
+ * confined", again here: no option that reads or writes a file, views,
+ * monitors but to the terminal, or starts a program) and each option goes
+ * into PETSc's options database by name (PetscOptionsSetValue; PETSc never
+ * parses the string, so an -options_file or -prefix_push that got past
+ * the scene loader is still not acted on), under a prefix of the
  * instance's own ("mpgm3_"; the KSP carries the prefix, and so do the PC,
  * the factor matrix and the multigrid levels it makes), so two instances
  * with different options do not mix, and is taken out again when the
@@ -29,7 +35,10 @@
  * (KSP_NORM_UNPRECONDITIONED; PETSc then picks the preconditioner side
  * that supports it, right for GMRES), as the other backends do. An option
  * of the string that PETSc has not read by the end of the first factor is
- * refused: a misspelt name would otherwise go unnoticed.
+ * refused: a misspelt name would otherwise go unnoticed. The check
+ * operation does that before a run: the KSP and PC set up once on a test
+ * system (pt_check), so that `mpgm check` and `mpgm run` refuse a bad
+ * option as bad input before any result is written.
  *
  * Failures: a matrix with a zero or missing diagonal entry (no stiffness
  * at a free degree of freedom; AMG, ILU and Jacobi divide by it) or a
@@ -37,9 +46,13 @@
  * only LU (MUMPS) pivots past a zero diagonal and reports singularity
  * itself. A Krylov solve that stops short of its tolerance is
  * MPGM_ERR_LINEAR. Both are recoverable, with PETSc's reason in the
- * message. A PETSc error (a bad option, out of memory) is MPGM_ERR_INPUT,
- * MPGM_ERR_NOMEM or MPGM_ERR_SOLVER with PETSc's text. PETSc never prints:
- * its error handler is the one that only returns.
+ * message. A PETSc error is MPGM_ERR_NOMEM (out of memory), MPGM_ERR_INPUT
+ * with the scene file's name ("FILE: solver.petsc: ...") when the options
+ * caused it (an unknown type or solver package, a value out of range, a
+ * choice PETSc does not support, while it applies them: KSPSetFromOptions,
+ * KSPSetUp, PCSetUp), else MPGM_ERR_SOLVER, each with PETSc's text.
+ * PETSc never prints but for the monitors the options ask for: its error
+ * handler is the one that only returns.
  *
  * PETSc (and MPI under it) is initialised the first time an instance is
  * created, once per process, without PETSc's signal handlers;
@@ -50,14 +63,17 @@
  * and the hundred libraries under them take 70 ms to load, which every
  * mpgm command would otherwise pay.
  */
+#include "mpgm_petsc_options.h"
 #include "mpgm_solver.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <petscksp.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h> /* strcasecmp */
 
 typedef struct pt_data {
   mpgm_solver_opts opts; /**< tol, restart, max_iter, petsc                 */
@@ -79,6 +95,7 @@ typedef struct pt_data {
   int gmres;             /**< the KSP is GMRES (its breakdowns explained)    */
   int ready;             /**< 1 after a successful factor                    */
   int checked;           /**< 1 once the options were checked for use        */
+  int trial;             /**< 1: the instance of pt_check, on a test system  */
   int iterations;        /**< iterations of the last solve                   */
   double nnz_factor;     /**< entries the preconditioner holds (0: unknown)  */
   double mem_peak;       /**< its largest memory as PETSc or MUMPS counts it */
@@ -138,33 +155,73 @@ static int fail(mpgm_ctx *ctx, PetscErrorCode ierr, int code, const char *what) 
     if (ierr_) return fail((ctx), ierr_, (code), (what));                                 \
   } while (0)
 
+/* The scene file and ": " before "solver.petsc" in the messages of bad
+ * options ("" without a file: bench-solvers' presets). */
+#define WHERE(d) (d)->opts.file ? (d)->opts.file : "", (d)->opts.file ? ": " : ""
+
+/* PETSc's errors that options cause while PETSc applies them: a type or a
+ * solver package that does not exist, a value out of range or of the wrong
+ * kind, a choice PETSc or this build does not support, a preconditioner
+ * that needs what only a program can give (PCSHELL's functions, AMS's
+ * coordinates). */
+static int options_error(PetscErrorCode e) {
+  return e == PETSC_ERR_SUP || e == PETSC_ERR_SUP_SYS || e == PETSC_ERR_ARG_WRONG ||
+         e == PETSC_ERR_ARG_OUTOFRANGE || e == PETSC_ERR_ARG_INCOMP ||
+         e == PETSC_ERR_ARG_TYPENOTSET || e == PETSC_ERR_ARG_UNKNOWN_TYPE ||
+         e == PETSC_ERR_USER || e == PETSC_ERR_MISSING_FACTOR || e == PETSC_ERR_USER_INPUT;
+}
+
+/* A failure of a call that applies the options: bad input with the scene
+ * file's name when options were given and the error is of their kind (or
+ * code says any error is: KSPSetFromOptions); else as fail. */
+static int fail_options(mpgm_ctx *ctx, const pt_data *d, PetscErrorCode ierr, int code,
+                        const char *what) {
+  if (ierr == PETSC_ERR_MEM || !d->opts.petsc[0] || (code != MPGM_ERR_INPUT && !options_error(ierr)))
+    return fail(ctx, ierr, code, what);
+  const char *text = NULL;
+  char *specific = NULL;
+  PetscErrorMessage((int)ierr, &text, &specific);
+  MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s%ssolver.petsc: PETSc refused the options \"%s\" (%s: "
+             "error %d: %s%s%s)", WHERE(d), d->opts.petsc, what, (int)ierr, text ? text : "unknown",
+             specific && *specific ? ": " : "", specific ? specific : "");
+}
+
+#define PT_OPT(ctx, d, call, code, what)                                                  \
+  do {                                                                                    \
+    PetscErrorCode ierr_ = (call);                                                        \
+    if (ierr_) return fail_options((ctx), (d), ierr_, (code), (what));                    \
+  } while (0)
+
 /* ---- instance ----------------------------------------------------------- */
 
-/* solver.petsc into the options database under the instance's prefix;
- * the names are kept to take them out again. */
+/* solver.petsc into the options database under the instance's prefix,
+ * split and held to the policy here (solvers/petsc_options.c) whatever the
+ * caller checked, each option set by name: PetscOptionsInsertString would
+ * itself read the file of an -options_file. The names are kept (once each,
+ * as PETSc keeps a name given twice once, with its last value) to take
+ * them out again. */
 static int insert_options(mpgm_ctx *ctx, pt_data *d) {
   static int serial = 0; /* instances so far: the prefixes */
   snprintf(d->prefix, sizeof d->prefix, "mpgm%d_", __atomic_fetch_add(&serial, 1, __ATOMIC_RELAXED));
-  PetscOptions parsed;
-  PT_TRY(ctx, PetscOptionsCreate(&parsed), MPGM_ERR_SOLVER, "PetscOptionsCreate");
-  PetscErrorCode ierr = PetscOptionsInsertString(parsed, d->opts.petsc);
-  PetscInt n = 0;
-  char **names = NULL, **values = NULL;
-  if (!ierr) ierr = PetscOptionsLeftGet(parsed, &n, &names, &values); /* all of them */
-  if (!ierr && n > 0 && !(d->optname = calloc((size_t)n, sizeof *d->optname))) ierr = PETSC_ERR_MEM;
-  for (PetscInt i = 0; !ierr && i < n; i++) {
-    const size_t l = strlen(d->prefix) + strlen(names[i]) + 2;
-    if (!(d->optname[i] = malloc(l))) {
-      ierr = PETSC_ERR_MEM;
-      break;
+  mpgm_petsc_options po;
+  char why[400];
+  if (mpgm_petsc_options_parse(d->opts.petsc, &po, why, sizeof why))
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s%ssolver.petsc: %s", WHERE(d), why);
+  if (po.n > 0) MPGM_ALLOC(ctx, d->optname, po.n);
+  const size_t lp = strlen(d->prefix);
+  for (int i = 0; i < po.n; i++) {
+    char *name = NULL;
+    for (int k = 0; k < d->nopt && !name; k++)
+      if (strcasecmp(d->optname[k] + 1 + lp, po.name[i]) == 0) name = d->optname[k];
+    if (!name) {
+      const size_t l = lp + strlen(po.name[i]) + 2;
+      MPGM_ALLOC(ctx, name, l);
+      snprintf(name, l, "-%s%s", d->prefix, po.name[i]);
+      d->optname[d->nopt++] = name;
     }
-    snprintf(d->optname[i], l, "-%s%s", d->prefix, names[i]);
-    d->nopt = (int)i + 1;
-    ierr = PetscOptionsSetValue(NULL, d->optname[i], values[i]);
+    PT_TRY(ctx, PetscOptionsSetValue(NULL, name, po.value[i]), MPGM_ERR_SOLVER,
+           "PetscOptionsSetValue (solver.petsc)");
   }
-  if (names) PetscOptionsLeftRestore(parsed, &n, &names, &values);
-  PetscOptionsDestroy(&parsed);
-  if (ierr) return fail(ctx, ierr, MPGM_ERR_INPUT, "reading solver.petsc");
   return MPGM_OK;
 }
 
@@ -243,7 +300,7 @@ static int make_ksp(mpgm_ctx *ctx, pt_data *d, int symmetric) {
            "PCFactorSetShiftType");
   PT_TRY(ctx, KSPSetTolerances(d->ksp, d->opts.tol, 0.0, PETSC_DEFAULT, d->opts.max_iter),
          MPGM_ERR_SOLVER, "KSPSetTolerances");
-  PT_TRY(ctx, KSPSetFromOptions(d->ksp), MPGM_ERR_INPUT, "solver.petsc (KSPSetFromOptions)");
+  PT_OPT(ctx, d, KSPSetFromOptions(d->ksp), MPGM_ERR_INPUT, "KSPSetFromOptions");
   PetscBool set = PETSC_FALSE;
   PT_TRY(ctx, PetscOptionsHasName(NULL, d->prefix, "-ksp_gmres_restart", &set), MPGM_ERR_SOLVER,
          "PetscOptionsHasName");
@@ -291,8 +348,35 @@ static int pt_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *p
   return make_ksp(ctx, d, A->symmetric);
 }
 
+/* The multigrid level an option names ("...mg_levels_K_..."), -1 if none. */
+static int option_level(const char *name) {
+  char low[256];
+  size_t l = 0;
+  for (; name[l] && l + 1 < sizeof low; l++) low[l] = (char)tolower((unsigned char)name[l]);
+  low[l] = '\0';
+  const char *p = strstr(low, "mg_levels_");
+  if (!p || !isdigit((unsigned char)p[10])) return -1;
+  char *end;
+  const long k = strtol(p + 10, &end, 10);
+  return *end == '_' && k < 1000000 ? (int)k : -1;
+}
+
+/* The levels of the instance's multigrid (0 when the PC is none). */
+static int mg_levels(pt_data *d) {
+  PC pc;
+  PetscBool mg = PETSC_FALSE;
+  PetscInt nl = 0;
+  if (KSPGetPC(d->ksp, &pc) || PetscObjectTypeCompareAny((PetscObject)pc, &mg, PCGAMG, PCMG, "") ||
+      !mg || PCMGGetLevels(pc, &nl))
+    return 0;
+  return (int)nl;
+}
+
 /* Every option of solver.petsc must have been read by the KSP, the PC or
- * the factorisation they chose. */
+ * the factorisation they chose. On the test system of pt_check an option
+ * of a multigrid level its hierarchy does not have (-mg_levels_3_... on
+ * three levels, 0 to 2) is left to the run's first factorisation, on the
+ * run's own hierarchy: how many levels GAMG makes depends on the matrix. */
 static int check_options_used(mpgm_ctx *ctx, pt_data *d) {
   PetscInt n = 0;
   char **names = NULL, **values = NULL;
@@ -300,16 +384,18 @@ static int check_options_used(mpgm_ctx *ctx, pt_data *d) {
          "PetscOptionsLeftGet");
   char list[256] = "";
   const size_t lp = strlen(d->prefix);
+  const int levels = d->trial ? mg_levels(d) : 0;
   int left = 0;
   for (PetscInt i = 0; i < n; i++) {
     if (strncmp(names[i], d->prefix, lp) != 0) continue; /* another instance's */
+    if (d->trial && option_level(names[i] + lp) >= levels) continue;
     const size_t l = strlen(list);
     snprintf(list + l, sizeof list - l, "%s-%s", left++ ? ", " : "", names[i] + lp);
   }
   PetscOptionsLeftRestore(NULL, &n, &names, &values);
   MPGM_CHECK(ctx, left == 0, MPGM_ERR_INPUT,
-             "solver.petsc: PETSc did not use %s (misspelt, or not an option of the KSP and PC "
-             "chosen: \"%s\")", list, d->opts.petsc);
+             "%s%ssolver.petsc: PETSc did not use %s (misspelt, or not an option of the KSP and PC "
+             "chosen: \"%s\")", WHERE(d), list, d->opts.petsc);
   d->checked = 1;
   return MPGM_OK;
 }
@@ -393,12 +479,12 @@ static int pt_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
   PetscReal an = 0.0;
   PT_TRY(ctx, MatNorm(d->A, NORM_INFINITY, &an), MPGM_ERR_SOLVER, "MatNorm");
   d->anorm = an;
-  PT_TRY(ctx, KSPSetUp(d->ksp), MPGM_ERR_SOLVER, "KSPSetUp");
+  PT_OPT(ctx, d, KSPSetUp(d->ksp), MPGM_ERR_SOLVER, "KSPSetUp");
   /* after the KSP's first solve KSPSetUp returns at once, and PCApply
    * would set the preconditioner up for the new values inside the next
    * solve (timed as a solve, its failure found there); PCSetUp does it
    * here, where it belongs */
-  PT_TRY(ctx, PCSetUp(pc), MPGM_ERR_SOLVER, "PCSetUp (the preconditioner)");
+  PT_OPT(ctx, d, PCSetUp(pc), MPGM_ERR_SOLVER, "PCSetUp (the preconditioner)");
   PCFailedReason why = PC_NOERROR;
   PT_TRY(ctx, PCGetFailedReason(pc, &why), MPGM_ERR_SOLVER, "PCGetFailedReason");
   if (why != PC_NOERROR)
@@ -516,6 +602,82 @@ static int pt_stats(void *data, mpgm_solver_stats *st) {
   return MPGM_OK;
 }
 
+/* ---- the options judged before a run ------------------------------------ */
+
+/* The test system's grid: TEST_M x TEST_M nodes of two unknowns each, 800
+ * equations, on which GAMG coarsens to several levels (at 50 equations it
+ * makes one, and every -mg_levels_1_... option would look unused). */
+#define TEST_M 20
+
+/* A of the test system: the nodes of a square grid coupled to their four
+ * neighbours and between their two unknowns, as a plane elasticity
+ * tangent couples them, strictly diagonally dominant (every preconditioner
+ * builds on it, every factorisation succeeds), symmetric, or not: then
+ * each pair of off-diagonal entries differs, as a Mohr-Coulomb tangent's
+ * do. Sorted rows per column, the diagonal present. */
+static int test_matrix(mpgm_ctx *ctx, int symmetric, mpgm_csc *A) {
+  const int m = TEST_M, n = 2 * m * m;
+  *A = (mpgm_csc){.n = n, .symmetric = symmetric};
+  MPGM_ALLOC(ctx, A->colptr, n + 1);
+  MPGM_ALLOC(ctx, A->rowind, 10 * n);
+  MPGM_ALLOC(ctx, A->val, 10 * n);
+  int e = 0;
+  for (int col = 0; col < n; col++) {
+    const int node = col / 2, i = node / m, j = node % m;
+    const int nb[5] = {i > 0 ? node - m : -1, j > 0 ? node - 1 : -1, node,
+                       j < m - 1 ? node + 1 : -1, i < m - 1 ? node + m : -1};
+    for (int k = 0; k < 5; k++) {
+      if (nb[k] < 0) continue;
+      for (int c = 0; c < 2; c++) {
+        const int row = 2 * nb[k] + c;
+        double v = row == col ? 12.0 : nb[k] == node || row % 2 != col % 2 ? 0.3 : -1.0;
+        if (!symmetric && row != col) v += row < col ? 0.1 : -0.05;
+        A->rowind[e] = row;
+        A->val[e++] = v;
+      }
+    }
+    A->colptr[col + 1] = e;
+  }
+  A->nnz = e;
+  return MPGM_OK;
+}
+
+/* The options of opts judged as a run's first factorisation judges them:
+ * an instance with them (mpgm's policy, then PETSc's options database),
+ * its KSP and PC made for the test system's pattern with the run's
+ * symmetry (CG + ICC(0) or GMRES + ILU(0) unless the options choose) and
+ * set up on its values, every option used, then destroyed. An instance
+ * that cannot start (PETSc, MPI) fails as it would in a run; any other
+ * failure on this system, where every sound configuration succeeds, is
+ * the options': bad input, with the scene file's name. */
+static int pt_check(mpgm_ctx *ctx, const mpgm_solver_opts *opts) {
+  mpgm_csc A = {0};
+  mpgm_ctx c; /* the trial's own: the caller's timers and counters stay */
+  mpgm_ctx_init(&c);
+  void *data = NULL;
+  int err = test_matrix(&c, opts->symmetric, &A), started = 0;
+  if (!err) err = pt_create(&c, opts, &data);
+  if (!err) {
+    started = 1;
+    ((pt_data *)data)->trial = 1;
+    err = pt_analyse(data, &c, &A, NULL);
+  }
+  if (!err) err = pt_factor(data, &c, &A);
+  pt_destroy(data);
+  free(A.colptr);
+  free(A.rowind);
+  free(A.val);
+  if (!err) return MPGM_OK;
+  if (!started || err == MPGM_ERR_INPUT || err == MPGM_ERR_NOMEM)
+    return mpgm_err_set(ctx, err, c.file, c.line, "%s", c.msg);
+  const char *f = opts->file;
+  return mpgm_err_set(ctx, MPGM_ERR_INPUT, c.file, c.line,
+                      "%s%ssolver.petsc: the KSP and PC of \"%s\" could not be set up on a test "
+                      "system of %d equations (diagonally dominant, %ssymmetric), as the first "
+                      "factorisation would set them up: %s", f ? f : "", f ? ": " : "", opts->petsc,
+                      A.n, opts->symmetric ? "" : "not ", c.msg);
+}
+
 /** PETSc KSP + PC (sequential): solver.petsc selects them. The loader
  *  (solvers/plugin.c) finds this record by name in the module. */
 const mpgm_solver_type mpgm_solver_petsc_module = {
@@ -528,4 +690,5 @@ const mpgm_solver_type mpgm_solver_petsc_module = {
     .solve = pt_solve,
     .stats = pt_stats,
     .tolerance = pt_tolerance,
+    .check = pt_check,
 };
