@@ -694,6 +694,7 @@ static int scene_read(mpgm_ctx *ctx, const char *file, cJSON *doc, int nset,
   if (!err) err = mpgm_frontend_check(ctx, s);
   if (!err) err = mpgm_scene_contact_sides(ctx, s);
   if (!err) err = jr_unused_overrides(&r);
+  if (!err) err = mpgm_scene_size_check(ctx, s); /* before any large allocation */
   cJSON_Delete(r.tmp);
   cJSON_Delete(doc);
   free(ov);
