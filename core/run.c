@@ -136,7 +136,7 @@ static int bounds(mpgm_problem *pb, const mpgm_stepper *sp, long k, double limit
   const char *end = dyn ? "time.end" : "the full load";
   if (pb->step >= s->max_steps)
     MPGM_ERROR(pb->ctx, MPGM_ERR_NOT_CONVERGED, "time.max_steps = %d steps done before %s (%s %.9g "
-               "of %g, the last step %.3g): a larger time.max_steps, or larger steps%s",
+               "of %g, the step now %.3g): a larger time.max_steps, or larger steps%s",
                s->max_steps, end, dyn ? "t =" : "load factor", pb->t, sp->end, pb->dt,
                dyn ? " (time.dt, time.cfl)" : " (fewer time.load_steps, fewer cuts)");
   const double left = (sp->end - pb->t) / limit;

@@ -46,7 +46,7 @@
  * own lower half: FILL_LOG log2(k), k the nodes across the narrowest side
  * of the largest body, the growth of nested dissection on a 2-D mesh
  * (George 1973: 31/8 N log2 N for a k x k grid, N = k^2); FILL_LOG sits
- * below every factor of bench/notes/memory.md (CHOLMOD's, 5.6 to 8.6 on the
+ * below every factor of bench/notes/memory.md (CHOLMOD's, 4.1 to 8.6 on the
  * cantilever's Q4 strip). */
 #define FILL_LOG 4.0
 
