@@ -178,6 +178,13 @@ static int cmd_check(const args *a, mpgm_ctx *ctx) {
   printf("scene %s is valid: method %s, shape %s, %d material(s), %d body(ies), %d boundary "
          "condition(s), %d probe(s)\n",
          a->scene, s->frontend->name, s->shape->name, s->nmat, s->nbody, s->nbc, s->nprobe);
+  mpgm_size z; /* the loader checked it against what is available */
+  mpgm_scene_size(s, &z);
+  char est[512];
+  const char *what = NULL;
+  mpgm_size_format(&z, est, sizeof est);
+  const double avail = mpgm_memory_available(&what);
+  printf("memory: the run needs %s; %.3g GiB available (%s)\n", est, avail / 1073741824.0, what);
   free(text);
   free(et);
   cJSON_Delete(e);

@@ -1,7 +1,10 @@
 /* energy.c -- the energy and momentum balance of dynamic runs (explicit
  * and implicit; docs/theory.md section 19, "Energy and momentum"): the
  * work of the stresses and of gravity accumulated step by step, the
- * kinetic energy and the momentum of the points and of the nodes. */
+ * kinetic energy and the momentum of the points and of the nodes; the
+ * guard that stops an explicit run whose energy grows without work to
+ * account for it. */
+#include <math.h>
 #include <string.h>
 
 #include "mpgm_core_impl.h"
@@ -73,4 +76,26 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
   }
   if (pb->step == 0) memcpy(e->node_momentum, e->momentum, sizeof e->momentum);
   e->total = e->kinetic + e->work_int - e->work_ext;
+}
+
+/* Explicit runs only (core/run.c): every force the explicit schemes apply
+ * is counted (the stresses in work_int, gravity and a manufactured body
+ * force in work_ext; fixed components, damping and the transfers between
+ * points and grid only take energy out; the schemes take no contact and no
+ * moving supports), so the total can only grow by what time stepping
+ * adds: slowly on a stable step, by a factor every step above the
+ * stability limit. The guard's factor MPGM_ENERGY_FACTOR leaves the first
+ * far behind (docs/scene-format.md, "Runs are sized and bounded"). */
+int mpgm_energy_guard(mpgm_problem *pb) {
+  pb->work_ext_max = fmax(pb->work_ext_max, fabs(pb->work_ext));
+  const double kin = mpgm_kinetic_energy(&pb->pts);
+  const double total = kin + pb->work_int - pb->work_ext;
+  const double scale = fmax(fmax(pb->energy0, pb->work_ext_max), pb->energy_floor);
+  if (!(total - pb->energy0 > MPGM_ENERGY_FACTOR * scale)) return 0;
+  MPGM_ERROR(pb->ctx, MPGM_ERR_DIVERGED, "diverged: the energy grew from %.6g J to %.6g J "
+             "(kinetic %.6g J, work of the stresses %.6g J, of gravity and body forces %.6g J), "
+             "more than %g times the largest of the start energy, the work done and the floor "
+             "(%.6g J), with no work to account for it: an unstable step (a smaller time.dt, "
+             "or none: steps from time.cfl)", pb->energy0, total, kin, pb->work_int,
+             pb->work_ext, MPGM_ENERGY_FACTOR, scale);
 }

@@ -26,7 +26,8 @@
 typedef struct explicit_data {
   double *f;   /**< MPGM_DIM per node: f_ext - f_int [N]               */
   double *mod; /**< per material: P-wave modulus lambda + 2 mu [Pa]    */
-  int warned;  /**< a fixed time.dt above the CFL limit was reported    */
+  int warned;  /**< a fixed time.dt above the CFL limit was allowed and
+                    reported (time.allow_unstable_dt)                   */
   double *wp;  /**< 2 per point: the work of gravity, of a body force    */
   int nwp;     /**< points wp has room for                               */
 } explicit_data;
@@ -58,17 +59,26 @@ static int explicit_create(mpgm_problem *pb, void **self) {
     mpgm_lame(E, nu, &lam, &mu);
     d->mod[i] = lam + 2.0 * mu;
   }
+  /* the energy balance's start and floor (energy.c, mpgm_energy_guard):
+   * the most gravity can do on the whole mass within the domain, M sum_d
+   * |g_d| (max_d - min_d), which also covers the step by which the
+   * schemes' work lags the kinetic energy; and 1e-12 M c^2 */
+  const mpgm_points *P = &pb->pts;
+  double mass = 0.0, c2max = 0.0, reach = 0.0;
+  for (int p = 0; p < P->n; p++) {
+    mass += P->mass[p];
+    c2max = fmax(c2max, d->mod[P->mat[p]] * P->vol[p] / P->mass[p]);
+  }
+  for (int k = 0; k < MPGM_DIM; k++) reach += fabs(s->gravity[k]) * (s->dom_max[k] - s->dom_min[k]);
+  pb->energy0 = mpgm_kinetic_energy(P);
+  pb->energy_floor = fmax(mass * reach, 1e-12 * mass * c2max);
   return 0;
 }
 
-/* CFL condition (Molinos et al. 2021, eq 43): dt = cfl h / max(max_p |v_p|,
+/* The fastest wave or point of pb's present state, max(max_p |v_p|,
  * max_p c_p), c_p = sqrt((lambda + 2 mu) / rho_p) with the point's current
- * density; a fixed time.dt when the scene gives one (a warning, once, when
- * it is above h / max speed, where no explicit scheme is stable). */
-static double explicit_dt_limit(void *self, const mpgm_problem *pb) {
-  explicit_data *d = self;
-  const mpgm_scene *s = pb->scene;
-  if (s->dt > 0.0 && d->warned) return INFINITY; /* nothing more to watch */
+ * density [m/s]. */
+static double max_speed(const explicit_data *d, const mpgm_problem *pb) {
   const mpgm_points *P = &pb->pts;
   double vmax = 0.0, c2max = 0.0;
   for (int p = 0; p < P->n; p++) {
@@ -76,15 +86,35 @@ static double explicit_dt_limit(void *self, const mpgm_problem *pb) {
     vmax = fmax(vmax, hypot(v[0], v[1]));
     c2max = fmax(c2max, d->mod[P->mat[p]] * P->vol[p] / P->mass[p]);
   }
-  const double speed = fmax(vmax, sqrt(c2max));
+  return fmax(vmax, sqrt(c2max));
+}
+
+/* CFL condition (Molinos et al. 2021, eq 43): dt = cfl h / max speed
+ * (max_speed). A fixed time.dt when the scene gives one, checked before
+ * every step against h / max speed, above which no explicit scheme is
+ * stable: the run fails there (NAN, the reason in the context), or with
+ * time.allow_unstable_dt a warning, once, and the step is taken. */
+static double explicit_dt_limit(void *self, const mpgm_problem *pb) {
+  explicit_data *d = self;
+  const mpgm_scene *s = pb->scene;
+  if (s->dt > 0.0 && d->warned) return INFINITY; /* allowed, and said so */
+  const double speed = max_speed(d, pb);
   if (s->dt > 0.0) {
-    if (!d->warned && speed > 0.0 && s->dt > s->h / speed) {
-      d->warned = 1;
-      mpgm_log(pb->ctx, MPGM_LOG_WARNING, "time.dt = %g s is %.3g times h / c = %g s (c = %g m/s, "
-               "the fastest wave or point at step %ld): above it explicit schemes are unstable; "
-               "leave time.dt out to take each step from time.cfl", s->dt, s->dt * speed / s->h,
-               s->h / speed, speed, pb->step + 1);
+    if (!(speed > 0.0) || !(s->dt > s->h / speed)) return INFINITY;
+    if (!s->allow_unstable_dt) {
+      mpgm_err_set(pb->ctx, MPGM_ERR_DIVERGED, __FILE__, __LINE__, "time.dt = %g s is %.4g times "
+                   "the stability limit h / c = %g s (c = %g m/s, the fastest wave or point "
+                   "after step %ld), above which explicit schemes are unstable: a time.dt below "
+                   "%g s, or none (steps from time.cfl); time.allow_unstable_dt true takes it "
+                   "anyway", s->dt, s->dt * speed / s->h, s->h / speed, speed, pb->step,
+                   s->h / speed);
+      return NAN;
     }
+    d->warned = 1;
+    mpgm_log(pb->ctx, MPGM_LOG_WARNING, "time.dt = %g s is %.4g times h / c = %g s (c = %g m/s, "
+             "the fastest wave or point at step %ld): above it explicit schemes are unstable; "
+             "taken, as time.allow_unstable_dt asks", s->dt, s->dt * speed / s->h, s->h / speed,
+             speed, pb->step + 1);
     return INFINITY;
   }
   return speed > 0.0 ? s->cfl * s->h / speed : INFINITY;

@@ -28,7 +28,10 @@ typedef struct mpgm_integrator_type {
   int (*step)(void *self, struct mpgm_problem *pb);
   /** Optional: the largest step the scheme allows from pb's present state
    *  (a stability limit, e.g. CFL); the run loop takes the smaller of it
-   *  and the scene's step. Called before every step. */
+   *  and the scene's step. Called before every step. NAN, with the
+   *  reason recorded in pb->ctx, when the scene's own fixed step may not
+   *  be taken from this state (an explicit time.dt above the stability
+   *  limit): the run fails at that step, without a cut. */
   double (*dt_limit)(void *self, const struct mpgm_problem *pb);
 } mpgm_integrator_type;
 

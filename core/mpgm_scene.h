@@ -25,6 +25,12 @@ extern "C" {
 #define MPGM_POLYGON_MAX 256 /**< most vertices of a polygon body */
 #define MPGM_MATRICES_MAX 64 /**< most steps in output.matrices */
 #define MPGM_BFGS_PAIRS_MAX 64 /**< most pairs of solver.newton "bfgs" */
+/** The smallest time.cfl: a thousandth of the stability limit h / c, 100
+ *  times more steps than the default 0.1 (docs/scene-format.md, "Runs are
+ *  sized and bounded"). */
+#define MPGM_CFL_MIN 1e-3
+/** time.max_steps when the scene gives none. */
+#define MPGM_MAX_STEPS_DEFAULT 10000000
 
 typedef enum {
   MPGM_ANALYSIS_STATIC = 0,  /**< load steps, no inertia                   */
@@ -226,7 +232,16 @@ typedef struct mpgm_scene {
                                  implicit Newmark integrator; explicit:
                                  time.scheme)                          */
   double cfl;               /**< explicit without time.dt: dt = cfl h /
-                                 max(max |v_p|, max c_p) each step      */
+                                 max(max |v_p|, max c_p) each step
+                                 (at least MPGM_CFL_MIN)                */
+  int allow_unstable_dt;    /**< explicit with time.dt: 1: a time.dt above
+                                 the stability limit h / max speed is
+                                 warned about once and taken; 0 (the
+                                 default): the run fails at that step   */
+  int max_steps;            /**< most steps of a run (time.max_steps):
+                                 fixed steps beyond it are refused at
+                                 load, a run that reaches it before its
+                                 end fails (core/run.c)                 */
   double npc_gamma;         /**< explicit npc: gamma of the predictor
                                  and corrector (003 eqs 30-31)          */
   double local_damping;     /**< explicit: Cundall's local damping factor

@@ -1,7 +1,10 @@
 /* run.c -- the load/time loop of a problem with step control: a step that
  * fails recoverably is cut (retried with half the step), the step grows
  * back after easy steps, steps end on output.times; a monitor sees every
- * converged step, the logger hears cuts and progress. */
+ * converged step, the logger hears cuts and progress. The run stops as
+ * failed at time.max_steps, at a step its integrator refuses (an explicit
+ * time.dt above the stability limit) and when an explicit run's energy
+ * grows without work (energy.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -52,11 +55,14 @@ static void log_split(const mpgm_problem *pb, const double *before) {
   mpgm_log(ctx, MPGM_LOG_INFO, "%s", line);
 }
 
-/* The next step's size; 1 when it ends on an output time. */
-static int next_dt(mpgm_problem *pb, mpgm_stepper *sp) {
+/* The next step's size; 1 when it ends on an output time, -1 when the
+ * integrator refuses the step (its dt_limit NAN: the reason in the
+ * context); the integrator's limit in *limit. */
+static int next_dt(mpgm_problem *pb, mpgm_stepper *sp, double *limit) {
   const mpgm_scene *s = pb->scene;
-  const double limit = pb->integ->dt_limit ? pb->integ->dt_limit(pb->integ_data, pb) : INFINITY;
-  pb->dt = fmin(fmin(sp->dt_now, limit), sp->end - pb->t);
+  *limit = pb->integ->dt_limit ? pb->integ->dt_limit(pb->integ_data, pb) : INFINITY;
+  if (isnan(*limit)) return -1;
+  pb->dt = fmin(fmin(sp->dt_now, *limit), sp->end - pb->t);
   /* output.times: the step that reaches the next one ends on it (a step
    * within 1e-6 of it is stretched to it, not followed by a sliver) */
   while (sp->nout < s->ntimes && s->times[sp->nout] <= pb->t + 1e-9 * sp->dt0) sp->nout++;
@@ -108,6 +114,41 @@ static void failed(mpgm_problem *pb, long k, int err, mpgm_run_result *res) {
   res->failed_step = k;
 }
 
+/* The run stopped at step k for good by one of its bounds (the reason in
+ * the context) at t: the step was not taken (t its start), or was taken
+ * and is not kept (t its end: the energy balance). */
+static void stopped(mpgm_problem *pb, long k, double t, mpgm_run_result *res) {
+  const int dyn = pb->scene->analysis != MPGM_ANALYSIS_STATIC;
+  snprintf(res->message, sizeof res->message, "step %ld (%s %.9g) failed: %s", k,
+           dyn ? "t =" : "load factor", t, pb->ctx->msg);
+  res->failed = 1;
+  res->failed_step = k;
+}
+
+/* Before step k: time.max_steps, which it may not pass before the end,
+ * and, at the first step taken from the CFL condition, the steps its
+ * limit predicts to the end (a run of 1e150 steps stops at once rather
+ * than at step time.max_steps). 0, or MPGM_ERR_NOT_CONVERGED with the
+ * reason in the context. */
+static int bounds(mpgm_problem *pb, const mpgm_stepper *sp, long k, double limit) {
+  const mpgm_scene *s = pb->scene;
+  const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
+  const char *end = dyn ? "time.end" : "the full load";
+  if (pb->step >= s->max_steps)
+    MPGM_ERROR(pb->ctx, MPGM_ERR_NOT_CONVERGED, "time.max_steps = %d steps done before %s (%s %.9g "
+               "of %g, the step now %.3g): a larger time.max_steps, or larger steps%s",
+               s->max_steps, end, dyn ? "t =" : "load factor", pb->t, sp->end, pb->dt,
+               dyn ? " (time.dt, time.cfl)" : " (fewer time.load_steps, fewer cuts)");
+  const double left = (sp->end - pb->t) / limit;
+  if (k == 1 && s->analysis == MPGM_ANALYSIS_EXPLICIT && !(s->dt > 0.0) && left > s->max_steps)
+    MPGM_ERROR(pb->ctx, MPGM_ERR_NOT_CONVERGED, "the first step's CFL limit dt = %.3g s (time.cfl "
+               "%g, the fastest wave or point of the start) makes about %.3g steps to time.end = "
+               "%g s, above time.max_steps = %d: a coarser mesh.h, a larger time.cfl or time."
+               "max_steps, or a material with slower waves", limit, s->cfl, left, s->t_end,
+               s->max_steps);
+  return 0;
+}
+
 /* After a converged step: the monitor's outputs, and a checkpoint every
  * output.checkpoint_every steps (then what a step rebuilds is dropped, as
  * a restart from it must: the runs with and without a stop continue
@@ -149,14 +190,20 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
                          pb->step + 1);
       break;
     }
-    const int on_time = next_dt(pb, sp);
+    const long k = pb->step + 1;
+    double limit;
+    const int on_time = next_dt(pb, sp, &limit);
+    if (on_time < 0 || (err = bounds(pb, sp, k, limit))) { /* the step is not taken */
+      err = err ? err : ctx->code ? ctx->code : MPGM_ERR_INTERNAL;
+      stopped(pb, k, pb->t, res);
+      break;
+    }
     double before[MPGM_T_COUNT];
     memcpy(before, ctx->t, sizeof before);
     long count[MPGM_C_COUNT];
     memcpy(count, ctx->count, sizeof count);
     const long rounds = pb->contact_rounds;
     const mpgm_newton_info last = pb->last;
-    const long k = pb->step + 1;
     const double ts = mpgm_wtime();
     err = mpgm_step(pb);
     if (err == MPGM_ERR_INTERRUPTED) { /* abandoned: its work is not counted */
@@ -185,6 +232,11 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
       sp->level--;
       sp->easy = 0;
       sp->grown = 1;
+    }
+    /* an explicit run whose energy grew without work: diverged, stopped */
+    if (!pb->integ->implicit && (err = mpgm_energy_guard(pb))) {
+      stopped(pb, k, pb->t, res);
+      break;
     }
     if (rc->time_split) log_split(pb, before);
     err = after_step(pb, rc, on_time, mpgm_wtime() - ts);

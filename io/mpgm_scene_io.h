@@ -49,6 +49,35 @@ int mpgm_material_load(mpgm_ctx *ctx, const char *file, const char *path, const 
  *  does not use), or the backend's code when it cannot start. */
 int mpgm_scene_check_solver(mpgm_ctx *ctx, const mpgm_scene *s);
 /** Free a scene (accepts NULL, nulls the pointer). */
+/** The parts of a run's memory (mpgm_size.bytes). */
+enum { MPGM_SIZE_POINTS, MPGM_SIZE_CONN, MPGM_SIZE_NODES, MPGM_SIZE_MATRIX, MPGM_SIZE_FACTOR,
+       MPGM_SIZE_HISTORY, MPGM_SIZE_LIBRARY, MPGM_SIZE_PARTS };
+/** The memory a scene's run needs, estimated before it starts
+ *  (scene_size.c; docs/scene-format.md, "Runs are sized and bounded"): the
+ *  counts, and the bytes of each part, a lower bound of what the run fills. */
+typedef struct mpgm_size {
+  double points, nodes, grid_nodes; /**< material points; the bodies' nodes;
+                                     MPM's background grid                */
+  double entries;    /**< point-node entries of the connectivity           */
+  double nnz;        /**< nonzeros of the tangent (implicit runs)           */
+  double factor;     /**< nonzeros of a direct factorisation                */
+  double history;    /**< numbers of steps.csv and probes.csv (fixed steps) */
+  double bytes[MPGM_SIZE_PARTS];
+  double total;      /**< [B]                                               */
+} mpgm_size;
+void mpgm_scene_size(const mpgm_scene *s, mpgm_size *z);
+/** The estimate as "about 1.2 GiB (N points, ...: points X, ...)". */
+void mpgm_size_format(const mpgm_size *z, char *buf, size_t n);
+/** The memory this process can still have [B]: the least of the physical
+ *  memory available, the room under a cgroup's limit and under RLIMIT_AS /
+ *  RLIMIT_DATA; *what names the one that binds. INFINITY when none is
+ *  known. */
+double mpgm_memory_available(const char **what);
+/** MPGM_ERR_INPUT, naming mesh.h (or the key of the largest part) with the
+ *  estimate, what is available and what to change, when the run's estimate
+ *  exceeds mpgm_memory_available; else 0. Called by the scene loader. */
+int mpgm_scene_size_check(mpgm_ctx *ctx, const mpgm_scene *s);
+
 void mpgm_scene_destroy(mpgm_scene **s);
 /** The resolved scene as indented JSON (caller frees with free()). */
 char *mpgm_scene_resolved_json(const mpgm_scene *s);

@@ -526,6 +526,7 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   static const char *const accel_names[] = {"zero", "equilibrium", NULL};
   MPGM_CALL(jr_enum(&tm, "initial_acceleration", accel_names, 1, &s->initial_accel));
   MPGM_CALL(mpgm_scene_read_explicit(&tm, s, analysis_names[s->analysis]));
+  MPGM_CALL(mpgm_scene_read_max_steps(&tm, s));
   MPGM_CALL(jr_end(&tm));
   if (dyn && s->dt > s->t_end)
     return jr_fail(&tm, "dt", "expected dt <= end (%g s), found %g s", s->t_end, s->dt);
@@ -660,6 +661,7 @@ static int scene_read(mpgm_ctx *ctx, const char *file, cJSON *doc, int from_file
   if (!err) err = mpgm_frontend_check(ctx, s);
   if (!err) err = mpgm_scene_contact_sides(ctx, s);
   if (!err) err = jr_unused_overrides(&r);
+  if (!err) err = mpgm_scene_size_check(ctx, s); /* before any large allocation */
   cJSON_Delete(r.tmp);
   cJSON_Delete(doc);
   free(ov);

@@ -1,6 +1,8 @@
 /* scene_time.c -- the time integrator's keys of the "time" block: the
- * explicit schemes, and Newmark's or HHT's parameters of the implicit
- * dynamic one. */
+ * explicit schemes, Newmark's or HHT's parameters of the implicit dynamic
+ * one, and the bound on the number of steps (time.max_steps). */
+#include <limits.h>
+#include <math.h>
 #include <stdio.h>
 
 #include "mpgm_integrator.h"
@@ -20,11 +22,11 @@ static int refuse_keys(jr_node *tm, const char *const *keys, int n, const char *
  * refused with the other analyses, whose integrator ignores them. */
 int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis) {
   static const char *const keys[] = {"scheme", "cfl", "npc_gamma", "npc_position",
-                                     "local_damping", "kinetic_damping"};
+                                     "local_damping", "kinetic_damping", "allow_unstable_dt"};
   if (s->analysis != MPGM_ANALYSIS_EXPLICIT) {
     char why[96];
     snprintf(why, sizeof why, "only with time.analysis \"explicit\", found \"%s\"", analysis);
-    return refuse_keys(tm, keys, 6, why);
+    return refuse_keys(tm, keys, 7, why);
   }
   const mpgm_integrator_type *const *it = mpgm_integrator_types();
   const mpgm_integrator_type *ex[16];
@@ -40,12 +42,39 @@ int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis) {
   int k; /* the first explicit integrator of the list is the default */
   MPGM_CALL(jr_enum(tm, "scheme", names, 0, &k));
   s->integrator = ex[k];
-  MPGM_CALL(jr_num(tm, "cfl", 0.1, 0.0, 1.0, 1, 0, &s->cfl));
+  /* below MPGM_CFL_MIN a step only multiplies the run's steps (a cfl of
+   * 1e-300 made steps of 1e-150 s, a run that never ends) */
+  MPGM_CALL(jr_num(tm, "cfl", 0.1, MPGM_CFL_MIN, 1.0, 0, 0, &s->cfl));
   MPGM_CALL(jr_num(tm, "npc_gamma", 0.5, 0.0, 1.0, 0, 0, &s->npc_gamma));
   static const char *const position_names[] = {"newmark", "eq34", NULL};
   MPGM_CALL(jr_enum(tm, "npc_position", position_names, 0, &s->npc_eq34));
   MPGM_CALL(jr_num(tm, "local_damping", 0.0, 0.0, 1.0, 0, 1, &s->local_damping));
   MPGM_CALL(jr_bool(tm, "kinetic_damping", 0, &s->kinetic_damping));
+  /* a fixed step above the stability limit fails the run (core/explicit.c)
+   * unless the scene asks for it; with CFL steps there is no such step */
+  if (s->dt > 0.0) return jr_bool(tm, "allow_unstable_dt", 0, &s->allow_unstable_dt);
+  static const char *const fixed[] = {"allow_unstable_dt"};
+  MPGM_CALL(refuse_keys(tm, fixed, 1, "only with a fixed time.dt (steps from time.cfl are "
+                        "within the stability limit), found none"));
+  return 0;
+}
+
+/* "time": time.max_steps, the most steps of the run, and the fixed steps
+ * (end / dt, or load_steps) against it, so that a run that could not end
+ * within it is refused before it starts (steps from the CFL condition and
+ * cut steps are counted as the run goes, core/run.c). */
+int mpgm_scene_read_max_steps(jr_node *tm, mpgm_scene *s) {
+  MPGM_CALL(jr_int(tm, "max_steps", MPGM_MAX_STEPS_DEFAULT, 1, INT_MAX, &s->max_steps));
+  if (s->analysis == MPGM_ANALYSIS_STATIC && s->load_steps > s->max_steps)
+    return jr_fail(tm, "load_steps", "expected at most time.max_steps = %d steps, found %d: fewer "
+                   "load steps or a larger time.max_steps", s->max_steps, s->load_steps);
+  if (s->analysis == MPGM_ANALYSIS_STATIC || !(s->dt > 0.0)) return 0;
+  /* the steps of a run without cuts, but for those output.times adds */
+  const double n = ceil(s->t_end / s->dt * (1.0 - 1e-9));
+  if (n > (double)s->max_steps)
+    return jr_fail(tm, "dt", "expected at most time.max_steps = %d steps, found end / dt = %.4g "
+                   "steps (end %g s, dt %g s): a larger time.dt or time.max_steps", s->max_steps,
+                   n, s->t_end, s->dt);
   return 0;
 }
 

@@ -129,6 +129,13 @@ struct mpgm_problem {
                           solution's body force) so far [J]             */
   double ke_last;    /**< explicit with time.kinetic_damping: the points'
                           kinetic energy after the last step [J]        */
+  double energy0;    /**< explicit: the energy at the start, the points'
+                          kinetic energy [J] (energy.c, the balance)    */
+  double energy_floor; /**< explicit: the smallest scale of the balance:
+                          the most work gravity can do on the mass M in
+                          mesh.domain, M sum_d |g_d| (max_d - min_d), or
+                          1e-12 M c_max^2 when larger [J]               */
+  double work_ext_max; /**< explicit: the largest |work_ext| so far [J]  */
   double *mms_b;     /**< manufactured solution: the body force per unit
                           mass at each material point, MPGM_DIM each,
                           at the time of the last mpgm_mms_forces       */
@@ -331,6 +338,14 @@ void mpgm_work_internal(mpgm_problem *pb);
 /** Kinetic energy of the material points, sum_p m_p |v_p|^2 / 2 [J]
  *  (per unit thickness; energy.c). */
 double mpgm_kinetic_energy(const mpgm_points *P);
+/** The factor of the energy balance of explicit runs (mpgm_energy_guard). */
+#define MPGM_ENERGY_FACTOR 10.0
+/** The energy balance of an explicit run after a converged step: the
+ *  total kinetic + work_int - work_ext may not grow above its start
+ *  energy0 by more than MPGM_ENERGY_FACTOR times the largest of energy0,
+ *  the largest |work_ext| so far and energy_floor. 0, or MPGM_ERR_DIVERGED
+ *  with the balance in the context (energy.c). */
+int mpgm_energy_guard(mpgm_problem *pb);
 
 /** Manufactured solution (manufactured.c): the points' velocity and
  *  acceleration at t = 0 and the body-force array; then the body force

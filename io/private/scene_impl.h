@@ -39,6 +39,9 @@ int mpgm_scene_contact_sides(mpgm_ctx *ctx, mpgm_scene *s);
  *  s->analysis, for messages. */
 int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis);
 int mpgm_scene_read_newmark(jr_node *tm, mpgm_scene *s, const char *analysis);
+/** "time": time.max_steps and the fixed steps against it (scene_time.c;
+ *  after dt, end and load_steps). */
+int mpgm_scene_read_max_steps(jr_node *tm, mpgm_scene *s);
 
 /** "solver": the linear backend, its options and Newton's settings
  *  (scene_solver.c; after "time", whose analysis decides whether PETSc is

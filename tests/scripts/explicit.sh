@@ -276,11 +276,22 @@ sys.exit(0 if math.isfinite(m["eps_p_max"]) and 0 < m["eps_p_max"] < 5 and m["ru
 else
   ko "Mohr-Coulomb column collapse, npc: exit $rc: ${out:-} $(head -c 300 "$work/column_mc.err")"
 fi
-# the case's implicit step (5 ms) is 3.6 times h / c: the run says so
+# the case's implicit step (5 ms) is 3.6 times h / c: the run fails at its
+# first step (exit 1), or, with time.allow_unstable_dt, says so and goes on
 "$exe" run "$src/cases/column_collapse.json" --set time.analysis=explicit --set time.end=0.005 \
   --set output.vtk=none --out "$work/column_dt" > /dev/null 2> "$work/column_dt.err"
-if grep -q "time.dt = 0.005 s is 3.62 times h / c" "$work/column_dt.err"; then
-  ok "a fixed time.dt above h / c is reported: $(head -c 160 "$work/column_dt.err")"
+rc=$?
+if [ "$rc" -eq 1 ] && grep -q "step 1 (t = 0) failed: time.dt = 0.005 s is 3.619 times the stability limit" \
+    "$work/column_dt.err"; then
+  ok "a fixed time.dt above h / c fails the run: $(head -c 160 "$work/column_dt.err")"
+else
+  ko "a fixed time.dt above h / c did not fail the run (exit $rc): $(head -c 300 "$work/column_dt.err")"
+fi
+"$exe" run "$src/cases/column_collapse.json" --set time.analysis=explicit --set time.end=0.005 \
+  --set time.allow_unstable_dt=true --set output.vtk=none --out "$work/column_dt" > /dev/null \
+  2> "$work/column_dt.err"
+if grep -q "time.dt = 0.005 s is 3.619 times h / c" "$work/column_dt.err"; then
+  ok "a fixed time.dt above h / c allowed is reported: $(head -c 160 "$work/column_dt.err")"
 else
   ko "no warning of time.dt above h / c: $(head -c 300 "$work/column_dt.err")"
 fi
@@ -304,7 +315,7 @@ refused "time.scheme under dynamic" "time.scheme: only with time.analysis \"expl
 refused "time.cfl under static" "time.cfl: only with time.analysis \"explicit\", found \"static\"" \
   "$src/cases/cantilever.json" --set time.cfl=0.2
 refused "an unknown scheme" 'time.scheme: expected "npc" | "fe" | "usl", found "rk4"' "$bar" --set time.scheme=rk4
-refused "cfl out of range" "time.cfl: expected a number in (0, 1]" "$bar" --set time.cfl=2
+refused "cfl out of range" "time.cfl: expected a number in [0.001, 1]" "$bar" --set time.cfl=2
 refused "local damping under dynamic" "time.local_damping: only with time.analysis \"explicit\", found \"dynamic\"" \
   "$src/cases/rolling_disk.json" --set time.local_damping=0.1
 refused "local damping of 1" "time.local_damping: expected a number in [0, 1)" "$bar" \

@@ -67,6 +67,10 @@ SCENES = {
                      "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK], "probes": {"c": [1.0, 0.5]},
                      "reference": {"kind": "dyka_bar", "probe": "c", "component": "x", "length": 2.0,
                                    "modulus": 3.1e7, "density": 2385.7, "v0": -1.0}},
+    # MPM, explicit with a fixed step: time.allow_unstable_dt
+    "mpm_explicit_dt": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "dt": 1e-4,
+                                                                "end": 0.01},
+                        "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK]},
     # the rigid_block reference's defaults
     "mpm_block": {"method": "mpm", "mesh": MESH, "time": {"analysis": "explicit", "end": 0.01},
                   "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK], "probes": {"c": [1.0, 0.5]},
