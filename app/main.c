@@ -338,9 +338,15 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
     rc = 128 + (run_stop ? run_stop : SIGTERM); /* MPGM_TEST_FAULT interrupt: as SIGTERM */
   } else if (err) {
     rc = report_error(ctx, err);
-    if (rc == EXIT_SIM)
+    /* only when the run wrote its summary: a run that failed before its
+     * first output (the set-up ran out of memory) has none to point to */
+    char sum[4200];
+    snprintf(sum, sizeof sum, "%s/summary.json", dir);
+    if (rc == EXIT_SIM && access(sum, F_OK) == 0)
       fprintf(stderr, "mpgm: output written up to the last completed step is in %s "
               "(summary.json says where the run stopped)\n", dir);
+    else if (rc == EXIT_SIM)
+      fprintf(stderr, "mpgm: the run stopped before writing any output (no summary.json in %s)\n", dir);
   } else {
     char abs[4096];
     printf("results: %s (summary.json, probes.csv, steps.csv, points.pvd%s)\n",
