@@ -17,6 +17,7 @@
  * or crafted file is refused with the section that is wrong. The CRC of
  * each section (base/blob.c) finds damage; these checks make the reader
  * safe whatever the bytes. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -142,6 +143,10 @@ int mpgm_problem_save(const mpgm_problem *cpb, mpgm_blob *b) {
 
 /* ---- checks of what is read back ---------------------------------------- */
 
+/* A tally a run only adds to may be read back up to this: room for any
+ * run's additions (LONG_MAX would overflow at the next). */
+#define TALLY_MAX (LONG_MAX / 2)
+
 /* The finite arrays among a[0..k), each of items entries: the first `use`
  * of them must hold finite doubles only (nodes past those in use hold what
  * an earlier step left: nothing reads them). */
@@ -179,8 +184,10 @@ static int check_core(const mpgm_problem *pb, const core_state *cs) {
              pb->fe->persistent_nodes ? "" : " at most");
   MPGM_CHECK(ctx, ndof >= 0 && ndof <= MPGM_DIM * n, MPGM_ERR_INPUT,
              "checkpoint: section 'core': %d equations for %d nodes", ndof, n);
-  MPGM_CHECK(ctx, cs->step >= 0 && cs->newton_total >= 0 && cs->step_cuts >= 0 &&
-                      cs->contact_rounds >= 0 && cs->last.iterations >= 0 && cs->last.nhist >= 0 &&
+  MPGM_CHECK(ctx, cs->step >= 0 && cs->step < INT_MAX && cs->newton_total >= 0 &&
+                      cs->newton_total <= TALLY_MAX && cs->step_cuts >= 0 && cs->step_cuts <= TALLY_MAX &&
+                      cs->contact_rounds >= 0 && cs->contact_rounds <= TALLY_MAX &&
+                      cs->last.iterations >= 0 && cs->last.nhist >= 0 &&
                       cs->last.nhist <= (int)(sizeof cs->last.hist / sizeof *cs->last.hist),
              MPGM_ERR_INPUT, "checkpoint: section 'core': a count out of range (step %ld, Newton "
              "iterations %ld, step cuts %ld, contact rounds %ld, %d residuals)", cs->step,
@@ -192,8 +199,11 @@ static int check_core(const mpgm_problem *pb, const core_state *cs) {
   MPGM_CHECK(ctx, sp->end == end && sp->dt0 == dt0, MPGM_ERR_INPUT, "checkpoint: section 'core': "
              "a run to %.17g in steps of %.17g; this scene runs to %.17g in steps of %.17g",
              sp->end, sp->dt0, end, dt0);
+  /* the steps counted since a cut and the wait for a growth: at most 2^21
+   * in any run (run.c), far below where a count would overflow */
   MPGM_CHECK(ctx, sp->dt_now > 0.0 && sp->dt_now <= dt0 && sp->level >= 0 &&
-                      sp->level <= s->max_cuts && sp->easy >= 0 && sp->wait >= 0 &&
+                      sp->level <= s->max_cuts && sp->easy >= 0 && sp->easy <= 1 << 30 &&
+                      sp->wait >= 0 && sp->wait <= 1 << 30 &&
                       (sp->grown == 0 || sp->grown == 1) && sp->nout >= 0 && sp->nout <= s->ntimes,
              MPGM_ERR_INPUT, "checkpoint: section 'core': step control out of range (step %.17g "
              "of at most %.17g, %d cuts of at most %d, %d easy steps, wait %d, grown %d, %d output "
@@ -283,7 +293,8 @@ static int check_cpoints(mpgm_ctx *ctx, const mpgm_problem *pb) {
                "boundary %d, not one of the scene's %d with contact at points", t, b, s->nbc);
     held += b >= 0;
   }
-  MPGM_CHECK(ctx, cp->held == held && cp->holds >= 0 && cp->releases >= 0 && cp->unenforced >= 0,
+  MPGM_CHECK(ctx, cp->held == held && cp->holds >= 0 && cp->holds <= TALLY_MAX && cp->releases >= 0 &&
+                      cp->releases <= TALLY_MAX && cp->unenforced >= 0 && cp->unenforced <= TALLY_MAX,
              MPGM_ERR_INPUT, "checkpoint: section 'cp.held': %d surface points held, 'cp.plane' "
              "holds %d (holds %ld, releases %ld, unenforced %ld)", cp->held, held, cp->holds,
              cp->releases, cp->unenforced);
@@ -308,7 +319,8 @@ static int check_arrays(mpgm_problem *pb) {
     MPGM_CALL(check_cpoints(ctx, pb));
   }
   for (int i = 0; i < MPGM_C_COUNT; i++)
-    MPGM_CHECK(ctx, ctx->count[i] >= 0, MPGM_ERR_INPUT, "checkpoint: section 'ctx.count': count "
+    MPGM_CHECK(ctx, ctx->count[i] >= 0 && ctx->count[i] <= TALLY_MAX, MPGM_ERR_INPUT,
+               "checkpoint: section 'ctx.count': count "
                "%s is %ld", mpgm_counter_name(i), ctx->count[i]);
   k = all_arrays(pb, a);
   for (int i = 0; i < k; i++) /* the energy tallies: one double each */

@@ -5,6 +5,7 @@
 #include <cjson/cJSON.h>
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -164,7 +165,7 @@ int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, c
              per, n[2]);
   o->nvtk = n[0], o->files = n[1];
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.mtx", &o->mtx_written, sizeof o->mtx_written));
-  MPGM_CHECK(ctx, o->mtx_written >= 0, MPGM_ERR_INPUT, "checkpoint: section 'out.mtx': %ld "
+  MPGM_CHECK(ctx, o->mtx_written >= 0 && o->mtx_written <= LONG_MAX / 2, MPGM_ERR_INPUT, "checkpoint: section 'out.mtx': %ld "
              "systems written", o->mtx_written);
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.ref_acc", o->ref_acc, sizeof o->ref_acc));
   MPGM_CALL(table_restore(ctx, b, "out.probes", n[2], n[4], 0, &o->hist, &o->nrow, &o->caprow));

@@ -1,6 +1,7 @@
 /* mpm.c -- the grid-reset front end (mpgm_mpm.h). */
 #include "mpgm_mpm.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -681,7 +682,8 @@ static int mpm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
                "%d holds %d (0 or 1)", i, d->gfree[i]);
   MPGM_CALL(mpgm_blob_get(ctx, b, "mpm.step", &d->step, sizeof d->step));
   /* steps begun: the steps done and those retried */
-  MPGM_CHECK(ctx, d->step >= v->step, MPGM_ERR_INPUT, "checkpoint: section 'mpm.step': %ld steps "
+  MPGM_CHECK(ctx, d->step >= v->step && d->step <= LONG_MAX / 2, MPGM_ERR_INPUT,
+             "checkpoint: section 'mpm.step': %ld steps "
              "begun, %ld done", d->step, v->step);
   const mpgm_points *P = v->pts;
   return d->clouds ? mpgm_clouds_restore(d->clouds, ctx, b, P->n + P->nprobe + P->nsurf) : 0;
