@@ -8,9 +8,9 @@
 #include <string.h>
 #include <zlib.h>
 
-#define HEAD MPGM_BLOB_HEAD
-#define AT_LEN MPGM_BLOB_TAG            /* offset of the length in a head */
-#define AT_CRC (MPGM_BLOB_TAG + 8)      /* offset of the CRC in a head    */
+#define HEAD   MPGM_BLOB_HEAD
+#define AT_LEN MPGM_BLOB_TAG       /* offset of the length in a head */
+#define AT_CRC (MPGM_BLOB_TAG + 8) /* offset of the CRC in a head    */
 _Static_assert(HEAD == AT_CRC + sizeof(uint32_t), "section head: tag, length, CRC");
 
 unsigned long mpgm_crc32(unsigned long crc, const void *data, size_t n) {
@@ -27,7 +27,8 @@ static uint32_t section_crc(const unsigned char *p, size_t n) {
 /* The tag at p as text for a message: non-printable bytes as '?'. */
 static void tag_text(const unsigned char *p, char out[MPGM_BLOB_TAG]) {
   int i = 0;
-  for (; i < MPGM_BLOB_TAG - 1 && p[i]; i++) out[i] = p[i] >= 0x20 && p[i] < 0x7f ? (char)p[i] : '?';
+  for (; i < MPGM_BLOB_TAG - 1 && p[i]; i++)
+    out[i] = p[i] >= 0x20 && p[i] < 0x7f ? (char)p[i] : '?';
   out[i] = '\0';
 }
 
@@ -62,7 +63,8 @@ int mpgm_blob_peek(mpgm_ctx *ctx, const mpgm_blob *b, const char *tag, size_t *n
   char found[MPGM_BLOB_TAG];
   tag_text(p, found);
   MPGM_CHECK(ctx, strncmp((const char *)p, tag, MPGM_BLOB_TAG) == 0, MPGM_ERR_INPUT,
-             "checkpoint: expected section '%s', found '%s' (written by another layout)", tag, found);
+             "checkpoint: expected section '%s', found '%s' (written by another layout)", tag,
+             found);
   uint64_t len;
   memcpy(&len, p + AT_LEN, sizeof len);
   MPGM_CHECK(ctx, len <= b->len - b->pos - HEAD, MPGM_ERR_INPUT,
@@ -94,9 +96,10 @@ int mpgm_blob_get(mpgm_ctx *ctx, mpgm_blob *b, const char *tag, void *data, size
 static int verify_one(mpgm_ctx *ctx, const mpgm_blob *b, size_t at, int k, const char *last,
                       size_t *next, char tag[MPGM_BLOB_TAG]) {
   const size_t left = b->len - at;
-  MPGM_CHECK(ctx, left >= HEAD, MPGM_ERR_INPUT, "checkpoint: %zu bytes after the last section "
-             "'%s', too few for a section (truncated in a section's head, or bytes appended)", left,
-             last);
+  MPGM_CHECK(ctx, left >= HEAD, MPGM_ERR_INPUT,
+             "checkpoint: %zu bytes after the last section "
+             "'%s', too few for a section (truncated in a section's head, or bytes appended)",
+             left, last);
   const unsigned char *p = b->buf + at;
   tag_text(p, tag);
   /* a tag is a string of at most MPGM_BLOB_TAG - 1 bytes, NUL-padded */
@@ -105,11 +108,14 @@ static int verify_one(mpgm_ctx *ctx, const mpgm_blob *b, size_t at, int k, const
   int pad = t < MPGM_BLOB_TAG && t > 0;
   for (int i = t; pad && i < MPGM_BLOB_TAG; i++) pad = p[i] == 0;
   for (int i = 0; pad && i < t; i++) pad = p[i] >= 0x20 && p[i] < 0x7f;
-  MPGM_CHECK(ctx, pad, MPGM_ERR_INPUT, "checkpoint: section %d (at byte %zu, after '%s') is "
-             "damaged: its tag '%s' is not a name", k + 1, at, last, tag);
+  MPGM_CHECK(ctx, pad, MPGM_ERR_INPUT,
+             "checkpoint: section %d (at byte %zu, after '%s') is "
+             "damaged: its tag '%s' is not a name",
+             k + 1, at, last, tag);
   uint64_t len;
   memcpy(&len, p + AT_LEN, sizeof len);
-  MPGM_CHECK(ctx, len <= left - HEAD, MPGM_ERR_INPUT, "checkpoint: section '%s' (at byte %zu) "
+  MPGM_CHECK(ctx, len <= left - HEAD, MPGM_ERR_INPUT,
+             "checkpoint: section '%s' (at byte %zu) "
              "of %llu bytes runs past the end of the file (%zu bytes left): truncated or damaged",
              tag, at, (unsigned long long)len, left - HEAD);
   uint32_t rec;

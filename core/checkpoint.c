@@ -102,7 +102,8 @@ static int all_arrays(mpgm_problem *pb, arr *a) {
   a[k++] = (arr){"ctx.count", pb->ctx->count, sizeof pb->ctx->count, 0};
   a[k++] = (arr){"energy.work_int", &pb->work_int, sizeof pb->work_int, 1};
   a[k++] = (arr){"energy.work_ext", &pb->work_ext, sizeof pb->work_ext, 1};
-  if (pb->scene->kinetic_damping) a[k++] = (arr){"energy.ke_last", &pb->ke_last, sizeof pb->ke_last, 1};
+  if (pb->scene->kinetic_damping)
+    a[k++] = (arr){"energy.ke_last", &pb->ke_last, sizeof pb->ke_last, 1};
   return k;
 }
 
@@ -140,7 +141,6 @@ int mpgm_problem_save(const mpgm_problem *cpb, mpgm_blob *b) {
   return pb->solver ? mpgm_solver_save(pb->solver, ctx, b) : 0; /* explicit: none */
 }
 
-
 /* ---- checks of what is read back ---------------------------------------- */
 
 /* A tally a run only adds to may be read back up to this: room for any
@@ -157,8 +157,10 @@ static int check_finite(mpgm_ctx *ctx, const arr *a, int k, size_t items, size_t
     const double *x = a[i].p;
     const size_t w = a[i].bytes / sizeof(double) / items;
     for (size_t e = 0; e < w * use; e++)
-      MPGM_CHECK(ctx, isfinite(x[e]), MPGM_ERR_INPUT, "checkpoint: section '%s': %s %zu holds %g, "
-                 "not a finite number", a[i].tag, what, e / w, x[e]);
+      MPGM_CHECK(ctx, isfinite(x[e]), MPGM_ERR_INPUT,
+                 "checkpoint: section '%s': %s %zu holds %g, "
+                 "not a finite number",
+                 a[i].tag, what, e / w, x[e]);
   }
   return 0;
 }
@@ -172,9 +174,11 @@ static int check_core(const mpgm_problem *pb, const core_state *cs) {
   const mpgm_points *P = &pb->pts;
   const int npts[4] = {P->n, P->nprobe, P->nsurf, P->nstate};
   MPGM_CHECK(ctx, memcmp(cs->npts, npts, sizeof npts) == 0 && cs->nodes[0] == pb->nodes.cap,
-             MPGM_ERR_INPUT, "checkpoint: %d points, %d probes, %d surface points, %d nodes; this "
-             "scene makes %d, %d, %d, %d (another scene)", cs->npts[0], cs->npts[1], cs->npts[2],
-             cs->nodes[0], npts[0], npts[1], npts[2], pb->nodes.cap);
+             MPGM_ERR_INPUT,
+             "checkpoint: %d points, %d probes, %d surface points, %d nodes; this "
+             "scene makes %d, %d, %d, %d (another scene)",
+             cs->npts[0], cs->npts[1], cs->npts[2], cs->nodes[0], npts[0], npts[1], npts[2],
+             pb->nodes.cap);
   const int n = cs->nodes[1], ndof = cs->nodes[2];
   /* nodes that persist (GMM, FEM) are those the scene made; a grid's (MPM)
    * are any of it */
@@ -184,33 +188,41 @@ static int check_core(const mpgm_problem *pb, const core_state *cs) {
              pb->fe->persistent_nodes ? "" : " at most");
   MPGM_CHECK(ctx, ndof >= 0 && ndof <= MPGM_DIM * n, MPGM_ERR_INPUT,
              "checkpoint: section 'core': %d equations for %d nodes", ndof, n);
-  MPGM_CHECK(ctx, cs->step >= 0 && cs->step < INT_MAX && cs->newton_total >= 0 &&
-                      cs->newton_total <= TALLY_MAX && cs->step_cuts >= 0 && cs->step_cuts <= TALLY_MAX &&
-                      cs->contact_rounds >= 0 && cs->contact_rounds <= TALLY_MAX &&
-                      cs->last.iterations >= 0 && cs->last.nhist >= 0 &&
-                      cs->last.nhist <= (int)(sizeof cs->last.hist / sizeof *cs->last.hist),
-             MPGM_ERR_INPUT, "checkpoint: section 'core': a count out of range (step %ld, Newton "
-             "iterations %ld, step cuts %ld, contact rounds %ld, %d residuals)", cs->step,
-             cs->newton_total, cs->step_cuts, cs->contact_rounds, cs->last.nhist);
+  MPGM_CHECK(ctx,
+             cs->step >= 0 && cs->step < INT_MAX && cs->newton_total >= 0 &&
+                 cs->newton_total <= TALLY_MAX && cs->step_cuts >= 0 &&
+                 cs->step_cuts <= TALLY_MAX && cs->contact_rounds >= 0 &&
+                 cs->contact_rounds <= TALLY_MAX && cs->last.iterations >= 0 &&
+                 cs->last.nhist >= 0 &&
+                 cs->last.nhist <= (int)(sizeof cs->last.hist / sizeof *cs->last.hist),
+             MPGM_ERR_INPUT,
+             "checkpoint: section 'core': a count out of range (step %ld, Newton "
+             "iterations %ld, step cuts %ld, contact rounds %ld, %d residuals)",
+             cs->step, cs->newton_total, cs->step_cuts, cs->contact_rounds, cs->last.nhist);
   const mpgm_stepper *sp = &cs->sp;
   const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
   const double end = dyn ? s->t_end : 1.0;
   const double dt0 = !dyn ? 1.0 / s->load_steps : s->dt > 0.0 ? s->dt : s->t_end; /* run.c */
-  MPGM_CHECK(ctx, sp->end == end && sp->dt0 == dt0, MPGM_ERR_INPUT, "checkpoint: section 'core': "
+  MPGM_CHECK(ctx, sp->end == end && sp->dt0 == dt0, MPGM_ERR_INPUT,
+             "checkpoint: section 'core': "
              "a run to %.17g in steps of %.17g; this scene runs to %.17g in steps of %.17g",
              sp->end, sp->dt0, end, dt0);
   /* the steps counted since a cut and the wait for a growth: at most 2^21
    * in any run (run.c), far below where a count would overflow */
-  MPGM_CHECK(ctx, sp->dt_now > 0.0 && sp->dt_now <= dt0 && sp->level >= 0 &&
-                      sp->level <= s->max_cuts && sp->easy >= 0 && sp->easy <= 1 << 30 &&
-                      sp->wait >= 0 && sp->wait <= 1 << 30 &&
-                      (sp->grown == 0 || sp->grown == 1) && sp->nout >= 0 && sp->nout <= s->ntimes,
-             MPGM_ERR_INPUT, "checkpoint: section 'core': step control out of range (step %.17g "
+  MPGM_CHECK(ctx,
+             sp->dt_now > 0.0 && sp->dt_now <= dt0 && sp->level >= 0 && sp->level <= s->max_cuts &&
+                 sp->easy >= 0 && sp->easy <= 1 << 30 && sp->wait >= 0 && sp->wait <= 1 << 30 &&
+                 (sp->grown == 0 || sp->grown == 1) && sp->nout >= 0 && sp->nout <= s->ntimes,
+             MPGM_ERR_INPUT,
+             "checkpoint: section 'core': step control out of range (step %.17g "
              "of at most %.17g, %d cuts of at most %d, %d easy steps, wait %d, grown %d, %d output "
-             "times passed of %d)", sp->dt_now, dt0, sp->level, s->max_cuts, sp->easy, sp->wait,
-             sp->grown, sp->nout, s->ntimes);
-  MPGM_CHECK(ctx, isfinite(cs->t) && cs->t >= 0.0 && cs->t <= end && isfinite(cs->dt) &&
-                      cs->dt > 0.0 && isfinite(cs->lambda), MPGM_ERR_INPUT,
+             "times passed of %d)",
+             sp->dt_now, dt0, sp->level, s->max_cuts, sp->easy, sp->wait, sp->grown, sp->nout,
+             s->ntimes);
+  MPGM_CHECK(ctx,
+             isfinite(cs->t) && cs->t >= 0.0 && cs->t <= end && isfinite(cs->dt) && cs->dt > 0.0 &&
+                 isfinite(cs->lambda),
+             MPGM_ERR_INPUT,
              "checkpoint: section 'core': %s %.17g (0 to %.17g), %s %.17g, load factor %.17g",
              dyn ? "time" : "load factor at the start", cs->t, end, dyn ? "step" : "increment",
              cs->dt, cs->lambda);
@@ -223,17 +235,20 @@ static int check_point_ids(mpgm_ctx *ctx, const mpgm_problem *pb) {
   const mpgm_points *P = &pb->pts;
   const int m = P->n + P->nprobe + P->nsurf;
   for (int p = 0; p < m; p++) {
-    MPGM_CHECK(ctx, P->mat[p] >= 0 && P->mat[p] < s->nmat, MPGM_ERR_INPUT, "checkpoint: section "
-               "'pts.mat': point %d has material %d; the scene has %d (0 to %d)", p, P->mat[p],
-               s->nmat, s->nmat - 1);
-    MPGM_CHECK(ctx, P->body[p] >= 0 && P->body[p] < s->nbody, MPGM_ERR_INPUT, "checkpoint: "
-               "section 'pts.body': point %d is of body %d; the scene has %d (0 to %d)", p,
-               P->body[p], s->nbody, s->nbody - 1);
+    MPGM_CHECK(ctx, P->mat[p] >= 0 && P->mat[p] < s->nmat, MPGM_ERR_INPUT,
+               "checkpoint: section "
+               "'pts.mat': point %d has material %d; the scene has %d (0 to %d)",
+               p, P->mat[p], s->nmat, s->nmat - 1);
+    MPGM_CHECK(ctx, P->body[p] >= 0 && P->body[p] < s->nbody, MPGM_ERR_INPUT,
+               "checkpoint: "
+               "section 'pts.body': point %d is of body %d; the scene has %d (0 to %d)",
+               p, P->body[p], s->nbody, s->nbody - 1);
     /* material points are made of their body's material (a tracer's is unused) */
     const int mat = p < P->n ? s->bodies[P->body[p]].material : P->mat[p];
-    MPGM_CHECK(ctx, P->mat[p] == mat, MPGM_ERR_INPUT, "checkpoint: section 'pts.mat': point %d has "
-               "material %d, its body \"%s\" is of material %d", p, P->mat[p],
-               s->bodies[P->body[p]].name, mat);
+    MPGM_CHECK(ctx, P->mat[p] == mat, MPGM_ERR_INPUT,
+               "checkpoint: section 'pts.mat': point %d has "
+               "material %d, its body \"%s\" is of material %d",
+               p, P->mat[p], s->bodies[P->body[p]].name, mat);
     /* tracers keep their place, material points move (ids stay with them) */
     MPGM_CHECK(ctx, p < P->n ? P->id[p] >= 0 && P->id[p] < P->n : P->id[p] == p, MPGM_ERR_INPUT,
                "checkpoint: section 'pts.id': point %d has id %d (%s)", p, P->id[p],
@@ -247,8 +262,10 @@ static int check_point_ids(mpgm_ctx *ctx, const mpgm_problem *pb) {
     seen[P->id[p]] = 1;
   }
   free(seen);
-  MPGM_CHECK(ctx, dup < 0, MPGM_ERR_INPUT, "checkpoint: section 'pts.id': point %d has id %d, "
-             "which another point has", dup, dup >= 0 ? P->id[dup] : 0);
+  MPGM_CHECK(ctx, dup < 0, MPGM_ERR_INPUT,
+             "checkpoint: section 'pts.id': point %d has id %d, "
+             "which another point has",
+             dup, dup >= 0 ? P->id[dup] : 0);
   return 0;
 }
 
@@ -258,26 +275,33 @@ static int check_node_dofs(mpgm_ctx *ctx, const mpgm_problem *pb) {
   for (int i = 0; i < nd->n; i++)
     MPGM_CHECK(ctx, nd->contact[i] >= -MPGM_DIM && nd->contact[i] <= MPGM_DIM, MPGM_ERR_INPUT,
                "checkpoint: section 'nodes.contact': node %d has contact code %d (0, or +-1 to "
-               "+-%d)", i, nd->contact[i], MPGM_DIM);
+               "+-%d)",
+               i, nd->contact[i], MPGM_DIM);
   int k = 0;
   for (int i = 0; i < MPGM_DIM * nd->n; i++) {
-    MPGM_CHECK(ctx, nd->fix[i] <= 1, MPGM_ERR_INPUT, "checkpoint: section 'nodes.fix': node %d "
-               "component %d has fixity %d (0 or 1)", i / MPGM_DIM, i % MPGM_DIM, nd->fix[i]);
+    MPGM_CHECK(ctx, nd->fix[i] <= 1, MPGM_ERR_INPUT,
+               "checkpoint: section 'nodes.fix': node %d "
+               "component %d has fixity %d (0 or 1)",
+               i / MPGM_DIM, i % MPGM_DIM, nd->fix[i]);
     /* implicit runs number the equations of the nodes as they are fixed
      * (mpgm_nodes_number); explicit runs solve none, keep none up to date
      * and read none */
     if (!pb->fx.tangent) continue;
     const int e = nd->dof[i];
-    MPGM_CHECK(ctx, e >= -1 && e < nd->ndof, MPGM_ERR_INPUT, "checkpoint: section 'nodes.dof': "
-               "node %d component %d has equation %d (-1, or 0 to %d)", i / MPGM_DIM,
-               i % MPGM_DIM, e, nd->ndof - 1);
+    MPGM_CHECK(ctx, e >= -1 && e < nd->ndof, MPGM_ERR_INPUT,
+               "checkpoint: section 'nodes.dof': "
+               "node %d component %d has equation %d (-1, or 0 to %d)",
+               i / MPGM_DIM, i % MPGM_DIM, e, nd->ndof - 1);
     const int want = nd->fix[i] && !nd->contact[i / MPGM_DIM] ? -1 : k++;
-    MPGM_CHECK(ctx, e == want, MPGM_ERR_INPUT, "checkpoint: section 'nodes.dof': node %d "
-               "component %d has equation %d; its fixity numbers it %d", i / MPGM_DIM,
-               i % MPGM_DIM, e, want);
+    MPGM_CHECK(ctx, e == want, MPGM_ERR_INPUT,
+               "checkpoint: section 'nodes.dof': node %d "
+               "component %d has equation %d; its fixity numbers it %d",
+               i / MPGM_DIM, i % MPGM_DIM, e, want);
   }
-  MPGM_CHECK(ctx, !pb->fx.tangent || k == nd->ndof, MPGM_ERR_INPUT, "checkpoint: section "
-             "'nodes.dof': %d equations numbered, section 'core' says %d", k, nd->ndof);
+  MPGM_CHECK(ctx, !pb->fx.tangent || k == nd->ndof, MPGM_ERR_INPUT,
+             "checkpoint: section "
+             "'nodes.dof': %d equations numbered, section 'core' says %d",
+             k, nd->ndof);
   return 0;
 }
 
@@ -289,15 +313,19 @@ static int check_cpoints(mpgm_ctx *ctx, const mpgm_problem *pb) {
   for (int t = 0; t < cp->n; t++) {
     const int b = cp->plane[t];
     MPGM_CHECK(ctx, b == -1 || (b >= 0 && b < s->nbc && mpgm_bc_at_points(&s->bcs[b])),
-               MPGM_ERR_INPUT, "checkpoint: section 'cp.plane': surface point %d is held on "
-               "boundary %d, not one of the scene's %d with contact at points", t, b, s->nbc);
+               MPGM_ERR_INPUT,
+               "checkpoint: section 'cp.plane': surface point %d is held on "
+               "boundary %d, not one of the scene's %d with contact at points",
+               t, b, s->nbc);
     held += b >= 0;
   }
-  MPGM_CHECK(ctx, cp->held == held && cp->holds >= 0 && cp->holds <= TALLY_MAX && cp->releases >= 0 &&
-                      cp->releases <= TALLY_MAX && cp->unenforced >= 0 && cp->unenforced <= TALLY_MAX,
-             MPGM_ERR_INPUT, "checkpoint: section 'cp.held': %d surface points held, 'cp.plane' "
-             "holds %d (holds %ld, releases %ld, unenforced %ld)", cp->held, held, cp->holds,
-             cp->releases, cp->unenforced);
+  MPGM_CHECK(ctx,
+             cp->held == held && cp->holds >= 0 && cp->holds <= TALLY_MAX && cp->releases >= 0 &&
+                 cp->releases <= TALLY_MAX && cp->unenforced >= 0 && cp->unenforced <= TALLY_MAX,
+             MPGM_ERR_INPUT,
+             "checkpoint: section 'cp.held': %d surface points held, 'cp.plane' "
+             "holds %d (holds %ld, releases %ld, unenforced %ld)",
+             cp->held, held, cp->holds, cp->releases, cp->unenforced);
   return 0;
 }
 
@@ -321,7 +349,8 @@ static int check_arrays(mpgm_problem *pb) {
   for (int i = 0; i < MPGM_C_COUNT; i++)
     MPGM_CHECK(ctx, ctx->count[i] >= 0 && ctx->count[i] <= TALLY_MAX, MPGM_ERR_INPUT,
                "checkpoint: section 'ctx.count': count "
-               "%s is %ld", mpgm_counter_name(i), ctx->count[i]);
+               "%s is %ld",
+               mpgm_counter_name(i), ctx->count[i]);
   k = all_arrays(pb, a);
   for (int i = 0; i < k; i++) /* the energy tallies: one double each */
     if (a[i].finite && a[i].bytes == sizeof(double))

@@ -327,8 +327,10 @@ static int gmm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
   MPGM_CALL(mpgm_blob_get(ctx, b, "gmm.lists_hash", &d->lists_hash, sizeof d->lists_hash));
   MPGM_CALL(mpgm_blob_get(ctx, b, "gmm.fix", d->fix, MPGM_DIM * (size_t)d->nfix));
   for (int i = 0; i < MPGM_DIM * d->nfix; i++)
-    MPGM_CHECK(ctx, d->fix[i] <= 1, MPGM_ERR_INPUT, "checkpoint: section 'gmm.fix': node %d "
-               "component %d holds %d (0 or 1)", i / MPGM_DIM, i % MPGM_DIM, d->fix[i]);
+    MPGM_CHECK(ctx, d->fix[i] <= 1, MPGM_ERR_INPUT,
+               "checkpoint: section 'gmm.fix': node %d "
+               "component %d holds %d (0 or 1)",
+               i / MPGM_DIM, i % MPGM_DIM, d->fix[i]);
   d->restored = 1;
   return 0;
 }

@@ -70,12 +70,14 @@ static int cuts_restore(mpgm_ctx *ctx, mpgm_blob *b, long step, mpgm_run_result 
   MPGM_CALL(mpgm_blob_get(ctx, b, "run.cuts", res->cuts, sizeof(mpgm_cut) * (size_t)n));
   for (int i = 0; i < n; i++) {
     const mpgm_cut *c = &res->cuts[i];
-    MPGM_CHECK(ctx, c->step >= 1 && c->step <= step && (i == 0 || c->step >= c[-1].step) &&
-                        isfinite(c->t) && isfinite(c->dt) && c->dt > 0.0 && c->code > 0 &&
-                        memchr(c->reason, '\0', sizeof c->reason),
-               MPGM_ERR_INPUT, "checkpoint: section 'run.cuts': cut %d (of step %ld at %g, step "
-               "%g, code %d) is not one of a run at step %ld", i, c->step, c->t, c->dt, c->code,
-               step);
+    MPGM_CHECK(ctx,
+               c->step >= 1 && c->step <= step && (i == 0 || c->step >= c[-1].step) &&
+                   isfinite(c->t) && isfinite(c->dt) && c->dt > 0.0 && c->code > 0 &&
+                   memchr(c->reason, '\0', sizeof c->reason),
+               MPGM_ERR_INPUT,
+               "checkpoint: section 'run.cuts': cut %d (of step %ld at %g, step "
+               "%g, code %d) is not one of a run at step %ld",
+               i, c->step, c->t, c->dt, c->code, step);
   }
   return 0;
 }
@@ -167,12 +169,14 @@ static int sniff(mpgm_ctx *ctx, const char *path, const unsigned char *p, size_t
     char version[64];
     memcpy(&format, p + v1 + 8, sizeof format);
     text_of(p + v1 + offsetof(ck_header, version), sizeof version, version);
-    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: written by mpgm %s (checkpoint format %u); this is mpgm "
-               "%s (format %u): a checkpoint continues only with the mpgm that wrote it", path,
-               version, format, mpgm_version(), CK_FORMAT);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT,
+               "%s: written by mpgm %s (checkpoint format %u); this is mpgm "
+               "%s (format %u): a checkpoint continues only with the mpgm that wrote it",
+               path, version, format, mpgm_version(), CK_FORMAT);
   }
-  MPGM_CHECK(ctx, tagged && len >= MPGM_BLOB_HEAD + sizeof(ck_header) &&
-                      memcmp(p + MPGM_BLOB_HEAD, "MPGMCKPT", 8) == 0,
+  MPGM_CHECK(ctx,
+             tagged && len >= MPGM_BLOB_HEAD + sizeof(ck_header) &&
+                 memcmp(p + MPGM_BLOB_HEAD, "MPGMCKPT", 8) == 0,
              MPGM_ERR_INPUT, "%s: not an mpgm checkpoint", path);
   ck_header h;
   memcpy(&h, p + MPGM_BLOB_HEAD, sizeof h);
@@ -191,8 +195,8 @@ static int check_header(mpgm_ctx *ctx, const char *path, mpgm_checkpoint *ck) {
              "%s: written on a machine of another byte order or word size", path);
   MPGM_CHECK(ctx, h.format == CK_FORMAT && strcmp(version, mpgm_version()) == 0, MPGM_ERR_INPUT,
              "%s: written by mpgm %s (checkpoint format %u); this is mpgm %s (format %u): a "
-             "checkpoint continues only with the mpgm that wrote it", path, version, h.format,
-             mpgm_version(), CK_FORMAT);
+             "checkpoint continues only with the mpgm that wrote it",
+             path, version, h.format, mpgm_version(), CK_FORMAT);
   MPGM_CHECK(ctx, h.step >= 0, MPGM_ERR_INPUT, "%s: section 'header': step %lld", path,
              (long long)h.step);
   ck->step = (long)h.step;
@@ -231,8 +235,10 @@ int mpgm_checkpoint_parse(mpgm_ctx *ctx, const char *path, unsigned char *buf, s
   if (!err) err = get_string(ctx, &ck->blob, "scene.file", &ck->file);
   if (!err) err = get_string(ctx, &ck->blob, "scene.json", &ck->scene_json);
   if (!err && mpgm_hash64(ck->scene_json, strlen(ck->scene_json)) != ck->scene_hash)
-    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: damaged (the scene does not "
-                       "match its hash)", ck->path);
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "%s: damaged (the scene does not "
+                       "match its hash)",
+                       ck->path);
   if (err) mpgm_checkpoint_free(ck);
   return named(ctx, ck->path, err);
 }
@@ -248,11 +254,15 @@ int mpgm_checkpoint_read(mpgm_ctx *ctx, const char *dir, mpgm_checkpoint *ck) {
   MPGM_CHECK(ctx, there || errno != ENOENT, MPGM_ERR_INPUT,
              "--restart %s: the folder holds no checkpoint.mpgm (a run writes one every "
              "output.checkpoint_every steps, that key is 0, none, by default, and when a signal "
-             "stops it)", dir);
+             "stops it)",
+             dir);
   /* by its name, not opened: a FIFO would block the open */
   MPGM_CHECK(ctx, !there || S_ISREG(st.st_mode), MPGM_ERR_INPUT, "%s: is %s, not a regular file",
-             path, S_ISDIR(st.st_mode) ? "a folder" : S_ISFIFO(st.st_mode) ? "a FIFO"
-                   : S_ISSOCK(st.st_mode) ? "a socket" : "a device");
+             path,
+             S_ISDIR(st.st_mode)    ? "a folder"
+             : S_ISFIFO(st.st_mode) ? "a FIFO"
+             : S_ISSOCK(st.st_mode) ? "a socket"
+                                    : "a device");
   char *buf;
   size_t len;
   MPGM_CALL(mpgm_read_file(ctx, path, SIZE_MAX - 1, &buf, &len));
@@ -265,12 +275,15 @@ int mpgm_checkpoint_restore(mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm_problem *pb
   mpgm_report r;
   mpgm_problem_report(pb, &r);
   if (!err && r.step != ck->step)
-    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "checkpoint: section 'core': "
-                       "step %ld; section 'header' says %ld", r.step, ck->step);
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "checkpoint: section 'core': "
+                       "step %ld; section 'header' says %ld",
+                       r.step, ck->step);
   if (!err) err = mpgm_output_restore(ctx, o, pb, dir, &ck->blob);
   if (!err) err = cuts_restore(ctx, &ck->blob, ck->step, res);
   if (!err && ck->blob.pos != ck->blob.len)
-    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "checkpoint: section '%s' after "
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "checkpoint: section '%s' after "
                        "the last one this scene reads (another layout)",
                        (const char *)ck->blob.buf + ck->blob.pos);
   return named(ctx, ck->path, err);

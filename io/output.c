@@ -126,8 +126,8 @@ int mpgm_output_save(const mpgm_output *o, mpgm_ctx *ctx, mpgm_blob *b) {
 /* A history read back: rows rows of width doubles, section tag, into a
  * table (its size checked against the section's before it is made); row
  * r is of step r + first. */
-static int table_restore(mpgm_ctx *ctx, mpgm_blob *b, const char *tag, int rows, int width, int first,
-                         double **buf, int *n, int *cap) {
+static int table_restore(mpgm_ctx *ctx, mpgm_blob *b, const char *tag, int rows, int width,
+                         int first, double **buf, int *n, int *cap) {
   size_t len;
   MPGM_CALL(mpgm_blob_peek(ctx, b, tag, &len));
   MPGM_CHECK(ctx, len == sizeof(double) * (size_t)rows * (size_t)width, MPGM_ERR_INPUT,
@@ -156,27 +156,35 @@ int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, c
   const int per = o->pvd_points ? 1 + (o->pvd_mesh != NULL) : 0;
   MPGM_CHECK(ctx, n[4] == 2 + o->ncol, MPGM_ERR_INPUT,
              "checkpoint: output of %d probe columns, this scene has %d", n[4] - 2, o->ncol);
-  MPGM_CHECK(ctx, (long)n[2] == r.step + 1 && (long)n[3] == r.step, MPGM_ERR_INPUT, "checkpoint: "
-             "section 'out.counts': %d rows of probes and %d of steps after step %ld", n[2], n[3],
-             r.step);
-  MPGM_CHECK(ctx, n[0] >= 0 && n[0] <= n[2] && (per ? 1 : n[0] == 0) &&
-                      (long)n[1] == (long)per * n[0], MPGM_ERR_INPUT, "checkpoint: section "
-             "'out.counts': %d VTK outputs of %d files (%d files each) over %d rows", n[0], n[1],
-             per, n[2]);
+  MPGM_CHECK(ctx, (long)n[2] == r.step + 1 && (long)n[3] == r.step, MPGM_ERR_INPUT,
+             "checkpoint: "
+             "section 'out.counts': %d rows of probes and %d of steps after step %ld",
+             n[2], n[3], r.step);
+  MPGM_CHECK(ctx,
+             n[0] >= 0 && n[0] <= n[2] && (per ? 1 : n[0] == 0) && (long)n[1] == (long)per * n[0],
+             MPGM_ERR_INPUT,
+             "checkpoint: section "
+             "'out.counts': %d VTK outputs of %d files (%d files each) over %d rows",
+             n[0], n[1], per, n[2]);
   o->nvtk = n[0], o->files = n[1];
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.mtx", &o->mtx_written, sizeof o->mtx_written));
-  MPGM_CHECK(ctx, o->mtx_written >= 0 && o->mtx_written <= LONG_MAX / 2, MPGM_ERR_INPUT, "checkpoint: section 'out.mtx': %ld "
-             "systems written", o->mtx_written);
+  MPGM_CHECK(ctx, o->mtx_written >= 0 && o->mtx_written <= LONG_MAX / 2, MPGM_ERR_INPUT,
+             "checkpoint: section 'out.mtx': %ld "
+             "systems written",
+             o->mtx_written);
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.ref_acc", o->ref_acc, sizeof o->ref_acc));
   MPGM_CALL(table_restore(ctx, b, "out.probes", n[2], n[4], 0, &o->hist, &o->nrow, &o->caprow));
-  MPGM_CALL(table_restore(ctx, b, "out.steps", n[3], STEP_COLS, 1, &o->steps, &o->nstep, &o->capstep));
+  MPGM_CALL(
+      table_restore(ctx, b, "out.steps", n[3], STEP_COLS, 1, &o->steps, &o->nstep, &o->capstep));
   MPGM_CALL(mpgm_pvd_restore(o->pvd_points, ctx, b, "out.pvd_points"));
   MPGM_CALL(mpgm_pvd_restore(o->pvd_mesh, ctx, b, "out.pvd_mesh"));
-  MPGM_CHECK(ctx, mpgm_pvd_count(o->pvd_points) == (per ? o->nvtk : 0) &&
-                      mpgm_pvd_count(o->pvd_mesh) == (per == 2 ? o->nvtk : 0),
-             MPGM_ERR_INPUT, "checkpoint: section 'out.pvd_points': %d and %d entries of points "
-             "and mesh for %d VTK outputs", mpgm_pvd_count(o->pvd_points),
-             mpgm_pvd_count(o->pvd_mesh), o->nvtk);
+  MPGM_CHECK(ctx,
+             mpgm_pvd_count(o->pvd_points) == (per ? o->nvtk : 0) &&
+                 mpgm_pvd_count(o->pvd_mesh) == (per == 2 ? o->nvtk : 0),
+             MPGM_ERR_INPUT,
+             "checkpoint: section 'out.pvd_points': %d and %d entries of points "
+             "and mesh for %d VTK outputs",
+             mpgm_pvd_count(o->pvd_points), mpgm_pvd_count(o->pvd_mesh), o->nvtk);
   return 0;
 }
 

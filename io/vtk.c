@@ -381,15 +381,19 @@ int mpgm_pvd_restore(mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag
   /* the sizes before any allocation: a count is only as good as its data */
   snprintf(t, sizeof t, "%s.time", tag);
   MPGM_CALL(mpgm_blob_peek(ctx, b, t, &len));
-  MPGM_CHECK(ctx, len == sizeof(double) * (size_t)n, MPGM_ERR_INPUT, "checkpoint: section '%s' "
-             "holds %zu bytes, %d entries need %zu", t, len, n, sizeof(double) * (size_t)n);
+  MPGM_CHECK(ctx, len == sizeof(double) * (size_t)n, MPGM_ERR_INPUT,
+             "checkpoint: section '%s' "
+             "holds %zu bytes, %d entries need %zu",
+             t, len, n, sizeof(double) * (size_t)n);
   double *time = malloc(sizeof(double) * (size_t)(n ? n : 1));
   MPGM_CHECK(ctx, time, MPGM_ERR_NOMEM, "out of memory (checkpoint)");
   int err = mpgm_blob_get(ctx, b, t, time, sizeof(double) * (size_t)n);
   for (int i = 0; !err && i < n; i++)
     if (!isfinite(time[i]))
-      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "checkpoint: section '%s': "
-                         "entry %d at time %g, not a finite number", t, i, time[i]);
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                         "checkpoint: section '%s': "
+                         "entry %d at time %g, not a finite number",
+                         t, i, time[i]);
   snprintf(t, sizeof t, "%s.file", tag);
   if (!err) err = mpgm_blob_peek(ctx, b, t, &len);
   char *names = err ? NULL : malloc(len + 1);
@@ -400,8 +404,10 @@ int mpgm_pvd_restore(mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag
   const char *p = names;
   for (int i = 0; !err && i < n; i++) {
     if ((size_t)(p - names) >= len || !*p) {
-      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "checkpoint: section '%s': "
-                         "%d names of files for %d entries", t, i, n);
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                         "checkpoint: section '%s': "
+                         "%d names of files for %d entries",
+                         t, i, n);
       break;
     }
     char *name = strdup(p);
@@ -415,16 +421,22 @@ int mpgm_pvd_restore(mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag
     p += strlen(p) + 1;
   }
   if (!err && (size_t)(p - names) != len)
-    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "checkpoint: section '%s': %zu "
-                       "bytes after the names of its %d entries", t, len - (size_t)(p - names), n);
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "checkpoint: section '%s': %zu "
+                       "bytes after the names of its %d entries",
+                       t, len - (size_t)(p - names), n);
   free(time);
   free(names);
   return err;
 }
 
-int mpgm_pvd_write(mpgm_pvd *pvd, mpgm_ctx *ctx) { return pvd ? pvd_write(pvd, ctx) : 0; }
+int mpgm_pvd_write(mpgm_pvd *pvd, mpgm_ctx *ctx) {
+  return pvd ? pvd_write(pvd, ctx) : 0;
+}
 
-int mpgm_pvd_count(const mpgm_pvd *pvd) { return pvd ? pvd->n : 0; }
+int mpgm_pvd_count(const mpgm_pvd *pvd) {
+  return pvd ? pvd->n : 0;
+}
 
 /* See mpgm_vtk.h. */
 void mpgm_pvd_destroy(mpgm_pvd **pvd) {

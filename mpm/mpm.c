@@ -678,13 +678,16 @@ static int mpm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
   mpgm_ctx *ctx = v->ctx;
   MPGM_CALL(mpgm_blob_get(ctx, b, "mpm.gfree", d->gfree, (size_t)d->g.nnode));
   for (int i = 0; i < d->g.nnode; i++)
-    MPGM_CHECK(ctx, d->gfree[i] <= 1, MPGM_ERR_INPUT, "checkpoint: section 'mpm.gfree': grid node "
-               "%d holds %d (0 or 1)", i, d->gfree[i]);
+    MPGM_CHECK(ctx, d->gfree[i] <= 1, MPGM_ERR_INPUT,
+               "checkpoint: section 'mpm.gfree': grid node "
+               "%d holds %d (0 or 1)",
+               i, d->gfree[i]);
   MPGM_CALL(mpgm_blob_get(ctx, b, "mpm.step", &d->step, sizeof d->step));
   /* steps begun: the steps done and those retried */
   MPGM_CHECK(ctx, d->step >= v->step && d->step <= LONG_MAX / 2, MPGM_ERR_INPUT,
              "checkpoint: section 'mpm.step': %ld steps "
-             "begun, %ld done", d->step, v->step);
+             "begun, %ld done",
+             d->step, v->step);
   const mpgm_points *P = v->pts;
   return d->clouds ? mpgm_clouds_restore(d->clouds, ctx, b, P->n + P->nprobe + P->nsurf) : 0;
 }

@@ -44,11 +44,11 @@
 #include "mpgm_checkpoint.h"
 #include "mpgm_scene_io.h"
 
-#define PATH "fuzz/checkpoint.mpgm"
+#define PATH       "fuzz/checkpoint.mpgm"
 #define MAX_SCENES 16
 /* the header section's data (io/checkpoint.c, ck_header): magic 8 bytes,
  * format, byte order, sizes and padding 4 each, then the version (64) */
-#define AT_VERSION 24
+#define AT_VERSION  24
 #define VERSION_LEN 64
 
 static void fail(const char *what, const char *msg) {
@@ -65,7 +65,9 @@ static void say(const char *what, const char *msg) {
  * restore is in it (and never made: the restore writes nothing). */
 static char tmpdir[64], outdir[80];
 
-static void remove_tmpdir(void) { rmdir(tmpdir); }
+static void remove_tmpdir(void) {
+  rmdir(tmpdir);
+}
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc;

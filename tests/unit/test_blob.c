@@ -86,10 +86,12 @@ static void check_crc(void) {
   mpgm_blob b = {0};
   const double v[4] = {2.385, -1.0 / 7.0, 1e-300, 6.5};
   const int k = 17;
-  mpgm_test(mpgm_blob_put(&ctx, &b, "pts.v", v, sizeof v) == 0 && mpgm_blob_put(&ctx, &b, "none", NULL, 0) == 0 &&
+  mpgm_test(mpgm_blob_put(&ctx, &b, "pts.v", v, sizeof v) == 0 &&
+                mpgm_blob_put(&ctx, &b, "none", NULL, 0) == 0 &&
                 mpgm_blob_put(&ctx, &b, "k", &k, sizeof k) == 0,
             "three sections put");
-  mpgm_test(b.len == 3 * MPGM_BLOB_HEAD + sizeof v + sizeof k, "a head is %d bytes", MPGM_BLOB_HEAD);
+  mpgm_test(b.len == 3 * MPGM_BLOB_HEAD + sizeof v + sizeof k, "a head is %d bytes",
+            MPGM_BLOB_HEAD);
   /* the head: tag, length, then the CRC of both and of the data */
   unsigned rec;
   memcpy(&rec, b.buf + MPGM_BLOB_TAG + 8, sizeof rec);
@@ -104,7 +106,8 @@ static void check_crc(void) {
                 strstr(ctx.msg, "section 'pts.v' is damaged (CRC 0x") && b.pos == 0,
             "a flipped bit is refused by the read (%s)", ctx.msg);
   mpgm_ctx_init(&ctx);
-  mpgm_test(mpgm_blob_verify(&ctx, &b) == MPGM_ERR_INPUT && strstr(ctx.msg, "section 'pts.v' is damaged"),
+  mpgm_test(mpgm_blob_verify(&ctx, &b) == MPGM_ERR_INPUT &&
+                strstr(ctx.msg, "section 'pts.v' is damaged"),
             "and by the whole-buffer check (%s)", ctx.msg);
   mpgm_ctx_init(&ctx);
   b.buf[MPGM_BLOB_HEAD + 9] ^= 0x10;
