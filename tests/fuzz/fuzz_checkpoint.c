@@ -17,6 +17,11 @@
  * The scene's own hash is not mended: a mutated scene is refused there, and
  * problems are made only of the seeds' scenes (scripts/fuzz makes the seeds
  * by running small scenes of every front end with output.checkpoint_every).
+ * With MPGM_FUZZ_STEPS set in the environment (30 times slower: not what
+ * scripts/fuzz runs), a restore that succeeds goes on for one step when
+ * the flag has bits 0x70: what a step indexes with the values restored
+ * (points against the grid, equation numbers, lists of nodes) must have
+ * been checked, or end in a clean failure of the step.
  *
  * A problem is made once per scene and kept (making one costs far more
  * than a restore); every check of a restore is against the scene and what
@@ -64,6 +69,7 @@ static void say(const char *what, const char *msg) {
 /* A new temporary folder, kept empty: the results folder named to every
  * restore is in it (and never made: the restore writes nothing). */
 static char tmpdir[64], outdir[80];
+static int steps; /* MPGM_FUZZ_STEPS */
 
 static void remove_tmpdir(void) {
   rmdir(tmpdir);
@@ -76,6 +82,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   if (!mkdtemp(tmpdir)) fail("no temporary folder", tmpdir);
   atexit(remove_tmpdir);
   snprintf(outdir, sizeof outdir, "%s/out", tmpdir);
+  steps = getenv("MPGM_FUZZ_STEPS") != NULL;
   return 0;
 }
 
@@ -143,6 +150,22 @@ static int problem_of(const mpgm_checkpoint *ck) {
   return nmade++;
 }
 
+/* A monitor that stops the run after its first step. */
+static int stop_after_one(void *user, const mpgm_problem *pb, int fields, double wall) {
+  (void)user;
+  (void)pb;
+  (void)fields;
+  (void)wall;
+  return MPGM_ERR_INTERRUPTED;
+}
+
+static void one_step(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_run_result *res) {
+  const mpgm_monitor mon = {.step = stop_after_one};
+  const mpgm_run_control rc = {.monitor = &mon, .t0 = mpgm_wtime()};
+  mpgm_problem_run(pb, &rc, res); /* whatever the step gives, but no crash */
+  mpgm_err_clear(ctx);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   if (size < 1) return 0;
   const int as_is = data[0] % 8 == 0;
@@ -172,6 +195,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (err && strncmp(pctx->msg, PATH ": ", strlen(PATH) + 2) != 0)
       fail("a refused restore's message does not name the file", pctx->msg);
     say(err ? "restore refused" : "restored", err ? pctx->msg : made[i].scene->file);
+    if (!err && steps && (data[0] & 0x70) == 0x70) one_step(pctx, pb, &res);
     mpgm_run_result_free(&res);
     mpgm_output_close(&o);
     still_empty();
