@@ -124,9 +124,12 @@ typedef struct mpgm_frontend_type {
   /** Optional: the front end's own state that later steps depend on and
    *  begin_step does not rebuild (LME warm starts, the contact state of a
    *  reset grid), appended to a checkpoint / read back after create
-   *  (mpgm_problem_save / _restore; mpgm_blob.h). */
+   *  (mpgm_problem_save / _restore; mpgm_blob.h). restore sees the points
+   *  and nodes as the checkpoint had them (v): every count and index it
+   *  reads must be checked against them (MPGM_ERR_INPUT "checkpoint:
+   *  section 'TAG': ..."), as a damaged file may hold any. */
   int (*save)(const void *self, mpgm_ctx *ctx, struct mpgm_blob *b);
-  int (*restore)(void *self, mpgm_ctx *ctx, struct mpgm_blob *b);
+  int (*restore)(void *self, const mpgm_fe_view *v, struct mpgm_blob *b);
 } mpgm_frontend_type;
 
 #ifdef __cplusplus

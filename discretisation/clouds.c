@@ -100,13 +100,22 @@ int mpgm_clouds_save(const mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b) {
   return mpgm_blob_put(ctx, b, "clouds.lambda", c->lambda, MPGM_DIM * (size_t)m * sizeof(double));
 }
 
-int mpgm_clouds_restore(mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b) {
+int mpgm_clouds_restore(mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b, int npts) {
   int m;
   MPGM_CALL(mpgm_blob_get(ctx, b, "clouds.m", &m, sizeof m));
-  MPGM_CHECK(ctx, m >= 0 && (!c->lambda || m == c->m), MPGM_ERR_INPUT,
-             "checkpoint: warm starts of %d points, the clouds have %d", m, c->m);
+  /* none before the first build; then one per point of the problem */
+  MPGM_CHECK(ctx, (m == 0 || m == npts) && (!c->lambda || m == c->m), MPGM_ERR_INPUT,
+             "checkpoint: section 'clouds.m': warm starts of %d points; the problem has %d", m,
+             npts);
   if (m > 0) MPGM_CALL(size_for(ctx, c, m));
-  return mpgm_blob_get(ctx, b, "clouds.lambda", c->lambda, MPGM_DIM * (size_t)m * sizeof(double));
+  MPGM_CALL(
+      mpgm_blob_get(ctx, b, "clouds.lambda", c->lambda, MPGM_DIM * (size_t)m * sizeof(double)));
+  for (size_t i = 0; i < MPGM_DIM * (size_t)m; i++)
+    MPGM_CHECK(ctx, isfinite(c->lambda[i]), MPGM_ERR_INPUT,
+               "checkpoint: section 'clouds.lambda': "
+               "point %zu holds %g, not a finite number",
+               i / MPGM_DIM, c->lambda[i]);
+  return 0;
 }
 
 void mpgm_clouds_permute(mpgm_clouds *c, const int *perm, int n, double *scratch) {

@@ -136,9 +136,11 @@ void mpgm_clouds_destroy(mpgm_clouds *c);
 /** The kind's support radius r0 [m] (at mesh.h). */
 double mpgm_clouds_radius(const mpgm_clouds *c);
 /** Checkpoints: the warm starts (LME multipliers) of every point into b /
- *  back (mpgm_blob.h); the clouds themselves are rebuilt every step. */
+ *  back (mpgm_blob.h); the clouds themselves are rebuilt every step. The
+ *  warm starts read back are of all m points (or none: written before the
+ *  first build) and finite. Errors: MPGM_ERR_INPUT, MPGM_ERR_NOMEM. */
 int mpgm_clouds_save(const mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b);
-int mpgm_clouds_restore(mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b);
+int mpgm_clouds_restore(mpgm_clouds *c, mpgm_ctx *ctx, mpgm_blob *b, int m);
 /** The functions N of the clouds' kind at one position x, over the nodes
  *  of tree (skip: left out) within r0 (grown while fewer than min_nodes),
  *  without warm start: into idx and N (MPGM_SHAPE_MAXNODE each), *n of
@@ -200,9 +202,11 @@ int mpgm_skin_update(mpgm_skin *s, mpgm_ctx *ctx, int np, const double *xp, cons
  *  exceeded 4 MPGM_SHAPE_MAXNODE nodes at the last build (no skin then). */
 const int *mpgm_skin_ptr(const mpgm_skin *s);
 const int *mpgm_skin_node(const mpgm_skin *s);
-/** Checkpoints: the lists. */
+/** Checkpoints: the lists. Those read back must be of np material points,
+ *  each list of increasing node numbers below nnode (what the next update
+ *  indexes with). Errors: MPGM_ERR_INPUT, MPGM_ERR_NOMEM. */
 int mpgm_skin_save(const mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b);
-int mpgm_skin_restore(mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b);
+int mpgm_skin_restore(mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b, int np, int nnode);
 
 /** FE cells of a problem (the mesh of UL-FEM, of GMM for rectangle
  *  bodies): the cells and every point's cell and local coordinates. */

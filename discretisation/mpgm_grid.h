@@ -8,6 +8,8 @@
 #ifndef MPGM_GRID_H
 #define MPGM_GRID_H
 
+#include <math.h>
+
 #include "mpgm_core.h"
 
 typedef struct mpgm_grid {
@@ -31,6 +33,15 @@ void mpgm_grid_cell(const mpgm_grid *g, int c, int *nodes, double *xn);
  *  outside the grid. Points on a shared edge go to the cell above/right. */
 int mpgm_grid_locate(const mpgm_grid *g, const double x[MPGM_DIM], int *cell,
                      double xi[MPGM_DIM]);
+/** The grid column (or row) of coordinate x along axis a, floor((x -
+ *  min) / h), as an int however far from the grid x is (a position read
+ *  from a checkpoint, or of a run gone astray, can be any double): clamped
+ *  to +-2^30, NaN to -2^30, so that spans of such lines do not overflow
+ *  when taken as long. */
+static inline int mpgm_grid_line(const mpgm_grid *g, int a, double x) {
+  const double f = floor((x - g->min[a]) / g->h), lim = 1073741824.0;
+  return f >= lim ? (int)lim : f >= -lim ? (int)f : -(int)lim;
+}
 /** Cells sharing a node with cell c (c excluded); returns their count (<= 17:
  *  8 neighbouring squares and the other triangle of its own square). */
 int mpgm_grid_neighbours(const mpgm_grid *g, int c, int *out);

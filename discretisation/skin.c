@@ -171,17 +171,56 @@ int mpgm_skin_save(const mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b) {
   return mpgm_blob_put(ctx, b, "skin.node", s->node, (size_t)s->ptr[s->np] * sizeof(int));
 }
 
-int mpgm_skin_restore(mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b) {
+/* The lists read back: offsets from 0 up, each list of at most
+ * SKIN_MAXLIST increasing node numbers below nnode (still_holds and the
+ * pattern index with them). */
+static int check_lists(const mpgm_skin *s, mpgm_ctx *ctx, int nnode) {
+  MPGM_CHECK(ctx, s->ptr[0] == 0, MPGM_ERR_INPUT,
+             "checkpoint: section 'skin.ptr': the first "
+             "list starts at %d, not 0",
+             s->ptr[0]);
+  for (int p = 0; p < s->np; p++) {
+    const int n = s->ptr[p + 1] - s->ptr[p];
+    MPGM_CHECK(ctx, s->ptr[p + 1] >= s->ptr[p] && n <= SKIN_MAXLIST, MPGM_ERR_INPUT,
+               "checkpoint: section 'skin.ptr': point %d's list runs from %d to %d (at most %d "
+               "nodes)",
+               p, s->ptr[p], s->ptr[p + 1], SKIN_MAXLIST);
+  }
+  for (int p = 0; p < s->np; p++)
+    for (int k = s->ptr[p]; k < s->ptr[p + 1]; k++)
+      MPGM_CHECK(ctx,
+                 s->node[k] >= 0 && s->node[k] < nnode &&
+                     (k == s->ptr[p] || s->node[k] > s->node[k - 1]),
+                 MPGM_ERR_INPUT,
+                 "checkpoint: section 'skin.node': point %d's list holds node %d (of %d, in "
+                 "increasing order)",
+                 p, s->node[k], nnode);
+  return 0;
+}
+
+int mpgm_skin_restore(mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b, int np, int nnode) {
   int head[2];
   MPGM_CALL(mpgm_blob_get(ctx, b, "skin.head", head, sizeof head));
   s->valid = 0;
   if (!head[0]) return 0;
+  MPGM_CHECK(ctx, head[0] >= 0 && head[0] <= 2 && head[1] == np, MPGM_ERR_INPUT,
+             "checkpoint: "
+             "section 'skin.head': lists of kind %d for %d points; the problem has %d",
+             head[0], head[1], np);
   s->wide = head[0] == 2;
-  MPGM_CHECK(ctx, head[1] >= 0, MPGM_ERR_INPUT, "checkpoint: pattern skin of %d points", head[1]);
   MPGM_CALL(size_for(ctx, s, head[1]));
   MPGM_CALL(mpgm_blob_get(ctx, b, "skin.ptr", s->ptr, ((size_t)s->np + 1) * sizeof(int)));
   const int k = s->ptr[s->np];
-  MPGM_CHECK(ctx, k >= 0, MPGM_ERR_INPUT, "checkpoint: pattern skin of %d entries", k);
+  MPGM_CHECK(ctx, k >= 0 && k <= (long)s->np * SKIN_MAXLIST, MPGM_ERR_INPUT,
+             "checkpoint: section "
+             "'skin.ptr': lists of %d entries for %d points",
+             k, s->np);
+  size_t len;
+  MPGM_CALL(mpgm_blob_peek(ctx, b, "skin.node", &len));
+  MPGM_CHECK(ctx, len == (size_t)k * sizeof(int), MPGM_ERR_INPUT,
+             "checkpoint: section 'skin.node' "
+             "holds %zu bytes, 'skin.ptr' says %zu",
+             len, (size_t)k * sizeof(int));
   if (k > s->cap) {
     free(s->node);
     s->node = malloc(((size_t)k + 1) * sizeof(int));
@@ -189,6 +228,7 @@ int mpgm_skin_restore(mpgm_skin *s, mpgm_ctx *ctx, mpgm_blob *b) {
     MPGM_CHECK(ctx, s->node, MPGM_ERR_NOMEM, "out of memory (pattern skin lists)");
   }
   MPGM_CALL(mpgm_blob_get(ctx, b, "skin.node", s->node, (size_t)k * sizeof(int)));
+  MPGM_CALL(check_lists(s, ctx, nnode));
   s->valid = 1;
   return 0;
 }

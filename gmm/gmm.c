@@ -317,14 +317,22 @@ static int gmm_save(const void *self, mpgm_ctx *ctx, mpgm_blob *b) {
   return mpgm_blob_put(ctx, b, "gmm.fix", d->fix, MPGM_DIM * (size_t)d->nfix);
 }
 
-static int gmm_restore(void *self, mpgm_ctx *ctx, mpgm_blob *b) {
+static int gmm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
   gmm_data *d = self;
-  MPGM_CALL(mpgm_clouds_restore(d->clouds, ctx, b));
+  mpgm_ctx *ctx = v->ctx;
+  const mpgm_points *P = v->pts;
+  MPGM_CALL(mpgm_clouds_restore(d->clouds, ctx, b, P->n + P->nprobe + P->nsurf));
   if (!d->skin) return 0;
-  MPGM_CALL(mpgm_skin_restore(d->skin, ctx, b));
+  MPGM_CALL(mpgm_skin_restore(d->skin, ctx, b, P->n, v->nodes->n));
   MPGM_CALL(mpgm_blob_get(ctx, b, "gmm.lists_hash", &d->lists_hash, sizeof d->lists_hash));
+  MPGM_CALL(mpgm_blob_get(ctx, b, "gmm.fix", d->fix, MPGM_DIM * (size_t)d->nfix));
+  for (int i = 0; i < MPGM_DIM * d->nfix; i++)
+    MPGM_CHECK(ctx, d->fix[i] <= 1, MPGM_ERR_INPUT,
+               "checkpoint: section 'gmm.fix': node %d "
+               "component %d holds %d (0 or 1)",
+               i / MPGM_DIM, i % MPGM_DIM, d->fix[i]);
   d->restored = 1;
-  return mpgm_blob_get(ctx, b, "gmm.fix", d->fix, MPGM_DIM * (size_t)d->nfix);
+  return 0;
 }
 
 const mpgm_frontend_type mpgm_frontend_gmm = {

@@ -1,7 +1,8 @@
 /* checkpoint.c -- DIR/checkpoint.mpgm: the state a run continues from
- * (mpgm_checkpoint.h). One file of tagged sections (mpgm_blob.h), written
- * atomically (DIR/checkpoint.mpgm.tmp, then rename: a run killed while it
- * writes leaves the previous checkpoint whole):
+ * (mpgm_checkpoint.h). One file of tagged sections with their CRC-32
+ * (mpgm_blob.h), written atomically (DIR/checkpoint.mpgm.tmp, then
+ * rename: a run killed while it writes leaves the previous checkpoint
+ * whole):
  *   header      magic, format, byte order and sizes, mpgm's version, the
  *               scene's hash, the step
  *   scene.file  the scene file the run was started with
@@ -12,6 +13,8 @@
 #include "mpgm_checkpoint.h"
 
 #include <errno.h>
+#include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,7 +24,8 @@
 
 #include "mpgm_file.h"
 
-#define CK_FORMAT 1u
+/* 1: sections of tag and length; 2: and a CRC-32 of each */
+#define CK_FORMAT 2u
 #define CK_ORDER 0x01020304u
 
 typedef struct ck_header {
@@ -49,10 +53,13 @@ static int cuts_save(mpgm_ctx *ctx, mpgm_blob *b, const mpgm_run_result *res) {
   return mpgm_blob_put(ctx, b, "run.cuts", res->cuts, sizeof(mpgm_cut) * (size_t)res->ncuts);
 }
 
-static int cuts_restore(mpgm_ctx *ctx, mpgm_blob *b, mpgm_run_result *res) {
+/* The cuts read back: each of a step done by then, in order, with finite
+ * times, a recoverable code and its message a string. */
+static int cuts_restore(mpgm_ctx *ctx, mpgm_blob *b, long step, mpgm_run_result *res) {
   int n;
   MPGM_CALL(mpgm_blob_get(ctx, b, "run.ncuts", &n, sizeof n));
-  MPGM_CHECK(ctx, n >= 0 && n <= MPGM_CUTS_MAX, MPGM_ERR_INPUT, "checkpoint: %d step cuts", n);
+  MPGM_CHECK(ctx, n >= 0 && n <= MPGM_CUTS_MAX, MPGM_ERR_INPUT,
+             "checkpoint: section 'run.ncuts': %d step cuts (0 to %d)", n, MPGM_CUTS_MAX);
   memset(res, 0, sizeof *res);
   res->failed_step = -1;
   if (n) {
@@ -60,7 +67,19 @@ static int cuts_restore(mpgm_ctx *ctx, mpgm_blob *b, mpgm_run_result *res) {
     MPGM_CHECK(ctx, res->cuts, MPGM_ERR_NOMEM, "out of memory (checkpoint)");
   }
   res->ncuts = n;
-  return mpgm_blob_get(ctx, b, "run.cuts", res->cuts, sizeof(mpgm_cut) * (size_t)n);
+  MPGM_CALL(mpgm_blob_get(ctx, b, "run.cuts", res->cuts, sizeof(mpgm_cut) * (size_t)n));
+  for (int i = 0; i < n; i++) {
+    const mpgm_cut *c = &res->cuts[i];
+    MPGM_CHECK(ctx,
+               c->step >= 1 && c->step <= step && (i == 0 || c->step >= c[-1].step) &&
+                   isfinite(c->t) && isfinite(c->dt) && c->dt > 0.0 && c->code > 0 &&
+                   memchr(c->reason, '\0', sizeof c->reason),
+               MPGM_ERR_INPUT,
+               "checkpoint: section 'run.cuts': cut %d (of step %ld at %g, step "
+               "%g, code %d) is not one of a run at step %ld",
+               i, c->step, c->t, c->dt, c->code, step);
+  }
+  return 0;
 }
 
 /* The whole checkpoint into b. */
@@ -115,23 +134,71 @@ int mpgm_checkpoint_write(mpgm_ctx *ctx, const char *dir, const mpgm_problem *pb
   return err;
 }
 
-/* The header of the checkpoint at path, checked against this mpgm. */
+/* An error a layer recorded as "checkpoint: WHY", as "PATH: WHY". */
+static int named(mpgm_ctx *ctx, const char *path, int err) {
+  if (!err || !ctx->msg[0] || strncmp(ctx->msg, path, strlen(path)) == 0) return err;
+  char msg[sizeof ctx->msg];
+  snprintf(msg, sizeof msg, "%s", ctx->msg);
+  const int code = ctx->code ? ctx->code : err;
+  mpgm_err_clear(ctx);
+  const char *why = strncmp(msg, "checkpoint: ", 12) == 0 ? msg + 12 : msg;
+  return mpgm_err_set(ctx, code, __FILE__, __LINE__, "%s: %s", path, why);
+}
+
+/* n bytes of text from a file as a string for a message (non-printable
+ * bytes as '?'). */
+static void text_of(const unsigned char *p, size_t n, char *out) {
+  size_t i = 0;
+  for (; i + 1 < n && p[i]; i++) out[i] = p[i] >= 0x20 && p[i] < 0x7f ? (char)p[i] : '?';
+  out[i] = '\0';
+}
+
+static uint32_t swapped(uint32_t x) {
+  return x >> 24 | (x >> 8 & 0xff00u) | (x << 8 & 0xff0000u) | x << 24;
+}
+
+/* The first bytes: a checkpoint of this format and byte order, or refused
+ * at once (a file of another format would only read as damaged). */
+static int sniff(mpgm_ctx *ctx, const char *path, const unsigned char *p, size_t len) {
+  MPGM_CHECK(ctx, len > 0, MPGM_ERR_INPUT, "%s: not an mpgm checkpoint (an empty file)", path);
+  const int tagged = len >= 7 && memcmp(p, "header", 7) == 0;
+  /* format 1 had no CRC: its header's data began 4 bytes earlier */
+  const size_t v1 = MPGM_BLOB_TAG + 8;
+  if (tagged && len >= v1 + sizeof(ck_header) && memcmp(p + v1, "MPGMCKPT", 8) == 0) {
+    uint32_t format;
+    char version[64];
+    memcpy(&format, p + v1 + 8, sizeof format);
+    text_of(p + v1 + offsetof(ck_header, version), sizeof version, version);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT,
+               "%s: written by mpgm %s (checkpoint format %u); this is mpgm "
+               "%s (format %u): a checkpoint continues only with the mpgm that wrote it",
+               path, version, format, mpgm_version(), CK_FORMAT);
+  }
+  MPGM_CHECK(ctx,
+             tagged && len >= MPGM_BLOB_HEAD + sizeof(ck_header) &&
+                 memcmp(p + MPGM_BLOB_HEAD, "MPGMCKPT", 8) == 0,
+             MPGM_ERR_INPUT, "%s: not an mpgm checkpoint", path);
+  ck_header h;
+  memcpy(&h, p + MPGM_BLOB_HEAD, sizeof h);
+  MPGM_CHECK(ctx, h.order != swapped(CK_ORDER), MPGM_ERR_INPUT,
+             "%s: written on a machine of another byte order", path);
+  return 0;
+}
+
+/* The header, once the file is known whole: this machine, this mpgm. */
 static int check_header(mpgm_ctx *ctx, const char *path, mpgm_checkpoint *ck) {
   ck_header h;
-  size_t n;
-  MPGM_CHECK(ctx, ck->blob.len >= 8 && memcmp(ck->blob.buf, "header", 6) == 0 &&
-                      mpgm_blob_peek(ctx, &ck->blob, "header", &n) == 0 && n == sizeof h,
-             MPGM_ERR_INPUT, "%s: not an mpgm checkpoint", path);
   MPGM_CALL(mpgm_blob_get(ctx, &ck->blob, "header", &h, sizeof h));
-  h.version[sizeof h.version - 1] = '\0';
-  MPGM_CHECK(ctx, memcmp(h.magic, "MPGMCKPT", 8) == 0, MPGM_ERR_INPUT, "%s: not an mpgm checkpoint",
-             path);
+  char version[sizeof h.version];
+  text_of((const unsigned char *)h.version, sizeof version, version);
   MPGM_CHECK(ctx, h.order == CK_ORDER && h.sizes == sizes(), MPGM_ERR_INPUT,
              "%s: written on a machine of another byte order or word size", path);
-  MPGM_CHECK(ctx, h.format == CK_FORMAT && strcmp(h.version, mpgm_version()) == 0, MPGM_ERR_INPUT,
+  MPGM_CHECK(ctx, h.format == CK_FORMAT && strcmp(version, mpgm_version()) == 0, MPGM_ERR_INPUT,
              "%s: written by mpgm %s (checkpoint format %u); this is mpgm %s (format %u): a "
-             "checkpoint continues only with the mpgm that wrote it", path, h.version, h.format,
-             mpgm_version(), CK_FORMAT);
+             "checkpoint continues only with the mpgm that wrote it",
+             path, version, h.format, mpgm_version(), CK_FORMAT);
+  MPGM_CHECK(ctx, h.step >= 0, MPGM_ERR_INPUT, "%s: section 'header': step %lld", path,
+             (long long)h.step);
   ck->step = (long)h.step;
   ck->scene_hash = h.scene_hash;
   return 0;
@@ -145,7 +212,7 @@ static int get_string(mpgm_ctx *ctx, mpgm_blob *b, const char *tag, char **out) 
   char *s = malloc(n);
   MPGM_CHECK(ctx, s, MPGM_ERR_NOMEM, "out of memory (checkpoint)");
   const int err = mpgm_blob_get(ctx, b, tag, s, n);
-  if (!err && s[n - 1] != '\0') {
+  if (!err && (s[n - 1] != '\0' || strlen(s) != n - 1)) {
     free(s);
     MPGM_ERROR(ctx, MPGM_ERR_INPUT, "checkpoint: section '%s' is not a string", tag);
   }
@@ -154,48 +221,72 @@ static int get_string(mpgm_ctx *ctx, mpgm_blob *b, const char *tag, char **out) 
   return err;
 }
 
-int mpgm_checkpoint_read(mpgm_ctx *ctx, const char *dir, mpgm_checkpoint *ck) {
+int mpgm_checkpoint_parse(mpgm_ctx *ctx, const char *path, unsigned char *buf, size_t len,
+                          mpgm_checkpoint *ck) {
   memset(ck, 0, sizeof *ck);
-  mpgm_checkpoint_path(dir, ck->path, sizeof ck->path);
-  struct stat st;
-  MPGM_CHECK(ctx, stat(dir, &st) == 0 && S_ISDIR(st.st_mode), MPGM_ERR_INPUT,
-             "--restart %s: no such folder", dir);
-  MPGM_CHECK(ctx, stat(ck->path, &st) == 0 || errno != ENOENT, MPGM_ERR_INPUT,
-             "--restart %s: the folder holds no checkpoint.mpgm (a run writes one every "
-             "output.checkpoint_every steps, that key is 0, none, by default, and when a signal "
-             "stops it)", dir);
-  char *buf;
-  size_t len;
-  MPGM_CALL(mpgm_read_file(ctx, ck->path, SIZE_MAX - 1, &buf, &len));
-  ck->blob.buf = (unsigned char *)buf;
+  snprintf(ck->path, sizeof ck->path, "%s", path);
+  ck->blob.buf = buf;
   ck->blob.len = ck->blob.cap = len;
-  int err = check_header(ctx, ck->path, ck);
+  /* every section whole before any is read: a damaged file is refused
+   * whole, naming the first section that is wrong */
+  int err = sniff(ctx, ck->path, buf, len);
+  if (!err) err = named(ctx, ck->path, mpgm_blob_verify(ctx, &ck->blob));
+  if (!err) err = check_header(ctx, ck->path, ck);
   if (!err) err = get_string(ctx, &ck->blob, "scene.file", &ck->file);
   if (!err) err = get_string(ctx, &ck->blob, "scene.json", &ck->scene_json);
   if (!err && mpgm_hash64(ck->scene_json, strlen(ck->scene_json)) != ck->scene_hash)
-    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: damaged (the scene does not "
-                       "match its hash)", ck->path);
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "%s: damaged (the scene does not "
+                       "match its hash)",
+                       ck->path);
   if (err) mpgm_checkpoint_free(ck);
-  return err;
+  return named(ctx, ck->path, err);
+}
+
+int mpgm_checkpoint_read(mpgm_ctx *ctx, const char *dir, mpgm_checkpoint *ck) {
+  memset(ck, 0, sizeof *ck);
+  char path[sizeof ck->path];
+  mpgm_checkpoint_path(dir, path, sizeof path);
+  struct stat st;
+  MPGM_CHECK(ctx, stat(dir, &st) == 0 && S_ISDIR(st.st_mode), MPGM_ERR_INPUT,
+             "--restart %s: no such folder", dir);
+  const int there = stat(path, &st) == 0;
+  MPGM_CHECK(ctx, there || errno != ENOENT, MPGM_ERR_INPUT,
+             "--restart %s: the folder holds no checkpoint.mpgm (a run writes one every "
+             "output.checkpoint_every steps, that key is 0, none, by default, and when a signal "
+             "stops it)",
+             dir);
+  /* by its name, not opened: a FIFO would block the open */
+  MPGM_CHECK(ctx, !there || S_ISREG(st.st_mode), MPGM_ERR_INPUT, "%s: is %s, not a regular file",
+             path,
+             S_ISDIR(st.st_mode)    ? "a folder"
+             : S_ISFIFO(st.st_mode) ? "a FIFO"
+             : S_ISSOCK(st.st_mode) ? "a socket"
+                                    : "a device");
+  char *buf;
+  size_t len;
+  MPGM_CALL(mpgm_read_file(ctx, path, SIZE_MAX - 1, &buf, &len));
+  return mpgm_checkpoint_parse(ctx, path, (unsigned char *)buf, len, ck);
 }
 
 int mpgm_checkpoint_restore(mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm_problem *pb, mpgm_output *o,
                             const char *dir, mpgm_run_result *res) {
   int err = mpgm_problem_restore(pb, &ck->blob);
-  if (!err) err = mpgm_output_resume(ctx, o, pb, dir, &ck->blob);
-  if (!err) err = cuts_restore(ctx, &ck->blob, res);
+  mpgm_report r;
+  mpgm_problem_report(pb, &r);
+  if (!err && r.step != ck->step)
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "checkpoint: section 'core': "
+                       "step %ld; section 'header' says %ld",
+                       r.step, ck->step);
+  if (!err) err = mpgm_output_restore(ctx, o, pb, dir, &ck->blob);
+  if (!err) err = cuts_restore(ctx, &ck->blob, ck->step, res);
   if (!err && ck->blob.pos != ck->blob.len)
-    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: %zu bytes after the last "
-                       "section (another layout)", ck->path, ck->blob.len - ck->blob.pos);
-  if (err && ctx->msg[0] && strncmp(ctx->msg, ck->path, strlen(ck->path)) != 0) {
-    char msg[sizeof ctx->msg];
-    snprintf(msg, sizeof msg, "%s", ctx->msg);
-    const int code = ctx->code;
-    mpgm_err_clear(ctx);
-    const char *why = strncmp(msg, "checkpoint: ", 12) == 0 ? msg + 12 : msg;
-    mpgm_err_set(ctx, code, __FILE__, __LINE__, "%s: %s", ck->path, why);
-  }
-  return err;
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "checkpoint: section '%s' after "
+                       "the last one this scene reads (another layout)",
+                       (const char *)ck->blob.buf + ck->blob.pos);
+  return named(ctx, ck->path, err);
 }
 
 void mpgm_checkpoint_free(mpgm_checkpoint *ck) {

@@ -32,15 +32,27 @@ void mpgm_checkpoint_path(const char *dir, char *path, size_t n);
  *  Errors: MPGM_ERR_IO, MPGM_ERR_NOMEM. */
 int mpgm_checkpoint_write(mpgm_ctx *ctx, const char *dir, const mpgm_problem *pb,
                           const mpgm_output *o, const mpgm_run_result *res);
-/** Read DIR/checkpoint.mpgm and check it: an mpgm checkpoint, of this
- *  machine's byte order and sizes, written by this very mpgm (version and
- *  commit), whole. Errors: MPGM_ERR_IO (cannot read), MPGM_ERR_INPUT
- *  ("PATH: written by mpgm X ...", "PATH: not an mpgm checkpoint"). */
+/** Read DIR/checkpoint.mpgm and check it whole (mpgm_checkpoint_parse).
+ *  A checkpoint.mpgm that is not a regular file (a FIFO, a folder) is
+ *  refused by its name, before it is opened. Errors: MPGM_ERR_IO (cannot
+ *  read), MPGM_ERR_INPUT ("PATH: ..."). */
 int mpgm_checkpoint_read(mpgm_ctx *ctx, const char *dir, mpgm_checkpoint *ck);
-/** Restore a problem just created from the checkpoint's scene, open its
- *  results folder DIR as the checkpoint left it (mpgm_output_resume) and
- *  its result's step cuts. Errors: MPGM_ERR_INPUT "PATH: ..." (another
- *  scene or layout), MPGM_ERR_IO, MPGM_ERR_NOMEM. */
+/** The checkpoint held in buf (len bytes, malloc'd: ck owns it from here,
+ *  also on failure), read as the file path: an mpgm checkpoint, every
+ *  section whole (its length within the file, its CRC-32 that of its
+ *  bytes, nothing after the last), of this machine's byte order and sizes,
+ *  written by this very mpgm (version and commit), its scene matching its
+ *  hash. Errors: MPGM_ERR_INPUT "PATH: section 'TAG' is damaged (CRC ...)",
+ *  "PATH: written by mpgm X ...", "PATH: not an mpgm checkpoint", ... */
+int mpgm_checkpoint_parse(mpgm_ctx *ctx, const char *path, unsigned char *buf, size_t len,
+                          mpgm_checkpoint *ck);
+/** Restore a problem just created from the checkpoint's scene, the output
+ *  state of its results folder DIR (mpgm_output_restore) and its result's
+ *  step cuts, every count and index checked, up to the end of the file.
+ *  Nothing is written: the folder is opened after (mpgm_output_resume),
+ *  so that a checkpoint refused here leaves it untouched. Errors:
+ *  MPGM_ERR_INPUT "PATH: ..." (another scene or layout, a section out of
+ *  range), MPGM_ERR_NOMEM. */
 int mpgm_checkpoint_restore(mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm_problem *pb, mpgm_output *o,
                             const char *dir, mpgm_run_result *res);
 void mpgm_checkpoint_free(mpgm_checkpoint *ck);

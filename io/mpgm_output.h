@@ -34,13 +34,19 @@ void mpgm_output_close(mpgm_output *o);
 /** Checkpoints: the output's state (VTK outputs and files written, the
  *  probe and step histories, the .pvd entries) into b. */
 int mpgm_output_save(const mpgm_output *o, mpgm_ctx *ctx, mpgm_blob *b);
-/** Open the results folder of a run restarted from a checkpoint: the state
- *  saved by mpgm_output_save from b; VTK files written after the
- *  checkpoint (and temporaries) are removed, the .pvd collections and the
- *  CSV histories rewritten as they were at the checkpoint. Errors:
- *  MPGM_ERR_INPUT (another layout), MPGM_ERR_IO. */
-int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir,
-                       mpgm_blob *b);
+/** A run restarted from a checkpoint, in two parts. First the state saved
+ *  by mpgm_output_save, read from b into o for the results folder dir of
+ *  pb (restored from the same checkpoint): its counts checked against pb's
+ *  step and scene, its histories row by row; nothing is written, so that
+ *  a checkpoint refused later leaves the folder as it was. Errors:
+ *  MPGM_ERR_INPUT (another layout, a damaged section), MPGM_ERR_NOMEM. */
+int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir,
+                        mpgm_blob *b);
+/** Then, once the whole checkpoint is read, the folder: VTK files written
+ *  after the checkpoint (and temporaries) are removed, summary.json too,
+ *  the .pvd collections and the CSV histories rewritten as they were at
+ *  the checkpoint. Errors: MPGM_ERR_IO. */
+int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o);
 /** output.matrices: make the output an observer of pb that writes the
  *  systems of the listed steps (Matrix Market, DIR/matrices/stepSSSS_itII_
  *  K.mtx and _b.mtx, II counting the systems of the step from 0; a retried

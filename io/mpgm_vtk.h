@@ -60,10 +60,16 @@ int mpgm_pvd_add(mpgm_pvd *pvd, mpgm_ctx *ctx, double time, const char *file);
 /** Free (accepts NULL, nulls the pointer). */
 void mpgm_pvd_destroy(mpgm_pvd **pvd);
 /** Checkpoints: the entries of a collection (NULL: none) as sections
- *  TAG.n, TAG.time, TAG.file / read back into an empty collection, which
- *  is then written. */
+ *  TAG.n, TAG.time, TAG.file / read back into an empty collection (not
+ *  written: mpgm_pvd_write, once the whole checkpoint is known good). The
+ *  entries read back are checked: their count that of their times and
+ *  names, finite times, names not empty. Errors: MPGM_ERR_INPUT. */
 int mpgm_pvd_save(const mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag);
 int mpgm_pvd_restore(mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag);
+/** Write the collection as it is (NULL: nothing). Errors: MPGM_ERR_IO. */
+int mpgm_pvd_write(mpgm_pvd *pvd, mpgm_ctx *ctx);
+/** Its entries (NULL: 0). */
+int mpgm_pvd_count(const mpgm_pvd *pvd);
 
 /** One point-data array read back from a legacy file. */
 typedef struct mpgm_vtk_array {

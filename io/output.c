@@ -5,6 +5,7 @@
 #include <cjson/cJSON.h>
 #include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -53,14 +54,34 @@ static void remove_vtk_from(const char *path, int keep) {
   closedir(dd);
 }
 
-/* mpgm_output_open, keeping the first `keep` VTK outputs (restart). */
-static int output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir,
-                       int keep) {
+/* The output of problem pb into dir, in memory: nothing is written. */
+static int output_init(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
   const mpgm_scene *scene = mpgm_problem_scene(pb);
   mpgm_cells cells;
   const int has_cells = mpgm_problem_cells(pb, &cells);
   memset(o, 0, sizeof *o);
   snprintf(o->dir, sizeof o->dir, "%s", dir);
+  char path[MPGM_PATH_LEN + 64];
+  if (scene->vtk != MPGM_VTK_NONE) {
+    snprintf(path, sizeof path, "%s/points.pvd", dir);
+    MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_points));
+    if (has_cells) {
+      snprintf(path, sizeof path, "%s/mesh.pvd", dir);
+      MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_mesh));
+    }
+  }
+  if (scene->nmatrices > 0) /* output.matrices */
+    snprintf(o->matrices_dir, sizeof o->matrices_dir, "%s/matrices", dir);
+  /* ux, uy of every probe; dynamic runs add vx, vy of every probe */
+  o->ncol = (scene->analysis == MPGM_ANALYSIS_STATIC ? 2 : 4) * mpgm_problem_points(pb)->nprobe;
+  o->scene = scene;
+  return 0;
+}
+
+/* The results folder made ready for the output o, keeping its first
+ * `keep` VTK outputs (a restart): the first writes into it. */
+static int output_folder(mpgm_ctx *ctx, const mpgm_output *o, int keep) {
+  const char *dir = o->dir;
   MPGM_CALL(mpgm_mkdir_p(ctx, dir));
   char path[MPGM_PATH_LEN + 64];
   /* an earlier run's summary.json must not stand for this run's should it
@@ -68,32 +89,26 @@ static int output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, co
   snprintf(path, sizeof path, "%s/summary.json", dir);
   MPGM_CHECK(ctx, remove(path) == 0 || errno == ENOENT, MPGM_ERR_IO, "%s: cannot remove: %s", path,
              strerror(errno));
-  if (scene->vtk != MPGM_VTK_NONE) {
+  if (o->scene->vtk != MPGM_VTK_NONE) {
     snprintf(path, sizeof path, "%s/vtk", dir);
     MPGM_CALL(mpgm_mkdir_p(ctx, path));
     /* stale files of an earlier run in the same folder would mix series */
     remove_vtk_from(path, keep);
-    snprintf(path, sizeof path, "%s/points.pvd", dir);
-    MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_points));
-    if (has_cells) {
+    if (o->pvd_mesh) {
       snprintf(path, sizeof path, "%s/mesh.pvd", dir);
       remove(path);
-      MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_mesh));
     }
   }
-  if (scene->nmatrices > 0) { /* output.matrices; no systems of an earlier run */
-    snprintf(o->matrices_dir, sizeof o->matrices_dir, "%s/matrices", dir);
+  if (o->matrices_dir[0]) { /* no systems of an earlier run */
     MPGM_CALL(mpgm_mkdir_p(ctx, o->matrices_dir));
     if (keep == 0) MPGM_CALL(mpgm_remove_files(ctx, o->matrices_dir, "step", ".mtx"));
   }
-  /* ux, uy of every probe; dynamic runs add vx, vy of every probe */
-  o->ncol = (scene->analysis == MPGM_ANALYSIS_STATIC ? 2 : 4) * mpgm_problem_points(pb)->nprobe;
-  o->scene = scene;
   return 0;
 }
 
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
-  return output_open(ctx, o, pb, dir, 0);
+  MPGM_CALL(output_init(ctx, o, pb, dir));
+  return output_folder(ctx, o, 0);
 }
 
 /* The tallies, the histories and the .pvd entries. */
@@ -108,23 +123,76 @@ int mpgm_output_save(const mpgm_output *o, mpgm_ctx *ctx, mpgm_blob *b) {
   return mpgm_pvd_save(o->pvd_mesh, ctx, b, "out.pvd_mesh");
 }
 
-int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir,
-                       mpgm_blob *b) {
+/* A history read back: rows rows of width doubles, section tag, into a
+ * table (its size checked against the section's before it is made); row
+ * r is of step r + first. */
+static int table_restore(mpgm_ctx *ctx, mpgm_blob *b, const char *tag, int rows, int width,
+                         int first, double **buf, int *n, int *cap) {
+  size_t len;
+  MPGM_CALL(mpgm_blob_peek(ctx, b, tag, &len));
+  MPGM_CHECK(ctx, len == sizeof(double) * (size_t)rows * (size_t)width, MPGM_ERR_INPUT,
+             "checkpoint: section '%s' holds %zu bytes; %d rows of %d numbers are %zu", tag, len,
+             rows, width, sizeof(double) * (size_t)rows * (size_t)width);
+  double *row;
+  for (int i = 0; i < rows; i++) MPGM_CALL(table_push(ctx, buf, n, cap, width, &row));
+  MPGM_CALL(mpgm_blob_get(ctx, b, tag, *buf, len));
+  for (int i = 0; i < rows; i++) /* the step first: written as an integer */
+    MPGM_CHECK(ctx, (*buf)[(size_t)width * i] == (double)(i + first), MPGM_ERR_INPUT,
+               "checkpoint: section '%s': row %d is of step %g, not %d", tag, i,
+               (*buf)[(size_t)width * i], i + first);
+  return 0;
+}
+
+int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir,
+                        mpgm_blob *b) {
+  MPGM_CALL(output_init(ctx, o, pb, dir));
   int n[5];
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.counts", n, sizeof n));
-  MPGM_CALL(output_open(ctx, o, pb, dir, n[0]));
-  MPGM_CHECK(ctx, n[0] >= 0 && n[2] >= 0 && n[3] >= 0 && n[4] == 2 + o->ncol, MPGM_ERR_INPUT,
+  mpgm_report r;
+  mpgm_problem_report(pb, &r);
+  /* a row of probes at the start and after every step, a row of steps
+   * after every step; a VTK output at most at each of those rows, each of
+   * points and mesh (when there are cells) */
+  const int per = o->pvd_points ? 1 + (o->pvd_mesh != NULL) : 0;
+  MPGM_CHECK(ctx, n[4] == 2 + o->ncol, MPGM_ERR_INPUT,
              "checkpoint: output of %d probe columns, this scene has %d", n[4] - 2, o->ncol);
+  MPGM_CHECK(ctx, (long)n[2] == r.step + 1 && (long)n[3] == r.step, MPGM_ERR_INPUT,
+             "checkpoint: "
+             "section 'out.counts': %d rows of probes and %d of steps after step %ld",
+             n[2], n[3], r.step);
+  MPGM_CHECK(ctx,
+             n[0] >= 0 && n[0] <= n[2] && (per ? 1 : n[0] == 0) && (long)n[1] == (long)per * n[0],
+             MPGM_ERR_INPUT,
+             "checkpoint: section "
+             "'out.counts': %d VTK outputs of %d files (%d files each) over %d rows",
+             n[0], n[1], per, n[2]);
   o->nvtk = n[0], o->files = n[1];
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.mtx", &o->mtx_written, sizeof o->mtx_written));
+  MPGM_CHECK(ctx, o->mtx_written >= 0 && o->mtx_written <= LONG_MAX / 2, MPGM_ERR_INPUT,
+             "checkpoint: section 'out.mtx': %ld "
+             "systems written",
+             o->mtx_written);
   MPGM_CALL(mpgm_blob_get(ctx, b, "out.ref_acc", o->ref_acc, sizeof o->ref_acc));
-  double *row;
-  for (int i = 0; i < n[2]; i++) MPGM_CALL(table_push(ctx, &o->hist, &o->nrow, &o->caprow, n[4], &row));
-  MPGM_CALL(mpgm_blob_get(ctx, b, "out.probes", o->hist, sizeof(double) * (size_t)(n[2] * n[4])));
-  for (int i = 0; i < n[3]; i++) MPGM_CALL(table_push(ctx, &o->steps, &o->nstep, &o->capstep, STEP_COLS, &row));
-  MPGM_CALL(mpgm_blob_get(ctx, b, "out.steps", o->steps, sizeof(double) * (size_t)(n[3] * STEP_COLS)));
+  MPGM_CALL(table_restore(ctx, b, "out.probes", n[2], n[4], 0, &o->hist, &o->nrow, &o->caprow));
+  MPGM_CALL(
+      table_restore(ctx, b, "out.steps", n[3], STEP_COLS, 1, &o->steps, &o->nstep, &o->capstep));
   MPGM_CALL(mpgm_pvd_restore(o->pvd_points, ctx, b, "out.pvd_points"));
   MPGM_CALL(mpgm_pvd_restore(o->pvd_mesh, ctx, b, "out.pvd_mesh"));
+  MPGM_CHECK(ctx,
+             mpgm_pvd_count(o->pvd_points) == (per ? o->nvtk : 0) &&
+                 mpgm_pvd_count(o->pvd_mesh) == (per == 2 ? o->nvtk : 0),
+             MPGM_ERR_INPUT,
+             "checkpoint: section 'out.pvd_points': %d and %d entries of points "
+             "and mesh for %d VTK outputs",
+             mpgm_pvd_count(o->pvd_points), mpgm_pvd_count(o->pvd_mesh), o->nvtk);
+  return 0;
+}
+
+int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o) {
+  MPGM_CALL(output_folder(ctx, o, o->nvtk));
+  /* the collections as the checkpoint has them */
+  MPGM_CALL(mpgm_pvd_write(o->pvd_points, ctx));
+  MPGM_CALL(mpgm_pvd_write(o->pvd_mesh, ctx));
   /* the histories as the checkpoint has them: rows a stopped run wrote
    * after it are gone */
   MPGM_CALL(mpgm_output_probes_write(ctx, o));

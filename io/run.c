@@ -347,12 +347,18 @@ static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, run_state *rs
 }
 
 /* The results folder of a run: a new one, or, for a restart, the
- * checkpoint's state restored into pb, o and res. */
+ * checkpoint's state restored into pb, o and res, all of it read and
+ * checked before the folder is touched (a checkpoint refused leaves every
+ * file of the folder as it was). */
 static int start(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, const char *dir,
                  const mpgm_run_opts *opts, mpgm_run_result *res) {
   memset(o, 0, sizeof *o);
-  if (opts && opts->restart) MPGM_CALL(mpgm_checkpoint_restore(ctx, opts->restart, pb, o, dir, res));
-  else MPGM_CALL(mpgm_output_open(ctx, o, pb, dir));
+  if (opts && opts->restart) {
+    MPGM_CALL(mpgm_checkpoint_restore(ctx, opts->restart, pb, o, dir, res));
+    MPGM_CALL(mpgm_output_resume(ctx, o));
+  } else {
+    MPGM_CALL(mpgm_output_open(ctx, o, pb, dir));
+  }
   return mpgm_output_observe(ctx, o, pb);
 }
 

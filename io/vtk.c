@@ -376,22 +376,38 @@ int mpgm_pvd_restore(mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag
   size_t len;
   snprintf(t, sizeof t, "%s.n", tag);
   MPGM_CALL(mpgm_blob_get(ctx, b, t, &n, sizeof n));
-  MPGM_CHECK(ctx, n >= 0 && (pvd || n == 0), MPGM_ERR_INPUT, "checkpoint: %s: %d entries", tag, n);
+  MPGM_CHECK(ctx, n >= 0 && (pvd ? pvd->n == 0 : n == 0), MPGM_ERR_INPUT,
+             "checkpoint: section '%s': %d entries%s", t, n, pvd ? "" : " of no collection");
+  /* the sizes before any allocation: a count is only as good as its data */
+  snprintf(t, sizeof t, "%s.time", tag);
+  MPGM_CALL(mpgm_blob_peek(ctx, b, t, &len));
+  MPGM_CHECK(ctx, len == sizeof(double) * (size_t)n, MPGM_ERR_INPUT,
+             "checkpoint: section '%s' "
+             "holds %zu bytes, %d entries need %zu",
+             t, len, n, sizeof(double) * (size_t)n);
   double *time = malloc(sizeof(double) * (size_t)(n ? n : 1));
   MPGM_CHECK(ctx, time, MPGM_ERR_NOMEM, "out of memory (checkpoint)");
-  snprintf(t, sizeof t, "%s.time", tag);
   int err = mpgm_blob_get(ctx, b, t, time, sizeof(double) * (size_t)n);
+  for (int i = 0; !err && i < n; i++)
+    if (!isfinite(time[i]))
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                         "checkpoint: section '%s': "
+                         "entry %d at time %g, not a finite number",
+                         t, i, time[i]);
   snprintf(t, sizeof t, "%s.file", tag);
   if (!err) err = mpgm_blob_peek(ctx, b, t, &len);
   char *names = err ? NULL : malloc(len + 1);
   if (!err && !names) err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
   if (!err) err = mpgm_blob_get(ctx, b, t, names, len);
   if (!err) names[len] = '\0';
-  /* the entries again, then the collection written once */
+  /* the entries again: n names, none empty, and nothing after them */
   const char *p = names;
   for (int i = 0; !err && i < n; i++) {
-    if ((size_t)(p - names) >= len) {
-      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "checkpoint: %s: %d names", tag, i);
+    if ((size_t)(p - names) >= len || !*p) {
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                         "checkpoint: section '%s': "
+                         "%d names of files for %d entries",
+                         t, i, n);
       break;
     }
     char *name = strdup(p);
@@ -404,10 +420,22 @@ int mpgm_pvd_restore(mpgm_pvd *pvd, mpgm_ctx *ctx, mpgm_blob *b, const char *tag
     pvd->file[pvd->n++] = name;
     p += strlen(p) + 1;
   }
-  if (!err && pvd) err = pvd_write(pvd, ctx);
+  if (!err && (size_t)(p - names) != len)
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                       "checkpoint: section '%s': %zu "
+                       "bytes after the names of its %d entries",
+                       t, len - (size_t)(p - names), n);
   free(time);
   free(names);
   return err;
+}
+
+int mpgm_pvd_write(mpgm_pvd *pvd, mpgm_ctx *ctx) {
+  return pvd ? pvd_write(pvd, ctx) : 0;
+}
+
+int mpgm_pvd_count(const mpgm_pvd *pvd) {
+  return pvd ? pvd->n : 0;
 }
 
 /* See mpgm_vtk.h. */

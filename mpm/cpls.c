@@ -85,8 +85,8 @@ static int grow_gather(mpgm_ctx *ctx, mpgm_cpls *c, int n) {
 
 /* The cell (i, j) of a position, clamped to the grid. */
 static inline void cell_of(const mpgm_grid *g, const double *x, int *i, int *j) {
-  *i = (int)floor((x[0] - g->min[0]) / g->h);
-  *j = (int)floor((x[1] - g->min[1]) / g->h);
+  *i = mpgm_grid_line(g, 0, x[0]);
+  *j = mpgm_grid_line(g, 1, x[1]);
   *i = *i < 0 ? 0 : *i >= g->nx ? g->nx - 1 : *i;
   *j = *j < 0 ? 0 : *j >= g->ny ? g->ny - 1 : *j;
 }

@@ -1,6 +1,7 @@
 /* mpm.c -- the grid-reset front end (mpgm_mpm.h). */
 #include "mpgm_mpm.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -373,18 +374,18 @@ static int grid_point(void *arg, int p, mpgm_conn_task *t) {
     mpgm_point_domain(P, p, r);
     dom = r;
   }
-  int i0 = (int)floor((x[0] - g->min[0]) / g->h) - 1, j0 = (int)floor((x[1] - g->min[1]) / g->h) - 1;
+  int i0 = mpgm_grid_line(g, 0, x[0]) - 1, j0 = mpgm_grid_line(g, 1, x[1]) - 1;
   int i1 = i0 + 3, j1 = j0 + 3;
   const char *why = NULL;
   if (v->scene->shape->domain) { /* 2-D only: the box's extents in x and y */
     const double ex = dom ? fabs(dom[0]) + fabs(dom[2]) : 0.0;
     const double ey = dom ? fabs(dom[1]) + fabs(dom[3]) : 0.0;
     const int pad = j->d->gpar.grid_order == 2; /* the splines reach 1.5 h */
-    i0 = (int)floor((x[0] - ex - g->min[0]) / g->h) - pad;
-    i1 = (int)floor((x[0] + ex - g->min[0]) / g->h) + 1 + pad;
-    j0 = (int)floor((x[1] - ey - g->min[1]) / g->h) - pad;
-    j1 = (int)floor((x[1] + ey - g->min[1]) / g->h) + 1 + pad;
-    if ((long)(i1 - i0 + 1) * (j1 - j0 + 1) > MPGM_SHAPE_MAXNODE)
+    i0 = mpgm_grid_line(g, 0, x[0] - ex) - pad;
+    i1 = mpgm_grid_line(g, 0, x[0] + ex) + 1 + pad;
+    j0 = mpgm_grid_line(g, 1, x[1] - ey) - pad;
+    j1 = mpgm_grid_line(g, 1, x[1] + ey) + 1 + pad;
+    if (((long)i1 - i0 + 1) * ((long)j1 - j0 + 1) > MPGM_SHAPE_MAXNODE)
       why = "the particle's domain spans more grid nodes than a point may have (MPGM_SHAPE_MAXNODE)";
   }
   int id[MPGM_SHAPE_MAXNODE], n = 0, err = MPGM_ERR_SHAPE, clamped = 0;
@@ -672,11 +673,23 @@ static int mpm_save(const void *self, mpgm_ctx *ctx, mpgm_blob *b) {
   return d->clouds ? mpgm_clouds_save(d->clouds, ctx, b) : 0;
 }
 
-static int mpm_restore(void *self, mpgm_ctx *ctx, mpgm_blob *b) {
+static int mpm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
   mpm_data *d = self;
+  mpgm_ctx *ctx = v->ctx;
   MPGM_CALL(mpgm_blob_get(ctx, b, "mpm.gfree", d->gfree, (size_t)d->g.nnode));
+  for (int i = 0; i < d->g.nnode; i++)
+    MPGM_CHECK(ctx, d->gfree[i] <= 1, MPGM_ERR_INPUT,
+               "checkpoint: section 'mpm.gfree': grid node "
+               "%d holds %d (0 or 1)",
+               i, d->gfree[i]);
   MPGM_CALL(mpgm_blob_get(ctx, b, "mpm.step", &d->step, sizeof d->step));
-  return d->clouds ? mpgm_clouds_restore(d->clouds, ctx, b) : 0;
+  /* steps begun: the steps done and those retried */
+  MPGM_CHECK(ctx, d->step >= v->step && d->step <= LONG_MAX / 2, MPGM_ERR_INPUT,
+             "checkpoint: section 'mpm.step': %ld steps "
+             "begun, %ld done",
+             d->step, v->step);
+  const mpgm_points *P = v->pts;
+  return d->clouds ? mpgm_clouds_restore(d->clouds, ctx, b, P->n + P->nprobe + P->nsurf) : 0;
 }
 
 const mpgm_frontend_type mpgm_frontend_mpm = {

@@ -7,6 +7,7 @@ MPGM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 MPGM_PACKAGES=(
   build-essential cmake pkg-config
   libsuitesparse-dev libgsl-dev libcjson-dev
+  zlib1g-dev             # CRC-32 of checkpoint sections (base/blob.c)
   libopenblas0-pthread   # fast BLAS for SuiteSparse (Debian's default is the reference BLAS)
   petsc-dev              # solver.linear "petsc": PETSc 3.18 with hypre, MUMPS and Open MPI
   python3 python3-vtk9   # tests read our VTK files with VTK's own reader, as ParaView does

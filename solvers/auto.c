@@ -21,6 +21,7 @@
  */
 #include "mpgm_solver.h"
 
+#include <limits.h>
 #include <stdlib.h>
 
 extern const mpgm_solver_type mpgm_solver_cholmod;
@@ -170,6 +171,15 @@ static int auto_restore(void *data, mpgm_ctx *ctx, mpgm_blob *b) {
   auto_data *d = data;
   auto_state st;
   MPGM_CALL(mpgm_blob_get(ctx, b, "solver.auto", &st, sizeof st));
+  MPGM_CHECK(ctx,
+             (st.on_lu == 0 || st.on_lu == 1) && (st.has_chol == 0 || st.has_chol == 1) &&
+                 st.hold >= 0 && st.hold <= HOLD_MAX && st.hold_len >= 0 &&
+                 st.hold_len <= HOLD_MAX && st.switches >= 0 && st.switches <= LONG_MAX / 2 &&
+                 st.lu_steps >= 0 && st.lu_steps <= LONG_MAX / 2,
+             MPGM_ERR_INPUT,
+             "checkpoint: section 'solver.auto': out of range (LU %d, Cholesky %d, "
+             "hold %d of %d, %ld switches, %ld LU steps)",
+             st.on_lu, st.has_chol, st.hold, st.hold_len, st.switches, st.lu_steps);
   if (!st.has_chol) mpgm_solver_destroy(&d->chol); /* a matrix was not symmetric */
   if (st.on_lu && !d->lu) MPGM_CALL(mpgm_solver_create(ctx, &mpgm_solver_umfpack, &d->opts, &d->lu));
   d->active = st.on_lu ? d->lu : d->chol;
