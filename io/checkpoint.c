@@ -256,15 +256,10 @@ int mpgm_checkpoint_read(mpgm_ctx *ctx, const char *dir, mpgm_checkpoint *ck) {
              "output.checkpoint_every steps, that key is 0, none, by default, and when a signal "
              "stops it)",
              dir);
-  /* by its name, not opened: a FIFO would block the open */
-  MPGM_CHECK(ctx, !there || S_ISREG(st.st_mode), MPGM_ERR_INPUT, "%s: is %s, not a regular file",
-             path,
-             S_ISDIR(st.st_mode)    ? "a folder"
-             : S_ISFIFO(st.st_mode) ? "a FIFO"
-             : S_ISSOCK(st.st_mode) ? "a socket"
-                                    : "a device");
   char *buf;
   size_t len;
+  /* a FIFO, device or folder is refused by its name, never opened
+   * (mpgm_read_file) */
   MPGM_CALL(mpgm_read_file(ctx, path, SIZE_MAX - 1, &buf, &len));
   return mpgm_checkpoint_parse(ctx, path, (unsigned char *)buf, len, ck);
 }

@@ -113,7 +113,7 @@ damaged "a whole section's worth of zeros appended" fem "section [0-9]+ \(at byt
   sh -c "head -c 64 /dev/zero >> $ck"
 damaged "an empty file" fem "not an mpgm checkpoint \(an empty file\)" \
   sh -c ": > $ck"
-damaged "a FIFO in place of the checkpoint" fem "checkpoint.mpgm: is a FIFO, not a regular file" \
+damaged "a FIFO in place of the checkpoint" fem "checkpoint.mpgm: is a pipe or FIFO, not a regular file" \
   sh -c "rm $ck && mkfifo $ck"
 damaged "a folder in place of the checkpoint" fem "checkpoint.mpgm: is a folder, not a regular file" \
   sh -c "rm $ck && mkdir $ck"
