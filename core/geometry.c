@@ -1,5 +1,6 @@
 /* geometry.c -- body geometries of a scene: point-in-body test, bounding
- * box, and the validation of polygons (simple, with area).
+ * box, area, perimeter and width, and the validation of polygons (simple,
+ * with area).
  *
  * 2-D only: the bodies are disks, rectangles and polygons of the plane,
  * written out in x and y (polygon vertices are (x, y) pairs); 3-D adds
@@ -118,6 +119,43 @@ int mpgm_body_contains(const mpgm_scene_body *b, const double x[MPGM_DIM]) {
     return x[0] >= b->min[0] - tol && x[0] <= b->max[0] + tol && x[1] >= b->min[1] - tol &&
            x[1] <= b->max[1] + tol;
   }
+  }
+}
+
+/* ------------------------------------------------------------- measures */
+
+double mpgm_body_area(const mpgm_scene_body *b) {
+  switch (b->geometry) {
+  case MPGM_GEOM_DISK: return GEOM_PI * b->radius * b->radius;
+  case MPGM_GEOM_RING:
+    return 0.5 * (b->angle[1] - b->angle[0]) * (b->radius * b->radius - b->radius_in * b->radius_in);
+  case MPGM_GEOM_POLYGON: return fabs(mpgm_polygon_area(b->points, b->npoints));
+  default: return (b->max[0] - b->min[0]) * (b->max[1] - b->min[1]);
+  }
+}
+
+double mpgm_body_width(const mpgm_scene_body *b) {
+  if (b->geometry == MPGM_GEOM_DISK) return 2.0 * b->radius;
+  if (b->geometry == MPGM_GEOM_RING) return b->radius - b->radius_in;
+  return fmin(b->max[0] - b->min[0], b->max[1] - b->min[1]);
+}
+
+double mpgm_body_perimeter(const mpgm_scene_body *b) {
+  switch (b->geometry) {
+  case MPGM_GEOM_DISK: return 2.0 * GEOM_PI * b->radius;
+  case MPGM_GEOM_RING: {
+    const double a = b->angle[1] - b->angle[0];
+    return a * (b->radius + b->radius_in) + (a < 2.0 * GEOM_PI ? 2.0 * (b->radius - b->radius_in) : 0.0);
+  }
+  case MPGM_GEOM_POLYGON: {
+    double p = 0.0;
+    for (int i = 0; i < b->npoints; i++) {
+      const int j = (i + 1) % b->npoints;
+      p += hypot(b->points[2 * j] - b->points[2 * i], b->points[2 * j + 1] - b->points[2 * i + 1]);
+    }
+    return p;
+  }
+  default: return 2.0 * (b->max[0] - b->min[0] + b->max[1] - b->min[1]);
   }
 }
 

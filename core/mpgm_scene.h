@@ -367,6 +367,14 @@ int mpgm_body_contains(const mpgm_scene_body *b, const double x[MPGM_DIM]);
  *  corners, disk centre and radius, polygon vertices). */
 void mpgm_body_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max[MPGM_DIM]);
 
+/** Area [m^2], perimeter [m] and narrowest extent [m] (the diameter of a
+ *  disk, the radial width of a ring, the shorter side of the bounding box
+ *  otherwise) of body b, from its geometry data (the memory estimate,
+ *  io/scene_size.c). */
+double mpgm_body_area(const mpgm_scene_body *b);
+double mpgm_body_perimeter(const mpgm_scene_body *b);
+double mpgm_body_width(const mpgm_scene_body *b);
+
 /** Signed area of the polygon p (n points x0, y0, x1, y1, ...) [m^2];
  *  > 0 when counter-clockwise. */
 double mpgm_polygon_area(const double *p, int n);

@@ -50,45 +50,6 @@
  * cantilever's Q4 strip). */
 #define FILL_LOG 4.0
 
-/* The area of body b [m^2]. */
-static double body_area(const mpgm_scene_body *b) {
-  switch (b->geometry) {
-  case MPGM_GEOM_DISK: return 3.14159265358979323846 * b->radius * b->radius;
-  case MPGM_GEOM_RING:
-    return 0.5 * (b->angle[1] - b->angle[0]) * (b->radius * b->radius - b->radius_in * b->radius_in);
-  case MPGM_GEOM_POLYGON: return fabs(mpgm_polygon_area(b->points, b->npoints));
-  default: return (b->max[0] - b->min[0]) * (b->max[1] - b->min[1]);
-  }
-}
-
-/* The narrowest extent of body b [m]: what a factorisation's separators
- * span. */
-static double body_width(const mpgm_scene_body *b) {
-  if (b->geometry == MPGM_GEOM_DISK) return 2.0 * b->radius;
-  if (b->geometry == MPGM_GEOM_RING) return b->radius - b->radius_in;
-  return fmin(b->max[0] - b->min[0], b->max[1] - b->min[1]);
-}
-
-/* The perimeter of body b [m]. */
-static double body_perimeter(const mpgm_scene_body *b) {
-  switch (b->geometry) {
-  case MPGM_GEOM_DISK: return 2.0 * 3.14159265358979323846 * b->radius;
-  case MPGM_GEOM_RING: {
-    const double a = b->angle[1] - b->angle[0];
-    return a * (b->radius + b->radius_in) + (a < 6.283185307179586 ? 2.0 * (b->radius - b->radius_in) : 0.0);
-  }
-  case MPGM_GEOM_POLYGON: {
-    double p = 0.0;
-    for (int i = 0; i < b->npoints; i++) {
-      const int j = (i + 1) % b->npoints;
-      p += hypot(b->points[2 * j] - b->points[2 * i], b->points[2 * j + 1] - b->points[2 * i + 1]);
-    }
-    return p;
-  }
-  default: return 2.0 * (b->max[0] - b->min[0] + b->max[1] - b->min[1]);
-  }
-}
-
 /* A meshfree kind's clouds (MLS, LME): a point's nodes, and the nodes a
  * node is coupled to, on bodies of area `area` and perimeter `perim`:
  * the support disk of radius r (a disk of radius 1.5 r for the coupling,
@@ -115,12 +76,12 @@ static void size_counts(const mpgm_scene *s, mpgm_size *z) {
   const double cells_per_area = (s->cell == MPGM_CELL_Q4 ? 1.0 : 2.0) / (s->h * s->h);
   double area = 0.0, perim = 0.0, big = 0.0, width = 0.0;
   for (int b = 0; b < s->nbody; b++) {
-    const double a = body_area(&s->bodies[b]);
+    const double a = mpgm_body_area(&s->bodies[b]);
     area += a;
-    perim += body_perimeter(&s->bodies[b]);
+    perim += mpgm_body_perimeter(&s->bodies[b]);
     if (a > big) {
       big = a;
-      width = body_width(&s->bodies[b]);
+      width = mpgm_body_width(&s->bodies[b]);
     }
   }
   z->points = cells_per_area * s->ppc * area;
