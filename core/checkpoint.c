@@ -201,8 +201,8 @@ static int check_core(const mpgm_problem *pb, const core_state *cs) {
              cs->step, cs->newton_total, cs->step_cuts, cs->contact_rounds, cs->last.nhist);
   const mpgm_stepper *sp = &cs->sp;
   const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
-  const double end = dyn ? s->t_end : 1.0;
-  const double dt0 = !dyn ? 1.0 / s->load_steps : s->dt > 0.0 ? s->dt : s->t_end; /* run.c */
+  double end, dt0;
+  mpgm_run_span(s, &end, &dt0);
   MPGM_CHECK(ctx, sp->end == end && sp->dt0 == dt0, MPGM_ERR_INPUT,
              "checkpoint: section 'core': "
              "a run to %.17g in steps of %.17g; this scene runs to %.17g in steps of %.17g",

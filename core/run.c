@@ -55,6 +55,14 @@ static void log_split(const mpgm_problem *pb, const double *before) {
   mpgm_log(ctx, MPGM_LOG_INFO, "%s", line);
 }
 
+void mpgm_run_span(const mpgm_scene *s, double *end, double *dt0) {
+  const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
+  *end = dyn ? s->t_end : 1.0;
+  /* the step: time step, or load increment (t then counts load, 0 to 1);
+   * an explicit run without time.dt takes each step from the CFL limit */
+  *dt0 = !dyn ? 1.0 / s->load_steps : s->dt > 0.0 ? s->dt : s->t_end;
+}
+
 /* The next step's size; 1 when it ends on an output time, -1 when the
  * integrator refuses the step (its dt_limit NAN: the reason in the
  * context); the integrator's limit in *limit. */
@@ -102,27 +110,29 @@ static void cut(mpgm_problem *pb, mpgm_stepper *sp, long k, int err, mpgm_run_re
   pb->factor_valid = 0; /* the tangent of another step size */
 }
 
-/* Step k failed for good: the run's failure message. */
-static void failed(mpgm_problem *pb, long k, int err, mpgm_run_result *res) {
-  const mpgm_scene *s = pb->scene;
-  snprintf(res->message, sizeof res->message, "step %ld (%s %.9g) failed: %s%s%s", k,
-           s->analysis != MPGM_ANALYSIS_STATIC ? "t =" : "load factor", pb->t + pb->dt, pb->ctx->msg,
-           made(pb->ctx, k, err),
-           err > 0 && s->max_cuts > 0 ? " (at the smallest step allowed, the scene's halved "
-                                        "time.max_cuts times)" : "");
+/* The run failed for good at step k, at t, for the reason in the context
+ * and the note after it: the run's failure message. */
+static void fail_at(mpgm_problem *pb, long k, double t, const char *note, mpgm_run_result *res) {
+  snprintf(res->message, sizeof res->message, "step %ld (%s %.9g) failed: %s%s", k,
+           pb->scene->analysis != MPGM_ANALYSIS_STATIC ? "t =" : "load factor", t, pb->ctx->msg, note);
   res->failed = 1;
   res->failed_step = k;
+}
+
+/* Step k failed for good (its step cut as far as the scene allows). */
+static void failed(mpgm_problem *pb, long k, int err, mpgm_run_result *res) {
+  char note[160];
+  snprintf(note, sizeof note, "%s%s", made(pb->ctx, k, err),
+           err > 0 && pb->scene->max_cuts > 0 ? " (at the smallest step allowed, the scene's halved "
+                                                "time.max_cuts times)" : "");
+  fail_at(pb, k, pb->t + pb->dt, note, res);
 }
 
 /* The run stopped at step k for good by one of its bounds (the reason in
  * the context) at t: the step was not taken (t its start), or was taken
  * and is not kept (t its end: the energy balance). */
 static void stopped(mpgm_problem *pb, long k, double t, mpgm_run_result *res) {
-  const int dyn = pb->scene->analysis != MPGM_ANALYSIS_STATIC;
-  snprintf(res->message, sizeof res->message, "step %ld (%s %.9g) failed: %s", k,
-           dyn ? "t =" : "load factor", t, pb->ctx->msg);
-  res->failed = 1;
-  res->failed_step = k;
+  fail_at(pb, k, t, "", res);
 }
 
 /* Before step k: time.max_steps, which it may not pass before the end,
@@ -170,15 +180,13 @@ static int after_step(mpgm_problem *pb, const mpgm_run_control *rc, int on_time,
 int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_result *res) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
-  const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
   mpgm_stepper *sp = &pb->sp;
   if (!pb->resumed) { /* a restored problem continues its result and steps */
     memset(res, 0, sizeof *res);
     res->failed_step = -1;
-    /* the step: time step, or load increment (t then counts load, 0 to 1) */
-    /* (an explicit run without time.dt: each step from the CFL limit) */
-    const double dt0 = !dyn ? 1.0 / s->load_steps : s->dt > 0.0 ? s->dt : s->t_end;
-    *sp = (mpgm_stepper){.end = dyn ? s->t_end : 1.0, .dt0 = dt0, .wait = s->grow_after};
+    double end, dt0;
+    mpgm_run_span(s, &end, &dt0);
+    *sp = (mpgm_stepper){.end = end, .dt0 = dt0, .wait = s->grow_after};
     sp->dt_now = sp->dt0;
     pb->dt = sp->dt0;
   }

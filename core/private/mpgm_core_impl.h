@@ -407,5 +407,10 @@ int mpgm_contact_update(mpgm_problem *pb);
  *  factorisation): after a checkpoint is written or restored
  *  (checkpoint.c), so that both runs rebuild them from the same state. */
 void mpgm_problem_drop_rebuilt(mpgm_problem *pb);
+/** Where the run of scene s ends (time.end, or load factor 1) and its
+ *  step before any cut (time.dt, 1 / load_steps, or time.end when the CFL
+ *  limit gives the steps): the step control's start (run.c), which a
+ *  checkpoint must match (checkpoint.c). */
+void mpgm_run_span(const mpgm_scene *s, double *end, double *dt0);
 
 #endif
