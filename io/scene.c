@@ -17,6 +17,8 @@ static const char *const node_motion_names[] = {"coefficient", "interpolated", N
 static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", "explicit", NULL};
 static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
+static const char *const format_names[] = {"vtu", "vtk", "xdmf", NULL}; /* = mpgm_format bits */
+static const char *const compress_names[] = {"none", "zlib", NULL};    /* = mpgm_compress */
 static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
                                           "volume", "J", "material", "acceleration", "id", "eps_p",
                                           NULL};
@@ -335,6 +337,37 @@ static int read_matrices(jr_node *o, mpgm_scene *s) {
   return 0;
 }
 
+/* output.format: one format name or an array of them (each once); the
+ * resolved scene holds the array. */
+static int read_formats(jr_node *o, mpgm_scene *s) {
+  const cJSON *v = jr_override_json(o, "format");
+  if (!v) v = jr_raw(o, "format");
+  else jr_raw(o, "format");
+  s->formats = MPGM_FORMAT_VTU;
+  if (v) {
+    if (!cJSON_IsString(v) && !(cJSON_IsArray(v) && v->child))
+      return jr_fail(o, "format", "expected \"vtu\", \"vtk\" or \"xdmf\", or a non-empty array "
+                     "of them, found %s", jr_type(v));
+    s->formats = 0;
+    for (const cJSON *c = cJSON_IsArray(v) ? v->child : v; c; c = cJSON_IsArray(v) ? c->next : NULL) {
+      int k = -1;
+      for (int i = 0; format_names[i] && cJSON_IsString(c); i++)
+        if (strcmp(format_names[i], c->valuestring) == 0) k = i;
+      if (k < 0)
+        return jr_fail(o, "format", "expected the formats vtu, vtk or xdmf, found %s%s%s%s", jr_type(c),
+                       cJSON_IsString(c) ? " \"" : "", cJSON_IsString(c) ? c->valuestring : "",
+                       cJSON_IsString(c) ? "\"" : "");
+      if (s->formats & (1u << k))
+        return jr_fail(o, "format", "expected each format once, found \"%s\" twice", format_names[k]);
+      s->formats |= 1u << k;
+    }
+  }
+  cJSON *a = cJSON_AddArrayToObject(o->out, "format");
+  for (int i = 0; format_names[i]; i++)
+    if (s->formats & (1u << i)) cJSON_AddItemToArray(a, cJSON_CreateString(format_names[i]));
+  return 0;
+}
+
 static int read_output(jr_node *root, mpgm_scene *s) {
   jr_node o;
   MPGM_CALL(jr_child(root, "output", 0, &o));
@@ -351,6 +384,8 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_int(&o, "every", 1, 1, 1 << 30, &s->every));
   MPGM_CALL(jr_int(&o, "checkpoint_every", 0, 0, 1 << 30, &s->checkpoint_every));
   MPGM_CALL(jr_enum(&o, "vtk", vtk_names, MPGM_VTK_OUT_BINARY, &s->vtk));
+  MPGM_CALL(read_formats(&o, s));
+  MPGM_CALL(jr_enum(&o, "compress", compress_names, MPGM_COMPRESS_NONE, &s->compress));
   const cJSON *f = jr_override_json(&o, "fields");
   if (!f) f = jr_raw(&o, "fields");
   else jr_raw(&o, "fields");
