@@ -84,7 +84,11 @@ typedef enum {
   MPGM_FIELD_ID = 1 << 8,
   MPGM_FIELD_EPS_P = 1 << 9, /**< equivalent plastic strain; written only
                                   when a material of the scene is plastic */
-  MPGM_FIELD_ALL = (1 << 10) - 1
+  MPGM_FIELD_ALL = (1 << 10) - 1, /**< the default set: every field above */
+  MPGM_FIELD_BODY = 1 << 10  /**< the body's index in scene order (from 0),
+                                  for categorical colours; written only
+                                  when listed (not in the default set, so
+                                  that the default files stay as they were) */
 } mpgm_field;
 
 /** A body: one material, one reference geometry, an initial velocity.

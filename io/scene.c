@@ -21,7 +21,7 @@ static const char *const format_names[] = {"vtu", "vtk", "xdmf", NULL}; /* = mpg
 static const char *const compress_names[] = {"none", "zlib", NULL};    /* = mpgm_compress */
 static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
                                           "volume", "J", "material", "acceleration", "id", "eps_p",
-                                          NULL};
+                                          "body", NULL};
 
 /* Names of materials, bodies, probes: usable in dotted paths. */
 static int check_name(jr_node *o, const char *name) {
@@ -399,7 +399,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
         if (strcmp(field_names[i], c->valuestring) == 0) k = i;
       if (k < 0)
         return jr_fail(&o, "fields", "expected field names (displacement, velocity, stress, mass, "
-                       "volume, J, material, acceleration, id, eps_p), found %s%s%s%s", jr_type(c),
+                       "volume, J, material, acceleration, id, eps_p, body), found %s%s%s%s", jr_type(c),
                        cJSON_IsString(c) ? " \"" : "", cJSON_IsString(c) ? c->valuestring : "",
                        cJSON_IsString(c) ? "\"" : "");
       s->fields |= 1u << k;
