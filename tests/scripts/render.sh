@@ -53,19 +53,19 @@ def size(p):
     return (struct.unpack(">II", b[16:24]) if b[:8] == b"\x89PNG\r\n\x1a\n" else None)
 check(size(f"{w}/sized/eps_p_t0.14.png") == (640, 400), f"--size 640x400: {size(w + '/sized/eps_p_t0.14.png')}")
 def vrange(f, name, comp):
-    rd = vtk.vtkGenericDataObjectReader(); rd.SetFileName(f); rd.ReadAllScalarsOn(); rd.ReadAllVectorsOn(); rd.Update()
+    rd = vtk.vtkXMLUnstructuredGridReader(); rd.SetFileName(f); rd.Update()
     a = rd.GetOutput().GetPointData().GetArray(name)
     v = [a.GetComponent(i, comp) for i in range(a.GetNumberOfTuples())]
     return min(v), max(v)
-r = [vrange(f"{w}/cc/vtk/points_{k:06d}.vtk", "eps_p", 0) for k in (1, 2)]
+r = [vrange(f"{w}/cc/vtk/points_{k:06d}.vtu", "eps_p", 0) for k in (1, 2)]
 lo, hi = min(x[0] for x in r), max(x[1] for x in r)
 m = re.search(r"eps_p from (\S+) to (\S+)", open(f"{w}/r1.out").read())
 check(m and abs(float(m.group(1)) - lo) <= 1e-6 and abs(float(m.group(2)) - hi) <= 1e-5 * hi and hi > 0,
-      f"binary VTK: the common colour range is eps_p's over both frames as VTK reads it ({lo:.6g} to {hi:.6g})")
-lo, hi = vrange(f"{w}/cl/vtk/points_000001.vtk", "displacement", 1)
+      f"binary .vtu: the common colour range is eps_p's over both frames as VTK reads it ({lo:.6g} to {hi:.6g})")
+lo, hi = vrange(f"{w}/cl/vtk/points_000001.vtu", "displacement", 1)
 m = re.search(r"displacement_y from (\S+) to (\S+)", open(f"{w}/r4.out").read())
 check(m and abs(float(m.group(1)) - lo) <= 1e-5 * abs(lo) and abs(float(m.group(2)) - hi) <= 1e-5 * abs(lo) + 1e-12,
-      f"ASCII VTK: displacement_y from {lo:.6g} to {hi:.6g}, as VTK reads it")
+      f"ASCII .vtu: displacement_y from {lo:.6g} to {hi:.6g}, as VTK reads it")
 done()
 PY
 pyrc=$?
