@@ -221,8 +221,8 @@ static int read_geometry(jr_node *b, mpgm_scene_body *body, jr_node *g) {
   } else {
     body->geometry = MPGM_GEOM_RECTANGLE;
     MPGM_CALL(jr_child(b, "rectangle", 1, g));
-    MPGM_CALL(jr_vec2(g, "min", NULL, body->min));
-    MPGM_CALL(jr_vec2(g, "max", NULL, body->max));
+    MPGM_CALL(jr_vec2_len(g, "min", NULL, body->min));
+    MPGM_CALL(jr_vec2_len(g, "max", NULL, body->max));
     MPGM_CALL(jr_end(g));
     if (!(body->max[0] > body->min[0]) || !(body->max[1] > body->min[1]))
       return jr_fail(g, NULL, "expected max > min in x and y (a body with area), found an empty "
@@ -298,7 +298,7 @@ static int read_probes(jr_node *root, mpgm_scene *s) {
     snprintf(q.path, sizeof q.path, "probes.%s", c->string);
     MPGM_CALL(check_name(&q, c->string));
     snprintf(s->probes[i].name, MPGM_NAME_LEN, "%s", c->string);
-    MPGM_CALL(jr_vec2(&p, c->string, NULL, s->probes[i].x));
+    MPGM_CALL(jr_vec2_len(&p, c->string, NULL, s->probes[i].x));
     const double *x = s->probes[i].x;
     int in = 0;
     for (int b = 0; b < s->nbody && !in; b++) in = mpgm_body_contains(&s->bodies[b], x);
@@ -504,6 +504,7 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
   jr_node mesh, dom;
   MPGM_CALL(jr_child(root, "mesh", 1, &mesh));
   MPGM_CALL(jr_num(&mesh, "h", NAN, 0, INFINITY, 1, 0, &s->h));
+  root->r->h = s->h; /* the cell of the lengths given in cells from here on */
   MPGM_CALL(jr_enum(&mesh, "cell", cell_names, MPGM_CELL_Q4, &s->cell));
   MPGM_CALL(jr_int(&mesh, "ppc", s->cell == MPGM_CELL_Q4 ? 4 : 3, 1, 9, &s->ppc));
   MPGM_CALL(jr_num(&mesh, "min_node_mass", 1e-2, 0.0, 0.5, 0, 1, &s->min_node_mass));
@@ -524,8 +525,8 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
                      s->cell == MPGM_CELL_Q4 ? "1, 4 or 9 points per quad" : "1 or 3 points per triangle", s->ppc);
   }
   MPGM_CALL(jr_child(&mesh, "domain", 1, &dom));
-  MPGM_CALL(jr_vec2(&dom, "min", NULL, s->dom_min));
-  MPGM_CALL(jr_vec2(&dom, "max", NULL, s->dom_max));
+  MPGM_CALL(jr_vec2_len(&dom, "min", NULL, s->dom_min));
+  MPGM_CALL(jr_vec2_len(&dom, "max", NULL, s->dom_max));
   MPGM_CALL(jr_end(&dom));
   if (!(s->dom_max[0] > s->dom_min[0]) || !(s->dom_max[1] > s->dom_min[1]))
     return jr_fail(&dom, NULL, "expected max > min in x and y, found an empty domain");
@@ -543,7 +544,7 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
   const int expl = s->analysis == MPGM_ANALYSIS_EXPLICIT;
   /* explicit: dt 0 (the default) takes each step from the CFL condition */
-  MPGM_CALL(jr_num(&tm, "dt", expl ? 0.0 : dyn ? NAN : 1.0, 0, INFINITY, !expl, 0, &s->dt));
+  MPGM_CALL(mpgm_scene_read_dt(&tm, s, expl ? 0.0 : dyn ? NAN : 1.0, !expl));
   MPGM_CALL(jr_num(&tm, "end", dyn ? NAN : 1.0, 0, INFINITY, 1, 0, &s->t_end));
   MPGM_CALL(jr_int(&tm, "load_steps", 1, 1, 1 << 24, &s->load_steps));
   MPGM_CALL(mpgm_scene_read_newmark(&tm, s, analysis_names[s->analysis]));
