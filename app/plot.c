@@ -20,6 +20,7 @@
 #include "mpgm_output.h"
 #include "mpgm_vtk.h"
 #include "study.h"
+#include "units.h"
 
 enum { MAX_SERIES = 64 };
 
@@ -311,7 +312,7 @@ static int plot_convergence(mpgm_ctx *ctx, plot_ctx *p, point *pts, const char *
   if (n == 0) {
     printf("plot: no completed run with a positive %s and %s: no error-against-%s plot\n", p->t.head[p->metric],
            p->t.head[p->xcol], p->t.head[p->xcol]);
-    return 0;
+    return 0; /* plot_main says when neither plot is drawn */
   }
   qsort(pts, (size_t)n, sizeof *pts, by_x_desc);
   double xmin = INFINITY, xmax = -INFINITY, a = INFINITY;
@@ -327,7 +328,9 @@ static int plot_convergence(mpgm_ctx *ctx, plot_ctx *p, point *pts, const char *
   MPGM_CHECK(ctx, f, MPGM_ERR_NOMEM, "out of memory (plot)");
   char t[STUDY_NAME + 128], xl[STUDY_NAME + 64];
   snprintf(t, sizeof t, "%s: error against %s", title, p->t.head[p->xcol]);
-  snprintf(xl, sizeof xl, "%s (refined to the right)", p->t.head[p->xcol]);
+  const char *xu = mpgm_column_unit(p->t.head[p->xcol]);
+  snprintf(xl, sizeof xl, "%s%s%s%s (refined to the right)", p->t.head[p->xcol], xu ? " [" : "", xu ? xu : "",
+           xu ? "]" : "");
   script_head(f, t, xl, ylabel);
   double lo, hi;
   err_range(pts, n, &lo, &hi);
@@ -450,11 +453,27 @@ static int plot_main(mpgm_ctx *ctx, plot_ctx *p, const char *csv, const mpgm_plo
   make_labels(p);
   const char *title = o->title ? o->title : sv->title && sv->title[0] ? sv->title : sv->name ? sv->name : "study";
   char ylabel[200];
-  snprintf(ylabel, sizeof ylabel, "%s", p->t.head[p->metric]);
+  const char *yu = mpgm_column_unit(p->t.head[p->metric]); /* an unknown metric: no unit */
+  snprintf(ylabel, sizeof ylabel, "%s%s%s%s", p->t.head[p->metric], yu ? " [" : "", yu ? yu : "", yu ? "]" : "");
   printf("plot: %d completed run(s) of %d, %d series, metric %s\n", done, p->t.nrow, p->nser, ylabel);
   point *pts = malloc(sizeof *pts * (size_t)(p->t.nrow + 1));
   MPGM_CHECK(ctx, pts, MPGM_ERR_NOMEM, "out of memory (plot)");
   int err = 0;
+  if (p->xcol >= 0 || p->time >= 0) { /* neither plot drawn: bad input, and why */
+    int usable = 0;
+    for (int pass = 0; pass < 2; pass++) {
+      const int c = pass ? p->time : p->xcol;
+      if (c >= 0) usable += collect(p, c, pts);
+    }
+    if (!usable) {
+      free(pts);
+      MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: no completed run has a positive finite %s and %s: nothing to plot", csv,
+                 p->t.head[p->metric], p->xcol >= 0 ? p->t.head[p->xcol] : "time_s.total");
+    }
+  } else {
+    free(pts);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: neither %s nor time_s.total is a column: nothing to plot", csv, x);
+  }
   if (p->xcol >= 0) err = plot_convergence(ctx, p, pts, ylabel, title);
   else printf("plot: no %s column among the run keys: no error-against-%s plot\n", x, x);
   if (!err && p->time >= 0) err = plot_cost(ctx, p, pts, ylabel, title);
@@ -508,9 +527,10 @@ int mpgm_plot(mpgm_ctx *ctx, const char *csv, const mpgm_plot_opts *o) {
 }
 
 static void usage_plot(FILE *f) {
-  fprintf(f, "usage: mpgm plot STUDY.csv [--metric NAME] [--x KEY] [--series KEY,...] [--out DIR] [--title TEXT]\n"
-             "  draws study_error_<x>.png/.svg (error against KEY, default mesh.h) and\n"
-             "  study_error_time.png/.svg (error against wall time) next to STUDY.csv\n");
+  fprintf(f, "usage: mpgm plot STUDY.csv [--y|--metric NAME] [--x KEY] [--series KEY,...] [--out DIR] [--title TEXT]\n"
+             "  draws study_error_<x>.png/.svg (the metric NAME, default error, against the run key KEY,\n"
+             "  default mesh.h) and study_error_time.png/.svg (the metric against wall time) next to\n"
+             "  STUDY.csv; axes carry the units of known keys and metrics (docs/studies.md)\n");
 }
 
 int mpgm_cmd_plot(int argc, char **argv) {
@@ -518,10 +538,10 @@ int mpgm_cmd_plot(int argc, char **argv) {
   memset(&o, 0, sizeof o);
   const char *csv = NULL;
   for (int i = 2; i < argc; i++) {
-    static const char *const flags[] = {"--metric", "--x", "--series", "--out", "--title"};
+    static const char *const flags[] = {"--metric", "--x", "--series", "--out", "--title", "--y"};
     int f = -1;
-    for (int k = 0; k < 5; k++)
-      if (!strcmp(argv[i], flags[k])) f = k;
+    for (int k = 0; k < 6; k++)
+      if (!strcmp(argv[i], flags[k])) f = k == 5 ? 0 : k; /* --y is --metric */
     if (f >= 0) {
       if (i + 1 >= argc) {
         fprintf(stderr, "mpgm plot: %s needs a value\n", argv[i]);
