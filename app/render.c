@@ -3,7 +3,8 @@
  * PNG with a colour bar, a time label and equal axis scales
  * (docs/studies.md).
  *
- * For each requested time the frame of RUN_DIR/points.pvd nearest to it
+ * For each requested time the frame of RUN_DIR/points.pvd (or, for legacy frames
+ * only, points.vtk.series) nearest to it
  * is drawn (a note says which, a warning when it is more than half the
  * frame spacing away). The colour scale is common to all the pictures of
  * one call, and so is the view (the scene's mesh.domain from summary.json,
@@ -17,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "gnuplot.h"
 #include "mpgm_file.h"
@@ -411,6 +413,20 @@ static void preamble(FILE *gp, const colour *c, const double *view, int w, int h
   fprintf(gp, " noenhanced offset 1,0\nset format cb '%%.4g'\nset rmargin 16\nset style fill solid noborder\n");
 }
 
+/* The run's collection of point frames into path: points.pvd (.vtu
+ * frames), or points.vtk.series when only legacy frames were written
+ * (output.format "vtk"); points.pvd when neither is there, for the
+ * message. */
+static void points_series(const char *run, char *path, size_t cap) {
+  snprintf(path, cap, "%s/points.vtk.series", run);
+  struct stat st;
+  if (stat(path, &st) != 0) snprintf(path, cap, "%s/points.pvd", run);
+  else {
+    snprintf(path, cap, "%s/points.pvd", run);
+    if (stat(path, &st) != 0) snprintf(path, cap, "%s/points.vtk.series", run);
+  }
+}
+
 /* The pictures (--sheet, or DIR/NAME_tT.png, and --out itself) must not
  * replace what they are drawn from: points.pvd, summary.json, the frames;
  * and gnuplot, which writes them, must not wait on a FIFO there. */
@@ -423,7 +439,7 @@ static int refuse_overwrite(mpgm_ctx *ctx, const ropts *o, const char *outdir, c
   int err = in && png && inp && w ? 0 : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
   int n = 0;
   if (!err) {
-    snprintf(in[0], sizeof in[0], "%s/points.pvd", o->run);
+    points_series(o->run, in[0], sizeof in[0]);
     snprintf(in[1], sizeof in[1], "%s/summary.json", o->run);
     for (int i = 0; i < nfr; i++) snprintf(in[2 + i], sizeof in[2 + i], "%s/%s", o->run, pvd->file[fr[i].index]);
     for (int i = 0; i < nfr + 2; i++) inp[i] = in[i];
@@ -446,7 +462,7 @@ static int refuse_overwrite(mpgm_ctx *ctx, const ropts *o, const char *outdir, c
 static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame *fr, int *nfr) {
   char path[STUDY_PATH + 64], outdir[STUDY_PATH];
   MPGM_CALL(mpgm_gnuplot_check(ctx));
-  snprintf(path, sizeof path, "%s/points.pvd", o->run);
+  points_series(o->run, path, sizeof path);
   if (mpgm_pvd_read(ctx, path, pvd)) {
     if (ctx->code == MPGM_ERR_IO)
       snprintf(ctx->msg + strlen(ctx->msg), sizeof ctx->msg - strlen(ctx->msg),
