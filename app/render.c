@@ -69,7 +69,10 @@ static void usage_render(FILE *f) {
              "                   [--radius R] [--title TEXT]\n"
              "  draws RUN_DIR's material points coloured by NAME (default displacement) at each time\n"
              "  (default: the last frame) into DIR/NAME_tT.png (default DIR: RUN_DIR/render), or all\n"
-             "  of them as panels of one picture with --sheet\n");
+             "  of them as panels of one picture with --sheet. The colour bar runs from the 1st to the\n"
+             "  99th percentile of the field over the frames drawn (--range MIN:MAX, in the field's unit,\n"
+             "  overrides a side) and names the unit (stresses in Pa, kPa or MPa); material and body\n"
+             "  get one named colour each\n");
 }
 
 static int parse(int argc, char **argv, ropts *o) {

@@ -70,6 +70,15 @@ printf '%s\n' 'mesh.h,method,status,dir,metrics.error,metrics.tip_uy,metrics.fro
   && ok "plot --y: an unknown metric gets no unit" || ko "plot --y frob (exit $rc): $(cat hand2.err)"
 expect 2 "no completed run has a positive finite metrics.tip_uy" "plot: nothing drawable (negative on log axes): exit 2" \
   "$exe" plot hand/study.csv --y tip_uy
+"$exe" plot hand/study.csv --y tip_uy --yscale signed --xscale linear > hand3.out 2> hand3.err; rc=$?
+[ $rc -eq 0 ] && grep -q "set xzeroaxis" hand/study_error_h.gp && ! grep -q "logscale" hand/study_error_h.gp \
+  && grep -q "ylabel 'metrics.tip_uy \[m\]'" hand/study_error_h.gp && grep -q -- "^0.25 -0.2" hand/study_error_h.gp \
+  && ok "plot --yscale signed --xscale linear: a negative metric on linear axes" || ko "signed (exit $rc): $(cat hand3.err)"
+"$exe" plot hand/study.csv --x time_s.total --y metrics.frob --xscale linear --yscale linear > hand4.out 2> hand4.err; rc=$?
+[ $rc -eq 0 ] && grep -q "set xlabel 'time_s.total \[s\]" hand/study_error_total.gp \
+  && ok "plot --x of a result column (time_s.total [s])" || ko "--x time_s.total (exit $rc): $(cat hand4.err)"
+expect 2 "--yscale: expected linear, log or signed" "plot: bad --yscale: exit 2" "$exe" plot hand/study.csv --yscale cubic
+expect 2 "--x nosuch: no such column" "plot: --x of no column: exit 2" "$exe" plot hand/study.csv --x nosuch
 printf '%s\n' 'mesh.h,status,dir,metrics.error,time_s.total' '0.5,failed,a,,' > hand/none.csv
 expect 2 "no completed run" "plot: no completed row: exit 2" "$exe" plot hand/none.csv
 env PATH="$work/nowhere" "$exe" study tiny.json --out nognu > /dev/null 2> nognu.err; rc=$?
