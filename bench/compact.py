@@ -279,9 +279,11 @@ def plot(part, text, png):
         if not labels or not any(v is not None for c in cols for v in c):
             return False
         if p.get("short"):
-            labels = [l.split("(")[0].split(",")[0].strip() for l in labels]
+            labels = [", ".join(l.split("(")[0].split(", ")[:2]).strip() for l in labels]
         labels = [l.replace("`", "").replace('"', "'") for l in labels]
         long = sum(map(len, labels)) > 70
+        if not p.get("logy") and not p.get("yrange"):
+            gp.append("set yrange [0:*]")   # bars start at zero
         gp += ["set style data histograms", "set style histogram clustered gap 1", "set style fill solid 0.8 border -1",
                "set boxwidth 0.9", "set xtics rotate by 30 right noenhanced" if long else "set xtics noenhanced",
                f"set bmargin {min(3 + int(0.32 * max(map(len, labels))), 16)}" if long else "set bmargin 3", "set lmargin 12"]
