@@ -52,21 +52,31 @@ typedef struct {
   int vertex; /* particle cloud: one vertex cell per point */
 } source;
 
-/* Value k of array a of the piece s (as a double or an integer). */
-static double value_f(const source *s, int a, size_t k) {
+/* Values [k0, k0 + n) of the Float64 array a of the piece s into out: the
+ * field's layout is looked up once per call, not once per value. */
+static void values_f(const source *s, int a, size_t k0, size_t n, double *out) {
   const mpgm_vtu_piece *p = s->p;
-  if (a == A_TIME) return s->time;
+  if (a == A_TIME) {
+    out[0] = s->time;
+    return;
+  }
   const int f = a - A_FIELDS;
-  if (f < p->nfields) {
-    const mpgm_vtk_field *fd = &p->fields[f];
-    if (fd->kind == MPGM_VTK_SCALAR) return fd->data[k];
-    if (fd->kind == MPGM_VTK_VECTOR2) return k % 3 == 2 ? 0.0 : fd->data[2 * (k / 3) + k % 3];
+  const mpgm_vtk_field *fd = f < p->nfields ? &p->fields[f] : NULL;
+  if (fd && fd->kind == MPGM_VTK_SCALAR) {
+    memcpy(out, fd->data + k0, sizeof(double) * n);
+    return;
+  }
+  if (fd && fd->kind == MPGM_VTK_STRESS4) {
     /* {xx, yy, xy, zz} -> [[xx,xy,0],[xy,yy,0],[0,0,zz]], as vtk.c */
     static const int map[9] = {0, 2, -1, 2, 1, -1, -1, -1, 3};
-    const int m = map[k % 9];
-    return m < 0 ? 0.0 : fd->data[4 * (k / 9) + m];
+    for (size_t k = k0; k < k0 + n; k++) {
+      const int m = map[k % 9];
+      *out++ = m < 0 ? 0.0 : fd->data[4 * (k / 9) + m];
+    }
+    return;
   }
-  return k % 3 == 2 ? 0.0 : p->x[2 * (k / 3) + k % 3]; /* the points */
+  const double *v = fd ? fd->data : p->x; /* 2-D vectors and the points: z = 0 */
+  for (size_t k = k0; k < k0 + n; k++) *out++ = k % 3 == 2 ? 0.0 : v[2 * (k / 3) + k % 3];
 }
 
 static long long value_i(const source *s, int a, size_t k) {
@@ -78,17 +88,31 @@ static long long value_i(const source *s, int a, size_t k) {
   return p->cell_type[k];
 }
 
-/* The little-endian bytes of values [k0, k0 + n) of array a into out. */
+/* The little-endian bytes of values [k0, k0 + n) of array a into out
+ * (Float64 values made a block of doubles at a time). */
 static void encode(const source *s, int a, const array *ar, size_t k0, size_t n, unsigned char *out) {
-  for (size_t k = k0; k < k0 + n; k++) {
-    uint64_t u;
-    if (ar->type == T_F64) {
-      const double v = value_f(s, a, k);
-      memcpy(&u, &v, sizeof u);
-    } else {
-      u = (uint64_t)value_i(s, a, k);
+  if (ar->type != T_F64) {
+    for (size_t k = k0; k < k0 + n; k++) {
+      const uint64_t u = (uint64_t)value_i(s, a, k);
+      for (int b = 0; b < type_size[ar->type]; b++) *out++ = (unsigned char)(u >> (8 * b));
     }
-    for (int b = 0; b < type_size[ar->type]; b++) *out++ = (unsigned char)(u >> (8 * b));
+    return;
+  }
+  double buf[512];
+  for (size_t k = k0; k < k0 + n;) {
+    const size_t m = k0 + n - k < 512 ? k0 + n - k : 512;
+    values_f(s, a, k, m, buf);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    memcpy(out, buf, sizeof(double) * m);
+    out += sizeof(double) * m;
+#else
+    for (size_t i = 0; i < m; i++) {
+      uint64_t u;
+      memcpy(&u, &buf[i], sizeof u);
+      for (int b = 0; b < 8; b++) *out++ = (unsigned char)(u >> (8 * b));
+    }
+#endif
+    k += m;
   }
 }
 
@@ -154,8 +178,13 @@ static void data_array(FILE *f, const source *s, int a, const array *ar, int asc
   }
   fprintf(f, " format=\"ascii\">\n");
   for (size_t k = 0; k < ar->n; k++) {
-    if (ar->type == T_F64) fprintf(f, "%.17g", value_f(s, a, k));
-    else fprintf(f, "%lld", value_i(s, a, k));
+    if (ar->type == T_F64) {
+      double v;
+      values_f(s, a, k, 1, &v);
+      fprintf(f, "%.17g", v);
+    } else {
+      fprintf(f, "%lld", value_i(s, a, k));
+    }
     fputc((k + 1) % (size_t)(ar->ncomp > 1 ? ar->ncomp : 6) == 0 || k + 1 == ar->n ? '\n' : ' ', f);
   }
   fprintf(f, "%s</DataArray>\n", indent);
