@@ -215,29 +215,6 @@ int jr_str(jr_node *o, const char *key, const char *def, char *buf, size_t len) 
   return 0;
 }
 
-int jr_vec2(jr_node *o, const char *key, const double *def, double out[2]) {
-  const cJSON *v;
-  MPGM_CALL(lookup(o, key, AS_JSON, &v));
-  if (!v) {
-    if (!def) return jr_fail(o, key, "required key is missing (expected [x, y])");
-    out[0] = def[0];
-    out[1] = def[1];
-  } else {
-    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2)
-      return jr_fail(o, key, "expected an array of 2 numbers [x, y], found %s%s",
-                     jr_type(v), cJSON_IsArray(v) ? " of another length" : "");
-    for (int i = 0; i < 2; i++) {
-      const cJSON *e = cJSON_GetArrayItem(v, i);
-      if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
-        return jr_fail(o, key, "expected an array of 2 numbers [x, y], found %s at index %d",
-                       jr_type(e), i);
-      out[i] = e->valuedouble;
-    }
-  }
-  if (o->out) cJSON_AddItemToObject(o->out, key, cJSON_CreateDoubleArray(out, 2));
-  return 0;
-}
-
 int jr_child(jr_node *o, const char *key, int required, jr_node *child) {
   const cJSON *v;
   MPGM_CALL(lookup(o, key, AS_JSON, &v));
@@ -414,7 +391,10 @@ int jr_len(jr_node *o, const char *key, double def, double lo, double hi, double
   return 0;
 }
 
-int jr_vec2_len(jr_node *o, const char *key, const double *def, double out[2]) {
+/* [x, y]: two finite numbers, or (lengths) two lengths as len_of reads
+ * them; def NULL: required. */
+static int vec2_read(jr_node *o, const char *key, const double *def, int lengths, double out[2]) {
+  const char *what = lengths ? "lengths" : "numbers";
   const cJSON *v;
   MPGM_CALL(lookup(o, key, AS_JSON, &v));
   if (!v) {
@@ -423,11 +403,28 @@ int jr_vec2_len(jr_node *o, const char *key, const double *def, double out[2]) {
     out[1] = def[1];
   } else {
     if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2)
-      return jr_fail(o, key, "expected an array of 2 lengths [x, y], found %s%s", jr_type(v),
+      return jr_fail(o, key, "expected an array of 2 %s [x, y], found %s%s", what, jr_type(v),
                      cJSON_IsArray(v) ? " of another length" : "");
-    for (int i = 0; i < 2; i++)
-      MPGM_CALL(len_of(o, key, cJSON_GetArrayItem(v, i), i ? " at index 1" : " at index 0", &out[i]));
+    for (int i = 0; i < 2; i++) {
+      const cJSON *e = cJSON_GetArrayItem(v, i);
+      if (lengths) {
+        MPGM_CALL(len_of(o, key, e, i ? " at index 1" : " at index 0", &out[i]));
+        continue;
+      }
+      if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
+        return jr_fail(o, key, "expected an array of 2 numbers [x, y], found %s at index %d",
+                       jr_type(e), i);
+      out[i] = e->valuedouble;
+    }
   }
   if (o->out) cJSON_AddItemToObject(o->out, key, cJSON_CreateDoubleArray(out, 2));
   return 0;
+}
+
+int jr_vec2(jr_node *o, const char *key, const double *def, double out[2]) {
+  return vec2_read(o, key, def, 0, out);
+}
+
+int jr_vec2_len(jr_node *o, const char *key, const double *def, double out[2]) {
+  return vec2_read(o, key, def, 1, out);
 }
