@@ -50,13 +50,8 @@ static int is_dir(const char *p) {
   return stat(p, &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-static int ends_with(const char *s, const char *suf) {
-  const size_t l = strlen(s), m = strlen(suf);
-  return l > m && strcmp(s + l - m, suf) == 0;
-}
-
 static int select_k(const struct dirent *e) {
-  return ends_with(e->d_name, "_K.mtx");
+  return mpgm_ends_with(e->d_name, "_K.mtx");
 }
 
 /* Status of a failed call of configuration c with code. */

@@ -286,6 +286,9 @@ int mpgm_read_file(mpgm_ctx *ctx, const char *path, size_t max, char **text, siz
  *  read from a file (a scene's output.dir, a .pvd's frames) must be one,
  *  so that a file from elsewhere cannot reach outside that folder. */
 int mpgm_path_below(const char *path);
+/** 1 when name ends with suffix and has something before it (a file's
+ *  kind by its name: ".vtu", ".series", "_K.mtx"). */
+int mpgm_ends_with(const char *name, const char *suffix);
 
 /** mpgm's version and the commit it was built from, e.g. "0.1.0
  *  (1a2b3c4d5e6f)": what a checkpoint records. */

@@ -142,6 +142,11 @@ int mpgm_read_file(mpgm_ctx *ctx, const char *path, size_t max, char **text, siz
   return 0;
 }
 
+int mpgm_ends_with(const char *name, const char *suffix) {
+  const size_t n = strlen(name), k = strlen(suffix);
+  return n > k && strcmp(name + n - k, suffix) == 0;
+}
+
 int mpgm_path_below(const char *path) {
   if (!path[0] || path[0] == '/' || path[0] == '~') return 0;
   for (const char *p = path; *p;) {

@@ -295,13 +295,6 @@ static void xml_escaped(FILE *fp, const char *s) {
   }
 }
 
-/* 1 when the collection is ParaView's JSON series of legacy files (a
- * name ending in ".series"), else a .pvd. */
-static int is_series(const char *path) {
-  const size_t n = strlen(path);
-  return n >= 7 && strcmp(path + n - 7, ".series") == 0;
-}
-
 /* s as a JSON string's contents (quotes, backslashes and control
  * characters escaped). */
 static void json_escaped(FILE *fp, const char *s) {
@@ -329,7 +322,7 @@ static int pvd_write(const mpgm_pvd *p, mpgm_ctx *ctx) {
   void *vfp = NULL;
   MPGM_CALL(mpgm_atomic_open(ctx, p->path, &vfp));
   FILE *fp = vfp;
-  if (is_series(p->path)) {
+  if (mpgm_ends_with(p->path, ".series")) { /* ParaView's JSON series of legacy files */
     series_body(p, fp);
     return mpgm_atomic_close(ctx, p->path, fp);
   }

@@ -157,15 +157,9 @@ static int read_body(rd *r, mpgm_vtk_grid *g) {
   return 0;
 }
 
-/* 1 when path ends with suffix. */
-static int ends_with(const char *path, const char *suffix) {
-  const size_t n = strlen(path), k = strlen(suffix);
-  return n >= k && strcmp(path + n - k, suffix) == 0;
-}
-
 int mpgm_vtk_read(mpgm_ctx *ctx, const char *path, mpgm_vtk_grid **out) {
   *out = NULL;
-  if (ends_with(path, ".vtu")) return mpgm_vtu_read(ctx, path, out);
+  if (mpgm_ends_with(path, ".vtu")) return mpgm_vtu_read(ctx, path, out);
   rd r = {ctx, path, NULL, 0, 0, 0};
   char *buf;
   MPGM_CALL(mpgm_read_file(ctx, path, VTK_MAX_FILE, &buf, &r.len));
@@ -273,7 +267,7 @@ int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out) {
   char *buf;
   size_t len;
   MPGM_CALL(mpgm_read_file(ctx, path, PVD_MAX_FILE, &buf, &len));
-  if (ends_with(path, ".series")) {
+  if (mpgm_ends_with(path, ".series")) {
     const int e = series_read(ctx, path, buf, out);
     free(buf);
     if (e) mpgm_pvd_list_free(out);
