@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include "mpgm_frontend.h"
 #include "mpgm_scene_io.h"
@@ -199,8 +200,9 @@ static double rlimit_room(void) {
   if (f) {
     double pages[6] = {0};
     if (fscanf(f, "%lf %*f %*f %*f %*f %lf", &pages[0], &pages[5]) == 2) {
-      size = 4096.0 * pages[0];
-      data = 4096.0 * pages[5];
+      const double page = (double)sysconf(_SC_PAGESIZE);
+      size = page * pages[0];
+      data = page * pages[5];
     }
     fclose(f);
   }
