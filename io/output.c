@@ -176,7 +176,7 @@ int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, c
   /* a row of probes at the start and after every step, a row of steps
    * after every step; a VTK output at most at each of those rows, a file
    * of each series (points, and mesh when there are cells, in each
-   * format) */
+   * format; XDMF frames are not files, and may be the only output) */
   int per = 0;
   for (int f = 0; f < SERIES_FORMATS; f++)
     for (int k = 0; k < SERIES_KINDS; k++) per += o->series[f][k] != NULL;
@@ -187,7 +187,8 @@ int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, c
              "section 'out.counts': %d rows of probes and %d of steps after step %ld",
              n[2], n[3], r.step);
   MPGM_CHECK(ctx,
-             n[0] >= 0 && n[0] <= n[2] && (per ? 1 : n[0] == 0) && (long)n[1] == (long)per * n[0],
+             n[0] >= 0 && n[0] <= n[2] && (per || o->xdmf ? 1 : n[0] == 0) &&
+                 (long)n[1] == (long)per * n[0],
              MPGM_ERR_INPUT,
              "checkpoint: section "
              "'out.counts': %d VTK outputs of %d files (%d files each) over %d rows",
