@@ -18,6 +18,8 @@ typedef struct mpgm_output {
                      [format: 0 .vtu (points.pvd, mesh.pvd), 1 legacy .vtk
                      (points.vtk.series, mesh.vtk.series)][kind: 0 points,
                      1 mesh]; NULL where the scene writes none          */
+  struct mpgm_xdmf *xdmf; /**< output.format "xdmf": results.h5 and its
+                     indices (mpgm_xdmf.h); NULL where the scene writes none */
   int nvtk;       /**< VTK outputs written (index of the next one) */
   int files;      /**< VTK files written (every format)           */
   int ncol;       /**< probe columns (2 per probe)                */

@@ -20,6 +20,7 @@
 #include "mpgm_scene_io.h"
 #include "mpgm_vtk.h"
 #include "mpgm_vtu.h"
+#include "mpgm_xdmf.h"
 
 /* steps.csv: 9 columns, and 8 of energy and momentum in dynamic runs (all
  * 17 are kept in memory) */
@@ -83,6 +84,8 @@ static int output_init(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, co
       snprintf(path, sizeof path, "%s/%s", dir, series_file[f][k]);
       MPGM_CALL(mpgm_pvd_create(ctx, path, &o->series[f][k]));
     }
+  if (scene->vtk != MPGM_VTK_NONE && (scene->formats & MPGM_FORMAT_XDMF))
+    MPGM_CALL(mpgm_xdmf_create(ctx, dir, scene->compress == MPGM_COMPRESS_ZLIB, has_cells, &o->xdmf));
   if (scene->nmatrices > 0) /* output.matrices */
     snprintf(o->matrices_dir, sizeof o->matrices_dir, "%s/matrices", dir);
   /* ux, uy of every probe; dynamic runs add vx, vy of every probe */
@@ -115,6 +118,7 @@ static int output_folder(mpgm_ctx *ctx, const mpgm_output *o, int keep) {
         snprintf(path, sizeof path, "%s/%s", dir, series_file[f][k]);
         remove(path);
       }
+    MPGM_CALL(mpgm_xdmf_open(o->xdmf, ctx, dir, keep));
   }
   if (o->matrices_dir[0]) { /* no systems of an earlier run */
     MPGM_CALL(mpgm_mkdir_p(ctx, o->matrices_dir));
@@ -139,7 +143,7 @@ int mpgm_output_save(const mpgm_output *o, mpgm_ctx *ctx, mpgm_blob *b) {
   for (int f = 0; f < SERIES_FORMATS; f++)
     for (int k = 0; k < SERIES_KINDS; k++)
       MPGM_CALL(mpgm_pvd_save(o->series[f][k], ctx, b, series_tag[f][k]));
-  return 0;
+  return mpgm_xdmf_save(o->xdmf, ctx, b, "out.xdmf");
 }
 
 /* A history read back: rows rows of width doubles, section tag, into a
@@ -172,7 +176,7 @@ int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, c
   /* a row of probes at the start and after every step, a row of steps
    * after every step; a VTK output at most at each of those rows, a file
    * of each series (points, and mesh when there are cells, in each
-   * format) */
+   * format; XDMF frames are not files, and may be the only output) */
   int per = 0;
   for (int f = 0; f < SERIES_FORMATS; f++)
     for (int k = 0; k < SERIES_KINDS; k++) per += o->series[f][k] != NULL;
@@ -183,7 +187,8 @@ int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, c
              "section 'out.counts': %d rows of probes and %d of steps after step %ld",
              n[2], n[3], r.step);
   MPGM_CHECK(ctx,
-             n[0] >= 0 && n[0] <= n[2] && (per ? 1 : n[0] == 0) && (long)n[1] == (long)per * n[0],
+             n[0] >= 0 && n[0] <= n[2] && (per || o->xdmf ? 1 : n[0] == 0) &&
+                 (long)n[1] == (long)per * n[0],
              MPGM_ERR_INPUT,
              "checkpoint: section "
              "'out.counts': %d VTK outputs of %d files (%d files each) over %d rows",
@@ -205,7 +210,7 @@ int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, c
                  MPGM_ERR_INPUT, "checkpoint: section '%s': %d entries of %s for %d VTK outputs",
                  series_tag[f][k], mpgm_pvd_count(o->series[f][k]), series_file[f][k], o->nvtk);
     }
-  return 0;
+  return mpgm_xdmf_restore(o->xdmf, ctx, b, "out.xdmf", o->nvtk);
 }
 
 int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o) {
@@ -267,6 +272,7 @@ int mpgm_output_observe(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
 void mpgm_output_close(mpgm_output *o) {
   for (int f = 0; f < SERIES_FORMATS; f++)
     for (int k = 0; k < SERIES_KINDS; k++) mpgm_pvd_destroy(&o->series[f][k]);
+  mpgm_xdmf_destroy(&o->xdmf);
   free(o->hist);
   free(o->steps);
   o->hist = NULL;
@@ -419,9 +425,8 @@ static int frame_gather(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem 
   if (m & MPGM_FIELD_BODY) f[nf++] = (mpgm_vtk_field){"body", MPGM_VTK_SCALAR, body};
   fr->points = (mpgm_vtu_piece){P->n, P->x, 0, NULL, NULL, NULL, nf, f};
   mpgm_cells c;
-  fr->has_mesh = o->series[0][1] || o->series[1][1];
+  fr->has_mesh = mpgm_problem_cells(pb, &c);
   if (fr->has_mesh) {
-    mpgm_problem_cells(pb, &c);
     const mpgm_nodes *nd = mpgm_problem_nodes(pb);
     fr->mf[0] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR2, nd->u};
     fr->mesh = (mpgm_vtu_piece){nd->n, nd->x, c.n, c.ptr, c.node, c.type, 1, fr->mf};
@@ -460,6 +465,8 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
   for (int f = 0; !err && f < SERIES_FORMATS; f++)
     for (int k = 0; !err && k < SERIES_KINDS; k++)
       if (o->series[f][k]) err = frame_write(ctx, o, &fr, f, k);
+  if (!err && o->xdmf)
+    err = mpgm_xdmf_frame(o->xdmf, ctx, fr.time, fr.step, &fr.points, fr.has_mesh ? &fr.mesh : NULL);
   free(fr.scratch);
   MPGM_CALL(err);
   o->nvtk++;

@@ -13,6 +13,8 @@ MPGM_PACKAGES=(
   # tests read our VTK files with VTK's own reader, as ParaView does; python3-paraview
   # gives `import vtk` too, and conflicts with python3-vtk9 (installing one removes the other)
   python3 python3-paraview paraview  # tests/scripts/paraview.sh opens the series under pvbatch3.11
+  libhdf5-openmpi-dev    # output.format "xdmf" (io/xdmf.c): the HDF5 that Debian's PETSc links
+  python3-h5py python3-numpy  # tests read the HDF5 output as a user's script would
   libnanoflann-dev       # header-only, used only by bench/kdtree
   gnuplot-nox            # mpgm plot and mpgm render draw with it (docs/studies.md)
   xvfb                   # bench/pictures: Debian's pvbatch needs an X display, even offscreen

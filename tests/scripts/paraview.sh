@@ -18,7 +18,7 @@ if [ -z "$pv" ]; then
 fi
 rm -rf "$work"; mkdir -p "$work"
 fail=0; runs=()
-common=(--quiet --set output.every=1 --set output.times=[] --set 'output.format=["vtu","vtk"]')
+common=(--quiet --set output.every=1 --set output.times=[] --set 'output.format=["vtu","vtk","xdmf"]')
 run() { # NAME SCENE ARGS...
   local name="$1" scene="$2"; shift 2
   if "$exe" run "$src/cases/$scene" "${common[@]}" --out "$work/$name" "$@" > "$work/$name.log" 2>&1; then

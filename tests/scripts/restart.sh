@@ -5,8 +5,9 @@
 # B killed with SIGKILL at a random moment after its first checkpoint and
 # continued with `mpgm run --restart B`. B must then hold, to the bit, what
 # A holds: probes.csv, steps.csv (its wall-clock column aside), every VTK
-# file and collection (.pvd, .vtk.series: gmm_lme_disk writes both formats,
-# mpm_explicit legacy frames only), the metrics, the counts (clock reads and the
+# file and collection (.pvd, .vtk.series, .xdmf: gmm_lme_disk writes every
+# format, fem_static .vtu and XDMF deflated, mpm_explicit legacy frames
+# only), the contents of results.h5 (XDMF), the metrics, the counts (clock reads and the
 # solver's memory peak aside: they measure the process, not the run), the
 # step cuts and the status. The cases are coarse and dynamic:
 #   fem_mc        UL-FEM, Mohr-Coulomb column collapse (FEM has no contact)
@@ -52,6 +53,8 @@ seed="${RESTART_SEED:-$RANDOM}"
 echo "RESTART_SEED=$seed"
 RANDOM=$seed
 npass=0; nfail=0
+# Debian's python (h5py reads results.h5), whatever python3 is first on PATH
+py=/usr/bin/python3; [ -x "$py" ] || py=python3
 restart_sets=()  # --set values given to A and to the restart of B, not to B's start
 pass() { echo "PASS: $1"; npass=$((npass + 1)); }
 fail() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
@@ -86,7 +89,7 @@ one_case() {
     fail "$name: uninterrupted exit $rca, restarted exit $rcr ($how): $(head -c 300 "$d/R.log")"
     return
   fi
-  if python3 "$src/tests/tools/same_run.py" "$d/A" "$d/B"; then
+  if "$py" "$src/tests/tools/same_run.py" "$d/A" "$d/B"; then
     pass "$name: B $how, restarted: the same to the bit (exit $rca)"
   else
     fail "$name: B $how, restarted: differs from the uninterrupted run (above)"
@@ -110,7 +113,7 @@ one_case gmm_lme_nodes "$src/cases/column_collapse_gmm.json" --set shape.kind=lm
   --set output.checkpoint_every=5 --set output.times=[0.1]
 one_case gmm_lme_disk "$src/cases/rolling_disk.json" --set method=gmm --set shape.kind=lme \
   --set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.2 --set output.every=5 \
-  --set output.checkpoint_every=4 --set 'output.format=["vtu","vtk"]'
+  --set output.checkpoint_every=4 --set 'output.format=["vtu","vtk","xdmf"]'
 one_case gmm_lme_cc "$src/cases/column_collapse_gmm.json" --set shape.kind=lme --set mesh.h=0.2 \
   --set time.dt=0.005 --set time.end=0.3 --set output.checkpoint_every=5 --set output.times=[0.1]
 one_case gmm_skin_disk "$src/cases/rolling_disk.json" --set method=gmm --set shape.kind=lme \
@@ -124,7 +127,7 @@ else
   fail "mpm_cuts: summary.json of the restarted run lists no cut at step 3"
 fi
 one_case fem_static "$src/cases/cantilever.json" --set time.load_steps=6 \
-  --set output.checkpoint_every=2
+  --set output.checkpoint_every=2 --set 'output.format=["vtu","xdmf"]' --set output.compress=zlib
 one_case mpm_explicit "$src/cases/dyka_bar.json" --set output.checkpoint_every=150 \
   --set output.every=200 --set output.format=vtk
 one_case mpm_kinetic "$src/cases/dyka_bar.json" --set output.checkpoint_every=20 \

@@ -109,7 +109,7 @@ def check_run(run):
     times = [r["time"] for r in probes]
     c = summary["counts"]
     found = 0
-    for series in ("points.pvd", "mesh.pvd", "points.vtk.series", "mesh.vtk.series", "points.xdmf"):
+    for series in ("points.pvd", "mesh.pvd", "points.vtk.series", "mesh.vtk.series", "points.xdmf", "mesh.xdmf"):
         path = os.path.join(run, series)
         if not os.path.exists(path):
             continue

@@ -2,7 +2,11 @@
 """same_run.py A B -- are two results folders of one scene the same run?
 
 Compared to the bit: probes.csv; steps.csv with its wall-clock column
-(wall_s) left out; every file under vtk/ and every collection (.pvd, .vtk.series); in
+(wall_s) left out; every file under vtk/ and every collection (.pvd, .vtk.series,
+.xdmf); the contents of results.h5 (output.format "xdmf": every group,
+attribute and dataset, read with h5py; not its bytes, which hold where
+HDF5 put things, and a restart's file keeps the space of the frames it
+dropped); in
 summary.json the status and message, the failed step, the resolved scene,
 the metrics, the probes, the step cuts, the last step's Newton record and
 the counts (clock_reads and solver_memory_peak left out: they
@@ -35,14 +39,35 @@ def files(root):
     return sorted(out)
 
 
+def h5_items(path):
+    """{name: (attributes, dataset bytes)} of every object of an HDF5 file."""
+    import h5py  # only runs with output.format "xdmf" need it (Debian: python3-h5py)
+    out = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, obj):
+            attrs = {k: obj.attrs[k].tobytes() for k in obj.attrs}
+            data = (obj.dtype.str, obj.shape, obj[()].tobytes()) if isinstance(obj, h5py.Dataset) else None
+            out[name] = (attrs, data)
+        f.visititems(visit)
+        out["/"] = ({k: f.attrs[k].tobytes() for k in f.attrs}, None)
+    return out
+
+
 def main(a, b):
     diffs = []
     if not filecmp.cmp(f"{a}/probes.csv", f"{b}/probes.csv", shallow=False):
         diffs.append("probes.csv")
     if steps_without_wall(f"{a}/steps.csv") != steps_without_wall(f"{b}/steps.csv"):
         diffs.append("steps.csv")
-    fa = [f for f in files(a) if f.startswith("vtk/") or f.endswith((".pvd", ".series"))]
-    fb = [f for f in files(b) if f.startswith("vtk/") or f.endswith((".pvd", ".series"))]
+    series = (".pvd", ".series", ".xdmf")
+    fa = [f for f in files(a) if f.startswith("vtk/") or f.endswith(series)]
+    fb = [f for f in files(b) if f.startswith("vtk/") or f.endswith(series)]
+    ha, hb = os.path.exists(f"{a}/results.h5"), os.path.exists(f"{b}/results.h5")
+    if ha != hb:
+        diffs.append("results.h5 in one folder only")
+    elif ha:
+        ia, ib = h5_items(f"{a}/results.h5"), h5_items(f"{b}/results.h5")
+        diffs += [f"results.h5 {k}" for k in sorted(set(ia) | set(ib)) if ia.get(k) != ib.get(k)]
     if fa != fb:
         diffs.append(f"VTK files: {sorted(set(fa) ^ set(fb))}")
     for f in fa:
