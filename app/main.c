@@ -559,7 +559,7 @@ int main(int argc, char **argv) {
    * command reads its arguments (help.c holds every command's text) */
   const int help = strcmp(argv[1], "help") == 0;
   if (help || mpgm_help_asked(argc, argv)) {
-    const char *cmd = help ? argv[2] : argv[1];
+    const char *cmd = help && !mpgm_help_asked(argc, argv) ? argv[2] : argv[1];
     if (mpgm_help_command(stdout, cmd) == 0) return EXIT_OK;
     fprintf(stderr, "mpgm help: unknown command '%s'\n", cmd);
     usage(stderr);
