@@ -20,6 +20,7 @@
 #include "mpgm_output.h"
 #include "mpgm_vtk.h"
 #include "study.h"
+#include "units.h"
 
 enum { MAX_SERIES = 64 };
 
@@ -39,6 +40,8 @@ typedef struct plot_ctx {
   char dir[STUDY_PATH];           /**< folder of the pictures           */
   char name[STUDY_NAME];          /**< the study's name (title)         */
   char xshort[64];                /**< last part of the x key ("h")     */
+  int xlog, ylog, ysigned;        /**< axes of the key plot (--xscale, --yscale) */
+  int metric_default;             /**< the metric is the study's error (titles say "error") */
 } plot_ctx;
 
 /* Settings from study.json beside the CSV (absent: all stay NULL). */
@@ -184,13 +187,15 @@ static int by_time(const void *a, const void *b) {
   return (p->err > q->err) - (p->err < q->err);
 }
 
-/* The completed rows with a positive finite error and x (column xc). */
-static int collect(plot_ctx *p, int xc, point *pts) {
+/* The completed rows with a finite error and x (column xc), positive
+ * where its axis is logarithmic. */
+static int collect(plot_ctx *p, int xc, point *pts, int xlog, int ylog) {
   int n = 0;
   for (int r = 0; r < p->t.nrow; r++) {
     double x, e;
     if (strcmp(mpgm_table_get(&p->t, r, p->nkeycol), "completed")) continue;
-    if (!mpgm_table_num(&p->t, r, xc, &x) || !mpgm_table_num(&p->t, r, p->metric, &e) || !(x > 0) || !(e > 0))
+    if (!mpgm_table_num(&p->t, r, xc, &x) || !mpgm_table_num(&p->t, r, p->metric, &e) || !isfinite(x) ||
+        !isfinite(e) || (xlog && !(x > 0)) || (ylog && !(e > 0)))
       continue;
     const int s = series_of(p, r);
     if (s < 0) continue;
@@ -226,8 +231,9 @@ static void err_range(const point *pts, int n, double *lo, double *hi) {
 }
 
 /* The common head of both plots. */
-static void script_head(FILE *f, const char *title, const char *xlabel, const char *ylabel) {
-  fprintf(f, "set encoding utf8\nset logscale xy\nset grid xtics ytics mxtics mytics lc rgb '#dddddd'\n"
+static void script_head(FILE *f, const char *title, const char *xlabel, const char *ylabel, int xlog, int ylog) {
+  fprintf(f, "set encoding utf8\n%s%s", xlog ? "set logscale x\n" : "", ylog ? "set logscale y\n" : "");
+  fprintf(f, "set grid xtics ytics mxtics mytics lc rgb '#dddddd'\n"
              "set key inside top right spacing 1.2 box opaque\nset title ");
   mpgm_gnuplot_quote(f, title);
   fprintf(f, " noenhanced\nset xlabel ");
@@ -307,11 +313,12 @@ static int draw(mpgm_ctx *ctx, const plot_ctx *p, const char *name, const char *
  * series converging at least as fast stays above them); observed orders
  * printed. */
 static int plot_convergence(mpgm_ctx *ctx, plot_ctx *p, point *pts, const char *ylabel, const char *title) {
-  const int n = collect(p, p->xcol, pts);
+  const int n = collect(p, p->xcol, pts, p->xlog, p->ylog);
+  const int loglog = p->xlog && p->ylog; /* slope guides and observed orders */
   if (n == 0) {
     printf("plot: no completed run with a positive %s and %s: no error-against-%s plot\n", p->t.head[p->metric],
            p->t.head[p->xcol], p->t.head[p->xcol]);
-    return 0;
+    return 0; /* plot_main says when neither plot is drawn */
   }
   qsort(pts, (size_t)n, sizeof *pts, by_x_desc);
   double xmin = INFINITY, xmax = -INFINITY, a = INFINITY;
@@ -326,14 +333,20 @@ static int plot_convergence(mpgm_ctx *ctx, plot_ctx *p, point *pts, const char *
   FILE *f = open_memstream(&body, &len);
   MPGM_CHECK(ctx, f, MPGM_ERR_NOMEM, "out of memory (plot)");
   char t[STUDY_NAME + 128], xl[STUDY_NAME + 64];
-  snprintf(t, sizeof t, "%s: error against %s", title, p->t.head[p->xcol]);
-  snprintf(xl, sizeof xl, "%s (refined to the right)", p->t.head[p->xcol]);
-  script_head(f, t, xl, ylabel);
+  snprintf(t, sizeof t, "%s: %s against %s", title, p->metric_default ? "error" : p->t.head[p->metric],
+           p->t.head[p->xcol]);
+  const char *xu = mpgm_column_unit(p->t.head[p->xcol]);
+  snprintf(xl, sizeof xl, "%s%s%s%s (refined to the right)", p->t.head[p->xcol], xu ? " [" : "", xu ? xu : "",
+           xu ? "]" : "");
+  script_head(f, t, xl, ylabel, p->xlog, p->ylog);
   double lo, hi;
   err_range(pts, n, &lo, &hi);
-  log_tics(f, 'y', 0.5 * a, hi, 1);
-  if (xmax > xmin) fprintf(f, "set xrange [%.17g:%.17g]\n", xmax * 1.25, xmin / 1.25);
-  else fprintf(f, "set xrange [%.17g:%.17g]\n", xmax * 2, xmax / 2);
+  if (p->ylog) log_tics(f, 'y', loglog ? 0.5 * a : lo, hi, 1);
+  if (p->ysigned) fprintf(f, "set xzeroaxis lt -1 lw 1\n"); /* the line y = 0 */
+  const double pad = xmax > xmin ? 0.08 * (xmax - xmin) : fmax(0.5 * fabs(xmax), 1e-300);
+  if (p->xlog && xmax > xmin) fprintf(f, "set xrange [%.17g:%.17g]\n", xmax * 1.25, xmin / 1.25);
+  else if (p->xlog) fprintf(f, "set xrange [%.17g:%.17g]\n", xmax * 2, xmax / 2);
+  else fprintf(f, "set xrange [%.17g:%.17g]\n", xmax + pad, xmin - pad);
   fprintf(f, "set xtics ("); /* a tic at every value of the key (at most 16) */
   for (int i = 0, k = 0; i < n && k < 16; i++) {
     int seen = 0;
@@ -344,15 +357,17 @@ static int plot_convergence(mpgm_ctx *ctx, plot_ctx *p, point *pts, const char *
   script_data(f, pts, n, p->nser);
   fprintf(f, "$g1 << EOD\n%.17g %.17g\n%.17g %.17g\nEOD\n", xmin, a, xmax, a * xmax / xmin);
   fprintf(f, "$g2 << EOD\n%.17g %.17g\n%.17g %.17g\nEOD\n", xmin, a, xmax, a * (xmax / xmin) * (xmax / xmin));
-  script_series(f, p, pts, n, 1);
-  fprintf(f, "$g1 using 1:2 with lines dt 2 lw 1.2 lc rgb '#555555' title 'slope 1', \\\n"
-             "     $g2 using 1:2 with lines dt 4 lw 1.2 lc rgb '#555555' title 'slope 2'\n");
+  script_series(f, p, pts, n, loglog);
+  if (loglog)
+    fprintf(f, "$g1 using 1:2 with lines dt 2 lw 1.2 lc rgb '#555555' title 'slope 1', \\\n"
+               "     $g2 using 1:2 with lines dt 4 lw 1.2 lc rgb '#555555' title 'slope 2'\n");
+  else fprintf(f, "\n");
   fclose(f);
   char name[96];
   snprintf(name, sizeof name, "study_error_%s", p->xshort);
   int err = draw(ctx, p, name, body, len);
   free(body);
-  for (int s = 0; !err && s < p->nser; s++) { /* observed orders, coarse to fine */
+  for (int s = 0; !err && loglog && s < p->nser; s++) { /* observed orders, coarse to fine */
     int first = 1;
     for (int i = 0; i + 1 < n; i++) {
       if (pts[i].series != s || pts[i + 1].series != s || !(pts[i].x > pts[i + 1].x)) continue;
@@ -368,7 +383,7 @@ static int plot_convergence(mpgm_ctx *ctx, plot_ctx *p, point *pts, const char *
 /* Error against wall time; a run is Pareto-optimal when no other run is
  * both faster and more accurate (strictly). */
 static int plot_cost(mpgm_ctx *ctx, plot_ctx *p, point *pts, const char *ylabel, const char *title) {
-  const int n = collect(p, p->time, pts);
+  const int n = collect(p, p->time, pts, 1, 1);
   if (n == 0) {
     printf("plot: no completed run with a positive %s and wall time: no error-against-time plot\n",
            p->t.head[p->metric]);
@@ -388,7 +403,7 @@ static int plot_cost(mpgm_ctx *ctx, plot_ctx *p, point *pts, const char *ylabel,
   MPGM_CHECK(ctx, f, MPGM_ERR_NOMEM, "out of memory (plot)");
   char t[STUDY_NAME + 64];
   snprintf(t, sizeof t, "%s: accuracy against cost", title);
-  script_head(f, t, "wall time of the run [s] (time_s.total)", ylabel);
+  script_head(f, t, "wall time of the run [s] (time_s.total)", ylabel, 1, 1);
   double lo, hi;
   err_range(pts, n, &lo, &hi);
   log_tics(f, 'y', lo, hi, 1);
@@ -429,16 +444,25 @@ static int plot_cost(mpgm_ctx *ctx, plot_ctx *p, point *pts, const char *ylabel,
 }
 
 static int plot_main(mpgm_ctx *ctx, plot_ctx *p, const char *csv, const mpgm_plot_opts *o, const saved *sv) {
+  const char *xs = o->xscale ? o->xscale : "log", *ys = o->yscale ? o->yscale : "log";
+  MPGM_CHECK(ctx, !strcmp(xs, "log") || !strcmp(xs, "linear"), MPGM_ERR_INPUT,
+             "--xscale: expected linear or log, found '%s'", xs);
+  MPGM_CHECK(ctx, !strcmp(ys, "log") || !strcmp(ys, "linear") || !strcmp(ys, "signed"), MPGM_ERR_INPUT,
+             "--yscale: expected linear, log or signed, found '%s'", ys);
+  p->xlog = !strcmp(xs, "log");
+  p->ylog = !strcmp(ys, "log");
+  p->ysigned = !strcmp(ys, "signed");
   MPGM_CALL(mpgm_table_read(ctx, csv, &p->t));
   p->nkeycol = mpgm_table_col(&p->t, "status", 0);
   MPGM_CHECK(ctx, p->nkeycol >= 0, MPGM_ERR_INPUT, "%s: not a study.csv (no \"status\" column)", csv);
   const char *metric = o->metric ? o->metric : sv->metric ? sv->metric : "error";
+  p->metric_default = !o->metric;
   MPGM_CALL(metric_column(ctx, p, csv, metric));
   p->time = mpgm_table_col(&p->t, "time_s.total", 0);
   const char *x = o->x ? o->x : sv->x ? sv->x : "mesh.h";
   p->xcol = mpgm_table_col(&p->t, x, 0);
-  if (p->xcol >= p->nkeycol) p->xcol = -1;
-  MPGM_CHECK(ctx, p->xcol >= 0 || !o->x, MPGM_ERR_INPUT, "%s: --x %s: not a run key column", csv, x);
+  if (p->xcol >= p->nkeycol && !o->x) p->xcol = -1; /* by default a run key; --x may name any column */
+  MPGM_CHECK(ctx, p->xcol >= 0 || !o->x, MPGM_ERR_INPUT, "%s: --x %s: no such column", csv, x);
   snprintf(p->xshort, sizeof p->xshort, "%s", strrchr(x, '.') ? strrchr(x, '.') + 1 : x);
   MPGM_CALL(series_keys(ctx, p, csv, o->series, sv->series));
   const int ncomp = p->t.nrow;
@@ -450,11 +474,27 @@ static int plot_main(mpgm_ctx *ctx, plot_ctx *p, const char *csv, const mpgm_plo
   make_labels(p);
   const char *title = o->title ? o->title : sv->title && sv->title[0] ? sv->title : sv->name ? sv->name : "study";
   char ylabel[200];
-  snprintf(ylabel, sizeof ylabel, "%s", p->t.head[p->metric]);
+  const char *yu = mpgm_column_unit(p->t.head[p->metric]); /* an unknown metric: no unit */
+  snprintf(ylabel, sizeof ylabel, "%s%s%s%s", p->t.head[p->metric], yu ? " [" : "", yu ? yu : "", yu ? "]" : "");
   printf("plot: %d completed run(s) of %d, %d series, metric %s\n", done, p->t.nrow, p->nser, ylabel);
   point *pts = malloc(sizeof *pts * (size_t)(p->t.nrow + 1));
   MPGM_CHECK(ctx, pts, MPGM_ERR_NOMEM, "out of memory (plot)");
   int err = 0;
+  if (p->xcol >= 0 || p->time >= 0) { /* neither plot drawn: bad input, and why */
+    int usable = 0;
+    for (int pass = 0; pass < 2; pass++) {
+      const int c = pass ? p->time : p->xcol;
+      if (c >= 0) usable += pass ? collect(p, c, pts, 1, 1) : collect(p, c, pts, p->xlog, p->ylog);
+    }
+    if (!usable) {
+      free(pts);
+      MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: no completed run has a positive finite %s and %s: nothing to plot", csv,
+                 p->t.head[p->metric], p->xcol >= 0 ? p->t.head[p->xcol] : "time_s.total");
+    }
+  } else {
+    free(pts);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: neither %s nor time_s.total is a column: nothing to plot", csv, x);
+  }
   if (p->xcol >= 0) err = plot_convergence(ctx, p, pts, ylabel, title);
   else printf("plot: no %s column among the run keys: no error-against-%s plot\n", x, x);
   if (!err && p->time >= 0) err = plot_cost(ctx, p, pts, ylabel, title);
@@ -508,9 +548,12 @@ int mpgm_plot(mpgm_ctx *ctx, const char *csv, const mpgm_plot_opts *o) {
 }
 
 static void usage_plot(FILE *f) {
-  fprintf(f, "usage: mpgm plot STUDY.csv [--metric NAME] [--x KEY] [--series KEY,...] [--out DIR] [--title TEXT]\n"
-             "  draws study_error_<x>.png/.svg (error against KEY, default mesh.h) and\n"
-             "  study_error_time.png/.svg (error against wall time) next to STUDY.csv\n");
+  fprintf(f, "usage: mpgm plot STUDY.csv [--y|--metric NAME] [--x KEY] [--xscale linear|log]\n"
+             "                 [--yscale linear|log|signed] [--series KEY,...] [--out DIR] [--title TEXT]\n"
+             "  draws study_error_<x>.png/.svg (the metric NAME, default error, against the run key KEY,\n"
+             "  default mesh.h) and study_error_time.png/.svg (the metric against wall time) next to\n"
+             "  STUDY.csv; axes carry the units of known keys and metrics (docs/studies.md).\n"
+             "  The key plot is log-log by default; signed: a linear y axis with a line at zero\n");
 }
 
 int mpgm_cmd_plot(int argc, char **argv) {
@@ -518,16 +561,16 @@ int mpgm_cmd_plot(int argc, char **argv) {
   memset(&o, 0, sizeof o);
   const char *csv = NULL;
   for (int i = 2; i < argc; i++) {
-    static const char *const flags[] = {"--metric", "--x", "--series", "--out", "--title"};
+    static const char *const flags[] = {"--metric", "--x", "--series", "--out", "--title", "--xscale", "--yscale", "--y"};
     int f = -1;
-    for (int k = 0; k < 5; k++)
-      if (!strcmp(argv[i], flags[k])) f = k;
+    for (int k = 0; k < 8; k++)
+      if (!strcmp(argv[i], flags[k])) f = k == 7 ? 0 : k; /* --y is --metric */
     if (f >= 0) {
       if (i + 1 >= argc) {
         fprintf(stderr, "mpgm plot: %s needs a value\n", argv[i]);
         return 2;
       }
-      const char **slot[] = {&o.metric, &o.x, &o.series, &o.out, &o.title};
+      const char **slot[] = {&o.metric, &o.x, &o.series, &o.out, &o.title, &o.xscale, &o.yscale};
       *slot[f] = argv[++i];
     } else if (argv[i][0] == '-' && argv[i][1] == '-') {
       fprintf(stderr, "mpgm plot: unknown option %s\n", argv[i]);

@@ -3,7 +3,8 @@
  * PNG with a colour bar, a time label and equal axis scales
  * (docs/studies.md).
  *
- * For each requested time the frame of RUN_DIR/points.pvd nearest to it
+ * For each requested time the frame of RUN_DIR/points.pvd (or, for legacy frames
+ * only, points.vtk.series) nearest to it
  * is drawn (a note says which, a warning when it is more than half the
  * frame spacing away). The colour scale is common to all the pictures of
  * one call, and so is the view (the scene's mesh.domain from summary.json,
@@ -17,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "gnuplot.h"
 #include "mpgm_file.h"
@@ -24,8 +26,9 @@
 #include "mpgm_output.h"
 #include "mpgm_vtk.h"
 #include "study.h"
+#include "units.h"
 
-enum { MAX_TIMES = 64 };
+enum { MAX_TIMES = 64, MAX_CATS = 64 };
 
 typedef struct ropts {
   const char *run, *field, *times, *out, *sheet, *title;
@@ -66,7 +69,10 @@ static void usage_render(FILE *f) {
              "                   [--radius R] [--title TEXT]\n"
              "  draws RUN_DIR's material points coloured by NAME (default displacement) at each time\n"
              "  (default: the last frame) into DIR/NAME_tT.png (default DIR: RUN_DIR/render), or all\n"
-             "  of them as panels of one picture with --sheet\n");
+             "  of them as panels of one picture with --sheet. The colour bar runs from the 1st to the\n"
+             "  99th percentile of the field over the frames drawn (--range MIN:MAX, in the field's unit,\n"
+             "  overrides a side) and names the unit (stresses in Pa, kPa or MPa); material and body\n"
+             "  get one named colour each\n");
 }
 
 static int parse(int argc, char **argv, ropts *o) {
@@ -223,6 +229,8 @@ typedef struct run_info {
   int have_domain, is_static;
   double dom[4];   /**< xmin, xmax, ymin, ymax [m]       */
   double area0;    /**< area of a point at the start [m^2]: h^2 / ppc (quad), h^2 / (2 ppc) (tri) */
+  int nmat, nbody;                /**< names of the scene's materials (in order) and bodies */
+  char mat[MAX_CATS][64], body[MAX_CATS][64];
 } run_info;
 
 static void read_info(const char *run, run_info *ri) {
@@ -252,6 +260,17 @@ static void read_info(const char *run, run_info *ri) {
   const char *an = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(sc, "time"),
                                                                          "analysis"));
   ri->is_static = an && !strcmp(an, "static");
+  /* the index fields' names: materials in the order of the object, bodies by name (else bodyN) */
+  const cJSON *mats = cJSON_GetObjectItemCaseSensitive(sc, "materials");
+  for (const cJSON *m = cJSON_IsObject(mats) ? mats->child : NULL; m && ri->nmat < MAX_CATS; m = m->next)
+    snprintf(ri->mat[ri->nmat++], sizeof ri->mat[0], "%s", m->string ? m->string : "?");
+  const cJSON *bodies = cJSON_GetObjectItemCaseSensitive(sc, "bodies");
+  for (int i = 0; cJSON_IsArray(bodies) && i < cJSON_GetArraySize(bodies) && ri->nbody < MAX_CATS; i++) {
+    const char *nm = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(bodies, i), "name"));
+    if (nm) snprintf(ri->body[ri->nbody], sizeof ri->body[0], "%s", nm);
+    else snprintf(ri->body[ri->nbody], sizeof ri->body[0], "body%d", i);
+    ri->nbody++;
+  }
   cJSON_Delete(doc);
 }
 
@@ -272,7 +291,7 @@ static void radii(const ropts *o, const run_info *ri, frame *f, const double *bb
 }
 
 /* One panel: the points of f as discs coloured by the field. */
-static void panel(FILE *gp, const run_info *ri, const frame *f, const char *title) {
+static void panel(FILE *gp, const run_info *ri, const frame *f, const char *title, double scale) {
   fprintf(gp, "set title ");
   mpgm_gnuplot_quote(gp, title);
   fprintf(gp, " noenhanced\nset label 1 ");
@@ -282,21 +301,133 @@ static void panel(FILE *gp, const run_info *ri, const frame *f, const char *titl
   fprintf(gp, " at graph 0.02, graph 0.95 left front font ',13' noenhanced\n");
   fprintf(gp, "$p << EOD\n");
   for (int p = 0; p < f->g->npoints; p++)
-    fprintf(gp, "%.9g %.9g %.6g %.9g\n", f->g->x[3 * p], f->g->x[3 * p + 1], f->r[p], f->v[p]);
+    fprintf(gp, "%.9g %.9g %.6g %.9g\n", f->g->x[3 * p], f->g->x[3 * p + 1], f->r[p], f->v[p] / scale);
   fprintf(gp, "EOD\nplot $p using 1:2:3:4 with circles lc palette fs solid noborder notitle\n");
 }
 
+/* The colour bar: its range, the divisor of the values drawn (stresses
+ * in kPa or MPa), its label, and the names of an index field. */
+typedef struct colour {
+  double cr[2];    /**< range, in the field's unit (Pa for stresses)  */
+  double scale;    /**< values are drawn divided by this              */
+  char how[32];    /**< how the range was found: "1-99 %", ...         */
+  char label[320]; /**< "stress_q [kPa], 1-99 %"                      */
+  int ncat;        /**< an index field's number of names (0: continuous) */
+  const char (*names)[64];
+  int nnames;      /**< names known (from the scene); the rest are numbers */
+} colour;
+
+static int by_value(const void *a, const void *b) {
+  const double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* The q-quantile (0..1) of sorted v[0..n-1], linear between ranks. */
+static double quantile(const double *v, size_t n, double q) {
+  const double r = q * (double)(n - 1);
+  const size_t i = (size_t)floor(r);
+  return i + 1 < n ? v[i] + (r - (double)i) * (v[i + 1] - v[i]) : v[n - 1];
+}
+
+/* The colour bar of the frames drawn: the 1st to 99th percentile of the
+ * field's finite values over them (each frame once), a side of --range
+ * instead of its percentile; material and body get one colour per index.
+ * lohi: the values' own range. */
+static int colour_scale(mpgm_ctx *ctx, const ropts *o, const run_info *ri, const frame *fr, int nfr, double lohi[2],
+                        colour *c) {
+  memset(c, 0, sizeof *c);
+  c->scale = 1.0;
+  size_t n = 0, cap = 0;
+  for (int i = 0; i < nfr; i++) cap += fr[i].owner ? (size_t)fr[i].g->npoints : 0;
+  double *v = malloc(sizeof *v * (cap ? cap : 1));
+  MPGM_CHECK(ctx, v, MPGM_ERR_NOMEM, "out of memory (render)");
+  for (int i = 0; i < nfr; i++)
+    for (int p = 0; fr[i].owner && p < fr[i].g->npoints; p++)
+      if (isfinite(fr[i].v[p])) v[n++] = fr[i].v[p];
+  if (n == 0) {
+    free(v);
+    MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: no finite value of %s in the frames drawn: nothing to draw", o->run,
+               o->field);
+  }
+  qsort(v, n, sizeof *v, by_value);
+  lohi[0] = v[0];
+  lohi[1] = v[n - 1];
+  const int is_mat = !strcmp(o->field, "material"), is_body = !strcmp(o->field, "body");
+  if (is_mat || is_body) { /* an index: one colour per value, named from the scene */
+    c->names = is_mat ? ri->mat : ri->body;
+    c->nnames = is_mat ? ri->nmat : ri->nbody;
+    c->ncat = (int)fmin(MAX_CATS, fmax(c->nnames, floor(v[n - 1]) + 1));
+    free(v);
+    c->cr[0] = -0.5;
+    c->cr[1] = c->ncat - 0.5;
+    snprintf(c->how, sizeof c->how, "index");
+    snprintf(c->label, sizeof c->label, "%s", o->field);
+    return 0;
+  }
+  c->cr[0] = isnan(o->range[0]) ? quantile(v, n, 0.01) : o->range[0];
+  c->cr[1] = isnan(o->range[1]) ? quantile(v, n, 0.99) : o->range[1];
+  free(v);
+  const int given0 = !isnan(o->range[0]), given1 = !isnan(o->range[1]);
+  snprintf(c->how, sizeof c->how, "%s", given0 && given1 ? "--range" : given0 ? "--range to 99 %"
+                                       : given1 ? "1 % to --range" : "1-99 %");
+  if (!(c->cr[1] > c->cr[0])) { /* a constant field: a scale around it */
+    const double d = fmax(1e-12, 0.05 * fabs(c->cr[0]));
+    c->cr[0] -= d;
+    c->cr[1] += d;
+  }
+  const char *unit = mpgm_field_unit(o->field);
+  if (unit && !strcmp(unit, "Pa")) c->scale = mpgm_stress_scale(fmax(fabs(c->cr[0]), fabs(c->cr[1])), &unit);
+  if (unit) snprintf(c->label, sizeof c->label, "%s [%s], %s", o->field, unit, c->how);
+  else snprintf(c->label, sizeof c->label, "%s, %s", o->field, c->how);
+  return 0;
+}
+
 /* The gnuplot preamble: terminal, view, palette, colour scale. */
-static void preamble(FILE *gp, const ropts *o, const double *view, const double *cr, int w, int h) {
+static void preamble(FILE *gp, const colour *c, const double *view, int w, int h) {
   fprintf(gp, "set terminal pngcairo size %d,%d enhanced font ',11'\n", w, h);
   fprintf(gp, "set size ratio -1\nset xrange [%.9g:%.9g]\nset yrange [%.9g:%.9g]\n", view[0], view[1], view[2],
           view[3]);
-  fprintf(gp, "set xlabel 'x [m]'\nset ylabel 'y [m]'\nunset key\nset cbrange [%.9g:%.9g]\n", cr[0], cr[1]);
-  fprintf(gp, "set palette defined (0 '#440154', 0.13 '#482878', 0.25 '#3e4989', 0.38 '#31688e', "
-              "0.5 '#26828e', 0.63 '#1f9e89', 0.75 '#35b779', 0.88 '#6ece58', 1 '#fde725')\n");
+  fprintf(gp, "set xlabel 'x [m]'\nset ylabel 'y [m]'\nunset key\nset cbrange [%.9g:%.9g]\n", c->cr[0] / c->scale,
+          c->cr[1] / c->scale);
+  if (c->ncat) { /* steps of the Okabe-Ito colours, a tic with its name at each index */
+    static const char *const cat[] = {"#0072b2", "#e69f00", "#009e73", "#cc79a7",
+                                      "#56b4e9", "#d55e00", "#f0e442", "#000000"};
+    fprintf(gp, "set palette maxcolors %d\nset palette defined (", c->ncat);
+    for (int k = 0; k < c->ncat; k++)
+      fprintf(gp, "%s%d '%s', %d '%s'", k ? ", " : "", k, cat[k % 8], k + 1, cat[k % 8]);
+    fprintf(gp, ")\nset cbtics (");
+    for (int k = 0; k < c->ncat; k++) {
+      char num[16];
+      snprintf(num, sizeof num, "%d", k);
+      fprintf(gp, "%s", k ? ", " : "");
+      mpgm_gnuplot_quote(gp, k < c->nnames ? c->names[k] : num);
+      fprintf(gp, " %d", k);
+    }
+    fprintf(gp, ") scale 0\nunset mcbtics\n");
+  } else {
+    fprintf(gp, "set palette defined (0 '#440154', 0.13 '#482878', 0.25 '#3e4989', 0.38 '#31688e', "
+                "0.5 '#26828e', 0.63 '#1f9e89', 0.75 '#35b779', 0.88 '#6ece58', 1 '#fde725')\n");
+  }
   fprintf(gp, "set cblabel ");
-  mpgm_gnuplot_quote(gp, o->field);
-  fprintf(gp, " noenhanced\nset style fill solid noborder\n");
+  mpgm_gnuplot_quote(gp, c->label);
+  /* the colour bar, its tic labels (at most "-1.234e-12") and its label
+   * in a right margin of their own, so that in a sheet nothing reaches
+   * into the next panel */
+  fprintf(gp, " noenhanced offset 1,0\nset format cb '%%.4g'\nset rmargin 16\nset style fill solid noborder\n");
+}
+
+/* The run's collection of point frames into path: points.pvd (.vtu
+ * frames), or points.vtk.series when only legacy frames were written
+ * (output.format "vtk"); points.pvd when neither is there, for the
+ * message. */
+static void points_series(const char *run, char *path, size_t cap) {
+  snprintf(path, cap, "%s/points.vtk.series", run);
+  struct stat st;
+  if (stat(path, &st) != 0) snprintf(path, cap, "%s/points.pvd", run);
+  else {
+    snprintf(path, cap, "%s/points.pvd", run);
+    if (stat(path, &st) != 0) snprintf(path, cap, "%s/points.vtk.series", run);
+  }
 }
 
 /* The pictures (--sheet, or DIR/NAME_tT.png, and --out itself) must not
@@ -311,7 +442,7 @@ static int refuse_overwrite(mpgm_ctx *ctx, const ropts *o, const char *outdir, c
   int err = in && png && inp && w ? 0 : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory");
   int n = 0;
   if (!err) {
-    snprintf(in[0], sizeof in[0], "%s/points.pvd", o->run);
+    points_series(o->run, in[0], sizeof in[0]);
     snprintf(in[1], sizeof in[1], "%s/summary.json", o->run);
     for (int i = 0; i < nfr; i++) snprintf(in[2 + i], sizeof in[2 + i], "%s/%s", o->run, pvd->file[fr[i].index]);
     for (int i = 0; i < nfr + 2; i++) inp[i] = in[i];
@@ -334,7 +465,7 @@ static int refuse_overwrite(mpgm_ctx *ctx, const ropts *o, const char *outdir, c
 static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame *fr, int *nfr) {
   char path[STUDY_PATH + 64], outdir[STUDY_PATH];
   MPGM_CALL(mpgm_gnuplot_check(ctx));
-  snprintf(path, sizeof path, "%s/points.pvd", o->run);
+  points_series(o->run, path, sizeof path);
   if (mpgm_pvd_read(ctx, path, pvd)) {
     if (ctx->code == MPGM_ERR_IO)
       snprintf(ctx->msg + strlen(ctx->msg), sizeof ctx->msg - strlen(ctx->msg),
@@ -345,7 +476,7 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
   MPGM_CALL(pick_frames(ctx, o, pvd, fr, nfr));
   run_info ri;
   read_info(o->run, &ri);
-  double bbox[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY}, cr[2] = {INFINITY, -INFINITY};
+  double bbox[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY}, lohi[2] = {NAN, NAN};
   for (int i = 0; i < *nfr; i++) {
     frame *f = &fr[i];
     for (int j = 0; j < i && !f->g; j++) /* equal frames are read once */
@@ -370,23 +501,13 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
       bbox[1] = fmax(bbox[1], f->g->x[3 * p]);
       bbox[2] = fmin(bbox[2], f->g->x[3 * p + 1]);
       bbox[3] = fmax(bbox[3], f->g->x[3 * p + 1]);
-      if (isfinite(f->v[p])) {
-        cr[0] = fmin(cr[0], f->v[p]);
-        cr[1] = fmax(cr[1], f->v[p]);
-      }
     }
   }
   MPGM_CHECK(ctx, bbox[0] <= bbox[1], MPGM_ERR_INPUT, "%s: the frames hold no points", o->run);
   for (int i = 0; i < *nfr; i++)
     if (fr[i].owner) radii(o, &ri, &fr[i], bbox);
-  /* colour scale: the given range, else the values' (common to all) */
-  if (!isnan(o->range[0])) cr[0] = o->range[0];
-  if (!isnan(o->range[1])) cr[1] = o->range[1];
-  if (!(cr[1] > cr[0])) { /* a constant field: a scale around it */
-    const double d = fmax(1e-12, 0.05 * fabs(cr[0]));
-    cr[0] -= d;
-    cr[1] += d;
-  }
+  colour col;
+  MPGM_CALL(colour_scale(ctx, o, &ri, fr, *nfr, lohi, &col));
   /* view: the domain, grown to hold every point and its disc */
   double view[4] = {bbox[0], bbox[1], bbox[2], bbox[3]};
   if (ri.have_domain)
@@ -411,24 +532,24 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
   if (o->sheet) {
     const int cols = o->cols ? o->cols : (int)ceil(sqrt((double)*nfr));
     const int rows = o->rows ? o->rows : (*nfr + cols - 1) / cols;
-    preamble(gp.in, o, view, cr, o->w ? o->w : 700 * cols, o->h ? o->h : hp * rows + 40);
+    preamble(gp.in, &col, view, o->w ? o->w : 700 * cols, o->h ? o->h : hp * rows + 40);
     fprintf(gp.in, "set output ");
     mpgm_gnuplot_quote(gp.in, o->sheet);
     snprintf(title, sizeof title, "%s: material points coloured by %s", name, o->field);
     fprintf(gp.in, "\nset multiplot layout %d,%d title ", rows, cols);
     mpgm_gnuplot_quote(gp.in, title);
     fprintf(gp.in, " noenhanced\n");
-    for (int i = 0; i < *nfr && i < rows * cols; i++) panel(gp.in, &ri, &fr[i], "");
+    for (int i = 0; i < *nfr && i < rows * cols; i++) panel(gp.in, &ri, &fr[i], "", col.scale);
     fprintf(gp.in, "unset multiplot\nunset output\n");
   } else {
-    preamble(gp.in, o, view, cr, o->w ? o->w : 1000, o->h ? o->h : h1);
+    preamble(gp.in, &col, view, o->w ? o->w : 1000, o->h ? o->h : h1);
     for (int i = 0; i < *nfr; i++) {
       snprintf(path, sizeof path, "%s/%s_t%s.png", outdir, o->field, fr[i].token);
       fprintf(gp.in, "set output ");
       mpgm_gnuplot_quote(gp.in, path);
       snprintf(title, sizeof title, "%s: %s", name, o->field);
       fprintf(gp.in, "\n");
-      panel(gp.in, &ri, &fr[i], title);
+      panel(gp.in, &ri, &fr[i], title, col.scale);
       fprintf(gp.in, "unset output\n");
     }
   }
@@ -440,7 +561,8 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
     if (o->sheet) printf("render: %s (%d panels)\n", path, *nfr);
     else printf("render: %s (frame at t = %.9g)\n", path, fr[i].t);
   }
-  printf("render: %s from %.6g to %.6g\n", o->field, cr[0], cr[1]);
+  printf("render: %s from %.6g to %.6g; colour bar from %.6g to %.6g (%s)\n", o->field, lohi[0], lohi[1], col.cr[0],
+         col.cr[1], col.how);
   return 0;
 }
 

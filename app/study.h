@@ -102,6 +102,8 @@ typedef struct mpgm_plot_opts {
   const char *series; /**< comma-separated keys that make the series     */
   const char *out;    /**< folder of the pictures (the CSV's)            */
   const char *title;  /**< title prefix (the study's name)               */
+  const char *xscale; /**< x axis of the key plot: "linear", "log" (NULL: log) */
+  const char *yscale; /**< its y axis: "linear", "log", "signed" (NULL: log) */
 } mpgm_plot_opts;
 
 /** Draw study_error_<x>.png/.svg and study_error_time.png/.svg from a

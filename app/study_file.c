@@ -319,7 +319,7 @@ static int make_record(mpgm_ctx *ctx, mpgm_study *st, const cJSON *doc) {
 }
 
 static int load(mpgm_ctx *ctx, const char *file, const char *out_dir, int jobs, mpgm_study *st, cJSON *doc) {
-  jr_reader rd = {ctx, st->file, NULL, 0, NULL};
+  jr_reader rd = {.ctx = ctx, .file = st->file};
   jr_node root;
   memset(&root, 0, sizeof root);
   root.r = &rd;

@@ -38,6 +38,14 @@ typedef enum {
   MPGM_ANALYSIS_EXPLICIT = 2 /**< explicit schemes (time.scheme)            */
 } mpgm_analysis;
 typedef enum { MPGM_VTK_NONE = 0, MPGM_VTK_OUT_ASCII = 1, MPGM_VTK_OUT_BINARY = 2 } mpgm_vtk_mode;
+/** output.format: the files of the point and mesh series (bit mask). */
+typedef enum {
+  MPGM_FORMAT_VTU = 1u << 0,  /**< VTK XML .vtu frames, .pvd series (the default) */
+  MPGM_FORMAT_VTK = 1u << 1,  /**< legacy .vtk frames, .vtk.series (ParaView's JSON) */
+  MPGM_FORMAT_XDMF = 1u << 2  /**< one HDF5 file of every frame, an .xdmf index */
+} mpgm_format;
+/** output.compress: how VTK XML and HDF5 arrays are stored. */
+typedef enum { MPGM_COMPRESS_NONE = 0, MPGM_COMPRESS_ZLIB = 1 } mpgm_compress;
 typedef enum {
   MPGM_GEOM_RECTANGLE = 0,
   MPGM_GEOM_DISK = 1,
@@ -76,7 +84,11 @@ typedef enum {
   MPGM_FIELD_ID = 1 << 8,
   MPGM_FIELD_EPS_P = 1 << 9, /**< equivalent plastic strain; written only
                                   when a material of the scene is plastic */
-  MPGM_FIELD_ALL = (1 << 10) - 1
+  MPGM_FIELD_ALL = (1 << 10) - 1, /**< the default set: every field above */
+  MPGM_FIELD_BODY = 1 << 10  /**< the body's index in scene order (from 0),
+                                  for categorical colours; written only
+                                  when listed (not in the default set, so
+                                  that the default files stay as they were) */
 } mpgm_field;
 
 /** A body: one material, one reference geometry, an initial velocity.
@@ -344,7 +356,11 @@ typedef struct mpgm_scene {
   double times[64];         /**< output.times: steps end exactly at these
                                  times (load factors, static) and VTK is
                                  written there; increasing              */
-  int vtk;                  /**< mpgm_vtk_mode                          */
+  int vtk;                  /**< mpgm_vtk_mode: none (no series at all),
+                                 ascii or binary (the encoding of .vtu and
+                                 .vtk frames)                          */
+  unsigned formats;         /**< mpgm_format mask (output.format)        */
+  int compress;             /**< mpgm_compress (output.compress)         */
   int nmatrices;            /**< output.matrices: entries of matrices   */
   long matrices[MPGM_MATRICES_MAX]; /**< output.matrices: steps (from 1)
                                  whose tangents and right-hand sides are

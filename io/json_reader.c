@@ -358,3 +358,76 @@ int jr_parse_file(mpgm_ctx *ctx, const char *file, cJSON **doc) {
   free(text);
   return err;
 }
+
+/* Lengths in cells (docs/scene-format.md, "Lengths in cells"): a number is
+ * metres; {"cells": k} is k h and {"at": x, "cells": k} is x + k h, so that a
+ * case says "one cell high" or "a quarter cell from the end" once and a
+ * finer mesh.h keeps it. k h is one product (exact when k is a power of two,
+ * so that k = 1, 0.5, -1 give the very double a scene would write in
+ * metres); x + k h adds it to x once. */
+static int len_of(jr_node *o, const char *key, const cJSON *v, const char *where, double *x) {
+  static const char form[] = "a length: a number (metres), {\"cells\": k} (k mesh.h) or "
+                             "{\"at\": x, \"cells\": k} (x + k mesh.h)";
+  if (cJSON_IsNumber(v)) {
+    if (!isfinite(v->valuedouble)) return jr_fail(o, key, "expected a finite number%s", where);
+    *x = v->valuedouble;
+    return 0;
+  }
+  if (!cJSON_IsObject(v)) return jr_fail(o, key, "expected %s%s, found %s", form, where, jr_type(v));
+  const cJSON *k = NULL, *at = NULL;
+  for (const cJSON *c = v->child; c; c = c->next) {
+    const int is_k = strcmp(c->string, "cells") == 0, is_at = strcmp(c->string, "at") == 0;
+    if (!is_k && !is_at)
+      return jr_fail(o, key, "expected %s%s, found the key \"%s\"", form, where, c->string);
+    if ((is_k && k) || (is_at && at))
+      return jr_fail(o, key, "expected %s%s, found \"%s\" twice", form, where, c->string);
+    if (!cJSON_IsNumber(c) || !isfinite(c->valuedouble))
+      return jr_fail(o, key, "expected %s%s, found %s for \"%s\"", form, where, jr_type(c), c->string);
+    if (is_k) k = c;
+    else at = c;
+  }
+  if (!k) return jr_fail(o, key, "expected %s%s, found no \"cells\"", form, where);
+  if (!(o->r->h > 0.0))
+    return jr_fail(o, key, "a length in cells needs mesh.h, which is not known here");
+  const double kh = k->valuedouble * o->r->h;
+  *x = at ? at->valuedouble + kh : kh;
+  if (!isfinite(*x)) return jr_fail(o, key, "expected a finite length%s, found %g", where, *x);
+  return 0;
+}
+
+int jr_len(jr_node *o, const char *key, double def, double lo, double hi, double *out) {
+  const cJSON *v;
+  MPGM_CALL(lookup(o, key, AS_JSON, &v));
+  double x = def;
+  if (!v && isnan(def)) return jr_fail(o, key, "required key is missing (expected a length)");
+  if (v) MPGM_CALL(len_of(o, key, v, "", &x));
+  if (!(x >= lo && x <= hi)) {
+    char lb[40], hb[40];
+    if (isinf(lo)) snprintf(lb, sizeof lb, "(-inf");
+    else snprintf(lb, sizeof lb, "[%g", lo);
+    if (isinf(hi)) snprintf(hb, sizeof hb, "inf)");
+    else snprintf(hb, sizeof hb, "%g]", hi);
+    return jr_fail(o, key, "expected a length in %s, %s m, found %g m", lb, hb, x);
+  }
+  *out = x;
+  if (o->out) cJSON_AddNumberToObject(o->out, key, x);
+  return 0;
+}
+
+int jr_vec2_len(jr_node *o, const char *key, const double *def, double out[2]) {
+  const cJSON *v;
+  MPGM_CALL(lookup(o, key, AS_JSON, &v));
+  if (!v) {
+    if (!def) return jr_fail(o, key, "required key is missing (expected [x, y])");
+    out[0] = def[0];
+    out[1] = def[1];
+  } else {
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2)
+      return jr_fail(o, key, "expected an array of 2 lengths [x, y], found %s%s", jr_type(v),
+                     cJSON_IsArray(v) ? " of another length" : "");
+    for (int i = 0; i < 2; i++)
+      MPGM_CALL(len_of(o, key, cJSON_GetArrayItem(v, i), i ? " at index 1" : " at index 0", &out[i]));
+  }
+  if (o->out) cJSON_AddItemToObject(o->out, key, cJSON_CreateDoubleArray(out, 2));
+  return 0;
+}

@@ -14,9 +14,12 @@ typedef struct mpgm_output {
   int mtx_on;     /**< output.matrices lists the current step      */
   int mtx_system; /**< systems written in the current step          */
   long mtx_written; /**< systems written in the run                */
-  struct mpgm_pvd *pvd_points, *pvd_mesh;
+  struct mpgm_pvd *series[2][2]; /**< the collections of the frames:
+                     [format: 0 .vtu (points.pvd, mesh.pvd), 1 legacy .vtk
+                     (points.vtk.series, mesh.vtk.series)][kind: 0 points,
+                     1 mesh]; NULL where the scene writes none          */
   int nvtk;       /**< VTK outputs written (index of the next one) */
-  int files;      /**< VTK files written                          */
+  int files;      /**< VTK files written (every format)           */
   int ncol;       /**< probe columns (2 per probe)                */
   int nrow, caprow;
   double *hist;   /**< probe history rows: step, time, columns     */
@@ -27,7 +30,9 @@ typedef struct mpgm_output {
 } mpgm_output;
 
 /** Open the results folder dir of problem pb: DIR/vtk (emptied of earlier
- *  VTK files), points.pvd (and mesh.pvd when the front end has cells),
+ *  VTK files), the collections of every output.format (vtu: points.pvd,
+ *  and mesh.pvd when the front end has cells; vtk: points.vtk.series,
+ *  mesh.vtk.series; the earlier run's collections removed),
  *  DIR/matrices (output.matrices). Errors: MPGM_ERR_IO. */
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir);
 void mpgm_output_close(mpgm_output *o);

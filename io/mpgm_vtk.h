@@ -49,7 +49,19 @@ int mpgm_vtk_write(mpgm_ctx *ctx, const char *path, int binary,
                    const int *cell_type, int nfields,
                    const mpgm_vtk_field *fields);
 
-/** A .pvd collection: (time, file) entries, rewritten atomically on add. */
+/** The arguments of mpgm_vtk_write checked (the VTK XML writer, vtu.c,
+ *  takes the same piece and checks it here too): points, cells that refer
+ *  to points, fields with a name without blanks and a known kind.
+ *  Errors: MPGM_ERR_INPUT naming path. */
+int mpgm_vtk_check(mpgm_ctx *ctx, const char *path, int npoints, const double *x, int ncells,
+                   const int *cell_ptr, const int *conn, const int *cell_type, int nfields,
+                   const mpgm_vtk_field *fields);
+
+/** A collection of frames: (time, file) entries, rewritten atomically on
+ *  add. A path ending in ".series" is written as ParaView's JSON series of
+ *  legacy files ({"file-series-version": "1.0", "files": [{"name": ...,
+ *  "time": ...}]}), any other as a .pvd (VTK XML Collection, the time as
+ *  each DataSet's timestep). */
 typedef struct mpgm_pvd mpgm_pvd;
 
 /** Create a collection that will be written to path (nothing written yet). */
@@ -91,7 +103,8 @@ typedef struct mpgm_vtk_grid {
 } mpgm_vtk_grid;
 
 /** Read a legacy file written by mpgm_vtk_write (ASCII or binary) into a
- *  new grid. Errors: MPGM_ERR_IO (cannot read), MPGM_ERR_INPUT (not our
+ *  new grid; a name ending in ".vtu" is read by mpgm_vtu_read (mpgm_vtu.h)
+ *  into the same kind of grid. Errors: MPGM_ERR_IO (cannot read), MPGM_ERR_INPUT (not our
  *  format; the message names the file and the line found),
  *  MPGM_ERR_NOMEM. */
 int mpgm_vtk_read(mpgm_ctx *ctx, const char *path, mpgm_vtk_grid **out);
@@ -107,8 +120,9 @@ typedef struct mpgm_pvd_list {
   char **file;  /**< file of each, relative to the .pvd's folder */
 } mpgm_pvd_list;
 
-/** Read a .pvd collection (as mpgm_pvd_add writes it). Errors as
- *  mpgm_vtk_read. */
+/** Read a collection as mpgm_pvd_add writes it: a .pvd, or a .vtk.series
+ *  (a name ending in ".series"). Every file named must lie below the
+ *  collection's folder (mpgm_path_below). Errors as mpgm_vtk_read. */
 int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out);
 /** Free the entries (accepts an empty list). */
 void mpgm_pvd_list_free(mpgm_pvd_list *l);

@@ -1,4 +1,7 @@
-/* output.c -- VTK series of points and mesh, probes history, summary.json. */
+/* output.c -- VTK series of points and mesh (VTK XML .vtu in .pvd
+ * collections, legacy .vtk in .vtk.series), probes history, summary.json.
+ * A frame's fields are gathered once (frame_gather) and then written in
+ * every format output.format names (frame_write). */
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_output.h"
 
@@ -16,10 +19,21 @@
 #include "mpgm_mtx.h"
 #include "mpgm_scene_io.h"
 #include "mpgm_vtk.h"
+#include "mpgm_vtu.h"
 
 /* steps.csv: 9 columns, and 8 of energy and momentum in dynamic runs (all
  * 17 are kept in memory) */
 enum { STEP_BASE = 9, STEP_COLS = 17 };
+
+/* The series: o->series[format][kind], format 0 .vtu and 1 legacy .vtk,
+ * kind 0 points and 1 mesh; their collections, and the checkpoint
+ * sections of their entries. */
+enum { SERIES_FORMATS = 2, SERIES_KINDS = 2 };
+static const char *const series_file[SERIES_FORMATS][SERIES_KINDS] = {
+    {"points.pvd", "mesh.pvd"}, {"points.vtk.series", "mesh.vtk.series"}};
+static const char *const series_tag[SERIES_FORMATS][SERIES_KINDS] = {
+    {"out.vtu_points", "out.vtu_mesh"}, {"out.vtk_points", "out.vtk_mesh"}};
+static const unsigned series_format[SERIES_FORMATS] = {MPGM_FORMAT_VTU, MPGM_FORMAT_VTK};
 
 /* Append a row of width doubles to a growable table; *row points to it. */
 static int table_push(mpgm_ctx *ctx, double **buf, int *n, int *cap, int width, double **row) {
@@ -46,7 +60,9 @@ static void remove_vtk_from(const char *path, int keep) {
     if (!(strncmp(e->d_name, "points_", 7) == 0 && sscanf(e->d_name + 7, "%d", &idx) == 1) &&
         !(strncmp(e->d_name, "mesh_", 5) == 0 && sscanf(e->d_name + 5, "%d", &idx) == 1))
       continue;
-    if (!strstr(e->d_name, ".vtk") || (idx < keep && !strstr(e->d_name, ".tmp"))) continue;
+    if ((!strstr(e->d_name, ".vtk") && !strstr(e->d_name, ".vtu")) ||
+        (idx < keep && !strstr(e->d_name, ".tmp")))
+      continue;
     char f[MPGM_PATH_LEN + 400];
     snprintf(f, sizeof f, "%s/%s", path, e->d_name);
     remove(f);
@@ -62,14 +78,11 @@ static int output_init(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, co
   memset(o, 0, sizeof *o);
   snprintf(o->dir, sizeof o->dir, "%s", dir);
   char path[MPGM_PATH_LEN + 64];
-  if (scene->vtk != MPGM_VTK_NONE) {
-    snprintf(path, sizeof path, "%s/points.pvd", dir);
-    MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_points));
-    if (has_cells) {
-      snprintf(path, sizeof path, "%s/mesh.pvd", dir);
-      MPGM_CALL(mpgm_pvd_create(ctx, path, &o->pvd_mesh));
+  for (int f = 0; scene->vtk != MPGM_VTK_NONE && f < SERIES_FORMATS; f++)
+    for (int k = 0; (scene->formats & series_format[f]) && k < 1 + has_cells; k++) {
+      snprintf(path, sizeof path, "%s/%s", dir, series_file[f][k]);
+      MPGM_CALL(mpgm_pvd_create(ctx, path, &o->series[f][k]));
     }
-  }
   if (scene->nmatrices > 0) /* output.matrices */
     snprintf(o->matrices_dir, sizeof o->matrices_dir, "%s/matrices", dir);
   /* ux, uy of every probe; dynamic runs add vx, vy of every probe */
@@ -94,10 +107,14 @@ static int output_folder(mpgm_ctx *ctx, const mpgm_output *o, int keep) {
     MPGM_CALL(mpgm_mkdir_p(ctx, path));
     /* stale files of an earlier run in the same folder would mix series */
     remove_vtk_from(path, keep);
-    if (o->pvd_mesh) {
-      snprintf(path, sizeof path, "%s/mesh.pvd", dir);
-      remove(path);
-    }
+    /* an earlier run's collections (of other formats too) would list
+     * frames that are gone; this run's are written with its first frame,
+     * a restart's at once */
+    for (int f = 0; f < SERIES_FORMATS; f++)
+      for (int k = 0; k < SERIES_KINDS; k++) {
+        snprintf(path, sizeof path, "%s/%s", dir, series_file[f][k]);
+        remove(path);
+      }
   }
   if (o->matrices_dir[0]) { /* no systems of an earlier run */
     MPGM_CALL(mpgm_mkdir_p(ctx, o->matrices_dir));
@@ -119,8 +136,10 @@ int mpgm_output_save(const mpgm_output *o, mpgm_ctx *ctx, mpgm_blob *b) {
   MPGM_CALL(mpgm_blob_put(ctx, b, "out.ref_acc", o->ref_acc, sizeof o->ref_acc));
   MPGM_CALL(mpgm_blob_put(ctx, b, "out.probes", o->hist, sizeof(double) * (size_t)(o->nrow * n[4])));
   MPGM_CALL(mpgm_blob_put(ctx, b, "out.steps", o->steps, sizeof(double) * (size_t)(o->nstep * STEP_COLS)));
-  MPGM_CALL(mpgm_pvd_save(o->pvd_points, ctx, b, "out.pvd_points"));
-  return mpgm_pvd_save(o->pvd_mesh, ctx, b, "out.pvd_mesh");
+  for (int f = 0; f < SERIES_FORMATS; f++)
+    for (int k = 0; k < SERIES_KINDS; k++)
+      MPGM_CALL(mpgm_pvd_save(o->series[f][k], ctx, b, series_tag[f][k]));
+  return 0;
 }
 
 /* A history read back: rows rows of width doubles, section tag, into a
@@ -151,9 +170,12 @@ int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, c
   mpgm_report r;
   mpgm_problem_report(pb, &r);
   /* a row of probes at the start and after every step, a row of steps
-   * after every step; a VTK output at most at each of those rows, each of
-   * points and mesh (when there are cells) */
-  const int per = o->pvd_points ? 1 + (o->pvd_mesh != NULL) : 0;
+   * after every step; a VTK output at most at each of those rows, a file
+   * of each series (points, and mesh when there are cells, in each
+   * format) */
+  int per = 0;
+  for (int f = 0; f < SERIES_FORMATS; f++)
+    for (int k = 0; k < SERIES_KINDS; k++) per += o->series[f][k] != NULL;
   MPGM_CHECK(ctx, n[4] == 2 + o->ncol, MPGM_ERR_INPUT,
              "checkpoint: output of %d probe columns, this scene has %d", n[4] - 2, o->ncol);
   MPGM_CHECK(ctx, (long)n[2] == r.step + 1 && (long)n[3] == r.step, MPGM_ERR_INPUT,
@@ -176,23 +198,21 @@ int mpgm_output_restore(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, c
   MPGM_CALL(table_restore(ctx, b, "out.probes", n[2], n[4], 0, &o->hist, &o->nrow, &o->caprow));
   MPGM_CALL(
       table_restore(ctx, b, "out.steps", n[3], STEP_COLS, 1, &o->steps, &o->nstep, &o->capstep));
-  MPGM_CALL(mpgm_pvd_restore(o->pvd_points, ctx, b, "out.pvd_points"));
-  MPGM_CALL(mpgm_pvd_restore(o->pvd_mesh, ctx, b, "out.pvd_mesh"));
-  MPGM_CHECK(ctx,
-             mpgm_pvd_count(o->pvd_points) == (per ? o->nvtk : 0) &&
-                 mpgm_pvd_count(o->pvd_mesh) == (per == 2 ? o->nvtk : 0),
-             MPGM_ERR_INPUT,
-             "checkpoint: section 'out.pvd_points': %d and %d entries of points "
-             "and mesh for %d VTK outputs",
-             mpgm_pvd_count(o->pvd_points), mpgm_pvd_count(o->pvd_mesh), o->nvtk);
+  for (int f = 0; f < SERIES_FORMATS; f++)
+    for (int k = 0; k < SERIES_KINDS; k++) {
+      MPGM_CALL(mpgm_pvd_restore(o->series[f][k], ctx, b, series_tag[f][k]));
+      MPGM_CHECK(ctx, mpgm_pvd_count(o->series[f][k]) == (o->series[f][k] ? o->nvtk : 0),
+                 MPGM_ERR_INPUT, "checkpoint: section '%s': %d entries of %s for %d VTK outputs",
+                 series_tag[f][k], mpgm_pvd_count(o->series[f][k]), series_file[f][k], o->nvtk);
+    }
   return 0;
 }
 
 int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o) {
   MPGM_CALL(output_folder(ctx, o, o->nvtk));
   /* the collections as the checkpoint has them */
-  MPGM_CALL(mpgm_pvd_write(o->pvd_points, ctx));
-  MPGM_CALL(mpgm_pvd_write(o->pvd_mesh, ctx));
+  for (int f = 0; f < SERIES_FORMATS; f++)
+    for (int k = 0; k < SERIES_KINDS; k++) MPGM_CALL(mpgm_pvd_write(o->series[f][k], ctx));
   /* the histories as the checkpoint has them: rows a stopped run wrote
    * after it are gone */
   MPGM_CALL(mpgm_output_probes_write(ctx, o));
@@ -245,8 +265,8 @@ int mpgm_output_observe(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb) {
 }
 
 void mpgm_output_close(mpgm_output *o) {
-  mpgm_pvd_destroy((mpgm_pvd **)&o->pvd_points);
-  mpgm_pvd_destroy((mpgm_pvd **)&o->pvd_mesh);
+  for (int f = 0; f < SERIES_FORMATS; f++)
+    for (int k = 0; k < SERIES_KINDS; k++) mpgm_pvd_destroy(&o->series[f][k]);
   free(o->hist);
   free(o->steps);
   o->hist = NULL;
@@ -349,37 +369,41 @@ int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o) {
   return err;
 }
 
-int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
+/* A frame's data, gathered once from the problem and written in every
+ * format the scene asks for (output.format): the points' piece, the
+ * mesh's (front ends with cells), the time and the legacy titles. */
+typedef struct frame {
+  double time;
+  long step;
+  mpgm_vtu_piece points, mesh;
+  int has_mesh;
+  mpgm_vtk_field pf[12], mf[1];
+  double *scratch; /* J, material, id, eps_p, body of every point (owned) */
+} frame;
+
+/* The frame of pb now into fr (fr->scratch owned by it: frame_free). */
+static int frame_gather(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem *pb, frame *fr) {
   const mpgm_scene *s = o->scene;
   mpgm_report r;
   mpgm_problem_report(pb, &r);
-  if (s->vtk == MPGM_VTK_NONE) return 0;
-  const int binary = s->vtk == MPGM_VTK_OUT_BINARY;
-  const double time = s->analysis == MPGM_ANALYSIS_STATIC ? r.lambda : r.t;
+  memset(fr, 0, sizeof *fr);
+  fr->time = s->analysis == MPGM_ANALYSIS_STATIC ? r.lambda : r.t;
+  fr->step = r.step;
   const mpgm_points *P = mpgm_problem_points(pb);
-  const int n = P->n;
-  /* J = det F per point (scratch in the trial volume's neighbour: own buffer) */
-  double *J = malloc(sizeof(double) * (size_t)(n ? n : 1));
-  double *matid = malloc(sizeof(double) * (size_t)(n ? n : 1));
-  double *id = malloc(sizeof(double) * (size_t)(n ? n : 1));
+  const size_t n = (size_t)P->n;
+  MPGM_ALLOC(ctx, fr->scratch, 5 * n);
+  double *J = fr->scratch, *matid = J + n, *id = matid + n, *epsp = id + n, *body = epsp + n;
   /* eps_p: only when a material is plastic (elastic runs keep their files) */
   const int with_epsp = (s->fields & MPGM_FIELD_EPS_P) && mpgm_problem_effects(pb)->plasticity;
-  double *epsp = with_epsp ? malloc(sizeof(double) * (size_t)(n ? n : 1)) : NULL;
-  if (!J || !matid || !id || (with_epsp && !epsp)) {
-    free(J);
-    free(matid);
-    free(id);
-    free(epsp);
-    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (output)");
-  }
-  for (int p = 0; p < n; p++) {
+  for (size_t p = 0; p < n; p++) {
     const double *F = P->F + 4 * p;
     J[p] = F[0] * F[3] - F[1] * F[2];
     matid[p] = P->mat[p];
     id[p] = P->id[p];
+    body[p] = P->body[p];
   }
   if (with_epsp) mpgm_points_plastic_strain(P, s->mats, epsp);
-  mpgm_vtk_field f[10];
+  mpgm_vtk_field *f = fr->pf;
   int nf = 0;
   const unsigned m = s->fields;
   if (m & MPGM_FIELD_DISPLACEMENT) f[nf++] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR2, P->u};
@@ -392,30 +416,52 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
   if (m & MPGM_FIELD_MATERIAL) f[nf++] = (mpgm_vtk_field){"material", MPGM_VTK_SCALAR, matid};
   if (m & MPGM_FIELD_ID) f[nf++] = (mpgm_vtk_field){"id", MPGM_VTK_SCALAR, id};
   if (with_epsp) f[nf++] = (mpgm_vtk_field){"eps_p", MPGM_VTK_SCALAR, epsp};
-  char rel[64], path[MPGM_PATH_LEN + 128], title[256];
-  snprintf(rel, sizeof rel, "vtk/points_%06d.vtk", o->nvtk);
-  snprintf(path, sizeof path, "%s/%s", o->dir, rel);
-  snprintf(title, sizeof title, "mpgm %s material points, step %ld, t = %.9g", s->stem, r.step, time);
-  int err = mpgm_vtk_write(ctx, path, binary, title, n, P->x, 0, NULL, NULL, NULL, nf, f);
-  free(J);
-  free(matid);
-  free(id);
-  free(epsp);
-  MPGM_CALL(err);
-  MPGM_CALL(mpgm_pvd_add(o->pvd_points, ctx, time, rel));
-  o->files++;
-  if (o->pvd_mesh) {
-    mpgm_cells c;
+  if (m & MPGM_FIELD_BODY) f[nf++] = (mpgm_vtk_field){"body", MPGM_VTK_SCALAR, body};
+  fr->points = (mpgm_vtu_piece){P->n, P->x, 0, NULL, NULL, NULL, nf, f};
+  mpgm_cells c;
+  fr->has_mesh = o->series[0][1] || o->series[1][1];
+  if (fr->has_mesh) {
     mpgm_problem_cells(pb, &c);
     const mpgm_nodes *nd = mpgm_problem_nodes(pb);
-    mpgm_vtk_field nf_u = {"displacement", MPGM_VTK_VECTOR2, nd->u};
-    snprintf(rel, sizeof rel, "vtk/mesh_%06d.vtk", o->nvtk);
-    snprintf(path, sizeof path, "%s/%s", o->dir, rel);
-    snprintf(title, sizeof title, "mpgm %s mesh, step %ld, t = %.9g", s->stem, r.step, time);
-    MPGM_CALL(mpgm_vtk_write(ctx, path, binary, title, nd->n, nd->x, c.n, c.ptr, c.node, c.type, 1, &nf_u));
-    MPGM_CALL(mpgm_pvd_add(o->pvd_mesh, ctx, time, rel));
-    o->files++;
+    fr->mf[0] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR2, nd->u};
+    fr->mesh = (mpgm_vtu_piece){nd->n, nd->x, c.n, c.ptr, c.node, c.type, 1, fr->mf};
   }
+  return 0;
+}
+
+/* The frame as the next file of series (format f, kind k: points, mesh)
+ * and its entry. */
+static int frame_write(mpgm_ctx *ctx, mpgm_output *o, const frame *fr, int f, int k) {
+  const mpgm_scene *s = o->scene;
+  const mpgm_vtu_piece *p = k ? &fr->mesh : &fr->points;
+  char rel[64], path[MPGM_PATH_LEN + 128], title[256];
+  snprintf(rel, sizeof rel, "vtk/%s_%06d.%s", k ? "mesh" : "points", o->nvtk, f ? "vtk" : "vtu");
+  snprintf(path, sizeof path, "%s/%s", o->dir, rel);
+  if (f == 0) {
+    const int enc = s->vtk == MPGM_VTK_OUT_ASCII ? MPGM_VTU_ASCII
+                    : s->compress == MPGM_COMPRESS_ZLIB ? MPGM_VTU_ZLIB : MPGM_VTU_RAW;
+    MPGM_CALL(mpgm_vtu_write(ctx, path, enc, fr->time, p));
+  } else {
+    snprintf(title, sizeof title, "mpgm %s %s, step %ld, t = %.9g", s->stem,
+             k ? "mesh" : "material points", fr->step, fr->time);
+    MPGM_CALL(mpgm_vtk_write(ctx, path, s->vtk == MPGM_VTK_OUT_BINARY, title, p->npoints, p->x,
+                             p->ncells, p->cell_ptr, p->conn, p->cell_type, p->nfields, p->fields));
+  }
+  MPGM_CALL(mpgm_pvd_add(o->series[f][k], ctx, fr->time, rel));
+  o->files++;
+  return 0;
+}
+
+int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
+  if (o->scene->vtk == MPGM_VTK_NONE) return 0;
+  frame fr;
+  int err = frame_gather(ctx, o, pb, &fr);
+  /* every format of the frame from the same gathered data */
+  for (int f = 0; !err && f < SERIES_FORMATS; f++)
+    for (int k = 0; !err && k < SERIES_KINDS; k++)
+      if (o->series[f][k]) err = frame_write(ctx, o, &fr, f, k);
+  free(fr.scratch);
+  MPGM_CALL(err);
   o->nvtk++;
   return 0;
 }

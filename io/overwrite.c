@@ -124,7 +124,8 @@ int mpgm_refuse_run_overwrite(mpgm_ctx *ctx, const char *dir, const char *const 
   /* the results folder as docs/scene-format.md lists it (output.c, run.c,
    * checkpoint.c write these) */
   static const char *const files[] = {"summary.json", "probes.csv", "steps.csv", "points.pvd",
-                                      "mesh.pvd", "checkpoint.mpgm"};
+                                      "mesh.pvd", "points.vtk.series", "mesh.vtk.series",
+                                      "checkpoint.mpgm"};
   static const char *const folders[] = {"vtk", "matrices"};
   enum { NF = sizeof files / sizeof *files, ND = sizeof folders / sizeof *folders };
   char buf[NF + ND][MPGM_PATH_LEN + 32];

@@ -17,9 +17,11 @@ static const char *const node_motion_names[] = {"coefficient", "interpolated", N
 static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", "explicit", NULL};
 static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
+static const char *const format_names[] = {"vtu", "vtk", "xdmf", NULL}; /* = mpgm_format bits */
+static const char *const compress_names[] = {"none", "zlib", NULL};    /* = mpgm_compress */
 static const char *const field_names[] = {"displacement", "velocity", "stress", "mass",
                                           "volume", "J", "material", "acceleration", "id", "eps_p",
-                                          NULL};
+                                          "body", NULL};
 
 /* Names of materials, bodies, probes: usable in dotted paths. */
 static int check_name(jr_node *o, const char *name) {
@@ -219,8 +221,8 @@ static int read_geometry(jr_node *b, mpgm_scene_body *body, jr_node *g) {
   } else {
     body->geometry = MPGM_GEOM_RECTANGLE;
     MPGM_CALL(jr_child(b, "rectangle", 1, g));
-    MPGM_CALL(jr_vec2(g, "min", NULL, body->min));
-    MPGM_CALL(jr_vec2(g, "max", NULL, body->max));
+    MPGM_CALL(jr_vec2_len(g, "min", NULL, body->min));
+    MPGM_CALL(jr_vec2_len(g, "max", NULL, body->max));
     MPGM_CALL(jr_end(g));
     if (!(body->max[0] > body->min[0]) || !(body->max[1] > body->min[1]))
       return jr_fail(g, NULL, "expected max > min in x and y (a body with area), found an empty "
@@ -296,7 +298,7 @@ static int read_probes(jr_node *root, mpgm_scene *s) {
     snprintf(q.path, sizeof q.path, "probes.%s", c->string);
     MPGM_CALL(check_name(&q, c->string));
     snprintf(s->probes[i].name, MPGM_NAME_LEN, "%s", c->string);
-    MPGM_CALL(jr_vec2(&p, c->string, NULL, s->probes[i].x));
+    MPGM_CALL(jr_vec2_len(&p, c->string, NULL, s->probes[i].x));
     const double *x = s->probes[i].x;
     int in = 0;
     for (int b = 0; b < s->nbody && !in; b++) in = mpgm_body_contains(&s->bodies[b], x);
@@ -335,6 +337,37 @@ static int read_matrices(jr_node *o, mpgm_scene *s) {
   return 0;
 }
 
+/* output.format: one format name or an array of them (each once); the
+ * resolved scene holds the array. */
+static int read_formats(jr_node *o, mpgm_scene *s) {
+  const cJSON *v = jr_override_json(o, "format");
+  if (!v) v = jr_raw(o, "format");
+  else jr_raw(o, "format");
+  s->formats = MPGM_FORMAT_VTU;
+  if (v) {
+    if (!cJSON_IsString(v) && !(cJSON_IsArray(v) && v->child))
+      return jr_fail(o, "format", "expected \"vtu\", \"vtk\" or \"xdmf\", or a non-empty array "
+                     "of them, found %s", jr_type(v));
+    s->formats = 0;
+    for (const cJSON *c = cJSON_IsArray(v) ? v->child : v; c; c = cJSON_IsArray(v) ? c->next : NULL) {
+      int k = -1;
+      for (int i = 0; format_names[i] && cJSON_IsString(c); i++)
+        if (strcmp(format_names[i], c->valuestring) == 0) k = i;
+      if (k < 0)
+        return jr_fail(o, "format", "expected the formats vtu, vtk or xdmf, found %s%s%s%s", jr_type(c),
+                       cJSON_IsString(c) ? " \"" : "", cJSON_IsString(c) ? c->valuestring : "",
+                       cJSON_IsString(c) ? "\"" : "");
+      if (s->formats & (1u << k))
+        return jr_fail(o, "format", "expected each format once, found \"%s\" twice", format_names[k]);
+      s->formats |= 1u << k;
+    }
+  }
+  cJSON *a = cJSON_AddArrayToObject(o->out, "format");
+  for (int i = 0; format_names[i]; i++)
+    if (s->formats & (1u << i)) cJSON_AddItemToArray(a, cJSON_CreateString(format_names[i]));
+  return 0;
+}
+
 static int read_output(jr_node *root, mpgm_scene *s) {
   jr_node o;
   MPGM_CALL(jr_child(root, "output", 0, &o));
@@ -351,6 +384,8 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_int(&o, "every", 1, 1, 1 << 30, &s->every));
   MPGM_CALL(jr_int(&o, "checkpoint_every", 0, 0, 1 << 30, &s->checkpoint_every));
   MPGM_CALL(jr_enum(&o, "vtk", vtk_names, MPGM_VTK_OUT_BINARY, &s->vtk));
+  MPGM_CALL(read_formats(&o, s));
+  MPGM_CALL(jr_enum(&o, "compress", compress_names, MPGM_COMPRESS_NONE, &s->compress));
   const cJSON *f = jr_override_json(&o, "fields");
   if (!f) f = jr_raw(&o, "fields");
   else jr_raw(&o, "fields");
@@ -364,7 +399,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
         if (strcmp(field_names[i], c->valuestring) == 0) k = i;
       if (k < 0)
         return jr_fail(&o, "fields", "expected field names (displacement, velocity, stress, mass, "
-                       "volume, J, material, acceleration, id, eps_p), found %s%s%s%s", jr_type(c),
+                       "volume, J, material, acceleration, id, eps_p, body), found %s%s%s%s", jr_type(c),
                        cJSON_IsString(c) ? " \"" : "", cJSON_IsString(c) ? c->valuestring : "",
                        cJSON_IsString(c) ? "\"" : "");
       s->fields |= 1u << k;
@@ -469,6 +504,7 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
   jr_node mesh, dom;
   MPGM_CALL(jr_child(root, "mesh", 1, &mesh));
   MPGM_CALL(jr_num(&mesh, "h", NAN, 0, INFINITY, 1, 0, &s->h));
+  root->r->h = s->h; /* the cell of the lengths given in cells from here on */
   MPGM_CALL(jr_enum(&mesh, "cell", cell_names, MPGM_CELL_Q4, &s->cell));
   MPGM_CALL(jr_int(&mesh, "ppc", s->cell == MPGM_CELL_Q4 ? 4 : 3, 1, 9, &s->ppc));
   MPGM_CALL(jr_num(&mesh, "min_node_mass", 1e-2, 0.0, 0.5, 0, 1, &s->min_node_mass));
@@ -489,8 +525,8 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
                      s->cell == MPGM_CELL_Q4 ? "1, 4 or 9 points per quad" : "1 or 3 points per triangle", s->ppc);
   }
   MPGM_CALL(jr_child(&mesh, "domain", 1, &dom));
-  MPGM_CALL(jr_vec2(&dom, "min", NULL, s->dom_min));
-  MPGM_CALL(jr_vec2(&dom, "max", NULL, s->dom_max));
+  MPGM_CALL(jr_vec2_len(&dom, "min", NULL, s->dom_min));
+  MPGM_CALL(jr_vec2_len(&dom, "max", NULL, s->dom_max));
   MPGM_CALL(jr_end(&dom));
   if (!(s->dom_max[0] > s->dom_min[0]) || !(s->dom_max[1] > s->dom_min[1]))
     return jr_fail(&dom, NULL, "expected max > min in x and y, found an empty domain");
@@ -508,7 +544,7 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   const int dyn = s->analysis != MPGM_ANALYSIS_STATIC;
   const int expl = s->analysis == MPGM_ANALYSIS_EXPLICIT;
   /* explicit: dt 0 (the default) takes each step from the CFL condition */
-  MPGM_CALL(jr_num(&tm, "dt", expl ? 0.0 : dyn ? NAN : 1.0, 0, INFINITY, !expl, 0, &s->dt));
+  MPGM_CALL(mpgm_scene_read_dt(&tm, s, expl ? 0.0 : dyn ? NAN : 1.0, !expl));
   MPGM_CALL(jr_num(&tm, "end", dyn ? NAN : 1.0, 0, INFINITY, 1, 0, &s->t_end));
   MPGM_CALL(jr_int(&tm, "load_steps", 1, 1, 1 << 24, &s->load_steps));
   MPGM_CALL(mpgm_scene_read_newmark(&tm, s, analysis_names[s->analysis]));

@@ -88,18 +88,18 @@ int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s) {
                      "\"box\": {\"min\", \"max\"}, found %d", nsel);
     if (hx || hy) {
       bc->select = hx ? MPGM_SELECT_X : MPGM_SELECT_Y;
-      MPGM_CALL(jr_num(&b, hx ? "x" : "y", NAN, -INFINITY, INFINITY, 0, 0, &bc->value));
+      MPGM_CALL(jr_len(&b, hx ? "x" : "y", NAN, -INFINITY, INFINITY, &bc->value));
     } else {
       jr_node box;
       bc->select = MPGM_SELECT_BOX;
       MPGM_CALL(jr_child(&b, "box", 1, &box));
-      MPGM_CALL(jr_vec2(&box, "min", NULL, bc->min));
-      MPGM_CALL(jr_vec2(&box, "max", NULL, bc->max));
+      MPGM_CALL(jr_vec2_len(&box, "min", NULL, bc->min));
+      MPGM_CALL(jr_vec2_len(&box, "max", NULL, bc->max));
       MPGM_CALL(jr_end(&box));
       if (bc->max[0] < bc->min[0] || bc->max[1] < bc->min[1])
         return jr_fail(&box, NULL, "expected max >= min in x and y, found an inverted box");
     }
-    MPGM_CALL(jr_num(&b, "tol", 1e-6 * s->h, 0, INFINITY, 0, 0, &bc->tol));
+    MPGM_CALL(jr_len(&b, "tol", 1e-6 * s->h, 0, INFINITY, &bc->tol));
     const cJSON *hf = jr_raw(&b, "fix"), *hc = jr_raw(&b, "condition");
     if (hf && hc)
       return jr_fail(&b, NULL, "expected either \"fix\": [...] or \"condition\": \"stick\" | \"slip\", "

@@ -109,8 +109,8 @@ static void w_end_block(wstream *w) {
 /* Legacy unstructured grid                                                 */
 /* ------------------------------------------------------------------------ */
 
-/* Reject arguments the format cannot represent (MPGM_ERR_INPUT). */
-static int vtk_check_args(mpgm_ctx *ctx, const char *path, int npoints,
+/* See mpgm_vtk.h. */
+int mpgm_vtk_check(mpgm_ctx *ctx, const char *path, int npoints,
                           const double *x, int ncells, const int *cell_ptr,
                           const int *conn, const int *cell_type, int nfields,
                           const mpgm_vtk_field *fields) {
@@ -231,7 +231,7 @@ int mpgm_vtk_write(mpgm_ctx *ctx, const char *path, int binary,
                    int ncells, const int *cell_ptr, const int *conn,
                    const int *cell_type, int nfields,
                    const mpgm_vtk_field *fields) {
-  MPGM_CALL(vtk_check_args(ctx, path, npoints, x, ncells, cell_ptr, conn,
+  MPGM_CALL(mpgm_vtk_check(ctx, path, npoints, x, ncells, cell_ptr, conn,
                            cell_type, nfields, fields));
   wstream *w = malloc(sizeof(*w));
   MPGM_CHECK(ctx, w != NULL, MPGM_ERR_NOMEM, "%s: out of memory", path);
@@ -295,11 +295,44 @@ static void xml_escaped(FILE *fp, const char *s) {
   }
 }
 
+/* 1 when the collection is ParaView's JSON series of legacy files (a
+ * name ending in ".series"), else a .pvd. */
+static int is_series(const char *path) {
+  const size_t n = strlen(path);
+  return n >= 7 && strcmp(path + n - 7, ".series") == 0;
+}
+
+/* s as a JSON string's contents (quotes, backslashes and control
+ * characters escaped). */
+static void json_escaped(FILE *fp, const char *s) {
+  for (; *s; s++) {
+    if (*s == '"' || *s == '\\') fprintf(fp, "\\%c", *s);
+    else if ((unsigned char)*s < 0x20) fprintf(fp, "\\u%04x", (unsigned char)*s);
+    else fputc(*s, fp);
+  }
+}
+
+/* The collection as ParaView's .vtk.series: {"file-series-version":
+ * "1.0", "files": [{"name": ..., "time": ...}, ...]}. */
+static void series_body(const mpgm_pvd *p, FILE *fp) {
+  fputs("{\n  \"file-series-version\": \"1.0\",\n  \"files\": [", fp);
+  for (int i = 0; i < p->n; i++) {
+    fputs(i ? ",\n    {\"name\": \"" : "\n    {\"name\": \"", fp);
+    json_escaped(fp, p->file[i]);
+    fprintf(fp, "\", \"time\": %.17g}", p->time[i]);
+  }
+  fputs(p->n ? "\n  ]\n}\n" : "]\n}\n", fp);
+}
+
 /* Rewrite the whole collection atomically. */
 static int pvd_write(const mpgm_pvd *p, mpgm_ctx *ctx) {
   void *vfp = NULL;
   MPGM_CALL(mpgm_atomic_open(ctx, p->path, &vfp));
   FILE *fp = vfp;
+  if (is_series(p->path)) {
+    series_body(p, fp);
+    return mpgm_atomic_close(ctx, p->path, fp);
+  }
   fputs("<?xml version=\"1.0\"?>\n"
         "<VTKFile type=\"Collection\" version=\"0.1\" "
         "byte_order=\"LittleEndian\">\n  <Collection>\n", fp);

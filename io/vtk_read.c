@@ -6,6 +6,9 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_vtk.h"
+#include "mpgm_vtu.h"
+
+#include <cjson/cJSON.h>
 
 #include <errno.h>
 #include <limits.h>
@@ -154,8 +157,15 @@ static int read_body(rd *r, mpgm_vtk_grid *g) {
   return 0;
 }
 
+/* 1 when path ends with suffix. */
+static int ends_with(const char *path, const char *suffix) {
+  const size_t n = strlen(path), k = strlen(suffix);
+  return n >= k && strcmp(path + n - k, suffix) == 0;
+}
+
 int mpgm_vtk_read(mpgm_ctx *ctx, const char *path, mpgm_vtk_grid **out) {
   *out = NULL;
+  if (ends_with(path, ".vtu")) return mpgm_vtu_read(ctx, path, out);
   rd r = {ctx, path, NULL, 0, 0, 0};
   char *buf;
   MPGM_CALL(mpgm_read_file(ctx, path, VTK_MAX_FILE, &buf, &r.len));
@@ -219,11 +229,56 @@ static int attribute(const char *s, const char *e, const char *name, char *out, 
   return 0;
 }
 
+/* Entry (time, file) appended to the list; the file checked as below the
+ * collection's folder. */
+static int list_add(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out, double time, const char *f) {
+  MPGM_CHECK(ctx, mpgm_path_below(f), MPGM_ERR_INPUT, /* a collection from elsewhere must not open /etc/... */
+             "%s: file \"%.200s\": expected a path inside the run's folder (relative, without '..')",
+             path, f);
+  double *tt = realloc(out->time, sizeof *tt * (size_t)(out->n + 1));
+  if (tt) out->time = tt;
+  char **ff = tt ? realloc(out->file, sizeof *ff * (size_t)(out->n + 1)) : NULL;
+  if (ff) out->file = ff;
+  char *dup = ff ? strdup(f) : NULL;
+  MPGM_CHECK(ctx, dup, MPGM_ERR_NOMEM, "%s: out of memory", path);
+  out->time[out->n] = time;
+  out->file[out->n++] = dup;
+  return 0;
+}
+
+/* A .vtk.series (JSON) into out. */
+static int series_read(mpgm_ctx *ctx, const char *path, const char *buf, mpgm_pvd_list *out) {
+  cJSON *root = cJSON_Parse(buf);
+  const cJSON *files = cJSON_GetObjectItemCaseSensitive(root, "files");
+  const cJSON *ver = cJSON_GetObjectItemCaseSensitive(root, "file-series-version");
+  int err = 0;
+  if (!cJSON_IsString(ver) || !cJSON_IsArray(files))
+    err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: not a .vtk.series: expected "
+                       "{\"file-series-version\": ..., \"files\": [...]}", path);
+  for (const cJSON *e = err ? NULL : files->child; e && !err; e = e->next) {
+    const cJSON *n = cJSON_GetObjectItemCaseSensitive(e, "name");
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(e, "time");
+    if (!cJSON_IsString(n) || !cJSON_IsNumber(t) || !isfinite(t->valuedouble))
+      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: files[%d]: expected "
+                         "{\"name\": FILE, \"time\": NUMBER}", path, out->n);
+    else
+      err = list_add(ctx, path, out, t->valuedouble, n->valuestring);
+  }
+  cJSON_Delete(root);
+  return err;
+}
+
 int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out) {
   memset(out, 0, sizeof *out);
   char *buf;
   size_t len;
   MPGM_CALL(mpgm_read_file(ctx, path, PVD_MAX_FILE, &buf, &len));
+  if (ends_with(path, ".series")) {
+    const int e = series_read(ctx, path, buf, out);
+    free(buf);
+    if (e) mpgm_pvd_list_free(out);
+    return e;
+  }
   int err = 0;
   if (!strstr(buf, "<VTKFile") || !strstr(buf, "type=\"Collection\""))
     err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: not a .pvd collection", path);
@@ -235,28 +290,13 @@ int mpgm_pvd_read(mpgm_ctx *ctx, const char *path, mpgm_pvd_list *out) {
                          "%s: a DataSet without timestep or file attribute", path);
       break;
     }
-    if (!mpgm_path_below(f)) { /* a collection from elsewhere must not open /etc/... */
-      err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: DataSet file \"%.200s\": "
-                         "expected a path inside the run's folder (relative, without '..')", path, f);
-      break;
-    }
     char *end;
     const double time = strtod(t, &end);
     if (end == t || *end || !isfinite(time)) {
       err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: timestep \"%s\" is not a number", path, t);
       break;
     }
-    double *tt = realloc(out->time, sizeof *tt * (size_t)(out->n + 1));
-    if (tt) out->time = tt;
-    char **ff = tt ? realloc(out->file, sizeof *ff * (size_t)(out->n + 1)) : NULL;
-    if (ff) out->file = ff;
-    char *dup = ff ? strdup(f) : NULL;
-    if (!dup) {
-      err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "%s: out of memory", path);
-      break;
-    }
-    out->time[out->n] = time;
-    out->file[out->n++] = dup;
+    if ((err = list_add(ctx, path, out, time, f))) break;
     p = e;
   }
   free(buf);

@@ -10,9 +10,12 @@ MPGM_PACKAGES=(
   zlib1g-dev             # CRC-32 of checkpoint sections (base/blob.c)
   libopenblas0-pthread   # fast BLAS for SuiteSparse (Debian's default is the reference BLAS)
   petsc-dev              # solver.linear "petsc": PETSc 3.18 with hypre, MUMPS and Open MPI
-  python3 python3-vtk9   # tests read our VTK files with VTK's own reader, as ParaView does
+  # tests read our VTK files with VTK's own reader, as ParaView does; python3-paraview
+  # gives `import vtk` too, and conflicts with python3-vtk9 (installing one removes the other)
+  python3 python3-paraview paraview  # tests/scripts/paraview.sh opens the series under pvbatch3.11
   libnanoflann-dev       # header-only, used only by bench/kdtree
   gnuplot-nox            # mpgm plot and mpgm render draw with it (docs/studies.md)
+  xvfb                   # bench/pictures: Debian's pvbatch needs an X display, even offscreen
   clang libclang-rt-14-dev  # libFuzzer: scripts/fuzz (docs/architecture.md, Tests)
 )
 

@@ -39,6 +39,10 @@ int mpgm_scene_contact_sides(mpgm_ctx *ctx, mpgm_scene *s);
  *  s->analysis, for messages. */
 int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis);
 int mpgm_scene_read_newmark(jr_node *tm, mpgm_scene *s, const char *analysis);
+/** "time": time.dt, a number (s) or {"cells": k, "speed": c}, the time a
+ *  wave of c m/s takes to cross k cells, k (h / c) (scene_time.c; after
+ *  mesh.h). def and lo_open as jr_num takes them. */
+int mpgm_scene_read_dt(jr_node *tm, mpgm_scene *s, double def, int lo_open);
 /** "time": time.max_steps and the fixed steps against it (scene_time.c;
  *  after dt, end and load_steps). */
 int mpgm_scene_read_max_steps(jr_node *tm, mpgm_scene *s);

@@ -24,9 +24,10 @@ done
 [ "$(md5sum "$src/docs/benchmarks.md")" = "$before" ] || { echo "FAIL: a refused call changed the record"; fail=1; }
 # a copy of the tree with the record edited by hand is caught, naming the file to edit
 mkdir -p "$work/tree/bench/notes" "$work/tree/docs"
-cp "$src/bench/report" "$work/tree/bench/"
+cp "$src/bench/report" "$src/bench/compact.py" "$work/tree/bench/"
 cp "$src/bench/notes/"*.md "$work/tree/bench/notes/"
-sed 's/^#### Whole runs by linear solver/#### Whole runs by solver/' "$src/docs/benchmarks.md" > "$work/tree/docs/benchmarks.md"
+sed 's|^The full record, the notes and the history: \[bench/notes/solvers.md\]|The notes: [bench/notes/solvers.md]|' "$src/docs/benchmarks.md" > "$work/tree/docs/benchmarks.md"
+cmp -s "$work/tree/docs/benchmarks.md" "$src/docs/benchmarks.md" && { echo "FAIL: the hand edit of the test did not apply"; fail=1; }
 if "$work/tree/bench/report" --check > "$work/out" 2> "$work/err"; then
   echo "FAIL: a hand edit of the notes in the record passed the check"; fail=1
 elif ! grep -q "edit bench/notes/PART.md" "$work/err"; then
@@ -36,5 +37,14 @@ fi
 "$work/tree/bench/report" --notes > /dev/null && "$work/tree/bench/report" --check > /dev/null \
   && cmp -s "$work/tree/docs/benchmarks.md" "$src/docs/benchmarks.md" \
   || { echo "FAIL: bench/report --notes did not restore the record"; fail=1; }
+# the report a user reads: about 500 lines at most, and every picture it shows is there
+n=$(wc -l < "$src/docs/benchmarks.md")
+[ "$n" -le 550 ] || { echo "FAIL: docs/benchmarks.md has $n lines (at most about 500)"; fail=1; }
+for img in $(grep -o '](img/[^)]*)' "$src/docs/benchmarks.md" | sed 's/^](//; s/)$//'); do
+  [ -f "$src/docs/$img" ] || { echo "FAIL: docs/benchmarks.md shows $img, which does not exist"; fail=1; }
+done
+for f in $(grep -o '](../bench/notes/[^)]*)' "$src/docs/benchmarks.md" | sed 's/^](..\///; s/)$//'); do
+  [ -f "$src/$f" ] || { echo "FAIL: docs/benchmarks.md links $f, which does not exist"; fail=1; }
+done
 [ $fail -eq 0 ] && echo "bench_report: ok"
 exit $fail

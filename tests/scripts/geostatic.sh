@@ -54,8 +54,8 @@ check(abs(u) < 1e-9 * settle, f"mohr_coulomb: geostatic column does not move: to
 check(s["metrics"]["eps_p_max"] == 0.0 and s["effects"]["plasticity"] is True and s["solver"] == "umfpack",
       f"mohr_coulomb: plasticity effect, eps_p_max = {s['metrics']['eps_p_max']} (stays elastic), "
       f"solver {s['solver']} (psi = 0 < phi: unsymmetric tangent)")
-vtk = open(f"{w}/mc/vtk/points_000001.vtk").read()
-check("SCALARS eps_p double" in vtk, "mohr_coulomb: points_000001.vtk has the eps_p field")
+vtk = open(f"{w}/mc/vtk/points_000001.vtu").read()
+check('Name="eps_p"' in vtk, "mohr_coulomb: points_000001.vtu has the eps_p field")
 print(f"{npass} passed, {nfail} failed")
 sys.exit(1 if nfail else 0)
 PY

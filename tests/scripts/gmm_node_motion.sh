@@ -36,7 +36,7 @@ else fail "column collapse, LME gamma 0.8, nodes moved by the field: exit $rc: $
 
 /usr/bin/python3 - "$out" <<'EOF'
 import glob, json, sys
-from vtkmodules.vtkIOLegacy import vtkUnstructuredGridReader
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 out = sys.argv[1]
 fails = 0
 def check(ok, what):
@@ -44,7 +44,7 @@ def check(ok, what):
     print(("PASS: " if ok else "FAIL: ") + what)
     fails += not ok
 def read(f):
-    r = vtkUnstructuredGridReader()
+    r = vtkXMLUnstructuredGridReader()
     r.SetFileName(f)
     r.Update()
     return r.GetOutput()
@@ -57,7 +57,7 @@ check(s["counts"]["node_motion_fallbacks"] == 0,
       f"every node's functions evaluated (fallbacks {s['counts']['node_motion_fallbacks']})")
 check(abs(s["metrics"]["mass_total"] - 1850.0 * 8.0) < 1e-6 * 1850.0 * 8.0,
       f"mass kept: {s['metrics']['mass_total']} kg")
-frames = sorted(glob.glob(f"{out}/vtk/mesh_*.vtk"))
+frames = sorted(glob.glob(f"{out}/vtk/mesh_*.vtu"))
 check(len(frames) >= 8, f"{len(frames)} frames of the nodes' cells")
 worst, inverted, ymax = float("inf"), 0, -float("inf")
 top0 = max(read(frames[0].replace("mesh_", "points_")).GetPoint(i)[1]

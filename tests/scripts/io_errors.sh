@@ -36,7 +36,7 @@ fi
 # file's temporary goes: the same as a full disk for the writer): exit 3,
 # and summary.json says io_error at step 2 with the path, not "completed";
 # the outputs of step 1 are kept.
-mkdir -p "$work/full/vtk/points_000002.vtk.tmp/busy"
+mkdir -p "$work/full/vtk/points_000002.vtu.tmp/busy"
 echo '{"status": "completed"}' > "$work/full/summary.json" # an earlier run's
 "$exe" run "$scene" --quiet --set mesh.h=0.5 --set time.load_steps=4 --out "$work/full" > "$work/out" 2> "$work/err"
 rc=$?
@@ -44,8 +44,8 @@ rc=$?
 import json, os, sys
 d, rc = sys.argv[1], int(sys.argv[2])
 s = json.load(open(f"{d}/summary.json"))
-ok = (rc == 3 and s["status"] == "io_error" and s.get("failed_step") == 2 and "points_000002.vtk" in s["message"]
-      and s["counts"]["steps"] == 2 and os.path.exists(f"{d}/vtk/points_000001.vtk"))
+ok = (rc == 3 and s["status"] == "io_error" and s.get("failed_step") == 2 and "points_000002.vtu" in s["message"]
+      and s["counts"]["steps"] == 2 and os.path.exists(f"{d}/vtk/points_000001.vtu"))
 print(("PASS" if ok else "FAIL") + f": outputs of step 2 cannot be written: exit {rc} (3), status {s['status']} "
       f"(io_error) at step {s.get('failed_step')} (2), message '{s['message'][:90]}', step 1's VTK kept")
 sys.exit(0 if ok else 1)

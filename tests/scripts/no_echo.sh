@@ -31,13 +31,13 @@ printf '{"scene": "%s/secret.txt", "axes": {"mesh.h": [0.5]}}\n' "$work" > study
 
 "$exe" run "$src/cases/cantilever.json" --set mesh.h=0.5 --quiet --out run > /dev/null 2>&1
 cp run/points.pvd points.keep
-sed -i "s#vtk/points_000001.vtk#../secret.txt#" run/points.pvd
+sed -i "s#vtk/points_000001.vtu#../secret.txt#" run/points.pvd
 refused 2 "a .pvd frame outside the run's folder is refused" "$exe" render run
 grep -q "inside the run's folder" err.txt && ok "... saying why" || ko "message: $(head -c 300 err.txt)"
 sed -i "s#../secret.txt#$work/secret.txt#" run/points.pvd
 refused 2 "a .pvd frame by an absolute path is refused" "$exe" render run
 cp points.keep run/points.pvd
-cp secret.txt run/vtk/points_000001.vtk
+cp secret.txt run/vtk/points_000001.vtu
 refused 2 "a frame that is not VTK is not repeated" "$exe" render run
 
 echo "$npass passed, $nfail failed"

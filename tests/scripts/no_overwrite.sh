@@ -103,12 +103,12 @@ refused tiny/study.csv "pl/study_error_time.png: the output is a hard link of th
 "$exe" run "$scene" --quiet --set mesh.h=0.5 --set time.load_steps=2 --out rr > rr.log 2>&1 || ko "run: $(cat rr.log)"
 refused rr/points.pvd "rr/points.pvd: the output would overwrite the input rr/points.pvd" \
   "render --sheet the run's points.pvd" "$exe" render rr --sheet rr/points.pvd
-refused rr/vtk/points_000002.vtk "the output would overwrite the input rr/vtk/points_000002.vtk" \
-  "render --sheet the frame it draws" "$exe" render rr --sheet rr/vtk/points_000002.vtk
+refused rr/vtk/points_000002.vtu "the output would overwrite the input rr/vtk/points_000002.vtu" \
+  "render --sheet the frame it draws" "$exe" render rr --sheet rr/vtk/points_000002.vtu
 refused rr/summary.json "rr/summary.json: the output would overwrite the input rr/summary.json" \
   "render --out the run's summary.json" "$exe" render rr --out rr/summary.json
-ln rr/vtk/points_000002.vtk rr/frame.png
-refused rr/vtk/points_000002.vtk "is a hard link of the input rr/vtk/points_000002.vtk" \
+ln rr/vtk/points_000002.vtu rr/frame.png
+refused rr/vtk/points_000002.vtu "is a hard link of the input rr/vtk/points_000002.vtu" \
   "render --sheet a hard link of the frame" "$exe" render rr --sheet rr/frame.png
 
 # --- mpgm bench-solvers ------------------------------------------------------

@@ -3,7 +3,8 @@
 # coloured by eps_p at given times to PNG (one per time, and a sheet of
 # panels), the nearest frame taken with a note or a warning, the common
 # colour range equal to the field's range as VTK's own reader sees it (binary
-# and ASCII files), --size obeyed; an unknown field lists the fields, a
+# and ASCII .vtu files), legacy frames drawn from points.vtk.series,
+# --size obeyed; an unknown field lists the fields, a
 # folder without points.pvd is an I/O error, bad options are bad input.
 # usage: render.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
@@ -30,6 +31,11 @@ source "$src/tests/tools/checks.bash"
 "$exe" render cl --field displacement_y > r4.out 2> r4.err; rc=$?
 [ $rc -eq 0 ] && [ -s cl/render/displacement_y_t1.png ] && ok "ASCII VTK: the last frame by default" \
   || ko "ASCII render (exit $rc): $(cat r4.err) $(ls cl/render)"
+"$exe" run "$src/cases/cantilever.json" --quiet --set mesh.h=0.5 --set output.format=vtk --out clv > clv.log 2>&1 \
+  || { ko "cantilever run, legacy frames"; cat clv.log; }
+"$exe" render clv --field displacement_y > r5.out 2> r5.err; rc=$?
+[ $rc -eq 0 ] && [ -s clv/render/displacement_y_t1.png ] && ok "legacy frames only: drawn from points.vtk.series" \
+  || ko "legacy render (exit $rc): $(cat r5.err)"
 expect 2 "no field \"nosuch\"; fields: displacement (length), displacement_x" "unknown field: the fields listed" \
   "$exe" render cc --field nosuch
 grep -q "eps_p" err.txt && grep -q "stress_q" err.txt && ok "the list names eps_p and stress_q" || ko "list: $(cat err.txt)"
@@ -41,6 +47,22 @@ expect 2 "unknown option" "unknown option" "$exe" render cc --frobnicate
 expect 2 "no RUN_DIR" "no run folder" "$exe" render
 expect 3 "gnuplot not found on PATH" "without gnuplot on PATH: message, exit 3" \
   env PATH="$work/nowhere" "$exe" render cc --field eps_p
+# the default colour range: the 1st to 99th percentile, said so; stresses in kPa
+"$exe" render cc --field stress_q --time 0,0.2 --sheet "$work/q.png" --layout 1x2 > r5.out 2> r5.err; rc=$?
+[ $rc -eq 0 ] && grep -q "stress_q from .* colour bar from .* (1-99 %)" r5.out \
+  && ok "default colour range: 1-99 % of the frames drawn" || ko "percentile (exit $rc): $(cat r5.out r5.err)"
+# material: one named colour per material of the scene (two materials here)
+/usr/bin/python3 -c "
+import json, sys; d = json.load(open(sys.argv[1] + '/cases/colliding_discs.json'))
+d['materials']['steel'] = dict(d['materials']['rubber'], density=2000.0)
+d['bodies'][1]['material'] = 'steel'; d['output']['fields'] = ['velocity', 'stress', 'material']
+json.dump(d, open('two.json', 'w'))" "$src"
+"$exe" run two.json --quiet --set mesh.h=0.1 --set time.end=0.02 --out two > two.log 2>&1 || { ko "two-material run"; cat two.log; }
+"$exe" render two --field material > r6.out 2> r6.err; rc=$?
+[ $rc -eq 0 ] && grep -q "colour bar from -0.5 to 1.5 (index)" r6.out && [ -s two/render/material_t0.02.png ] \
+  && ok "material: two indexed colours" || ko "material (exit $rc): $(cat r6.out r6.err)"
+expect 2 "no field \"body\"; fields: velocity (length)" "body on frames without it: the fields listed" \
+  "$exe" render two --field body
 
 /usr/bin/python3 - "$work" "$src" <<'PY'
 import re, struct, sys
@@ -53,19 +75,23 @@ def size(p):
     return (struct.unpack(">II", b[16:24]) if b[:8] == b"\x89PNG\r\n\x1a\n" else None)
 check(size(f"{w}/sized/eps_p_t0.14.png") == (640, 400), f"--size 640x400: {size(w + '/sized/eps_p_t0.14.png')}")
 def vrange(f, name, comp):
-    rd = vtk.vtkGenericDataObjectReader(); rd.SetFileName(f); rd.ReadAllScalarsOn(); rd.ReadAllVectorsOn(); rd.Update()
+    rd = vtk.vtkXMLUnstructuredGridReader(); rd.SetFileName(f); rd.Update()
     a = rd.GetOutput().GetPointData().GetArray(name)
     v = [a.GetComponent(i, comp) for i in range(a.GetNumberOfTuples())]
     return min(v), max(v)
-r = [vrange(f"{w}/cc/vtk/points_{k:06d}.vtk", "eps_p", 0) for k in (1, 2)]
+r = [vrange(f"{w}/cc/vtk/points_{k:06d}.vtu", "eps_p", 0) for k in (1, 2)]
 lo, hi = min(x[0] for x in r), max(x[1] for x in r)
-m = re.search(r"eps_p from (\S+) to (\S+)", open(f"{w}/r1.out").read())
+m = re.search(r"eps_p from (\S+) to (\S+);", open(f"{w}/r1.out").read())
 check(m and abs(float(m.group(1)) - lo) <= 1e-6 and abs(float(m.group(2)) - hi) <= 1e-5 * hi and hi > 0,
-      f"binary VTK: the common colour range is eps_p's over both frames as VTK reads it ({lo:.6g} to {hi:.6g})")
-lo, hi = vrange(f"{w}/cl/vtk/points_000001.vtk", "displacement", 1)
-m = re.search(r"displacement_y from (\S+) to (\S+)", open(f"{w}/r4.out").read())
+      f"binary .vtu: the common colour range is eps_p's over both frames as VTK reads it ({lo:.6g} to {hi:.6g})")
+lo, hi = vrange(f"{w}/cl/vtk/points_000001.vtu", "displacement", 1)
+m = re.search(r"displacement_y from (\S+) to (\S+);", open(f"{w}/r4.out").read())
 check(m and abs(float(m.group(1)) - lo) <= 1e-5 * abs(lo) and abs(float(m.group(2)) - hi) <= 1e-5 * abs(lo) + 1e-12,
-      f"ASCII VTK: displacement_y from {lo:.6g} to {hi:.6g}, as VTK reads it")
+      f"ASCII .vtu: displacement_y from {lo:.6g} to {hi:.6g}, as VTK reads it")
+# the percentile range lies inside the values' own range
+m = re.search(r"stress_q from (\S+) to (\S+); colour bar from (\S+) to (\S+)", open(f"{w}/r5.out").read())
+check(m and float(m.group(1)) <= float(m.group(3)) < float(m.group(4)) <= float(m.group(2)),
+      "the 1-99 % colour range lies within the values' range")
 done()
 PY
 pyrc=$?

@@ -5,7 +5,8 @@
 # B killed with SIGKILL at a random moment after its first checkpoint and
 # continued with `mpgm run --restart B`. B must then hold, to the bit, what
 # A holds: probes.csv, steps.csv (its wall-clock column aside), every VTK
-# file and .pvd collection, the metrics, the counts (clock reads and the
+# file and collection (.pvd, .vtk.series: gmm_lme_disk writes both formats,
+# mpm_explicit legacy frames only), the metrics, the counts (clock reads and the
 # solver's memory peak aside: they measure the process, not the run), the
 # step cuts and the status. The cases are coarse and dynamic:
 #   fem_mc        UL-FEM, Mohr-Coulomb column collapse (FEM has no contact)
@@ -109,7 +110,7 @@ one_case gmm_lme_nodes "$src/cases/column_collapse_gmm.json" --set shape.kind=lm
   --set output.checkpoint_every=5 --set output.times=[0.1]
 one_case gmm_lme_disk "$src/cases/rolling_disk.json" --set method=gmm --set shape.kind=lme \
   --set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.2 --set output.every=5 \
-  --set output.checkpoint_every=4
+  --set output.checkpoint_every=4 --set 'output.format=["vtu","vtk"]'
 one_case gmm_lme_cc "$src/cases/column_collapse_gmm.json" --set shape.kind=lme --set mesh.h=0.2 \
   --set time.dt=0.005 --set time.end=0.3 --set output.checkpoint_every=5 --set output.times=[0.1]
 one_case gmm_skin_disk "$src/cases/rolling_disk.json" --set method=gmm --set shape.kind=lme \
@@ -125,7 +126,7 @@ fi
 one_case fem_static "$src/cases/cantilever.json" --set time.load_steps=6 \
   --set output.checkpoint_every=2
 one_case mpm_explicit "$src/cases/dyka_bar.json" --set output.checkpoint_every=150 \
-  --set output.every=200
+  --set output.every=200 --set output.format=vtk
 one_case mpm_kinetic "$src/cases/dyka_bar.json" --set output.checkpoint_every=20 \
   --set output.every=200 --set time.kinetic_damping=true
 # the step before a reset: a reset is decided against the kinetic energy

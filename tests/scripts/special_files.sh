@@ -89,11 +89,11 @@ done < <(special "$work/pl" study_csv)
   --out run > run.log 2>&1 || { ko "the run for render"; cat run.log; }
 cp -r run r_pvd; rm r_pvd/points.pvd; mkfifo r_pvd/points.pvd
 refused 2 "r_pvd/points.pvd: is a pipe or FIFO, not a regular file" "render: points.pvd a FIFO" "$exe" render r_pvd
-cp -r run r_vtk; rm r_vtk/vtk/points_000003.vtk; mkfifo r_vtk/vtk/points_000003.vtk
-refused 2 "r_vtk/vtk/points_000003.vtk: is a pipe or FIFO, not a regular file" "render: a frame a FIFO" \
+cp -r run r_vtk; rm r_vtk/vtk/points_000003.vtu; mkfifo r_vtk/vtk/points_000003.vtu
+refused 2 "r_vtk/vtk/points_000003.vtu: is a pipe or FIFO, not a regular file" "render: a frame a FIFO" \
   "$exe" render r_vtk
-cp -r run r_dev; rm r_dev/vtk/points_000003.vtk; ln -s /dev/zero r_dev/vtk/points_000003.vtk
-refused 2 "points_000003.vtk: is a character device, not a regular file" "render: a frame a link to /dev/zero" \
+cp -r run r_dev; rm r_dev/vtk/points_000003.vtu; ln -s /dev/zero r_dev/vtk/points_000003.vtu
+refused 2 "points_000003.vtu: is a character device, not a regular file" "render: a frame a link to /dev/zero" \
   "$exe" render r_dev
 # summary.json is optional for render (the view and the discs' size): a
 # FIFO there is passed over as an absent one, never waited on

@@ -56,6 +56,31 @@ expect 3 "gnuplot not found on PATH" "mpgm plot without gnuplot on PATH: message
   env PATH="$work/nowhere" "$exe" plot tiny_out/study.csv
 expect 2 "no metric \"nosuch\"" "mpgm plot --metric of no column: exit 2" "$exe" plot tiny_out/study.csv --metric nosuch
 expect 3 "cannot open" "mpgm plot of a missing file: exit 3" "$exe" plot "$work/none.csv"
+# a study.csv written by hand: units on the axes of known keys and metrics,
+# none on an unknown one, --y for any metric, and nothing drawable is exit 2
+mkdir -p hand
+printf '%s\n' 'mesh.h,method,status,dir,metrics.error,metrics.tip_uy,metrics.frob,time_s.total' \
+  '0.5,fem,completed,a,0.01,-0.2,1,1.5' '0.25,fem,completed,b,0.003,-0.21,2,3.1' '0.5,gmm,failed,c,,,,' > hand/study.csv
+"$exe" plot hand/study.csv > hand.out 2> hand.err; rc=$?
+[ $rc -eq 0 ] && grep -q "set xlabel 'mesh.h \[m\]" hand/study_error_h.gp && grep -q "set ylabel 'metrics.error \[m\]'" hand/study_error_h.gp \
+  && grep -q "set xlabel 'wall time of the run \[s\]" hand/study_error_time.gp \
+  && ok "plot: units on the axes (mesh.h [m], metrics.error [m], wall time [s])" || ko "plot units (exit $rc): $(cat hand.err)"
+"$exe" plot hand/study.csv --y frob > hand2.out 2> hand2.err; rc=$?
+[ $rc -eq 0 ] && grep -q "set ylabel 'metrics.frob' noenhanced" hand/study_error_h.gp \
+  && ok "plot --y: an unknown metric gets no unit" || ko "plot --y frob (exit $rc): $(cat hand2.err)"
+expect 2 "no completed run has a positive finite metrics.tip_uy" "plot: nothing drawable (negative on log axes): exit 2" \
+  "$exe" plot hand/study.csv --y tip_uy
+"$exe" plot hand/study.csv --y tip_uy --yscale signed --xscale linear > hand3.out 2> hand3.err; rc=$?
+[ $rc -eq 0 ] && grep -q "set xzeroaxis" hand/study_error_h.gp && ! grep -q "logscale" hand/study_error_h.gp \
+  && grep -q "ylabel 'metrics.tip_uy \[m\]'" hand/study_error_h.gp && grep -q -- "^0.25 -0.2" hand/study_error_h.gp \
+  && ok "plot --yscale signed --xscale linear: a negative metric on linear axes" || ko "signed (exit $rc): $(cat hand3.err)"
+"$exe" plot hand/study.csv --x time_s.total --y metrics.frob --xscale linear --yscale linear > hand4.out 2> hand4.err; rc=$?
+[ $rc -eq 0 ] && grep -q "set xlabel 'time_s.total \[s\]" hand/study_error_total.gp \
+  && ok "plot --x of a result column (time_s.total [s])" || ko "--x time_s.total (exit $rc): $(cat hand4.err)"
+expect 2 "--yscale: expected linear, log or signed" "plot: bad --yscale: exit 2" "$exe" plot hand/study.csv --yscale cubic
+expect 2 "--x nosuch: no such column" "plot: --x of no column: exit 2" "$exe" plot hand/study.csv --x nosuch
+printf '%s\n' 'mesh.h,status,dir,metrics.error,time_s.total' '0.5,failed,a,,' > hand/none.csv
+expect 2 "no completed run" "plot: no completed row: exit 2" "$exe" plot hand/none.csv
 env PATH="$work/nowhere" "$exe" study tiny.json --out nognu > /dev/null 2> nognu.err; rc=$?
 [ $rc -eq 3 ] && grep -q "gnuplot not found" nognu.err && grep -q "study.csv is complete" nognu.err \
   && [ -s nognu/study.csv ] && ok "mpgm study without gnuplot: runs done, study.csv written, exit 3" \

@@ -1,16 +1,19 @@
 #!/usr/bin/python3
 """check_vtk.py RUN_DIR -- read an mpgm run's VTK output the way ParaView
-does (vtkUnstructuredGridReader) and check it against RUN_DIR/summary.json.
+does (vtkXMLUnstructuredGridReader for .vtu frames, vtkUnstructuredGridReader
+for legacy .vtk frames) and check it against RUN_DIR/summary.json.
 
 Run with Debian's /usr/bin/python3 (python3-vtk9 is installed for it only).
 
 Run layout (the contract with the mpgm program):
   RUN_DIR/summary.json   counts.points, counts.nodes, counts.cells, probes
   RUN_DIR/probes.csv     step,time,<name>_ux,<name>_uy,...
-  RUN_DIR/points.pvd, RUN_DIR/mesh.pvd
-  RUN_DIR/vtk/points_NNNNNN.vtk  VECTORS displacement, velocity;
-                                 TENSORS stress; SCALARS mass, volume, J, id
-  RUN_DIR/vtk/mesh_NNNNNN.vtk    VECTORS displacement
+  RUN_DIR/points.pvd, RUN_DIR/mesh.pvd           (.vtu frames)
+  RUN_DIR/points.vtk.series, mesh.vtk.series     (legacy .vtk frames, JSON)
+  RUN_DIR/vtk/points_NNNNNN.EXT  vectors displacement, velocity (3 comp.);
+                                 tensor stress (9); mass, volume, J, id
+  RUN_DIR/vtk/mesh_NNNNNN.EXT    displacement
+Every format present in vtk/ is checked.
 
 Prints one line per check (PASS / FAIL / SKIP / NOTE) and finishes with
 "N passed, M failed". Exit status: 0 all passed, 1 a check failed,
@@ -62,36 +65,43 @@ def import_vtk():
     python3-vtk9 is missing."""
     try:
         from vtkmodules.vtkIOLegacy import vtkUnstructuredGridReader
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
         from vtkmodules.vtkCommonCore import (vtkLogger, vtkOutputWindow,
                                               vtkStringOutputWindow)
     except ImportError:
         return None
     vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)  # we print them
-    return vtkUnstructuredGridReader, vtkOutputWindow, vtkStringOutputWindow
+    return (vtkUnstructuredGridReader, vtkOutputWindow, vtkStringOutputWindow,
+            vtkXMLUnstructuredGridReader)
 
 
 def read_grid(vtk_mods, path):
-    """Read a legacy file as ParaView does; returns (grid or None, list of
-    VTK error and warning texts). Any error or warning fails the read."""
-    reader_cls, output_window, string_window = vtk_mods
+    """Read a .vtu or legacy file as ParaView does; returns (grid or None,
+    list of VTK error and warning texts). Any error or warning fails the
+    read."""
+    reader_cls, output_window, string_window, xml_cls = vtk_mods
     window = string_window()  # catches warnings of free functions too
     output_window.SetInstance(window)
-    reader = reader_cls()
+    xml = path.endswith(".vtu")
+    reader = xml_cls() if xml else reader_cls()
     reader.SetFileName(path)
-    reader.ReadAllScalarsOn()
-    reader.ReadAllVectorsOn()
-    reader.ReadAllTensorsOn()
+    if not xml:
+        reader.ReadAllScalarsOn()
+        reader.ReadAllVectorsOn()
+        reader.ReadAllTensorsOn()
     reader.Update()
     errors = [" ".join(line.split())[-200:]
               for line in window.GetOutput().splitlines() if line.strip()]
-    if not errors and not reader.IsFileUnstructuredGrid():
+    if xml and not errors and reader.GetOutput().GetFieldData().GetArray("TimeValue") is None:
+        errors.append("no TimeValue field data")
+    if not xml and not errors and not reader.IsFileUnstructuredGrid():
         errors.append("not a legacy unstructured grid")
     return (reader.GetOutput() if not errors else None), errors
 
 
 def file_number(name):
     """NNNNNN of points_NNNNNN.vtk / mesh_NNNNNN.vtk (for ordering)."""
-    m = re.search(r"_(\d+)\.vtk$", name)
+    m = re.search(r"_(\d+)\.vt[ku]$", name)
     return int(m.group(1)) if m else -1
 
 
@@ -119,18 +129,18 @@ def check_arrays(ck, grid, name, expected):
             name, ", ".join(expected), "; wrong: " + ", ".join(wrong) if wrong else ""))
 
 
-def check_files(ck, vtk_mods, run, summary, kind_files):
-    """Open every vtk/*.vtk and compare sizes with summary counts."""
+def check_files(ck, vtk_mods, run, summary, kind_files, ext):
+    """Open every vtk/*EXT and compare sizes with summary counts."""
     counts = summary.get("counts", {})
     grids = {}
-    for path in sorted(glob.glob(os.path.join(run, "vtk", "*.vtk"))):
+    for path in sorted(glob.glob(os.path.join(run, "vtk", "*" + ext))):
         name = os.path.relpath(path, run)
         base = os.path.basename(path)
         kind = base.split("_")[0] if base.startswith(("points_", "mesh_")) else None
         if kind:
             kind_files[kind].append(name)
         grid, errors = read_grid(vtk_mods, path)
-        if not ck.check(grid is not None, "%s: read by vtkUnstructuredGridReader%s"
+        if not ck.check(grid is not None, "%s: read by VTK's reader%s"
                         % (name, "" if not errors else " (" + " | ".join(errors) + ")")):
             continue
         npts, ncells = grid.GetNumberOfPoints(), grid.GetNumberOfCells()
@@ -157,49 +167,71 @@ def check_files(ck, vtk_mods, run, summary, kind_files):
     return grids
 
 
-def check_pvd(ck, run, kind, files):
-    """The .pvd lists exactly the files of its kind, in increasing time.
-    Returns the list of (time, file) or None."""
-    pvd = os.path.join(run, kind + ".pvd")
-    if kind == "mesh" and not files and not os.path.exists(pvd):
-        ck.skip("mesh.pvd: no mesh files, no collection")
-        return None
-    if not ck.check(os.path.isfile(pvd), "%s.pvd exists" % kind):
-        return None
+def read_series(ck, path, label):
+    """The (time, file) entries of a .vtk.series (ParaView's JSON), or
+    None."""
     try:
-        root = ET.parse(pvd).getroot()
-    except ET.ParseError as e:
-        ck.check(False, "%s.pvd is well-formed XML (%s)" % (kind, e))
+        with open(path) as fh:
+            js = json.load(fh)
+    except (OSError, ValueError) as e:
+        ck.check(False, "%s is JSON (%s)" % (label, e))
         return None
-    coll = root.find("Collection")
-    ck.check(root.tag == "VTKFile" and root.get("type") == "Collection"
-             and coll is not None, "%s.pvd: VTKFile type=Collection" % kind)
-    entries = []
-    for ds in (coll if coll is not None else []):
-        if ds.tag != "DataSet":
-            continue
+    ck.check(js.get("file-series-version") == "1.0" and isinstance(js.get("files"), list),
+             "%s: file-series-version 1.0 and a files list" % label)
+    return [(float(e.get("time", "nan")), os.path.normpath(e.get("name", "")))
+            for e in js.get("files", [])]
+
+
+def check_pvd(ck, run, kind, files, ext):
+    """The collection (.pvd of .vtu frames, .vtk.series of legacy ones)
+    lists exactly the files of its kind, in increasing time. Returns the
+    list of (time, file) or None."""
+    label = kind + (".pvd" if ext == ".vtu" else ".vtk.series")
+    pvd = os.path.join(run, label)
+    if kind == "mesh" and not files and not os.path.exists(pvd):
+        ck.skip("%s: no mesh files, no collection" % label)
+        return None
+    if not ck.check(os.path.isfile(pvd), "%s exists" % label):
+        return None
+    if ext == ".vtk":
+        entries = read_series(ck, pvd, label)
+        if entries is None:
+            return None
+    else:
         try:
-            t = float(ds.get("timestep"))
-        except (TypeError, ValueError):
-            t = float("nan")
-        f = os.path.normpath(ds.get("file", ""))
-        entries.append((t, f))
+            root = ET.parse(pvd).getroot()
+        except ET.ParseError as e:
+            ck.check(False, "%s is well-formed XML (%s)" % (label, e))
+            return None
+        coll = root.find("Collection")
+        ck.check(root.tag == "VTKFile" and root.get("type") == "Collection"
+                 and coll is not None, "%s: VTKFile type=Collection" % label)
+        entries = []
+        for ds in (coll if coll is not None else []):
+            if ds.tag != "DataSet":
+                continue
+            try:
+                t = float(ds.get("timestep"))
+            except (TypeError, ValueError):
+                t = float("nan")
+            f = os.path.normpath(ds.get("file", ""))
+            entries.append((t, f))
     listed = [f for _, f in entries]
     want = sorted(os.path.normpath(f) for f in files)
     extra = sorted(set(listed) - set(want))
     missing = sorted(set(want) - set(listed))
     dup = len(listed) != len(set(listed))
     ck.check(not extra and not missing and not dup,
-             "%s.pvd lists exactly the %d %s files (%d entries%s%s%s)" % (
-                 kind, len(want), kind, len(listed),
+             "%s lists exactly the %d %s files (%d entries%s%s%s)" % (
+                 label, len(want), kind, len(listed),
                  ", not on disk: %s" % extra[:3] if extra else "",
                  ", not listed: %s" % missing[:3] if missing else "",
                  ", duplicates" if dup else ""))
     times = [t for t, _ in entries]
     inc = all(math.isfinite(t) for t in times) and all(
         b > a for a, b in zip(times, times[1:]))
-    ck.check(inc, "%s.pvd: times strictly increasing (%s .. %s)" % (
-        kind, times[0] if times else "-", times[-1] if times else "-"))
+    ck.check(inc, "%s: times strictly increasing (%s .. %s)" % (
+        label, times[0] if times else "-", times[-1] if times else "-"))
     return entries
 
 
@@ -301,14 +333,17 @@ def main(argv):
                  "summary.json has counts")
     except (OSError, ValueError) as e:
         ck.check(False, "summary.json readable (%s)" % e)
-    kind_files = {"points": [], "mesh": []}
-    grids = check_files(ck, vtk_mods, run, summary, kind_files)
-    ck.check(bool(kind_files["points"] or kind_files["mesh"]),
-             "vtk/ holds output files (%d points, %d mesh)" % (
-                 len(kind_files["points"]), len(kind_files["mesh"])))
-    check_pvd(ck, run, "points", kind_files["points"])
-    mesh_entries = check_pvd(ck, run, "mesh", kind_files["mesh"])
-    check_probes(ck, run, summary, grids, mesh_entries)
+    exts = [e for e in (".vtu", ".vtk") if glob.glob(os.path.join(run, "vtk", "*" + e))]
+    ck.check(bool(exts), "vtk/ holds .vtu or .vtk frames")
+    for ext in exts:
+        kind_files = {"points": [], "mesh": []}
+        grids = check_files(ck, vtk_mods, run, summary, kind_files, ext)
+        ck.check(bool(kind_files["points"] or kind_files["mesh"]),
+                 "vtk/ holds %s output files (%d points, %d mesh)" % (
+                     ext, len(kind_files["points"]), len(kind_files["mesh"])))
+        check_pvd(ck, run, "points", kind_files["points"], ext)
+        mesh_entries = check_pvd(ck, run, "mesh", kind_files["mesh"], ext)
+        check_probes(ck, run, summary, grids, mesh_entries)
     print("%d passed, %d failed" % (ck.passed, ck.failed))
     return 1 if ck.failed else 0
 

@@ -2,7 +2,7 @@
 """same_run.py A B -- are two results folders of one scene the same run?
 
 Compared to the bit: probes.csv; steps.csv with its wall-clock column
-(wall_s) left out; every file under vtk/ and every .pvd collection; in
+(wall_s) left out; every file under vtk/ and every collection (.pvd, .vtk.series); in
 summary.json the status and message, the failed step, the resolved scene,
 the metrics, the probes, the step cuts, the last step's Newton record and
 the counts (clock_reads and solver_memory_peak left out: they
@@ -41,8 +41,8 @@ def main(a, b):
         diffs.append("probes.csv")
     if steps_without_wall(f"{a}/steps.csv") != steps_without_wall(f"{b}/steps.csv"):
         diffs.append("steps.csv")
-    fa = [f for f in files(a) if f.startswith("vtk/") or f.endswith(".pvd")]
-    fb = [f for f in files(b) if f.startswith("vtk/") or f.endswith(".pvd")]
+    fa = [f for f in files(a) if f.startswith("vtk/") or f.endswith((".pvd", ".series"))]
+    fb = [f for f in files(b) if f.startswith("vtk/") or f.endswith((".pvd", ".series"))]
     if fa != fb:
         diffs.append(f"VTK files: {sorted(set(fa) ^ set(fb))}")
     for f in fa:

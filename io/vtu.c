@@ -1,0 +1,231 @@
+/* vtu.c -- VTK XML unstructured-grid writer (.vtu): one piece per file,
+ * written atomically (mpgm_file.h). See mpgm_vtu.h.
+ *
+ * Binary files put every array in <AppendedData encoding="raw">: the
+ * XML header names each array's offset into it, so the bytes of every
+ * array (count + data, or the zlib blocks) are made first, in memory, and
+ * the file is written in one pass after them. Numbers are stored
+ * little-endian whatever the host (the bytes come from shifts), with
+ * header_type UInt64 so that no array is limited to 4 GiB.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "mpgm_vtu.h"
+
+#include "mpgm_file.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zlib.h>
+
+/* vtkZLibDataCompressor's default block: 32 KiB of uncompressed bytes */
+enum { ZBLOCK = 1 << 15 };
+
+/* The arrays of a piece, in file order: TimeValue, the point data, the
+ * points, connectivity, offsets, types. */
+enum { A_TIME = 0, A_FIELDS = 1 };
+
+/* Element types of the arrays. */
+typedef enum { T_F64 = 0, T_I64 = 1, T_U8 = 2 } atype;
+static const char *const type_names[] = {"Float64", "Int64", "UInt8"};
+static const int type_size[] = {8, 8, 1};
+
+/* One array as the writer sees it: its header attributes and a generator
+ * of its values (k-th value of n). */
+typedef struct {
+  const char *name; /* NULL: no Name attribute (the points)   */
+  atype type;
+  int ncomp;
+  size_t n;         /* values (tuples x components)           */
+  unsigned char *bytes; /* appended encodings: what goes in the
+                           appended block (count + data, or zlib)  */
+  size_t nbytes;
+} array;
+
+/* The piece and where its arrays' values come from. */
+typedef struct {
+  const mpgm_vtu_piece *p;
+  double time;
+  int vertex; /* particle cloud: one vertex cell per point */
+} source;
+
+/* Value k of array a of the piece s (as a double or an integer). */
+static double value_f(const source *s, int a, size_t k) {
+  const mpgm_vtu_piece *p = s->p;
+  if (a == A_TIME) return s->time;
+  const int f = a - A_FIELDS;
+  if (f < p->nfields) {
+    const mpgm_vtk_field *fd = &p->fields[f];
+    if (fd->kind == MPGM_VTK_SCALAR) return fd->data[k];
+    if (fd->kind == MPGM_VTK_VECTOR2) return k % 3 == 2 ? 0.0 : fd->data[2 * (k / 3) + k % 3];
+    /* {xx, yy, xy, zz} -> [[xx,xy,0],[xy,yy,0],[0,0,zz]], as vtk.c */
+    static const int map[9] = {0, 2, -1, 2, 1, -1, -1, -1, 3};
+    const int m = map[k % 9];
+    return m < 0 ? 0.0 : fd->data[4 * (k / 9) + m];
+  }
+  return k % 3 == 2 ? 0.0 : p->x[2 * (k / 3) + k % 3]; /* the points */
+}
+
+static long long value_i(const source *s, int a, size_t k) {
+  const mpgm_vtu_piece *p = s->p;
+  const int c = a - A_FIELDS - p->nfields - 1; /* 0 connectivity, 1 offsets, 2 types */
+  if (s->vertex) return c == 0 ? (long long)k : c == 1 ? (long long)k + 1 : MPGM_VTK_VERTEX;
+  if (c == 0) return p->conn[p->cell_ptr[0] + (long long)k];
+  if (c == 1) return p->cell_ptr[k + 1] - p->cell_ptr[0];
+  return p->cell_type[k];
+}
+
+/* The little-endian bytes of values [k0, k0 + n) of array a into out. */
+static void encode(const source *s, int a, const array *ar, size_t k0, size_t n, unsigned char *out) {
+  for (size_t k = k0; k < k0 + n; k++) {
+    uint64_t u;
+    if (ar->type == T_F64) {
+      const double v = value_f(s, a, k);
+      memcpy(&u, &v, sizeof u);
+    } else {
+      u = (uint64_t)value_i(s, a, k);
+    }
+    for (int b = 0; b < type_size[ar->type]; b++) *out++ = (unsigned char)(u >> (8 * b));
+  }
+}
+
+static void put_u64(unsigned char *o, uint64_t v) {
+  for (int b = 0; b < 8; b++) o[b] = (unsigned char)(v >> (8 * b));
+}
+
+/* The appended block of array a: UInt64 byte count and the data (raw), or
+ * vtkZLibDataCompressor's header (blocks, block size, size of the last
+ * partial block or 0, compressed size of each) and the blocks, each
+ * compressed on its own. 0, or MPGM_ERR_NOMEM / MPGM_ERR_IO. */
+static int append_bytes(mpgm_ctx *ctx, const source *s, int a, array *ar, int zlib) {
+  const size_t raw = ar->n * (size_t)type_size[ar->type];
+  if (!zlib) {
+    MPGM_ALLOC(ctx, ar->bytes, 8 + raw + 1);
+    put_u64(ar->bytes, raw);
+    encode(s, a, ar, 0, ar->n, ar->bytes + 8);
+    ar->nbytes = 8 + raw;
+    return 0;
+  }
+  const size_t per = ZBLOCK / (size_t)type_size[ar->type]; /* values per block */
+  const size_t nblock = (ar->n + per - 1) / per;
+  const size_t head = 8 * (3 + nblock);
+  const uLong bound = compressBound(ZBLOCK);
+  size_t cap = head + nblock * bound + 1;
+  unsigned char *plain = malloc(ZBLOCK);
+  ar->bytes = malloc(cap);
+  if (!plain || !ar->bytes) {
+    free(plain);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (a .vtu array of %zu bytes)", raw);
+  }
+  put_u64(ar->bytes, nblock);
+  put_u64(ar->bytes + 8, ZBLOCK);
+  put_u64(ar->bytes + 16, raw % ZBLOCK);
+  size_t at = head;
+  int zerr = Z_OK;
+  for (size_t b = 0; b < nblock && zerr == Z_OK; b++) {
+    const size_t n = b + 1 < nblock ? per : ar->n - b * per;
+    encode(s, a, ar, b * per, n, plain);
+    uLongf len = bound;
+    zerr = compress2(ar->bytes + at, &len, plain, (uLong)(n * (size_t)type_size[ar->type]),
+                     Z_DEFAULT_COMPRESSION);
+    put_u64(ar->bytes + 24 + 8 * b, len);
+    at += len;
+  }
+  free(plain);
+  MPGM_CHECK(ctx, zerr == Z_OK, zerr == Z_MEM_ERROR ? MPGM_ERR_NOMEM : MPGM_ERR_IO,
+             "zlib could not compress a .vtu array (error %d)", zerr);
+  ar->nbytes = at;
+  return 0;
+}
+
+/* One DataArray element: inline ascii values, or its appended offset. */
+static void data_array(FILE *f, const source *s, int a, const array *ar, int ascii, uint64_t offset,
+                       const char *indent) {
+  fprintf(f, "%s<DataArray type=\"%s\"", indent, type_names[ar->type]);
+  if (ar->name) fprintf(f, " Name=\"%s\"", ar->name);
+  if (a == A_TIME) fputs(" NumberOfTuples=\"1\"", f);
+  if (ar->ncomp > 1) fprintf(f, " NumberOfComponents=\"%d\"", ar->ncomp);
+  if (!ascii) {
+    fprintf(f, " format=\"appended\" offset=\"%llu\"/>\n", (unsigned long long)offset);
+    return;
+  }
+  fprintf(f, " format=\"ascii\">\n");
+  for (size_t k = 0; k < ar->n; k++) {
+    if (ar->type == T_F64) fprintf(f, "%.17g", value_f(s, a, k));
+    else fprintf(f, "%lld", value_i(s, a, k));
+    fputc((k + 1) % (size_t)(ar->ncomp > 1 ? ar->ncomp : 6) == 0 || k + 1 == ar->n ? '\n' : ' ', f);
+  }
+  fprintf(f, "%s</DataArray>\n", indent);
+}
+
+/* The whole file to f: the XML header (arrays with their offsets) and the
+ * appended block. */
+static void write_file(FILE *f, const source *s, const array *ar, int narr, int enc) {
+  const mpgm_vtu_piece *p = s->p;
+  const int ascii = enc == MPGM_VTU_ASCII;
+  const int ncell = s->vertex ? p->npoints : p->ncells;
+  uint64_t off[64 + 8];
+  off[0] = 0;
+  for (int a = 0; a < narr; a++) off[a + 1] = off[a] + (ascii ? 0 : ar[a].nbytes);
+  fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+             "byte_order=\"LittleEndian\" header_type=\"UInt64\"%s>\n  <UnstructuredGrid>\n"
+             "    <FieldData>\n",
+          enc == MPGM_VTU_ZLIB ? " compressor=\"vtkZLibDataCompressor\"" : "");
+  data_array(f, s, A_TIME, &ar[A_TIME], ascii, off[A_TIME], "      ");
+  fprintf(f, "    </FieldData>\n    <Piece NumberOfPoints=\"%d\" NumberOfCells=\"%d\">\n"
+             "      <PointData>\n", p->npoints, ncell);
+  int a = A_FIELDS;
+  for (; a < A_FIELDS + p->nfields; a++) data_array(f, s, a, &ar[a], ascii, off[a], "        ");
+  fputs("      </PointData>\n      <Points>\n", f);
+  data_array(f, s, a, &ar[a], ascii, off[a], "        ");
+  fputs("      </Points>\n      <Cells>\n", f);
+  for (a++; a < narr; a++) data_array(f, s, a, &ar[a], ascii, off[a], "        ");
+  fputs("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n", f);
+  if (!ascii) {
+    fputs("  <AppendedData encoding=\"raw\">\n   _", f);
+    for (a = 0; a < narr; a++) fwrite(ar[a].bytes, 1, ar[a].nbytes, f);
+    fputs("\n  </AppendedData>\n", f);
+  }
+  fputs("</VTKFile>\n", f);
+}
+
+/* See mpgm_vtu.h. */
+int mpgm_vtu_write(mpgm_ctx *ctx, const char *path, int encoding, double time,
+                   const mpgm_vtu_piece *p) {
+  MPGM_CHECK(ctx, p, MPGM_ERR_INPUT, "%s: no piece", path ? path : "mpgm_vtu_write");
+  MPGM_CALL(mpgm_vtk_check(ctx, path, p->npoints, p->x, p->ncells, p->cell_ptr, p->conn,
+                           p->cell_type, p->nfields, p->fields));
+  MPGM_CHECK(ctx, p->nfields <= 64 && isfinite(time) && encoding >= MPGM_VTU_ASCII &&
+                      encoding <= MPGM_VTU_ZLIB,
+             MPGM_ERR_INPUT, "%s: %d fields (at most 64), time %g, encoding %d", path, p->nfields,
+             time, encoding);
+  const source s = {p, time, p->ncells == 0 && !p->conn};
+  const size_t np = (size_t)p->npoints;
+  const size_t nc = s.vertex ? np : (size_t)p->ncells;
+  const size_t nconn = s.vertex ? np : (size_t)(p->cell_ptr[p->ncells] - p->cell_ptr[0]);
+  array ar[64 + 5];
+  int narr = 0;
+  ar[narr++] = (array){"TimeValue", T_F64, 1, 1, NULL, 0};
+  for (int f = 0; f < p->nfields; f++) {
+    const int kind = p->fields[f].kind, nk = kind == MPGM_VTK_SCALAR ? 1 : kind == MPGM_VTK_VECTOR2 ? 3 : 9;
+    ar[narr++] = (array){p->fields[f].name, T_F64, nk, np * (size_t)nk, NULL, 0};
+  }
+  ar[narr++] = (array){NULL, T_F64, 3, 3 * np, NULL, 0};
+  ar[narr++] = (array){"connectivity", T_I64, 1, nconn, NULL, 0};
+  ar[narr++] = (array){"offsets", T_I64, 1, nc, NULL, 0};
+  ar[narr++] = (array){"types", T_U8, 1, nc, NULL, 0};
+  int err = 0;
+  for (int a = 0; !err && encoding != MPGM_VTU_ASCII && a < narr; a++)
+    err = append_bytes(ctx, &s, a, &ar[a], encoding == MPGM_VTU_ZLIB);
+  void *fp = NULL;
+  if (!err) err = mpgm_atomic_open(ctx, path, &fp);
+  if (!err) {
+    write_file(fp, &s, ar, narr, encoding);
+    err = mpgm_atomic_close(ctx, path, fp); /* checks ferror */
+  }
+  for (int a = 0; a < narr; a++) free(ar[a].bytes);
+  return err;
+}

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# ParaView itself opens the results (issue 52): short runs of the column
+# collapse (MPM, h = 0.2, 0.1 s = 20 steps; the probe set on the material
+# point nearest the case's top-right probe) and the rolling disk (MPM and
+# GMM with rim contact, h = 0.05, dt = 0.004, 0.02 s: the disk starts
+# rolling; the probe on the point next to its centre), written as .vtu and
+# legacy .vtk at every step, are checked under pvbatch by
+# tests/tools/pv_check.py (times, point counts, arrays, values against
+# probes.csv and steps.csv). Without pvbatch3.11 (Debian's paraview) the
+# test says so and returns 77, ctest's skip code (tests/CMakeLists.txt).
+# usage: paraview.sh MPGM_EXE SOURCE_DIR WORK_DIR
+set -uo pipefail
+exe="$1"; src=$(cd "$2" && pwd); work="$3"
+pv=$(command -v pvbatch3.11 || command -v pvbatch)
+if [ -z "$pv" ]; then
+  echo "SKIP: pvbatch not installed (Debian: apt-get install paraview python3-paraview): the ParaView tests are skipped"
+  exit 77
+fi
+rm -rf "$work"; mkdir -p "$work"
+fail=0; runs=()
+common=(--quiet --set output.every=1 --set output.times=[] --set 'output.format=["vtu","vtk"]')
+run() { # NAME SCENE ARGS...
+  local name="$1" scene="$2"; shift 2
+  if "$exe" run "$src/cases/$scene" "${common[@]}" --out "$work/$name" "$@" > "$work/$name.log" 2>&1; then
+    runs+=("$work/$name")
+  else
+    echo "FAIL: $name: mpgm run exited $?"; cat "$work/$name.log"; fail=1
+  fi
+}
+run column_collapse column_collapse.json --set mesh.h=0.2 --set time.end=0.1 \
+  --set 'probes={"top_right":[3.957735026918962,1.9577350269189624]}' \
+  --set 'output.fields=["displacement","velocity","stress","eps_p","J","id","mass","body"]'
+disk=(--set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.02
+      --set 'probes={"centre":[0.6083333333333334,0.49666666666666665]}')
+run rolling_disk rolling_disk.json "${disk[@]}"
+run rolling_disk_gmm rolling_disk.json "${disk[@]}" --set method=gmm --set shape.kind=mls --set output.compress=zlib
+(cd "$work" && "$pv" --force-offscreen-rendering "$src/tests/tools/pv_check.py" "${runs[@]##*/}") \
+  > "$work/pv_check.log" 2>&1 || fail=1
+cat "$work/pv_check.log"
+[ $fail -eq 0 ]

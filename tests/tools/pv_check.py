@@ -1,0 +1,128 @@
+"""pv_check.py RUN_DIR... -- open every series of mpgm runs with ParaView's
+own readers, as a user does (File > Open points.pvd), under
+`pvbatch3.11 --force-offscreen-rendering` (tests/scripts/paraview.sh).
+
+For each run (written with output.every 1, so that every row of probes.csv
+is a frame): every collection present (points.pvd, mesh.pvd,
+points.vtk.series, mesh.vtk.series; check_series takes any file name
+ParaView opens, so an XDMF series, points.xdmf, is checked by the same
+function once it is written) must open, its TimestepValues must equal the
+time column of probes.csv, and at every time the frame must load with the
+point count of summary.json and the same arrays as the first frame
+(displacement and velocity among the points' arrays). At one time (the
+last) the points' data are compared with the CSV records:
+  - the probe: the runs put it exactly on a material point's initial
+    position (checked: within 1e-12 m at t = 0). A probe and a material
+    point at the same place take the same shape functions of the same
+    nodes, so their displacements agree to rounding; 1e-9 of |u| (plus
+    1e-15 m) is far above rounding and far below the difference to the
+    next point (of the order of the strain times h, 1e-4 of |u| here);
+  - the kinetic energy, sum m |v|^2 / 2 over the points' mass and velocity
+    arrays, against steps.csv's kinetic_energy at that step: the same
+    numbers summed in another order, so 1e-10 relative.
+Prints PASS/FAIL lines and "N passed, M failed"; exit 1 on a failure."""
+import csv
+import json
+import math
+import os
+import sys
+
+from paraview import servermanager as sm
+from paraview.simple import OpenDataFile
+
+npass = nfail = 0
+
+
+def check(ok, what):
+    global npass, nfail
+    print(("PASS: " if ok else "FAIL: ") + what)
+    npass += bool(ok)
+    nfail += not ok
+    return ok
+
+
+def frame(reader, t):
+    reader.UpdatePipeline(t)
+    return sm.Fetch(reader)
+
+
+def arrays(d):
+    pd = d.GetPointData()
+    return [pd.GetArrayName(i) for i in range(pd.GetNumberOfArrays())]
+
+
+def check_series(path, times, npoints, need):
+    """Open path with ParaView, check its times, and every frame's point
+    count and arrays. Returns (reader, last frame) or (None, None)."""
+    name = os.path.relpath(path)
+    reader = OpenDataFile(path)
+    if not check(reader is not None, "%s: ParaView opens it" % name):
+        return None, None
+    tv = list(reader.TimestepValues)
+    check(len(tv) == len(times) and all(abs(a - b) <= 1e-12 * max(1.0, abs(b)) for a, b in zip(tv, times)),
+          "%s (%s): %d TimestepValues equal probes.csv's %d times" % (name, reader.GetXMLName(), len(tv), len(times)))
+    first, bad, d = None, [], None
+    for t in tv:
+        d = frame(reader, t)
+        a = arrays(d)
+        first = first if first is not None else a
+        if d.GetNumberOfPoints() != npoints or a != first:
+            bad.append(t)
+    check(not bad and all(n in first for n in need),
+          "%s: every time loads %d points with arrays %s%s" % (name, npoints, first, "; not at %s" % bad[:3] if bad else ""))
+    return reader, d
+
+
+def numbers(row):
+    return {k: float(v) for k, v in row.items()}
+
+
+def check_values(run, reader, last, probes, steps):
+    """The points at the last time against probes.csv and steps.csv."""
+    d0 = frame(reader, reader.TimestepValues[0])
+    x0 = json.load(open(os.path.join(run, "summary.json")))["scene"]["probes"]
+    row = probes[-1]
+    disp = last.GetPointData().GetArray("displacement")
+    for pname, pos in x0.items():
+        best = min(range(d0.GetNumberOfPoints()), key=lambda i: math.dist(d0.GetPoint(i)[:2], pos))
+        dist = math.dist(d0.GetPoint(best)[:2], pos)
+        u = disp.GetTuple3(best)[:2]
+        want = (row[pname + "_ux"], row[pname + "_uy"])
+        err = math.dist(u, want)
+        check(dist <= 1e-12 and err <= 1e-9 * math.hypot(*want) + 1e-15,
+              "%s: probe %s on point %d (%.1e m away at t = 0): displacement at t = %.6g (%.10g, %.10g) "
+              "= probes.csv (%.10g, %.10g), |diff| %.2e" % (run, pname, best, dist, row["time"], u[0], u[1],
+                                                         want[0], want[1], err))
+    if "kinetic_energy" in steps[-1]:
+        m, v = last.GetPointData().GetArray("mass"), last.GetPointData().GetArray("velocity")
+        ke = sum(0.5 * m.GetValue(i) * (v.GetComponent(i, 0) ** 2 + v.GetComponent(i, 1) ** 2)
+                 for i in range(last.GetNumberOfPoints()))
+        want = steps[-1]["kinetic_energy"]
+        check(abs(ke - want) <= 1e-10 * abs(want), "%s: kinetic energy of the points' mass and velocity "
+              "%.12g J = steps.csv's %.12g J" % (run, ke, want))
+
+
+def check_run(run):
+    summary = json.load(open(os.path.join(run, "summary.json")))
+    probes = [numbers(r) for r in csv.DictReader(open(os.path.join(run, "probes.csv")))]
+    steps = [numbers(r) for r in csv.DictReader(open(os.path.join(run, "steps.csv")))]
+    times = [r["time"] for r in probes]
+    c = summary["counts"]
+    found = 0
+    for series in ("points.pvd", "mesh.pvd", "points.vtk.series", "mesh.vtk.series", "points.xdmf"):
+        path = os.path.join(run, series)
+        if not os.path.exists(path):
+            continue
+        found += 1
+        pts = series.startswith("points")
+        reader, last = check_series(path, times, c["points"] if pts else c["nodes"],
+                                    ["displacement", "velocity"] if pts else ["displacement"])
+        if reader is not None and pts:
+            check_values(run, reader, last, probes, steps)
+    check(found >= 1 + (c.get("cells", 0) > 0), "%s: %d series found" % (run, found))
+
+
+for r in sys.argv[1:]:
+    check_run(r)
+print("%d passed, %d failed" % (npass, nfail))
+sys.exit(1 if nfail else 0)
