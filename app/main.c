@@ -313,6 +313,11 @@ static int earlier_run(const args *a, const mpgm_scene *s, const char *dir) {
   const cJSON *st = cJSON_GetObjectItemCaseSensitive(doc, "status");
   const cJSON *file = cJSON_GetObjectItemCaseSensitive(doc, "scene_file");
   cJSON *then = cJSON_DetachItemFromObjectCaseSensitive(doc, "scene");
+  if (!cJSON_IsObject(then)) { /* no resolved scene: not a run mpgm recorded, nothing to keep */
+    cJSON_Delete(then);
+    cJSON_Delete(doc);
+    return EXIT_OK;
+  }
   char *text = mpgm_scene_resolved_json(s);
   cJSON *now = text ? cJSON_Parse(text) : NULL;
   free(text);
