@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -17,62 +18,26 @@
 #include "bench_solvers.h"
 #include "material_driver.h"
 #include "exit_code.h"
+#include "help.h"
 #include "mpgm_checkpoint.h"
 #include "mpgm_file.h"
+#include "mpgm_json_reader.h"
 #include "mpgm_run.h"
 #include "mpgm_scene_io.h"
 #include "study.h"
 
-static void usage(FILE *f) {
-  fprintf(f,
-          "usage: mpgm run SCENE [--set KEY=VALUE ...] [--out DIR] [--progress | --quiet]\n"
-          "       mpgm run --restart DIR [SCENE] [--set KEY=VALUE ...] [--progress | --quiet]\n"
-          "       mpgm check SCENE [--set KEY=VALUE ...]\n"
-          "       mpgm material FILE.json [--out FILE.csv]\n"
-          "       mpgm study STUDY.json [--jobs N] [--out DIR] [--no-plot] [--rerun-failed] [--dry-run]\n"
-          "       mpgm plot STUDY.csv [--metric NAME] [--x KEY] [--series KEY,...] [--out DIR] [--title T]\n"
-          "       mpgm render RUN_DIR [--field NAME] [--time T,...|last] [--out DIR] [--sheet FILE.png]\n"
-          "                   [--layout RxC] [--size WxH] [--range MIN:MAX] [--xrange A:B] [--yrange A:B]\n"
-          "                   [--radius R] [--title TEXT]\n"
-          "       mpgm bench-solvers DIR [--repeat N] [--out FILE.csv] [--only NAME,...]\n"
-          "                          [--tol X] [--restart M] [--max-iterations N]\n"
-          "       mpgm help | version\n"
-          "\n"
-          "  run       run a scene; results go to DIR (default: the scene's output.dir);\n"
-          "            --restart DIR: continue the run in DIR from its last checkpoint\n"
-          "            (output.checkpoint_every), with the scene it was started with\n"
-          "  check     validate a scene, print the resolved scene and its effects; run nothing\n"
-          "  material  drive one material along a deformation path; CSV to FILE.csv\n"
-          "            (default: FILE's name with .csv, in the current folder;\n"
-          "            docs/material-driver.md)\n"
-          "  study     run a scene over axes of --set values, two runs at a time, resumably;\n"
-          "            study.csv and plots (docs/studies.md)\n"
-          "  plot      draw a study.csv: error against mesh size and against wall time\n"
-          "  render    draw a run's material points coloured by a field at given times\n"
-          "  bench-solvers  time every linear solver backend on the systems a run wrote with\n"
-          "            --set output.matrices=STEP (DIR: the run folder or its matrices/);\n"
-          "            CSV to FILE.csv (default DIR/matrices/bench_solvers.csv), a Markdown\n"
-          "            table on stdout; --repeat: best of N (default 3); --only: these\n"
-          "            backends (NAME, or NAME:PRESET as petsc:cg-gamg); --tol, --restart,\n"
-          "            --max-iterations: the iterative backends' options (as\n"
-          "            solver.linear_tol, linear_restart, linear_max_iterations)\n"
-          "  --set   override any scene value by dotted path, e.g. --set mesh.h=0.125\n"
-          "\n"
-          "exit codes: 0 success, 1 simulation failed, 2 bad input, 3 I/O error\n"
-          "scene format: docs/scene-format.md\n");
-}
-
+static void usage(FILE *f) { mpgm_help_overview(f); }
 
 typedef struct args {
   const char *cmd, *scene, *out, *restart;
   const char **sets;
   int nset, progress;
-  int per_iteration;
+  int per_iteration, force;
 } args;
 
 static int parse_args(int argc, char **argv, args *a) {
   memset(a, 0, sizeof *a);
-  a->progress = isatty(STDERR_FILENO);
+  a->progress = 1; /* in place on a terminal, plain lines elsewhere (term_logger) */
   a->sets = calloc((size_t)argc, sizeof(char *));
   if (!a->sets) return EXIT_IO;
   a->cmd = argv[1];
@@ -94,6 +59,8 @@ static int parse_args(int argc, char **argv, args *a) {
       a->progress = 1;
     } else if (strcmp(s, "--quiet") == 0) {
       a->progress = 0;
+    } else if (strcmp(s, "--force") == 0 && strcmp(a->cmd, "run") == 0) {
+      a->force = 1;
     } else if (strcmp(s, "--time-split") == 0) {
       a->per_iteration = 1;
     } else if (s[0] == '-' && s[1] == '-') {
@@ -124,19 +91,56 @@ static int parse_args(int argc, char **argv, args *a) {
   return EXIT_OK;
 }
 
-/* What reaches the terminal: warnings (step cuts) and errors on stderr as
- * "mpgm: ...", information (a step's time split) on stdout, progress as
- * one line on stderr rewritten in place. */
+/* What reaches the console: warnings (step cuts) and errors on stderr as
+ * "mpgm: ...", information (a step's time split) on stdout. Progress goes
+ * to stderr: on a terminal one line rewritten in place; otherwise (a file,
+ * a pipe, a batch log) a plain line at most every interval seconds and the
+ * last one at the run's end (progress_end), with no carriage return and no
+ * escape code. */
 typedef struct term_log {
-  int open_line; /* a progress line is on the terminal, not ended */
+  int tty;         /* stderr is a terminal                                */
+  int open_line;   /* a progress line is on the terminal, not ended        */
+  double interval; /* seconds between plain progress lines                 */
+  double last;     /* when the last plain line was printed (-1: none yet)  */
+  int pending;     /* line holds a progress line not printed               */
+  char line[512];
 } term_log;
+
+/* Seconds between the plain progress lines: MPGM_PROGRESS_INTERVAL (for
+ * tests: a number in [0, 3600]), else 5. */
+#define PROGRESS_INTERVAL 5.0
+static double progress_interval(void) {
+  const char *v = getenv("MPGM_PROGRESS_INTERVAL");
+  char *end;
+  const double x = v && *v ? strtod(v, &end) : PROGRESS_INTERVAL;
+  return v && *v && (*end || !(x >= 0.0 && x <= 3600.0)) ? PROGRESS_INTERVAL : x;
+}
+
+static double mono_now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 static void term_logger(void *user, int level, const char *msg) {
   term_log *t = user;
-  if (level == MPGM_LOG_PROGRESS) {
+  if (level == MPGM_LOG_PROGRESS && t->tty) {
     fprintf(stderr, "\r\033[K%s", msg);
     fflush(stderr);
     t->open_line = 1;
+    return;
+  }
+  if (level == MPGM_LOG_PROGRESS) {
+    const double now = mono_now();
+    snprintf(t->line, sizeof t->line, "%s", msg);
+    t->pending = 1;
+    if (t->last < 0.0) t->last = now; /* the first line after one interval */
+    if (now - t->last >= t->interval) {
+      fprintf(stderr, "%s\n", msg);
+      fflush(stderr);
+      t->last = now;
+      t->pending = 0;
+    }
     return;
   }
   if (t->open_line && level != MPGM_LOG_INFO) {
@@ -145,6 +149,13 @@ static void term_logger(void *user, int level, const char *msg) {
   }
   if (level == MPGM_LOG_INFO) printf("%s\n", msg);
   else fprintf(stderr, "mpgm: %s\n", msg);
+}
+
+/* The run's end: the terminal's line ended, or the last plain line. */
+static void progress_end(term_log *t) {
+  if (t->open_line) fputc('\n', stderr);
+  else if (t->pending) fprintf(stderr, "%s\n", t->line);
+  t->open_line = t->pending = 0;
 }
 
 static int report_error(const mpgm_ctx *ctx, int code) {
@@ -274,6 +285,86 @@ static int restart_scene(const args *a, mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm
   return 0;
 }
 
+/* A resolved scene without what cannot change a run's result. */
+static void comparable(cJSON *j) {
+  cJSON_DeleteItemFromObjectCaseSensitive(j, "description");
+  for (size_t i = 0; i < sizeof RESTART_FREE / sizeof *RESTART_FREE; i++)
+    cJSON_DeleteItemFromObjectCaseSensitive(j, RESTART_FREE[i]);
+  cJSON_DeleteItemFromObjectCaseSensitive(cJSON_GetObjectItemCaseSensitive(j, "output"), "dir");
+}
+
+/* A new run into a folder that holds a run (DIR/summary.json): the same
+ * scene (its resolved form, but for the keys that cannot change a result
+ * and the folder itself) runs again in place, said on stderr, as a
+ * deterministic repeat loses nothing; a run of another scene is refused
+ * (exit 2) unless --force, naming the folder, what it holds and the ways
+ * on. 0 to go on, else the exit code. */
+static int earlier_run(const args *a, const mpgm_scene *s, const char *dir) {
+  char path[4200];
+  snprintf(path, sizeof path, "%s/summary.json", dir);
+  if (access(path, F_OK) != 0) return EXIT_OK;
+  mpgm_ctx quiet;
+  mpgm_ctx_init(&quiet);
+  cJSON *doc = NULL;
+  if (jr_parse_file(&quiet, path, &doc)) { /* not a summary mpgm wrote: nothing to keep */
+    cJSON_Delete(doc);
+    return EXIT_OK;
+  }
+  const cJSON *st = cJSON_GetObjectItemCaseSensitive(doc, "status");
+  const cJSON *file = cJSON_GetObjectItemCaseSensitive(doc, "scene_file");
+  cJSON *then = cJSON_DetachItemFromObjectCaseSensitive(doc, "scene");
+  if (!cJSON_IsObject(then)) { /* no resolved scene: not a run mpgm recorded, nothing to keep */
+    cJSON_Delete(then);
+    cJSON_Delete(doc);
+    return EXIT_OK;
+  }
+  char *text = mpgm_scene_resolved_json(s);
+  cJSON *now = text ? cJSON_Parse(text) : NULL;
+  free(text);
+  comparable(then);
+  comparable(now);
+  char differ[1024] = "";
+  const int other = !then || !now || first_difference(then, now, "", differ, sizeof differ);
+  const char *status = cJSON_IsString(st) ? st->valuestring : "unknown";
+  const char *of = cJSON_IsString(file) ? file->valuestring : "an unknown scene";
+  char ck[4200];
+  snprintf(ck, sizeof ck, "%s/checkpoint.mpgm", dir);
+  const int resumable = strcmp(status, "interrupted") == 0 && access(ck, F_OK) == 0;
+  int rc = EXIT_OK;
+  if (!other)
+    fprintf(stderr, "mpgm: %s holds a %s run of this scene (%s): running it again in place\n", dir,
+            status, of);
+  else if (a->force)
+    fprintf(stderr, "mpgm: %s holds a %s run of another scene (%s; %s differs): replacing it (--force)\n",
+            dir, status, of, differ[0] ? differ : "the scene");
+  else {
+    fprintf(stderr, "mpgm: %s holds a %s run of another scene (%s; %s differs): not replaced; give "
+            "--force to replace it, or --out another folder%s%s\n", dir, status, of,
+            differ[0] ? differ : "the scene", resumable ? ", or continue it with mpgm run --restart " : "",
+            resumable ? dir : "");
+    rc = EXIT_INPUT;
+  }
+  cJSON_Delete(then);
+  cJSON_Delete(now);
+  cJSON_Delete(doc);
+  return rc;
+}
+
+/* The summary line, the last line of a run's console output (stdout):
+ * status, steps, step cuts, the main metrics (mpgm_run_outcome), the time
+ * reached when the run did not complete, wall time, the results folder. */
+static void summary_line(const mpgm_run_outcome *oc, const mpgm_scene *s, const char *dir) {
+  char abs[4096];
+  const int done = strcmp(oc->status, "completed") == 0;
+  printf("summary: %s, %ld steps, %ld step cuts", oc->status, oc->steps, oc->step_cuts);
+  if (!done) printf(", stopped at %s %.6g", s->analysis == MPGM_ANALYSIS_STATIC ? "load" : "t =", oc->t);
+  for (int i = 0; i < oc->nmetric; i++)
+    printf("%s %s = %.6g", i ? "," : (done ? ", metrics:" : ", metrics at the stop:"), oc->metric[i].name,
+           oc->metric[i].value);
+  printf(", wall %.3g s, results %s\n", oc->wall, realpath(dir, abs) ? abs : dir);
+  fflush(stdout);
+}
+
 /* The signal that asked `mpgm run` to stop (0: none). Once the run is set
  * up (run_running, mpgm_run_opts.running) it stops at the next Newton
  * iteration or step and writes its records (mpgm_run_opts.stop); before,
@@ -319,19 +410,22 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
    * refused (a restart's checkpoint.mpgm is read whole before it is
    * rewritten, so it is no input here) */
   err = mpgm_refuse_run_overwrite(ctx, dir, &a->scene, 1);
-  if (err) {
+  const int held = err || a->restart ? EXIT_OK : earlier_run(a, s, dir);
+  if (err || held) {
     mpgm_checkpoint_free(&ck);
     mpgm_scene_destroy(&s);
-    return report_error(ctx, err);
+    return err ? report_error(ctx, err) : held;
   }
+  mpgm_run_outcome oc = {0};
   mpgm_run_opts opts = {.out_dir = dir, .per_iteration = a->per_iteration,
-                        .restart = a->restart ? &ck : NULL, .stop = &run_stop, .running = &run_running};
-  term_log tl = {0};
+                        .restart = a->restart ? &ck : NULL, .stop = &run_stop, .running = &run_running,
+                        .outcome = &oc};
+  term_log tl = {.tty = isatty(STDERR_FILENO), .interval = progress_interval(), .last = -1.0};
   mpgm_ctx_set_logger(ctx, term_logger, &tl, a->progress ? MPGM_LOG_PROGRESS : MPGM_LOG_INFO);
   run_signals(1);
   err = mpgm_run(ctx, s, &opts);
   run_signals(0);
-  if (tl.open_line) fputc('\n', stderr);
+  progress_end(&tl);
   int rc;
   if (err == MPGM_ERR_INTERRUPTED) { /* the shell's code of a signal's end */
     fprintf(stderr, "mpgm: %s\n", ctx->msg);
@@ -353,6 +447,7 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
            realpath(dir, abs) ? abs : dir, s->frontend->cells ? ", mesh.pvd" : "");
     rc = EXIT_OK;
   }
+  if (oc.set) summary_line(&oc, s, dir); /* the last line, whatever happened */
   mpgm_checkpoint_free(&ck);
   mpgm_scene_destroy(&s);
   return rc;
@@ -460,10 +555,20 @@ int main(int argc, char **argv) {
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
 #endif
   atexit(mpgm_solver_finalize); /* PETSc and MPI, if a run started them */
-  if (argc < 2 || strcmp(argv[1], "help") == 0 || strcmp(argv[1], "--help") == 0 ||
-      strcmp(argv[1], "-h") == 0) {
+  if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+      (strcmp(argv[1], "help") == 0 && argc == 2)) {
     usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? EXIT_INPUT : EXIT_OK;
+  }
+  /* mpgm help COMMAND, mpgm COMMAND --help / -h: answered here, before the
+   * command reads its arguments (help.c holds every command's text) */
+  const int help = strcmp(argv[1], "help") == 0;
+  if (help || mpgm_help_asked(argc, argv)) {
+    const char *cmd = help && !mpgm_help_asked(argc, argv) ? argv[2] : argv[1];
+    if (mpgm_help_command(stdout, cmd) == 0) return EXIT_OK;
+    fprintf(stderr, "mpgm help: unknown command '%s'\n", cmd);
+    usage(stderr);
+    return EXIT_INPUT;
   }
   if (strcmp(argv[1], "version") == 0 || strcmp(argv[1], "--version") == 0) {
     printf("mpgm %s\n", mpgm_version()); /* what a checkpoint records */

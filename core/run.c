@@ -31,14 +31,31 @@ static void cut_record(mpgm_run_result *r, long step, double t, double dt, int c
   snprintf(c->reason, sizeof c->reason, "%s", why);
 }
 
-/* One line on the state of the run (mpgm_log level PROGRESS). */
-static void progress(const mpgm_problem *pb, double end, double t0) {
+/* Where this call of the run loop started, for the progress line's ETA. */
+typedef struct span_start {
+  double wall, t; /* wall clock at the first step, time (or load) then */
+  long step;
+} span_start;
+
+/* The steps and seconds of the loop before the first ETA: the first steps
+ * (a factorisation, a contact search, a cold cache) are not the rest's. */
+#define ETA_STEPS 5
+#define ETA_SECONDS 2.0
+
+/* One line on the state of the run (mpgm_log level PROGRESS). The ETA is
+ * the loop's wall time per fraction of the span done since its start (a
+ * restart's included), taken after ETA_STEPS steps or ETA_SECONDS seconds;
+ * "ETA --" before. */
+static void progress(const mpgm_problem *pb, double end, double t0, const span_start *st) {
   if (!mpgm_log_wanted(pb->ctx, MPGM_LOG_PROGRESS)) return;
-  const double el = mpgm_wtime() - t0, done = pb->t / end;
-  const double eta = done > 0.0 ? el / done * (1.0 - done) : 0.0;
-  const int st = pb->scene->analysis == MPGM_ANALYSIS_STATIC;
+  const double now = mpgm_wtime(), el = now - t0, loop = now - st->wall;
+  const double done = end > st->t ? (pb->t - st->t) / (end - st->t) : 1.0;
+  const int ready = done > 0.0 && (pb->step - st->step >= ETA_STEPS || loop >= ETA_SECONDS);
+  char eta[32] = "ETA --";
+  if (ready) snprintf(eta, sizeof eta, "ETA %.1fs", loop / done * (1.0 - done));
+  const int stat = pb->scene->analysis == MPGM_ANALYSIS_STATIC;
   mpgm_log(pb->ctx, MPGM_LOG_PROGRESS, "step %ld  %s = %.6g of %g  newton %d  |R|/ref = %.2e  cuts %ld  "
-           "elapsed %.1fs  ETA %.1fs", pb->step, st ? "load" : "t", pb->t, end, pb->last.iterations,
+           "elapsed %.1fs  %s", pb->step, stat ? "load" : "t", pb->t, end, pb->last.iterations,
            pb->last.res_rel, pb->step_cuts, el, eta);
 }
 
@@ -192,6 +209,7 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
   }
   int err = 0;
   pb->stop = rc->stop;
+  const span_start st = {mpgm_log_wanted(ctx, MPGM_LOG_PROGRESS) ? mpgm_wtime() : 0.0, pb->t, pb->step};
   while (!err && pb->t < sp->end - 1e-9 * sp->dt0) {
     if (rc->stop && *rc->stop) { /* asked for before this step */
       err = mpgm_err_set(ctx, MPGM_ERR_INTERRUPTED, __FILE__, __LINE__, "stop asked for before step %ld",
@@ -248,7 +266,7 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
     }
     if (rc->time_split) log_split(pb, before);
     err = after_step(pb, rc, on_time, mpgm_wtime() - ts);
-    progress(pb, sp->end, rc->t0);
+    progress(pb, sp->end, rc->t0, &st);
   }
   pb->stop = NULL;
   return err;

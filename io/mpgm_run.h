@@ -10,6 +10,30 @@
 extern "C" {
 #endif
 
+/** How a run ended, for the caller's summary line (mpgm_run_opts.outcome):
+ *  what summary.json records, in short. The main metrics are the
+ *  reference's error metrics when the scene has a reference (those named
+ *  *error*, else all of them), else the manufactured solution's errors,
+ *  else the final displacement of the first two probes, else the bodies'
+ *  reach (runout, height); then eps_p_max of a plastic run; at most
+ *  MPGM_OUTCOME_METRICS. A run that did not complete has them at its last
+ *  converged step (summary.json "metrics_at_stop"). */
+#define MPGM_OUTCOME_METRICS 6
+typedef struct mpgm_run_outcome {
+  int set;           /**< 1 when filled: the run was set up and wrote (or
+                          tried to write) its summary.json              */
+  char status[16];   /**< summary.json "status": completed, failed,
+                          interrupted, io_error                         */
+  long steps, step_cuts;
+  double t;          /**< the time (or load factor) reached              */
+  double wall;       /**< wall time of the run [s]                       */
+  int nmetric;
+  struct {
+    char name[64];
+    double value;
+  } metric[MPGM_OUTCOME_METRICS];
+} mpgm_run_outcome;
+
 typedef struct mpgm_run_opts {
   const char *out_dir; /**< results folder (overrides output.dir if set)  */
   int per_iteration;   /**< 1: log the time split of every step (level INFO,
@@ -36,6 +60,8 @@ typedef struct mpgm_run_opts {
                             may end the process at once on a signal
                             instead of asking *stop (a set-up of millions
                             of points takes seconds)                     */
+  mpgm_run_outcome *outcome; /**< may be NULL; filled at the run's end
+                            (outcome->set), whatever its status          */
 } mpgm_run_opts;
 
 /** Run a loaded scene with its front end (scene->frontend). Writes DIR/summary.json (also on

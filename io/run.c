@@ -221,8 +221,60 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   return j;
 }
 
-static int write_summary(mpgm_ctx *ctx, const mpgm_problem *pb, mpgm_output *o, const run_state *rs) {
+/* Metric NAME of the metrics object m into the outcome, when m has it. */
+static void outcome_metric(mpgm_run_outcome *oc, const cJSON *m, const char *name) {
+  const cJSON *v = cJSON_GetObjectItemCaseSensitive(m, name);
+  if (!cJSON_IsNumber(v) || oc->nmetric >= MPGM_OUTCOME_METRICS) return;
+  snprintf(oc->metric[oc->nmetric].name, sizeof oc->metric[0].name, "%.63s", name);
+  oc->metric[oc->nmetric++].value = v->valuedouble;
+}
+
+/* The run's outcome from its summary j (mpgm_run_outcome says which
+ * metrics are the main ones). */
+static void outcome_fill(mpgm_run_outcome *oc, const mpgm_problem *pb, const mpgm_output *o,
+                         const run_state *rs, const cJSON *j) {
+  const mpgm_scene *s = mpgm_problem_scene(pb);
+  mpgm_report r;
+  mpgm_problem_report(pb, &r);
+  memset(oc, 0, sizeof *oc);
+  oc->set = 1;
+  snprintf(oc->status, sizeof oc->status, "%s", rs->status);
+  oc->steps = r.step;
+  oc->step_cuts = r.step_cuts;
+  oc->t = r.t;
+  oc->wall = rs->wall;
+  const cJSON *m = cJSON_GetObjectItemCaseSensitive(j, "metrics");
+  if (!m) m = cJSON_GetObjectItemCaseSensitive(j, "metrics_at_stop");
+  cJSON *ref = cJSON_CreateObject(); /* the reference's own metrics, by name */
+  if (ref && mpgm_reference_metrics(s, o->nrow, 2 + o->ncol, o->hist, o->ref_acc, ref) == 0 && ref->child) {
+    for (const cJSON *c = ref->child; c; c = c->next)
+      if (strstr(c->string, "error")) outcome_metric(oc, m, c->string);
+    for (const cJSON *c = ref->child; c && !oc->nmetric; c = c->next) outcome_metric(oc, m, c->string);
+  }
+  cJSON_Delete(ref);
+  if (!oc->nmetric) {
+    outcome_metric(oc, m, "mms_u_rms");
+    outcome_metric(oc, m, "mms_sigma_rms");
+  }
+  const int probes = !oc->nmetric; /* no reference: the probes' final displacement */
+  for (int k = 0; probes && k < s->nprobe && k < 2; k++) {
+    char key[MPGM_NAME_LEN + 8];
+    for (int c = 0; c < 2; c++) {
+      snprintf(key, sizeof key, "%s_u%c", s->probes[k].name, "xy"[c]);
+      outcome_metric(oc, m, key);
+    }
+  }
+  if (!oc->nmetric) {
+    outcome_metric(oc, m, "runout");
+    outcome_metric(oc, m, "height");
+  }
+  outcome_metric(oc, m, "eps_p_max");
+}
+
+static int write_summary(mpgm_ctx *ctx, const mpgm_problem *pb, mpgm_output *o, const run_state *rs,
+                         mpgm_run_outcome *oc) {
   cJSON *j = summary_json(pb, o, rs, ctx);
+  if (oc && j) outcome_fill(oc, pb, o, rs, j);
   char path[MPGM_PATH_LEN + 64];
   snprintf(path, sizeof path, "%s/summary.json", o->dir);
   int err = mpgm_write_json(ctx, path, j);
@@ -309,7 +361,8 @@ static int output_checkpoint(void *user, const mpgm_problem *pb) {
  * returned, else the code of the writes. A run whose outputs could not be
  * written says so in summary.json ("io_error", the step and the message),
  * when summary.json itself can still be written. */
-static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, run_state *rs, int err) {
+static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, run_state *rs, int err,
+                  mpgm_run_outcome *oc) {
   const mpgm_run_result *res = rs->res;
   char io_msg[sizeof ctx->msg + 64] = "";
   rs->status = "completed";
@@ -336,7 +389,7 @@ static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, run_state *rs
   int werr = mpgm_output_probes_write(ctx, o);
   if (!werr) werr = mpgm_output_steps_write(ctx, o);
   /* summary.json even when the tables could not be written */
-  const int serr = write_summary(ctx, pb, o, rs);
+  const int serr = write_summary(ctx, pb, o, rs, oc);
   if (!werr) werr = serr;
   if (!err) return werr;
   const int code = keep.code ? keep.code : err;
@@ -399,7 +452,7 @@ int mpgm_run(mpgm_ctx *ctx, const mpgm_scene *s, const mpgm_run_opts *opts) {
     }
   }
   run_state rs = {.res = &res, .wall = mpgm_wtime() - t0, .cpu = process_cpu() - cpu0};
-  err = finish(ctx, pb, &o, &rs, err);
+  err = finish(ctx, pb, &o, &rs, err, opts ? opts->outcome : NULL);
   mpgm_run_result_free(&res);
   mpgm_output_close(&o);
   mpgm_problem_destroy(&pb);

@@ -24,7 +24,7 @@ run_case mtx3 "$scene" --set mesh.h=0.5 --set time.load_steps=3 --set 'output.ma
 # modified Newton: every iteration's system, the reused K as factorised
 run_case mod "$scene" --set mesh.h=0.5 --set solver.newton=modified --set output.matrices=1
 # the same run again into the same folder: the old systems go first
-run_case mtx3 "$scene" --set mesh.h=0.5 --set time.load_steps=3 --set output.matrices=3
+run_case mtx3 "$scene" --set mesh.h=0.5 --set time.load_steps=3 --set output.matrices=3 --force
 "$exe" bench-solvers "$work/mtx" --repeat 2 --out "$work/bench.csv" > "$work/bench.md" 2> "$work/bench.err"
 echo $? > "$work/bench.rc"
 # a matrices folder given directly, the default CSV, two backends

@@ -288,7 +288,7 @@ else
   ko "a fixed time.dt above h / c did not fail the run (exit $rc): $(head -c 300 "$work/column_dt.err")"
 fi
 "$exe" run "$src/cases/column_collapse.json" --set time.analysis=explicit --set time.end=0.005 \
-  --set time.allow_unstable_dt=true --set output.vtk=none --out "$work/column_dt" > /dev/null \
+  --set time.allow_unstable_dt=true --set output.vtk=none --force --out "$work/column_dt" > /dev/null \
   2> "$work/column_dt.err"
 if grep -q "time.dt = 0.005 s is 3.619 times h / c" "$work/column_dt.err"; then
   ok "a fixed time.dt above h / c allowed is reported: $(head -c 160 "$work/column_dt.err")"

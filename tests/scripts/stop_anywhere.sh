@@ -75,7 +75,7 @@ mid_step mpm_column 6 "$src/cases/column_collapse.json" --set mesh.h=0.2 --set t
 "$exe" run "$src/cases/cantilever.json" --set mesh.h=0.5 --quiet --out setup > /dev/null 2>&1
 before=$(cd setup && find . -type f | sort | xargs sha256sum | sha256sum)
 "$exe" run "$src/cases/cantilever.json" --set method=mpm --set mesh.h=0.005 \
-  --set output.vtk=none --quiet --out setup > /dev/null 2> setup.err &
+  --set output.vtk=none --quiet --force --out setup > /dev/null 2> setup.err &
 pid=$!
 sleep 0.3
 t0=$(date +%s%N)
