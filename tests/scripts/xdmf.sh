@@ -135,10 +135,9 @@ f = h5py.File(sys.argv[1], "a"); f["points/000001"].attrs["time"] = 0.3' "$r/res
   fi
 fi
 
-# rerun: a run without XDMF in the folder of one with it (with --force where
-# mpgm refuses to replace a finished run of another scene without it)
-force=(); "$exe" run --help 2>&1 | grep -q -- '--force' && force=(--force)
-if run mpm_rerun "${cc[@]}" --quiet --set output.format=xdmf && run mpm_rerun "${cc[@]}" --quiet "${force[@]}"; then
+# rerun: a run without XDMF in the folder of one with it (--force: mpgm
+# refuses to replace a finished run of another scene without it)
+if run mpm_rerun "${cc[@]}" --quiet --set output.format=xdmf && run mpm_rerun "${cc[@]}" --quiet --force; then
   if [ ! -e "$work/mpm_rerun/results.h5" ] && [ ! -e "$work/mpm_rerun/points.xdmf" ]; then
     pass "rerun without XDMF: the earlier run's results.h5 and points.xdmf are gone"
   else
