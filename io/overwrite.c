@@ -123,8 +123,10 @@ int mpgm_refuse_overwrite(mpgm_ctx *ctx, const mpgm_write_path *out, int nout, c
 int mpgm_refuse_run_overwrite(mpgm_ctx *ctx, const char *dir, const char *const *in, int nin) {
   /* the results folder as docs/scene-format.md lists it (output.c, run.c,
    * checkpoint.c write these) */
-  static const char *const files[] = {"summary.json", "probes.csv", "steps.csv", "points.pvd",
-                                      "mesh.pvd", "points.vtk.series", "mesh.vtk.series",
+  static const char *const files[] = {"summary.json",      "probes.csv",      "steps.csv",
+                                      "points.pvd",        "mesh.pvd",        "grid.pvd",
+                                      "points.vtk.series", "mesh.vtk.series", "grid.vtk.series",
+                                      "points.xdmf",       "mesh.xdmf",       "results.h5",
                                       "checkpoint.mpgm"};
   static const char *const folders[] = {"vtk", "matrices"};
   enum { NF = sizeof files / sizeof *files, ND = sizeof folders / sizeof *folders };

@@ -49,7 +49,8 @@ refused md/path.csv "is the default output" "material: an input named like its d
 
 # --- mpgm run ----------------------------------------------------------------
 mkdir -p res/vtk
-for name in summary.json probes.csv steps.csv points.pvd mesh.pvd checkpoint.mpgm; do
+for name in summary.json probes.csv steps.csv points.pvd mesh.pvd grid.pvd points.vtk.series \
+  mesh.vtk.series grid.vtk.series points.xdmf mesh.xdmf results.h5 checkpoint.mpgm; do
   cp "$scene" "res/$name"
   refused "res/$name" "res/$name: the output would overwrite the input res/$name" \
     "run: the scene is the results folder's $name" "$exe" run "res/$name" --out res --quiet --set mesh.h=0.5
