@@ -174,6 +174,10 @@ const mpgm_nodes *mpgm_problem_nodes(const mpgm_problem *pb);
 /** The front end's cells for output: 1, or 0 when it has none (out->n =
  *  0). */
 int mpgm_problem_cells(const mpgm_problem *pb, mpgm_cells *out);
+/** The front end's background grid for output (mpgm_frontend.h): 1, or 0
+ *  when it has none (*out zeroed). */
+struct mpgm_background;
+int mpgm_problem_background(const mpgm_problem *pb, struct mpgm_background *out);
 /** What the run has done so far. */
 void mpgm_problem_report(const mpgm_problem *pb, mpgm_report *r);
 

@@ -86,6 +86,17 @@ typedef struct mpgm_cells {
   const int *ptr, *node, *type;
 } mpgm_cells;
 
+/** A front end's structured background grid for output (borrowed): the
+ *  grid (mpgm_grid.h: its nodes and cells), and the nodes of the last step
+ *  on it: node k < n of mpgm_nodes is grid node lglob[k] (n 0 before the
+ *  first step). */
+struct mpgm_grid;
+typedef struct mpgm_background {
+  const struct mpgm_grid *grid;
+  int n;
+  const int *lglob;
+} mpgm_background;
+
 typedef struct mpgm_frontend_type {
   const char *name;       /**< the scene's "method" that selects it         */
   const char *doc;        /**< one line for docs and messages            */
@@ -121,6 +132,9 @@ typedef struct mpgm_frontend_type {
   int (*end_step)(void *self, const mpgm_fe_view *v);
   /** Optional: cells for output (a mesh.pvd next to points.pvd). */
   int (*cells)(const void *self, mpgm_cells *out);
+  /** Optional: the background grid (output.grid: a grid.pvd series of
+   *  every grid cell with the last step's nodal values). */
+  void (*background)(const void *self, mpgm_background *out);
   /** Optional: the front end's own state that later steps depend on and
    *  begin_step does not rebuild (LME warm starts, the contact state of a
    *  reset grid), appended to a checkpoint / read back after create

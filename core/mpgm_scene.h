@@ -351,6 +351,7 @@ typedef struct mpgm_scene {
                                  resolved scene of a checkpoint or a
                                  summary.json)                         */
   int every;                /**< write VTK every n steps                */
+  int grid;                 /**< output.grid: the background grid series */
   int checkpoint_every;     /**< write a checkpoint every n steps (0: never) */
   int ntimes;               /**< output.times: entries of times         */
   double times[64];         /**< output.times: steps end exactly at these

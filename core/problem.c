@@ -176,6 +176,13 @@ int mpgm_problem_cells(const mpgm_problem *pb, mpgm_cells *out) {
   return 1;
 }
 
+int mpgm_problem_background(const mpgm_problem *pb, mpgm_background *out) {
+  memset(out, 0, sizeof *out);
+  if (!pb->fe->background) return 0;
+  pb->fe->background(pb->fe_data, out);
+  return 1;
+}
+
 void mpgm_problem_report(const mpgm_problem *pb, mpgm_report *r) {
   memset(r, 0, sizeof *r);
   r->step = pb->step;

@@ -182,6 +182,10 @@ int mpgm_frontend_check(mpgm_ctx *ctx, const mpgm_scene *s) {
     return fail(ctx, s, "mesh.node_motion",
                 "\"interpolated\" moves the nodes, and under kinematics \"small\" nodes do not "
                 "move: remove the key or use kinematics \"finite\"");
+  if (s->grid && !fe->background)
+    return fail(ctx, s, "output.grid", "expected false, found true: method %s has no "
+                "background grid (its nodes and cells are its own, written as mesh.pvd; method "
+                "mpm has one)", fe->name);
   MPGM_CALL(check_explicit(ctx, s));
   return fe->check ? fe->check(ctx, s) : 0;
 }

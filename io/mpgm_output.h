@@ -14,10 +14,14 @@ typedef struct mpgm_output {
   int mtx_on;     /**< output.matrices lists the current step      */
   int mtx_system; /**< systems written in the current step          */
   long mtx_written; /**< systems written in the run                */
-  struct mpgm_pvd *series[2][2]; /**< the collections of the frames:
-                     [format: 0 .vtu (points.pvd, mesh.pvd), 1 legacy .vtk
-                     (points.vtk.series, mesh.vtk.series)][kind: 0 points,
-                     1 mesh]; NULL where the scene writes none          */
+  struct mpgm_pvd *series[2][3]; /**< the collections of the frames:
+                     [format: 0 .vtu (points.pvd, mesh.pvd, grid.pvd), 1
+                     legacy .vtk (points.vtk.series, ...)][kind: 0 points,
+                     1 mesh, 2 background grid]; NULL where the scene
+                     writes none                                         */
+  double *grid_x; /**< output.grid: the grid's node positions, and its    */
+  int *grid_ptr, *grid_node, *grid_type; /**< cells (NULL: no grid series) */
+  int grid_nnode, grid_ncell;
   struct mpgm_xdmf *xdmf; /**< output.format "xdmf": results.h5 and its
                      indices (mpgm_xdmf.h); NULL where the scene writes none */
   int nvtk;       /**< VTK outputs written (index of the next one) */

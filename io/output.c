@@ -16,6 +16,8 @@
 #include <sys/stat.h>
 
 #include "mpgm_file.h"
+#include "mpgm_frontend.h"
+#include "mpgm_grid.h"
 #include "mpgm_mtx.h"
 #include "mpgm_scene_io.h"
 #include "mpgm_vtk.h"
@@ -27,13 +29,14 @@
 enum { STEP_BASE = 9, STEP_COLS = 17 };
 
 /* The series: o->series[format][kind], format 0 .vtu and 1 legacy .vtk,
- * kind 0 points and 1 mesh; their collections, and the checkpoint
- * sections of their entries. */
-enum { SERIES_FORMATS = 2, SERIES_KINDS = 2 };
+ * kind 0 points, 1 mesh and 2 background grid; their collections, and the
+ * checkpoint sections of their entries. */
+enum { SERIES_FORMATS = 2, SERIES_KINDS = 3 };
+static const char *const kind_name[SERIES_KINDS] = {"points", "mesh", "grid"};
 static const char *const series_file[SERIES_FORMATS][SERIES_KINDS] = {
-    {"points.pvd", "mesh.pvd"}, {"points.vtk.series", "mesh.vtk.series"}};
+    {"points.pvd", "mesh.pvd", "grid.pvd"}, {"points.vtk.series", "mesh.vtk.series", "grid.vtk.series"}};
 static const char *const series_tag[SERIES_FORMATS][SERIES_KINDS] = {
-    {"out.vtu_points", "out.vtu_mesh"}, {"out.vtk_points", "out.vtk_mesh"}};
+    {"out.vtu_points", "out.vtu_mesh", "out.vtu_grid"}, {"out.vtk_points", "out.vtk_mesh", "out.vtk_grid"}};
 static const unsigned series_format[SERIES_FORMATS] = {MPGM_FORMAT_VTU, MPGM_FORMAT_VTK};
 
 /* Append a row of width doubles to a growable table; *row points to it. */
@@ -57,10 +60,14 @@ static void remove_vtk_from(const char *path, int keep) {
   if (!dd) return;
   struct dirent *e;
   while ((e = readdir(dd))) {
-    int idx = -1;
-    if (!(strncmp(e->d_name, "points_", 7) == 0 && sscanf(e->d_name + 7, "%d", &idx) == 1) &&
-        !(strncmp(e->d_name, "mesh_", 5) == 0 && sscanf(e->d_name + 5, "%d", &idx) == 1))
-      continue;
+    int idx = -1, kind = -1;
+    for (int k = 0; k < SERIES_KINDS; k++) {
+      const size_t len = strlen(kind_name[k]);
+      if (strncmp(e->d_name, kind_name[k], len) == 0 && e->d_name[len] == '_' &&
+          sscanf(e->d_name + len + 1, "%d", &idx) == 1)
+        kind = k;
+    }
+    if (kind < 0) continue;
     if ((!strstr(e->d_name, ".vtk") && !strstr(e->d_name, ".vtu")) ||
         (idx < keep && !strstr(e->d_name, ".tmp")))
       continue;
@@ -71,19 +78,43 @@ static void remove_vtk_from(const char *path, int keep) {
   closedir(dd);
 }
 
+/* output.grid: the background grid's nodes and cells (they do not move),
+ * made once for every frame of the grid series. */
+static int grid_geometry(mpgm_ctx *ctx, mpgm_output *o, const mpgm_background *bg) {
+  const mpgm_grid *g = bg->grid;
+  const int nn = g->nn;
+  MPGM_ALLOC(ctx, o->grid_x, MPGM_DIM * (size_t)g->nnode);
+  MPGM_ALLOC(ctx, o->grid_ptr, (size_t)g->ncell + 1);
+  MPGM_ALLOC(ctx, o->grid_node, (size_t)nn * g->ncell);
+  MPGM_ALLOC(ctx, o->grid_type, (size_t)g->ncell);
+  for (int i = 0; i < g->nnode; i++) mpgm_grid_node(g, i, o->grid_x + MPGM_DIM * i);
+  for (int c = 0; c <= g->ncell; c++) o->grid_ptr[c] = nn * c;
+  for (int c = 0; c < g->ncell; c++) {
+    mpgm_grid_cell(g, c, o->grid_node + (size_t)nn * c, NULL);
+    o->grid_type[c] = nn == 3 ? MPGM_VTK_TRIANGLE : MPGM_VTK_QUAD;
+  }
+  o->grid_nnode = g->nnode, o->grid_ncell = g->ncell;
+  return 0;
+}
+
 /* The output of problem pb into dir, in memory: nothing is written. */
 static int output_init(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
   const mpgm_scene *scene = mpgm_problem_scene(pb);
   mpgm_cells cells;
-  const int has_cells = mpgm_problem_cells(pb, &cells);
+  mpgm_background bg;
+  const int has[SERIES_KINDS] = {1, mpgm_problem_cells(pb, &cells),
+                                 scene->grid && mpgm_problem_background(pb, &bg)};
   memset(o, 0, sizeof *o);
   snprintf(o->dir, sizeof o->dir, "%s", dir);
   char path[MPGM_PATH_LEN + 64];
   for (int f = 0; scene->vtk != MPGM_VTK_NONE && f < SERIES_FORMATS; f++)
-    for (int k = 0; (scene->formats & series_format[f]) && k < 1 + has_cells; k++) {
-      snprintf(path, sizeof path, "%s/%s", dir, series_file[f][k]);
-      MPGM_CALL(mpgm_pvd_create(ctx, path, &o->series[f][k]));
-    }
+    for (int k = 0; (scene->formats & series_format[f]) && k < SERIES_KINDS; k++)
+      if (has[k]) {
+        snprintf(path, sizeof path, "%s/%s", dir, series_file[f][k]);
+        MPGM_CALL(mpgm_pvd_create(ctx, path, &o->series[f][k]));
+      }
+  if (o->series[0][2] || o->series[1][2]) MPGM_CALL(grid_geometry(ctx, o, &bg));
+  const int has_cells = has[1];
   if (scene->vtk != MPGM_VTK_NONE && (scene->formats & MPGM_FORMAT_XDMF))
     MPGM_CALL(mpgm_xdmf_create(ctx, dir, scene->compress == MPGM_COMPRESS_ZLIB, has_cells, &o->xdmf));
   if (scene->nmatrices > 0) /* output.matrices */
@@ -273,10 +304,16 @@ void mpgm_output_close(mpgm_output *o) {
   for (int f = 0; f < SERIES_FORMATS; f++)
     for (int k = 0; k < SERIES_KINDS; k++) mpgm_pvd_destroy(&o->series[f][k]);
   mpgm_xdmf_destroy(&o->xdmf);
+  free(o->grid_x);
+  free(o->grid_ptr);
+  free(o->grid_node);
+  free(o->grid_type);
   free(o->hist);
   free(o->steps);
   o->hist = NULL;
   o->steps = NULL;
+  o->grid_x = NULL;
+  o->grid_ptr = o->grid_node = o->grid_type = NULL;
 }
 
 int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, double wall) {
@@ -377,15 +414,48 @@ int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o) {
 
 /* A frame's data, gathered once from the problem and written in every
  * format the scene asks for (output.format): the points' piece, the
- * mesh's (front ends with cells), the time and the legacy titles. */
+ * mesh's (front ends with cells), the grid's (output.grid), the time and
+ * the legacy titles. */
 typedef struct frame {
   double time;
   long step;
-  mpgm_vtu_piece points, mesh;
+  mpgm_vtu_piece points, mesh, grid;
   int has_mesh;
-  mpgm_vtk_field pf[12], mf[1];
+  mpgm_vtk_field pf[12], mf[1], gf[4];
   double *scratch; /* J, material, id, eps_p, body of every point (owned) */
+  double *gscratch; /* active, mass, velocity, du of every grid node (owned) */
 } frame;
+
+/* The grid's piece: every grid node and cell, with the values of the
+ * nodes of the last step (0 at the others): active (1 where the step had a
+ * node), the nodal mass, the node velocity at the step's end and the
+ * step's displacement increment. */
+static int frame_grid(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem *pb, frame *fr) {
+  mpgm_background bg;
+  mpgm_problem_background(pb, &bg);
+  const mpgm_nodes *nd = mpgm_problem_nodes(pb);
+  const size_t n = (size_t)o->grid_nnode;
+  MPGM_ALLOC(ctx, fr->gscratch, 6 * n);
+  double *act = fr->gscratch, *mass = act + n, *vel = mass + n, *du = vel + MPGM_DIM * n;
+  const int nk = bg.n < nd->n ? bg.n : nd->n;
+  for (int k = 0; k < nk; k++) {
+    const int i = bg.lglob[k];
+    if (i < 0 || (size_t)i >= n) continue;
+    act[i] = 1.0;
+    mass[i] = nd->mass[k];
+    for (int c = 0; c < MPGM_DIM; c++) {
+      vel[MPGM_DIM * i + c] = nd->v_new[MPGM_DIM * k + c];
+      du[MPGM_DIM * i + c] = nd->du[MPGM_DIM * k + c];
+    }
+  }
+  fr->gf[0] = (mpgm_vtk_field){"active", MPGM_VTK_SCALAR, act};
+  fr->gf[1] = (mpgm_vtk_field){"mass", MPGM_VTK_SCALAR, mass};
+  fr->gf[2] = (mpgm_vtk_field){"velocity", MPGM_VTK_VECTOR2, vel};
+  fr->gf[3] = (mpgm_vtk_field){"displacement_increment", MPGM_VTK_VECTOR2, du};
+  fr->grid = (mpgm_vtu_piece){o->grid_nnode, o->grid_x, o->grid_ncell, o->grid_ptr,
+                              o->grid_node, o->grid_type, 4, fr->gf};
+  return 0;
+}
 
 /* The frame of pb now into fr (fr->scratch owned by it: frame_free). */
 static int frame_gather(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem *pb, frame *fr) {
@@ -431,16 +501,17 @@ static int frame_gather(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem 
     fr->mf[0] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR2, nd->u};
     fr->mesh = (mpgm_vtu_piece){nd->n, nd->x, c.n, c.ptr, c.node, c.type, 1, fr->mf};
   }
-  return 0;
+  return o->grid_x ? frame_grid(ctx, o, pb, fr) : 0;
 }
 
-/* The frame as the next file of series (format f, kind k: points, mesh)
- * and its entry. */
+/* The frame as the next file of series (format f, kind k: points, mesh,
+ * grid) and its entry. */
 static int frame_write(mpgm_ctx *ctx, mpgm_output *o, const frame *fr, int f, int k) {
   const mpgm_scene *s = o->scene;
-  const mpgm_vtu_piece *p = k ? &fr->mesh : &fr->points;
+  const mpgm_vtu_piece *p = k == 2 ? &fr->grid : k ? &fr->mesh : &fr->points;
+  static const char *const title_kind[SERIES_KINDS] = {"material points", "mesh", "background grid"};
   char rel[64], path[MPGM_PATH_LEN + 128], title[256];
-  snprintf(rel, sizeof rel, "vtk/%s_%06d.%s", k ? "mesh" : "points", o->nvtk, f ? "vtk" : "vtu");
+  snprintf(rel, sizeof rel, "vtk/%s_%06d.%s", kind_name[k], o->nvtk, f ? "vtk" : "vtu");
   snprintf(path, sizeof path, "%s/%s", o->dir, rel);
   if (f == 0) {
     const int enc = s->vtk == MPGM_VTK_OUT_ASCII ? MPGM_VTU_ASCII
@@ -448,7 +519,7 @@ static int frame_write(mpgm_ctx *ctx, mpgm_output *o, const frame *fr, int f, in
     MPGM_CALL(mpgm_vtu_write(ctx, path, enc, fr->time, p));
   } else {
     snprintf(title, sizeof title, "mpgm %s %s, step %ld, t = %.9g", s->stem,
-             k ? "mesh" : "material points", fr->step, fr->time);
+             title_kind[k], fr->step, fr->time);
     MPGM_CALL(mpgm_vtk_write(ctx, path, s->vtk == MPGM_VTK_OUT_BINARY, title, p->npoints, p->x,
                              p->ncells, p->cell_ptr, p->conn, p->cell_type, p->nfields, p->fields));
   }
@@ -468,6 +539,7 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
   if (!err && o->xdmf)
     err = mpgm_xdmf_frame(o->xdmf, ctx, fr.time, fr.step, &fr.points, fr.has_mesh ? &fr.mesh : NULL);
   free(fr.scratch);
+  free(fr.gscratch);
   MPGM_CALL(err);
   o->nvtk++;
   return 0;

@@ -386,6 +386,7 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_enum(&o, "vtk", vtk_names, MPGM_VTK_OUT_BINARY, &s->vtk));
   MPGM_CALL(read_formats(&o, s));
   MPGM_CALL(jr_enum(&o, "compress", compress_names, MPGM_COMPRESS_NONE, &s->compress));
+  MPGM_CALL(jr_bool(&o, "grid", 0, &s->grid));
   const cJSON *f = jr_override_json(&o, "fields");
   if (!f) f = jr_raw(&o, "fields");
   else jr_raw(&o, "fields");

@@ -663,6 +663,13 @@ static int mpm_end_step(void *self, const mpgm_fe_view *v) {
   return 0;
 }
 
+/* The grid and the last step's nodes on it (output.grid). */
+static void mpm_background(const void *self, mpgm_background *out) {
+  const mpm_data *d = self;
+  out->grid = &d->g;
+  out->n = d->pn > 0 ? d->pn : 0;
+  out->lglob = d->lglob;
+}
 
 /* Checkpoint: the grid nodes' contact state (the next step's first guess),
  * the steps begun, the LME warm starts. */
@@ -708,6 +715,7 @@ const mpgm_frontend_type mpgm_frontend_mpm = {
     .destroy = mpm_destroy,
     .begin_step = mpm_begin_step,
     .end_step = mpm_end_step,
+    .background = mpm_background,
     .save = mpm_save,
     .restore = mpm_restore,
 };

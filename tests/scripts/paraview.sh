@@ -29,10 +29,11 @@ run() { # NAME SCENE ARGS...
 }
 run column_collapse column_collapse.json --set mesh.h=0.2 --set time.end=0.1 \
   --set 'probes={"top_right":[3.957735026918962,1.9577350269189624]}' \
-  --set 'output.fields=["displacement","velocity","stress","eps_p","J","id","mass","body"]'
+  --set 'output.fields=["displacement","velocity","stress","eps_p","J","id","mass","body"]' \
+  --set output.grid=true
 disk=(--set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.02
       --set 'probes={"centre":[0.6083333333333334,0.49666666666666665]}')
-run rolling_disk rolling_disk.json "${disk[@]}"
+run rolling_disk rolling_disk.json "${disk[@]}" --set output.grid=true
 run rolling_disk_gmm rolling_disk.json "${disk[@]}" --set method=gmm --set shape.kind=mls --set output.compress=zlib
 (cd "$work" && "$pv" --force-offscreen-rendering "$src/tests/tools/pv_check.py" "${runs[@]##*/}") \
   > "$work/pv_check.log" 2>&1 || fail=1

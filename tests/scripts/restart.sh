@@ -103,7 +103,8 @@ one_case fem_krylov "$src/cases/column_collapse.json" --set method=fem --set mes
   --set time.end=0.3 --set output.checkpoint_every=7 --set output.every=10 \
   --set 'boundaries=[{"x":0,"condition":"slip"},{"y":0,"condition":"stick"}]' \
   --set solver.linear=auto --set solver.newton=krylov --set solver.forcing=eisenstat_walker
-one_case mpm_mc "$block" "${block_sets[@]}" --set output.checkpoint_every=6
+one_case mpm_mc "$block" "${block_sets[@]}" --set output.checkpoint_every=6 --set output.grid=true \
+  --set 'output.format=["vtu","vtk"]'
 one_case gmm_mls_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kind=mls \
   --set output.checkpoint_every=6
 one_case gmm_lme_mc "$block" "${block_sets[@]}" --set method=gmm --set shape.kind=lme \

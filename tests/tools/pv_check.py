@@ -4,7 +4,8 @@ own readers, as a user does (File > Open points.pvd), under
 
 For each run (written with output.every 1, so that every row of probes.csv
 is a frame): every collection present (points.pvd, mesh.pvd,
-points.vtk.series, mesh.vtk.series; check_series takes any file name
+points.vtk.series, mesh.vtk.series, and grid.pvd, grid.vtk.series of
+output.grid, checked by check_grid; check_series takes any file name
 ParaView opens, so an XDMF series, points.xdmf, is checked by the same
 function once it is written) must open, its TimestepValues must equal the
 time column of probes.csv, and at every time the frame must load with the
@@ -66,6 +67,7 @@ def check_series(path, times, npoints, need):
         d = frame(reader, t)
         a = arrays(d)
         first = first if first is not None else a
+        npoints = d.GetNumberOfPoints() if npoints is None else npoints
         if d.GetNumberOfPoints() != npoints or a != first:
             bad.append(t)
     check(not bad and all(n in first for n in need),
@@ -102,6 +104,30 @@ def check_values(run, reader, last, probes, steps):
               "%.12g J = steps.csv's %.12g J" % (run, ke, want))
 
 
+def total(d, name):
+    a = d.GetPointData().GetArray(name)
+    return sum(a.GetValue(i) for i in range(d.GetNumberOfPoints()))
+
+
+def check_grid(run, path, points):
+    """output.grid: the background grid's series opens at the same times,
+    the nodes of the last step are marked active, and their mass is the
+    points' mass (the shape functions are a partition of unity, so
+    sum_I m_I = sum_I sum_p N_Ip m_p = sum_p m_p, to rounding; 1e-12)."""
+    times = list(points.TimestepValues)
+    reader, last = check_series(path, times, None, ["active", "mass", "velocity", "displacement_increment"])
+    if reader is None:
+        return
+    pts = frame(points, times[-1])
+    mg, mp, act = total(last, "mass"), total(pts, "mass"), total(last, "active")
+    check(abs(mg - mp) <= 1e-12 * mp and act > 0,
+          "%s: the grid's mass at t = %g, %.15g kg, is the points' %.15g kg (%d active nodes)"
+          % (os.path.relpath(path), times[-1], mg, mp, act))
+    d0 = frame(reader, times[0])
+    check(total(d0, "active") == 0 and total(d0, "mass") == 0,
+          "%s: no node is active before the first step" % os.path.relpath(path))
+
+
 def check_run(run):
     summary = json.load(open(os.path.join(run, "summary.json")))
     probes = [numbers(r) for r in csv.DictReader(open(os.path.join(run, "probes.csv")))]
@@ -119,6 +145,10 @@ def check_run(run):
                                     ["displacement", "velocity"] if pts else ["displacement"])
         if reader is not None and pts:
             check_values(run, reader, last, probes, steps)
+            grid = os.path.join(run, "grid" + series[len("points"):])
+            if os.path.exists(grid):
+                found += 1
+                check_grid(run, grid, reader)
     check(found >= 1 + (c.get("cells", 0) > 0), "%s: %d series found" % (run, found))
 
 
