@@ -373,7 +373,8 @@ static const char *series_names(const mpgm_scene *s, char *buf, size_t n) {
 static void summary_line(const mpgm_run_outcome *oc, const mpgm_scene *s, const char *dir) {
   char abs[4096];
   const int done = strcmp(oc->status, "completed") == 0;
-  printf("summary: %s, %ld steps, %ld step cuts", oc->status, oc->steps, oc->step_cuts);
+  printf("summary: %s, %ld step%s, %ld step cut%s", oc->status, oc->steps, oc->steps == 1 ? "" : "s",
+         oc->step_cuts, oc->step_cuts == 1 ? "" : "s");
   if (!done) printf(", stopped at %s %.6g", s->analysis == MPGM_ANALYSIS_STATIC ? "load" : "t =", oc->t);
   for (int i = 0; i < oc->nmetric; i++)
     printf("%s %s = %.6g", i ? "," : (done ? ", metrics:" : ", metrics at the stop:"), oc->metric[i].name,
