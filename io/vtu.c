@@ -126,10 +126,7 @@ static void put_u64(unsigned char *o, uint64_t v) {
  * compressed on its own. 0, or MPGM_ERR_NOMEM / MPGM_ERR_IO. */
 static int append_bytes(mpgm_ctx *ctx, const source *s, int a, array *ar, int zlib) {
   const size_t raw = ar->n * (size_t)type_size[ar->type];
-  if (!zlib) {
-    MPGM_ALLOC(ctx, ar->bytes, 8 + raw + 1);
-    put_u64(ar->bytes, raw);
-    encode(s, a, ar, 0, ar->n, ar->bytes + 8);
+  if (!zlib) { /* streamed by write_file, a block at a time: only its size here */
     ar->nbytes = 8 + raw;
     return 0;
   }
@@ -190,9 +187,24 @@ static void data_array(FILE *f, const source *s, int a, const array *ar, int asc
   fprintf(f, "%s</DataArray>\n", indent);
 }
 
+/* Raw array a into f: its UInt64 byte count, then its values encoded a
+ * block at a time into buf (ZBLOCK bytes), so that a frame is never held
+ * whole in memory. */
+static void stream_raw(FILE *f, const source *s, int a, const array *ar, unsigned char *buf) {
+  const size_t size = (size_t)type_size[ar->type], per = ZBLOCK / size;
+  put_u64(buf, ar->n * size);
+  fwrite(buf, 1, 8, f);
+  for (size_t k = 0; k < ar->n; k += per) {
+    const size_t n = ar->n - k < per ? ar->n - k : per;
+    encode(s, a, ar, k, n, buf);
+    fwrite(buf, size, n, f);
+  }
+}
+
 /* The whole file to f: the XML header (arrays with their offsets) and the
- * appended block. */
-static void write_file(FILE *f, const source *s, const array *ar, int narr, int enc) {
+ * appended block (zlib: the arrays' compressed bytes; raw: streamed
+ * through buf). */
+static void write_file(FILE *f, const source *s, const array *ar, int narr, int enc, unsigned char *buf) {
   const mpgm_vtu_piece *p = s->p;
   const int ascii = enc == MPGM_VTU_ASCII;
   const int ncell = s->vertex ? p->npoints : p->ncells;
@@ -215,7 +227,9 @@ static void write_file(FILE *f, const source *s, const array *ar, int narr, int 
   fputs("      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n", f);
   if (!ascii) {
     fputs("  <AppendedData encoding=\"raw\">\n   _", f);
-    for (a = 0; a < narr; a++) fwrite(ar[a].bytes, 1, ar[a].nbytes, f);
+    for (a = 0; a < narr; a++)
+      if (enc == MPGM_VTU_ZLIB) fwrite(ar[a].bytes, 1, ar[a].nbytes, f);
+      else stream_raw(f, s, a, &ar[a], buf);
     fputs("\n  </AppendedData>\n", f);
   }
   fputs("</VTKFile>\n", f);
@@ -249,12 +263,15 @@ int mpgm_vtu_write(mpgm_ctx *ctx, const char *path, int encoding, double time,
   int err = 0;
   for (int a = 0; !err && encoding != MPGM_VTU_ASCII && a < narr; a++)
     err = append_bytes(ctx, &s, a, &ar[a], encoding == MPGM_VTU_ZLIB);
+  unsigned char *buf = err ? NULL : malloc(ZBLOCK);
+  if (!err && !buf) err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory (.vtu output)");
   void *fp = NULL;
   if (!err) err = mpgm_atomic_open(ctx, path, &fp);
   if (!err) {
-    write_file(fp, &s, ar, narr, encoding);
+    write_file(fp, &s, ar, narr, encoding, buf);
     err = mpgm_atomic_close(ctx, path, fp); /* checks ferror */
   }
+  free(buf);
   for (int a = 0; a < narr; a++) free(ar[a].bytes);
   return err;
 }
