@@ -135,7 +135,9 @@ SPEC = {
         what="Output formats on a run of 10^6 points or more: file size and write time of VTK XML (.vtu), "
              "XDMF + HDF5 and legacy VTK (issue 52, item 2).",
         table=0,
-        plot=dict(kind="bars", table=0, label=0, values="size", ylabel="size")),
+        plot=dict(kind="bars", table=0, label="format", values=["size per frame [MB]", "write time per frame [s]"],
+                  titles=["size of a frame [MB]", "write time of a frame [s]"], logy=True,
+                  ylabel="MB, s (log scale)")),
 }
 
 ROW = re.compile(r"^\|.*\|\s*$")
@@ -232,8 +234,6 @@ def plot(part, text, png):
     rows = [r for r in rows if p.get("rows", lambda r: True)(r)]
     label = head[p["label"]] if isinstance(p.get("label"), int) else p.get("label")
     values = p.get("values")
-    if values == "size":   # the output-format table: every column that is a size
-        values = [h for h in head if "size" in h.lower() or "[mb]" in h.lower()]
     gp = ["set terminal pngcairo size 900,560 enhanced font ',11'", f"set output '{png}'",
           "set grid", "set key outside top center horizontal", "set offsets graph 0.03, graph 0.03", f"set ylabel {q(p.get('ylabel', ''))}"]
     if p.get("logy"):
