@@ -2,8 +2,8 @@
 # xdmf.sh -- output.format "xdmf" (issue 52, item 2): results.h5 and its
 # XDMF indices.
 #   fem        the cantilever (UL-FEM, static: load factors as times; points
-#              and mesh), written as legacy .vtk and XDMF: h5py reads the
-#              same numbers as the .vtk frames, to the bit, at the same
+#              and mesh), written as .vtu, legacy .vtk and XDMF: h5py reads
+#              the same numbers as the .vtk and .vtu frames, to the bit, at the same
 #              times (tests/tools/xdmf_same.py), datasets not deflated
 #   mpm        an explicit MPM column collapse (h = 0.2, 10 steps, every
 #              step a frame), the same with output.compress zlib: the
@@ -29,7 +29,7 @@ py=/usr/bin/python3; [ -x "$py" ] || py=python3
 npass=0; nfail=0
 pass() { echo "PASS: $1"; npass=$((npass + 1)); }
 fail() { echo "FAIL: $1"; nfail=$((nfail + 1)); }
-both=(--quiet --set 'output.format=["vtk","xdmf"]' --set output.every=1 --set output.times=[])
+both=(--quiet --set 'output.format=["vtu","vtk","xdmf"]' --set output.every=1 --set output.times=[])
 cc=("$src/cases/column_collapse.json" --set mesh.h=0.2 --set time.end=0.05)
 # run NAME ARGS...: a run that must succeed
 run() {
@@ -41,9 +41,9 @@ run() {
 # same NAME: h5py's numbers are the legacy frames'
 same() {
   if "$py" "$src/tests/tools/xdmf_same.py" "$work/$1" > "$work/$1.same" 2>&1; then
-    pass "$1: $(tail -1 "$work/$1.same"): results.h5 = the .vtk frames to the bit, same times, index consistent"
+    pass "$1: $(tail -1 "$work/$1.same"): results.h5 = the .vtk and .vtu frames to the bit, same times, index consistent"
   else
-    grep -v '^PASS' "$work/$1.same"; fail "$1: results.h5 differs from the .vtk frames (above)"
+    grep -v '^PASS' "$work/$1.same"; fail "$1: results.h5 differs from the .vtk or .vtu frames (above)"
   fi
 }
 # deflated NAME yes|no: are results.h5's point datasets deflated?

@@ -1,16 +1,17 @@
 #!/usr/bin/python3
 """xdmf_same.py RUN_DIR... -- the HDF5 output of each run (written with
 output.format ["vtk", "xdmf"]), read with h5py as a user's script would,
-holds the same numbers as its legacy .vtk frames to the bit: for every
-frame of points.vtk.series and mesh.vtk.series, the group /KIND/NNNNNN of
+holds the same numbers as its legacy .vtk frames and, when the run wrote
+them too (format vtu), its .vtu frames, to the bit: for every frame of
+points.vtk.series and mesh.vtk.series (and points.pvd, mesh.pvd), the group /KIND/NNNNNN of
 results.h5 has the series' time as its attribute time, its geometry is the
 frame's points, its datasets are the frame's point-data arrays (names,
 order, components, values) and the mesh's topology (XDMF's mixed list)
 decodes to the frame's cell types and connectivity. The indices
 points.xdmf and mesh.xdmf list the same frames with the same times (as
 written, %.17g: the same doubles), and every DataItem names a dataset of
-results.h5 of the dimensions it states. The legacy files are read with
-VTK's own reader (python3-vtk9).
+results.h5 of the dimensions it states. The frames are read with VTK's
+own readers (legacy and XML), as ParaView reads them.
 Prints PASS/FAIL lines and "N passed, M failed"; exit 1 on a failure."""
 import json
 import os
@@ -20,6 +21,7 @@ import xml.etree.ElementTree as ET
 import h5py
 import numpy as np
 from vtkmodules.vtkIOLegacy import vtkUnstructuredGridReader
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 npass = nfail = 0
@@ -35,13 +37,22 @@ def check(ok, what):
 
 
 def read_vtk(path):
-    r = vtkUnstructuredGridReader()
+    if path.endswith(".vtu"):
+        r = vtkXMLUnstructuredGridReader()
+    else:
+        r = vtkUnstructuredGridReader()
+        r.ReadAllScalarsOn()
+        r.ReadAllVectorsOn()
+        r.ReadAllTensorsOn()
     r.SetFileName(path)
-    r.ReadAllScalarsOn()
-    r.ReadAllVectorsOn()
-    r.ReadAllTensorsOn()
     r.Update()
     return r.GetOutput()
+
+
+def pvd_entries(path):
+    """A .pvd's frames as the .vtk.series' entries: file name and time."""
+    return [{"name": d.get("file"), "time": float(d.get("timestep"))}
+            for d in ET.parse(path).getroot().iter("DataSet")]
 
 
 def same_bits(a, b):
@@ -124,6 +135,13 @@ def compare(run):
             for i, e in enumerate(entries):
                 compare_frame(run, h5, kind, i, e)
             check_index(run, h5, kind, entries)
+            pvd = os.path.join(run, kind + ".pvd")
+            if os.path.exists(pvd):
+                xml = pvd_entries(pvd)
+                check([e["time"] for e in xml] == [e["time"] for e in entries],
+                      "%s: %s.pvd lists the series' %d times" % (run, kind, len(entries)))
+                for i, e in enumerate(xml):
+                    compare_frame(run, h5, kind, i, e)
 
 
 for r in sys.argv[1:]:
