@@ -28,6 +28,17 @@ typedef struct mpgm_vtk_field {
   const double *data; /**< npoints * kind doubles                      */
 } mpgm_vtk_field;
 
+/** Components per point of a field of kind as VTK files and results.h5
+ *  hold it: 1 (scalar), 3 (a 2-D vector, z = 0) or 9 (the stress as a 3x3
+ *  tensor). */
+int mpgm_vtk_ncomp(int kind);
+/** Components [k0, k0 + n) of a field of kind with data in memory (of
+ *  layout kind) as those files hold them, ncomp per point: a vector's z =
+ *  0, the stress {xx, yy, xy, zz} as [[xx,xy,0],[xy,yy,0],[0,0,zz]] row
+ *  major; into out (n doubles). The one place the .vtu and the XDMF
+ *  writers expand a field (the legacy writer interleaves its text). */
+void mpgm_vtk_components(int kind, const double *data, size_t k0, size_t n, double *out);
+
 /** VTK cell type numbers used by mpgm. */
 enum { MPGM_VTK_VERTEX = 1, MPGM_VTK_TRIANGLE = 5, MPGM_VTK_QUAD = 9 };
 

@@ -109,6 +109,22 @@ static void w_end_block(wstream *w) {
 /* Legacy unstructured grid                                                 */
 /* ------------------------------------------------------------------------ */
 
+int mpgm_vtk_ncomp(int kind) { return kind == MPGM_VTK_SCALAR ? 1 : kind == MPGM_VTK_VECTOR2 ? 3 : 9; }
+
+void mpgm_vtk_components(int kind, const double *data, size_t k0, size_t n, double *out) {
+  if (kind == MPGM_VTK_SCALAR) {
+    memcpy(out, data + k0, sizeof(double) * n);
+  } else if (kind == MPGM_VTK_STRESS4) {
+    static const int map[9] = {0, 2, -1, 2, 1, -1, -1, -1, 3};
+    for (size_t k = k0; k < k0 + n; k++) {
+      const int m = map[k % 9];
+      *out++ = m < 0 ? 0.0 : data[4 * (k / 9) + m];
+    }
+  } else {
+    for (size_t k = k0; k < k0 + n; k++) *out++ = k % 3 == 2 ? 0.0 : data[2 * (k / 3) + k % 3];
+  }
+}
+
 /* See mpgm_vtk.h. */
 int mpgm_vtk_check(mpgm_ctx *ctx, const char *path, int npoints,
                           const double *x, int ncells, const int *cell_ptr,

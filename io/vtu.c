@@ -62,21 +62,8 @@ static void values_f(const source *s, int a, size_t k0, size_t n, double *out) {
   }
   const int f = a - A_FIELDS;
   const mpgm_vtk_field *fd = f < p->nfields ? &p->fields[f] : NULL;
-  if (fd && fd->kind == MPGM_VTK_SCALAR) {
-    memcpy(out, fd->data + k0, sizeof(double) * n);
-    return;
-  }
-  if (fd && fd->kind == MPGM_VTK_STRESS4) {
-    /* {xx, yy, xy, zz} -> [[xx,xy,0],[xy,yy,0],[0,0,zz]], as vtk.c */
-    static const int map[9] = {0, 2, -1, 2, 1, -1, -1, -1, 3};
-    for (size_t k = k0; k < k0 + n; k++) {
-      const int m = map[k % 9];
-      *out++ = m < 0 ? 0.0 : fd->data[4 * (k / 9) + m];
-    }
-    return;
-  }
-  const double *v = fd ? fd->data : p->x; /* 2-D vectors and the points: z = 0 */
-  for (size_t k = k0; k < k0 + n; k++) *out++ = k % 3 == 2 ? 0.0 : v[2 * (k / 3) + k % 3];
+  /* a field, or the points (a 2-D vector) */
+  mpgm_vtk_components(fd ? fd->kind : MPGM_VTK_VECTOR2, fd ? fd->data : p->x, k0, n, out);
 }
 
 static long long value_i(const source *s, int a, size_t k) {
@@ -253,7 +240,7 @@ int mpgm_vtu_write(mpgm_ctx *ctx, const char *path, int encoding, double time,
   int narr = 0;
   ar[narr++] = (array){"TimeValue", T_F64, 1, 1, NULL, 0};
   for (int f = 0; f < p->nfields; f++) {
-    const int kind = p->fields[f].kind, nk = kind == MPGM_VTK_SCALAR ? 1 : kind == MPGM_VTK_VECTOR2 ? 3 : 9;
+    const int nk = mpgm_vtk_ncomp(p->fields[f].kind);
     ar[narr++] = (array){p->fields[f].name, T_F64, nk, np * (size_t)nk, NULL, 0};
   }
   ar[narr++] = (array){NULL, T_F64, 3, 3 * np, NULL, 0};

@@ -222,25 +222,13 @@ static herr_t put_rows(hid_t d, hid_t mt, hsize_t r0, hsize_t b, int cols, const
  * frames: vectors with z = 0, the stress {xx, yy, xy, zz} as
  * [[xx,xy,0],[xy,yy,0],[0,0,zz]] (as vtk.c and vtu.c write them). */
 static herr_t put_field(mpgm_xdmf *x, hid_t g, const char *name, int kind, hsize_t n, const double *v) {
-  const int nc = kind == MPGM_VTK_SCALAR ? 1 : kind == MPGM_VTK_VECTOR2 ? 3 : 9;
+  const int nc = mpgm_vtk_ncomp(kind);
   hid_t d = dataset(x, g, name, H5T_IEEE_F64LE, n, nc == 1 ? 0 : nc);
   if (d < 0) return -1;
   herr_t e = 0;
   for (hsize_t r0 = 0; e >= 0 && r0 < n; r0 += BLOCK) {
     const hsize_t b = n - r0 < BLOCK ? n - r0 : BLOCK;
-    double *o = x->buf;
-    for (hsize_t p = r0; p < r0 + b; p++) {
-      if (kind == MPGM_VTK_SCALAR) {
-        *o++ = v[p];
-      } else if (kind == MPGM_VTK_VECTOR2) {
-        *o++ = v[2 * p], *o++ = v[2 * p + 1], *o++ = 0.0;
-      } else {
-        const double *s = v + 4 * p;
-        const double row[9] = {s[0], s[2], 0.0, s[2], s[1], 0.0, 0.0, 0.0, s[3]};
-        memcpy(o, row, sizeof row);
-        o += 9;
-      }
-    }
+    mpgm_vtk_components(kind, v, (size_t)(nc * r0), (size_t)(nc * b), x->buf);
     e = put_rows(d, H5T_NATIVE_DOUBLE, r0, b, nc == 1 ? 0 : nc, x->buf);
   }
   H5Dclose(d);
@@ -335,7 +323,7 @@ static int frame_kind(mpgm_xdmf *x, mpgm_ctx *ctx, int k, double time, long step
   for (int a = 0; e >= 0 && a < p->nfields; a++) {
     const mpgm_vtk_field *f = &p->fields[a];
     snprintf(d->name[a], NAME_LEN, "%s", f->name);
-    d->ncomp[a] = f->kind == MPGM_VTK_SCALAR ? 1 : f->kind == MPGM_VTK_VECTOR2 ? 3 : 9;
+    d->ncomp[a] = mpgm_vtk_ncomp(f->kind);
     e = put_field(x, g, f->name, f->kind, (hsize_t)p->npoints, f->data);
   }
   free(topo);
