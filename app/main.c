@@ -353,23 +353,6 @@ static int earlier_run(const args *a, const mpgm_scene *s, const char *dir) {
 /* The summary line, the last line of a run's console output (stdout):
  * status, steps, step cuts, the main metrics (mpgm_run_outcome), the time
  * reached when the run did not complete, wall time, the results folder. */
-/* ", points.pvd, mesh.pvd, ...": the series files the run wrote (by
- * output.format, the front end's cells and output.grid) into buf. */
-static const char *series_names(const mpgm_scene *s, char *buf, size_t n) {
-  static const char *const ext[3] = {".pvd", ".vtk.series", ".xdmf"};
-  static const unsigned fmt[3] = {MPGM_FORMAT_VTU, MPGM_FORMAT_VTK, MPGM_FORMAT_XDMF};
-  size_t len = 0;
-  buf[0] = '\0';
-  for (int f = 0; s->vtk != MPGM_VTK_NONE && f < 3; f++) {
-    if (!(s->formats & fmt[f])) continue;
-    const int mesh = s->frontend->cells != NULL, grid = s->grid && f < 2;
-    len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", points%s%s%s%s%s%s", ext[f],
-                            mesh ? ", mesh" : "", mesh ? ext[f] : "", grid ? ", grid" : "",
-                            grid ? ext[f] : "", f == 2 ? ", results.h5" : "");
-  }
-  return buf;
-}
-
 static void summary_line(const mpgm_run_outcome *oc, const mpgm_scene *s, const char *dir) {
   char abs[4096];
   const int done = strcmp(oc->status, "completed") == 0;
@@ -462,7 +445,7 @@ static int cmd_run(const args *a, mpgm_ctx *ctx) {
   } else {
     char abs[4096], series[256];
     printf("results: %s (summary.json, probes.csv, steps.csv%s)\n", realpath(dir, abs) ? abs : dir,
-           series_names(s, series, sizeof series));
+           mpgm_output_series_names(s, s->frontend->cells != NULL, series, sizeof series));
     rc = EXIT_OK;
   }
   if (oc.set) summary_line(&oc, s, dir); /* the last line, whatever happened */

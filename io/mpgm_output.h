@@ -41,6 +41,10 @@ typedef struct mpgm_output {
  *  mesh.vtk.series; the earlier run's collections removed),
  *  DIR/matrices (output.matrices). Errors: MPGM_ERR_IO. */
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir);
+/** ", points.pvd, mesh.pvd, ...": the series files a run of scene s
+ *  writes (by output.format, has_cells: the front end's cells, and
+ *  output.grid; "" with output.vtk "none") into buf; returns buf. */
+const char *mpgm_output_series_names(const mpgm_scene *s, int has_cells, char *buf, size_t n);
 void mpgm_output_close(mpgm_output *o);
 /** Checkpoints: the output's state (VTK outputs and files written, the
  *  probe and step histories, the .pvd entries) into b. */

@@ -78,6 +78,18 @@ static void remove_vtk_from(const char *path, int keep) {
   closedir(dd);
 }
 
+const char *mpgm_output_series_names(const mpgm_scene *s, int has_cells, char *buf, size_t n) {
+  const int has[SERIES_KINDS] = {1, has_cells, s->grid};
+  size_t len = 0;
+  buf[0] = '\0';
+  for (int f = 0; s->vtk != MPGM_VTK_NONE && f < SERIES_FORMATS; f++)
+    for (int k = 0; (s->formats & series_format[f]) && k < SERIES_KINDS; k++)
+      if (has[k]) len += (size_t)snprintf(buf + len, len < n ? n - len : 0, ", %s", series_file[f][k]);
+  if (s->vtk != MPGM_VTK_NONE && (s->formats & MPGM_FORMAT_XDMF)) /* the grid is not in XDMF */
+    snprintf(buf + len, len < n ? n - len : 0, ", points.xdmf%s, results.h5", has_cells ? ", mesh.xdmf" : "");
+  return buf;
+}
+
 /* output.grid: the background grid's nodes and cells (they do not move),
  * made once for every frame of the grid series. */
 static int grid_geometry(mpgm_ctx *ctx, mpgm_output *o, const mpgm_background *bg) {
