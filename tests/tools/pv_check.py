@@ -31,15 +31,8 @@ import sys
 from paraview import servermanager as sm
 from paraview.simple import OpenDataFile
 
-npass = nfail = 0
-
-
-def check(ok, what):
-    global npass, nfail
-    print(("PASS: " if ok else "FAIL: ") + what)
-    npass += bool(ok)
-    nfail += not ok
-    return ok
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_check import check, done  # noqa: E402 (the PASS/FAIL lines and their count)
 
 
 def frame(reader, t):
@@ -154,5 +147,4 @@ def check_run(run):
 
 for r in sys.argv[1:]:
     check_run(r)
-print("%d passed, %d failed" % (npass, nfail))
-sys.exit(1 if nfail else 0)
+done()

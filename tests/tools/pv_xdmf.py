@@ -15,15 +15,8 @@ from paraview import servermanager as sm
 from paraview.simple import LegacyVTKReader, OpenDataFile
 from paraview.vtk.util.numpy_support import vtk_to_numpy
 
-npass = nfail = 0
-
-
-def check(ok, what):
-    global npass, nfail
-    print(("PASS: " if ok else "FAIL: ") + what)
-    npass += bool(ok)
-    nfail += not ok
-    return ok
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_check import check, done  # noqa: E402 (the PASS/FAIL lines and their count)
 
 
 def arrays(d):
@@ -58,5 +51,4 @@ def check_index(run, kind):
 for r in sys.argv[1:]:
     for k in ("points", "mesh"):
         check_index(r, k)
-print("%d passed, %d failed" % (npass, nfail))
-sys.exit(1 if nfail else 0)
+done()

@@ -17,14 +17,8 @@ from vtkmodules.vtkIOLegacy import vtkUnstructuredGridReader
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-npass = nfail = 0
-
-
-def check(ok, what):
-    global npass, nfail
-    print(("PASS: " if ok else "FAIL: ") + what)
-    npass += bool(ok)
-    nfail += not ok
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_check import check, done  # noqa: E402 (the PASS/FAIL lines and their count)
 
 
 def read(path):
@@ -81,5 +75,4 @@ def compare(run):
 
 for run in sys.argv[1:]:
     compare(run)
-print("%d passed, %d failed" % (npass, nfail))
-sys.exit(1 if nfail else 0)
+done()

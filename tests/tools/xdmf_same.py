@@ -24,16 +24,10 @@ from vtkmodules.vtkIOLegacy import vtkUnstructuredGridReader
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-npass = nfail = 0
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_check import check, done  # noqa: E402 (the PASS/FAIL lines and their count)
+
 VTK_TO_XDMF = {5: 4, 9: 5}  # triangle, quadrilateral
-
-
-def check(ok, what):
-    global npass, nfail
-    print(("PASS: " if ok else "FAIL: ") + what)
-    npass += bool(ok)
-    nfail += not ok
-    return ok
 
 
 def read_vtk(path):
@@ -146,5 +140,4 @@ def compare(run):
 
 for r in sys.argv[1:]:
     compare(r)
-print("%d passed, %d failed" % (npass, nfail))
-sys.exit(1 if nfail else 0)
+done()
