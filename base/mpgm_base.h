@@ -22,31 +22,50 @@ extern "C" {
 #define MPGM_NAME_LEN 64   /**< names of scene items (materials, bodies) */
 #define MPGM_PATH_LEN 1024 /**< file and folder paths                    */
 
-/** Spatial dimension of the data layouts (2-D plane strain today): the
- *  components of a vector per point or node (x, u, v, a, grad N), the
- *  degrees of freedom per node. Code written out per component (x and y
- *  apart) is marked "2-D only" where it stands. */
+/** Spatial dimension of the data layouts: the components of a vector per
+ *  point or node (x, u, v, a, grad N), the degrees of freedom per node.
+ *  Every library is built once per dimension from the same sources
+ *  (CMake: the _3d targets compile with -DMPGM_DIM=3; docs/architecture.md,
+ *  "How the dimension is chosen"); 2 is plane strain. Code still written
+ *  out per component (x and y apart) is marked "2-D only" where it stands,
+ *  and a file holding such code stops a 3-D build with an #error. */
+#ifndef MPGM_DIM
 #define MPGM_DIM 2
+#endif
+#if MPGM_DIM != 2 && MPGM_DIM != 3
+#error "MPGM_DIM must be 2 (plane strain) or 3"
+#endif
 /** Entries of a full second-order tensor, MPGM_DIM x MPGM_DIM row major:
- *  the deformation gradient F and its increment dF, {xx, xy, yx, yy}. */
+ *  the deformation gradient F and its increment dF, {xx, xy, yx, yy} in
+ *  2-D, {xx, xy, xz, yx, ..., zz} in 3-D. */
 #define MPGM_TENSOR (MPGM_DIM * MPGM_DIM)
 /** Entries of one node pair's block of the tangent K (the rows of node a's
  *  components, the columns of node b's), MPGM_DIM x MPGM_DIM row major. */
 #define MPGM_BLOCK (MPGM_DIM * MPGM_DIM)
 /** Components of a symmetric tensor in Voigt notation that the tangent
- *  couples: in 2-D the in-plane ones {xx, yy, xy} (3-D: 6). */
+ *  couples: 2-D the in-plane {xx, yy, xy}; 3-D {xx, yy, zz, xy, yz, xz}
+ *  (mpgm_voigt_pair). */
 #define MPGM_NVOIGT (MPGM_DIM * (MPGM_DIM + 1) / 2)
 /** Entries of the material tangent D per point: MPGM_NVOIGT x MPGM_NVOIGT,
  *  row major, engineering shear (mpgm_material.h). */
 #define MPGM_NTANGENT (MPGM_NVOIGT * MPGM_NVOIGT)
 /** Stored components of a stress per point (sigma, S0, the materials'
- *  tau): {xx, yy, xy, zz}. Plane strain keeps the out-of-plane zz, which is
- *  not zero, after the in-plane Voigt components; in 3-D the six Voigt
- *  components hold it. */
+ *  tau): 2-D {xx, yy, xy, zz}: plane strain keeps the out-of-plane zz,
+ *  which is not zero, after the in-plane Voigt components; 3-D the six
+ *  Voigt components {xx, yy, zz, xy, yz, xz}, the full tensor. */
 #if MPGM_DIM == 2
 #define MPGM_NSTRESS (MPGM_NVOIGT + 1)
 #else
 #define MPGM_NSTRESS MPGM_NVOIGT
+#endif
+/** The tensor indices (i, j), i <= j, of Voigt component k < MPGM_NVOIGT:
+ *  the diagonal first, then the shears; 2-D xx, yy, xy; 3-D xx, yy, zz,
+ *  xy, yz, xz. */
+static const int mpgm_voigt_pair[MPGM_NVOIGT][2] =
+#if MPGM_DIM == 2
+    {{0, 0}, {1, 1}, {0, 1}};
+#else
+    {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 #endif
 
 /** Error codes. Negative: fatal. Positive: recoverable (cut the step). */

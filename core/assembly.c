@@ -8,6 +8,10 @@
 
 #include "mpgm_core_impl.h"
 
+#if MPGM_DIM != 2
+#error "core/assembly.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* 2x2 helpers, row major {a00, a01, a10, a11}. 2-D only: written out for
  * MPGM_DIM = 2 (3-D: the 3x3 determinant and product). */
 static inline double det2(const double *a) { return a[0] * a[3] - a[1] * a[2]; }

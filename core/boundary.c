@@ -3,6 +3,10 @@
 
 #include "mpgm_scene.h"
 
+#if MPGM_DIM != 2
+#error "core/boundary.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* 2-D only: the selectors x = value, y = value and a box, in x and y. */
 int mpgm_boundary_selects(const mpgm_scene_boundary *bc, const double X[MPGM_DIM]) {
   const double x = X[0], y = X[1], t = bc->tol;

@@ -4,6 +4,10 @@
 
 #include "mpgm_core_impl.h"
 
+#if MPGM_DIM != 2
+#error "core/contact_nodes.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* Unilateral contact (the contact codes of the nodes): a contact node is
  * held (no slip) while the plane pushes on the body, released where it
  * would pull, and held again where a released node moves into the plane.

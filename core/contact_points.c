@@ -21,6 +21,10 @@
 
 #include "mpgm_core_impl.h"
 
+#if MPGM_DIM != 2
+#error "core/contact_points.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 
 /* Axis of the plane's normal and the side the body is on (2-D only: the
  * planes x = value and y = value). */

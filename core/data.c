@@ -7,6 +7,10 @@
 #include "mpgm_data.h"
 #include "mpgm_integrator.h"
 
+#if MPGM_DIM != 2
+#error "core/data.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsurf, int nstate) {
   const int m = n + nprobe + nsurf;
   p->n = n;

@@ -9,6 +9,10 @@
 
 #include "mpgm_core_impl.h"
 
+#if MPGM_DIM != 2
+#error "core/energy.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* Work of the stresses over the step about to be committed (the trial
  * arrays against the committed ones), by the midpoint rule: the rate of
  * deformation of F(s) = (I + s (dF - I)) F_n at s = 1/2 is

@@ -23,6 +23,10 @@
 
 #include "mpgm_core_impl.h"
 
+#if MPGM_DIM != 2
+#error "core/explicit.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 typedef struct explicit_data {
   double *f;   /**< MPGM_DIM per node: f_ext - f_int [N]               */
   double *mod; /**< per material: P-wave modulus lambda + 2 mu [Pa]    */

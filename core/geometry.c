@@ -10,6 +10,10 @@
 
 #include "mpgm_scene.h"
 
+#if MPGM_DIM != 2
+#error "core/geometry.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* Relative tolerance of "on the boundary" (of the body's size). */
 #define GEOM_REL_TOL 1e-12
 #define GEOM_PI 3.14159265358979323846

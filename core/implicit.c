@@ -9,6 +9,10 @@
 
 #include "mpgm_core_impl.h"
 
+#if MPGM_DIM != 2
+#error "core/implicit.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* Commit a converged step: points (material and tracers) and nodes. */
 static void commit(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;

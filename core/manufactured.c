@@ -13,6 +13,10 @@
 
 #include "mpgm_core_impl.h"
 
+#if MPGM_DIM != 2
+#error "core/manufactured.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 int mpgm_mms_setup(mpgm_problem *pb) {
   mpgm_points *P = &pb->pts;
   const mpgm_mms *m = &pb->scene->mms;

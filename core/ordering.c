@@ -18,6 +18,10 @@
 #include <math.h>
 #include <stdlib.h>
 
+#if MPGM_DIM != 2
+#error "core/ordering.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* Leaves: at most this many nodes are numbered as they come (their block
  * of L is small and dense whatever their order). */
 #define ND_LEAF 4

@@ -8,6 +8,10 @@
 
 #include "mpgm_core_impl.h"
 
+#if MPGM_DIM != 2
+#error "core/pattern.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* ---- sparsity pattern ------------------------------------------------- */
 
 /* 1 when points p and q are connected to the same nodes in the same order. */

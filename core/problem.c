@@ -5,6 +5,10 @@
 
 #include "mpgm_core_impl.h"
 
+#if MPGM_DIM != 2
+#error "core/problem.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v) {
   *v = (mpgm_fe_view){.ctx = pb->ctx,
                       .scene = pb->scene,

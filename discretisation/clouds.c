@@ -32,6 +32,10 @@
 #include "mpgm_discretisation.h"
 #include "mpgm_kdtree.h"
 
+#if MPGM_DIM != 2
+#error "discretisation/clouds.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* the most growths per point (1.25^60 ~ 6e5: a search this wide that still
  * finds too few nodes means there are not that many) */
 #define MAX_GROWTH 60

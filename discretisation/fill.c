@@ -8,6 +8,10 @@
 #include "mpgm_discretisation.h"
 #include "mpgm_grid.h"
 
+#if MPGM_DIM != 2
+#error "discretisation/fill.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 int mpgm_points_rule(const mpgm_scene *s, int cell, double *xi, double *w) {
   if (s->layout_centres && cell == MPGM_CELL_Q4) return mpgm_fe_centres(s->ppc, xi, w);
   return mpgm_fe_gauss(cell, s->ppc, xi, w);

@@ -4,6 +4,10 @@
 
 #include <math.h>
 
+#if MPGM_DIM != 2
+#error "discretisation/grid.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 int mpgm_grid_init(mpgm_ctx *ctx, mpgm_grid *g, const mpgm_scene *s) {
   g->cell = s->cell;
   g->nn = mpgm_fe_nnode(s->cell);

@@ -29,6 +29,10 @@
 
 #include "mpgm_kdtree.h"
 
+#if MPGM_DIM != 2
+#error "discretisation/kdtree.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* Explicit query stack. A child holds at most 7/8 of its parent's points and
  * a node with fewer than 2 points is a leaf, so depth <= log_{8/7}(n / 2) + 1
  * <= 161 for n < 2^31; the build checks it. */

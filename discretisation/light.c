@@ -10,6 +10,10 @@
 
 #include "mpgm_discretisation.h"
 
+#if MPGM_DIM != 2
+#error "discretisation/light.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 int mpgm_light_nodes(const mpgm_conn *c, int np, const double *pmass, int nnode,
                      const unsigned char *eligible, double min_node_mass, double *mass,
                      unsigned char *light) {

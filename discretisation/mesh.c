@@ -8,6 +8,10 @@
 
 #include "mpgm_discretisation.h"
 
+#if MPGM_DIM != 2
+#error "discretisation/mesh.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 struct mpgm_fem_cells {
   int cell;        /**< mpgm_cell_kind of every cell                  */
   int nn;          /**< nodes per cell                                */

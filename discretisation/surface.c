@@ -6,6 +6,10 @@
 
 #include "mpgm_discretisation.h"
 
+#if MPGM_DIM != 2
+#error "discretisation/surface.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 static const double PI = 3.14159265358979323846;
 
 /* 2-D only: a circle and the edges of polygons (vertices: (x, y) pairs),

@@ -43,6 +43,10 @@
 #include "mpgm_gmm.h"
 #include "mpgm_kdtree.h"
 
+#if MPGM_DIM != 2
+#error "gmm/gmm.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 typedef struct gmm_data {
   mpgm_fem_cells *fem;   /**< rectangle bodies: the FE cells (for output)      */
   gmm_grid *grid;        /**< or, for grid-filled bodies, the output cells    */

@@ -12,6 +12,10 @@
 #include "mpgm_grid.h"
 #include "mpgm_kdtree.h"
 
+#if MPGM_DIM != 2
+#error "gmm/gmm_grid.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 int mpgm_gmm_uses_grid(const mpgm_scene *s) {
   int grid = s->nobstacle > 0 || mpgm_scene_contact_at_points(s);
   for (int b = 0; b < s->nbody; b++) grid |= s->bodies[b].geometry != MPGM_GEOM_RECTANGLE;

@@ -8,6 +8,10 @@
 
 #include "scene_impl.h"
 
+#if MPGM_DIM != 2
+#error "io/scene_reference.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 int mpgm_reference_read(jr_node *root, mpgm_scene *s) {
   mpgm_reference *ref = &s->reference;
   memset(ref, 0, sizeof *ref);

@@ -4,6 +4,10 @@
 
 #include "elastic_impl.h"
 
+#if MPGM_DIM != 2
+#error "materials/elastic_common.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 int mpgm_elastic_setup(mpgm_material *m, const char *name, char *msg, size_t msglen) {
   const double E = m->param[0], nu = m->param[1];
   if (!(E > 0.0 && isfinite(E)) || !(nu > -1.0 && nu < 0.5)) {

@@ -27,6 +27,10 @@
 #include "elastic_impl.h"
 #include "mohr_coulomb_impl.h"
 
+#if MPGM_DIM != 2
+#error "materials/mohr_coulomb.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 enum { P_E = 0, P_NU = 1, P_C = 2, P_PHI = 3, P_PSI = 4 };
 enum { S_B = 0, S_EPSP = 4, NSTATE = 5 };
 

@@ -4,14 +4,20 @@
  * and the committed state of a point into the Cauchy stress and the spatial
  * tangent the core assembles (K_mat = sum_p B^T D B v_p).
  *
- * Plane strain layout (MPGM_DIM = 2):
- *   F, dF : 2x2 in-plane, row major {F11, F12, F21, F22}; F33 = 1.
- *   sigma : {s_xx, s_yy, s_xy, s_zz} (Cauchy stress, Pa; s_zz out of plane).
- *   D     : 3x3 row major, Voigt order {xx, yy, xy} with engineering shear
- *           (B = [dN/dx 0; 0 dN/dy; dN/dy dN/dx]); Pa. For finite kinematics
- *           D is the spatial tangent of the Cauchy stress (c = J^-1 c_tau,
- *           c_tau the tangent of the Lie derivative of Kirchhoff stress), so
- *           the geometric stiffness is added separately by the core.
+ * Layouts (mpgm_base.h), in the build's dimension:
+ *   F, dF : MPGM_TENSOR entries, DIM x DIM row major; plane strain (DIM 2)
+ *           {F11, F12, F21, F22} with F33 = 1; 3-D {F11, F12, F13, F21, ...}.
+ *   sigma : MPGM_NSTRESS entries, Cauchy stress [Pa]: plane strain
+ *           {s_xx, s_yy, s_xy, s_zz} (s_zz out of plane); 3-D the six
+ *           Voigt components {xx, yy, zz, xy, yz, xz}.
+ *   D     : MPGM_NVOIGT x MPGM_NVOIGT row major (3x3 or 6x6), Voigt order
+ *           of mpgm_voigt_pair with engineering shear (2-D B = [dN/dx 0;
+ *           0 dN/dy; dN/dy dN/dx]); Pa. For finite kinematics D is the
+ *           spatial tangent of the Cauchy stress (c = J^-1 c_tau, c_tau the
+ *           tangent of the Lie derivative of Kirchhoff stress), so the
+ *           geometric stiffness is added separately by the core.
+ * A material's nstate may depend on the dimension (it is the type's, and a
+ * build has one dimension).
  *
  * Each implementation is one .c exporting a `const mpgm_material_type`;
  * the list of all of them is MPGM_MATERIAL_LIST in material_list.c.
@@ -66,24 +72,26 @@ struct mpgm_material_type {
    *  dF      : increment over the step, F = dF F_n (finite; may be ignored)
    *  state_n : committed state (nstate doubles; NULL if nstate == 0)
    *  state   : out, trial state (may alias nothing; NULL if nstate == 0)
-   *  sigma   : out, Cauchy stress {xx, yy, xy, zz}
-   *  D       : out, 3x3 tangent (may be NULL: stress only)
+   *  sigma   : out, Cauchy stress (MPGM_NSTRESS: 2-D {xx, yy, xy, zz})
+   *  D       : out, tangent, MPGM_NTANGENT entries (may be NULL: stress
+   *            only)
    *  Returns 0, MPGM_ERR_JACOBIAN (det F <= 0) or another recoverable code. */
-  int (*update)(const mpgm_material *m, int kin, const double F[4],
-                const double dF[4], const double *state_n, double *state,
-                double sigma[4], double D[9]);
+  int (*update)(const mpgm_material *m, int kin, const double F[MPGM_TENSOR],
+                const double dF[MPGM_TENSOR], const double *state_n, double *state,
+                double sigma[MPGM_NSTRESS], double D[MPGM_NTANGENT]);
   /* Optional operations (NULL when the material has no such notion). */
   /** Equivalent plastic strain [-] held in a state (output field eps_p). */
   double (*plastic_strain)(const mpgm_material *m, const double *state);
-  /** Yield function [Pa] at the Kirchhoff stress tau {xx, yy, xy, zz}
-   *  (tau = J sigma; small kinematics: sigma); <= 0 inside the surface. */
-  double (*yield)(const mpgm_material *m, const double tau[4]);
+  /** Yield function [Pa] at the Kirchhoff stress tau (MPGM_NSTRESS, the
+   *  layout of sigma; tau = J sigma; small kinematics: sigma); <= 0 inside
+   *  the surface. */
+  double (*yield)(const mpgm_material *m, const double tau[MPGM_NSTRESS]);
   /** Initial state of a point that carries the initial Cauchy stress s0
-   *  {xx, yy, xy, zz} [Pa] at F = I: update() at F = I then returns s0, so
+   *  (MPGM_NSTRESS) [Pa] at F = I: update() at F = I then returns s0, so
    *  the core does not add s0 as a separate prestress. Returns 0, or
    *  MPGM_ERR_INPUT with msg filled when s0 is not admissible (outside the
    *  yield surface). */
-  int (*init_stress)(const mpgm_material *m, int kin, const double s0[4],
+  int (*init_stress)(const mpgm_material *m, int kin, const double s0[MPGM_NSTRESS],
                      double *state, char *msg, size_t msglen);
 };
 

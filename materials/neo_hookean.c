@@ -18,6 +18,10 @@
 #include <math.h>
 #include <stdio.h>
 
+#if MPGM_DIM != 2
+#error "materials/neo_hookean.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 enum { P_E = 0, P_NU = 1 };
 enum { C_LAMBDA = 0, C_MU = 1 };
 

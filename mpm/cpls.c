@@ -17,6 +17,10 @@
 #include "mpgm_cpls.h"
 #include "mpgm_imls.h"
 
+#if MPGM_DIM != 2
+#error "mpm/cpls.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 struct mpgm_cpls {
   int cap;          /**< data points allocated (5 per particle)        */
   double *x, *v;    /**< positions and velocities, MPGM_DIM each        */

@@ -12,6 +12,10 @@
 #include "mpgm_grid.h"
 #include "mpgm_kdtree.h"
 
+#if MPGM_DIM != 2
+#error "mpm/mpm.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 typedef struct mpm_data {
   mpgm_grid g;
   int *pcell;          /**< cell of every point (material, then probes)    */

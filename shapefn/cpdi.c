@@ -47,6 +47,10 @@
 
 #include <math.h>
 
+#if MPGM_DIM != 2
+#error "shapefn/cpdi.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* The bilinear hat of the node at offset (dx, dy) = x - x_I on a grid of
  * spacing h, and (grad) its gradient (the one-sided value at a kink,
  * consistently from the side of the lower node). */

@@ -6,6 +6,10 @@
 #include <math.h>
 #include <string.h>
 
+#if MPGM_DIM != 2
+#error "shapefn/fe.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 int mpgm_fe_nnode(int cell) { return cell == MPGM_CELL_T3 ? 3 : 4; }
 
 void mpgm_fe_ref(int cell, const double xi[2], double *N, double *dNdxi) {

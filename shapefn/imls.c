@@ -15,6 +15,10 @@
 #include <math.h>
 #include <string.h>
 
+#if MPGM_DIM != 2
+#error "shapefn/imls.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 double mpgm_imls_bspline(double r) {
   r = fabs(r);
   if (r <= 1.0) return 2.0 / 3.0 + r * r * (0.5 * r - 1.0);

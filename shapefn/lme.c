@@ -49,6 +49,10 @@
 #include <math.h>
 #include <string.h>
 
+#if MPGM_DIM != 2
+#error "shapefn/lme.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 typedef struct {
   double logZ;
   double r[2];

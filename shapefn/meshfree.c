@@ -9,7 +9,7 @@
 int mpgm_shape_fail(const mpgm_shape_query *q, double *N, double *dN, int code, int reason) {
   if (q->n > 0 && q->n <= MPGM_SHAPE_MAXNODE) {
     if (N) memset(N, 0, sizeof(double) * (size_t)q->n);
-    if (dN) memset(dN, 0, sizeof(double) * 2 * (size_t)q->n);
+    if (dN) memset(dN, 0, sizeof(double) * MPGM_DIM * (size_t)q->n);
   }
   if (q->info) {
     q->info->reason = reason;
@@ -34,8 +34,8 @@ int mpgm_shape_check_cloud(const mpgm_shape_query *q, double *N, double *dN) {
   if (q->info) memset(q->info, 0, sizeof *q->info);
   if (q->n < 1 || q->n > MPGM_SHAPE_MAXNODE || !q->xn || !q->par || !N || !dN)
     return mpgm_shape_fail(q, N, dN, MPGM_ERR_INPUT, MPGM_SHAPE_BAD_INPUT);
-  if (!isfinite(q->xp[0]) || !isfinite(q->xp[1]))
-    return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_BAD_INPUT);
+  for (int d = 0; d < MPGM_DIM; d++)
+    if (!isfinite(q->xp[d])) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_BAD_INPUT);
   return 0;
 }
 
@@ -87,8 +87,10 @@ int mpgm_shape_eval_retry(const mpgm_shapefn_type *t, const mpgm_shape_query *q,
                           double *dN, long *cold) {
   int err = t->eval(q, N, dN);
   double *lam = q->lambda;
-  if (err == MPGM_ERR_SHAPE && lam && (lam[0] != 0.0 || lam[1] != 0.0)) {
-    lam[0] = lam[1] = 0.0;
+  int warm = 0;
+  for (int d = 0; lam && d < MPGM_DIM; d++) warm |= lam[d] != 0.0;
+  if (err == MPGM_ERR_SHAPE && warm) {
+    for (int d = 0; d < MPGM_DIM; d++) lam[d] = 0.0;
     if (cold) (*cold)++;
     err = t->eval(q, N, dN);
   }

@@ -34,6 +34,10 @@
 #include <math.h>
 #include <string.h>
 
+#if MPGM_DIM != 2
+#error "shapefn/mls.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 #define MLS_MAXM 6
 
 /* Weight and (dw/drho) / rho of the cubic spline (finite at rho = 0). */

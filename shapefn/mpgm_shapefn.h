@@ -26,11 +26,18 @@ extern "C" {
 /** Cell kinds of finite-element connectivity. */
 typedef enum {
   MPGM_CELL_T3 = 0, /**< linear triangle, nodes counter-clockwise      */
-  MPGM_CELL_Q4 = 1  /**< bilinear quadrilateral, nodes counter-clockwise */
+  MPGM_CELL_Q4 = 1, /**< bilinear quadrilateral, nodes counter-clockwise */
+  MPGM_CELL_H8 = 2  /**< trilinear hexahedron: the bottom face (z = -1)
+                         counter-clockwise seen from +z, then the top face
+                         above it in the same order                      */
 } mpgm_cell_kind;
 
-/** Largest number of nodes a point may be connected to (FE: 4). */
-#define MPGM_FE_MAXNODE 4
+/** Largest number of nodes a point may be connected to by a cell (2-D:
+ *  Q4's 4; 3-D: H8's 8). */
+#define MPGM_FE_MAXNODE (1 << MPGM_DIM)
+/** Corners of a particle domain (CPDI): a parallelogram's 4, a
+ *  parallelepiped's 8. */
+#define MPGM_NCORNER (1 << MPGM_DIM)
 /** Largest cloud a meshfree kind accepts (stack workspaces are sized by it;
  *  a larger query is MPGM_ERR_INPUT). */
 #define MPGM_SHAPE_MAXNODE 128
@@ -72,7 +79,7 @@ typedef struct mpgm_shape_params {
   /* CPDI */
   int grid_order;     /**< grid functions: 1 (also 0) the bilinear hats,
                            2 the quadratic B-splines (shape.grid_functions) */
-  double grid_lo[2], grid_hi[2]; /**< the grid's box [m]: a domain corner
+  double grid_lo[MPGM_DIM], grid_hi[MPGM_DIM]; /**< the grid's box [m]: a domain corner
                            beyond it is pulled back onto its edge (the
                            point itself must lie inside); no box when
                            grid_hi <= grid_lo                               */
@@ -124,31 +131,44 @@ typedef struct mpgm_shape_info {
  *  zero, which keeps FE callers unchanged. */
 typedef struct mpgm_shape_query {
   int n;            /**< number of candidate nodes (<= MPGM_SHAPE_MAXNODE) */
-  const double *xn; /**< their coordinates, 2 per node [m]               */
-  double xp[2];     /**< point position [m]                              */
+  const double *xn; /**< their coordinates, MPGM_DIM per node [m]        */
+  double xp[MPGM_DIM]; /**< point position [m]                           */
   int cell;         /**< mpgm_cell_kind for cell-based kinds, else -1    */
-  double xi[2];     /**< local coordinates of the point in the cell      */
+  double xi[MPGM_DIM]; /**< local coordinates of the point in the cell   */
   const mpgm_shape_params *par; /**< meshfree parameters (borrowed); NULL
                                      is MPGM_ERR_INPUT for meshfree kinds */
-  double *lambda;   /**< LME per-point state in/out, 2 values [1/m]: start
+  double *lambda;   /**< LME per-point state in/out, MPGM_DIM values [1/m]: start
                          of Newton on entry (NULL or non-finite: zero),
                          converged multiplier on success (untouched on
                          failure). Ignored by other kinds.                */
   mpgm_shape_info *info; /**< optional out: reason and counters          */
   const double *domain;  /**< kinds with a particle domain (cpdi): its
-                              half-axes r1, r2 (2 each) [m], the
-                              parallelogram xp + s1 r1 + s2 r2, |s| <= 1;
-                              NULL: a point without domain (a tracer)     */
+                              MPGM_DIM half-axes r1, r2 (, r3), MPGM_DIM
+                              components each [m]: the parallelogram
+                              (parallelepiped) xp + sum_k s_k r_k,
+                              |s_k| <= 1; NULL: a point without domain (a
+                              tracer)                                     */
 } mpgm_shape_query;
 
-/** The offsets of a particle domain's corners from its point, counter-
- *  clockwise: -r1 - r2, r1 - r2, r1 + r2, -r1 + r2 (r: r1, r2, 2 each). */
-static inline void mpgm_domain_corners(const double r[4], double off[4][2]) {
-  static const double s[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-  for (int c = 0; c < 4; c++) {
-    off[c][0] = s[c][0] * r[0] + s[c][1] * r[2];
-    off[c][1] = s[c][0] * r[1] + s[c][1] * r[3];
-  }
+/** The signs (s1, s2, s3) of corner c of a particle domain, in the order
+ *  of the cell's nodes (Q4, H8): -1, +1, +1, -1 in s1 around the face,
+ *  -1, -1, +1, +1 in s2, and in 3-D the face s3 = -1 before s3 = +1. */
+static inline double mpgm_corner_sign(int c, int k) {
+  const int bit = k == 0 ? ((c & 1) ^ ((c >> 1) & 1)) : (c >> k) & 1;
+  return bit ? 1.0 : -1.0;
+}
+
+/** The offsets of a particle domain's corners from its point, in the order
+ *  of mpgm_corner_sign (2-D counter-clockwise: -r1 - r2, r1 - r2, r1 + r2,
+ *  -r1 + r2). r: the MPGM_DIM half-axes, MPGM_DIM components each. */
+static inline void mpgm_domain_corners(const double r[MPGM_TENSOR],
+                                       double off[MPGM_NCORNER][MPGM_DIM]) {
+  for (int c = 0; c < MPGM_NCORNER; c++)
+    for (int d = 0; d < MPGM_DIM; d++) {
+      double o = 0.0;
+      for (int k = 0; k < MPGM_DIM; k++) o += mpgm_corner_sign(c, k) * r[MPGM_DIM * k + d];
+      off[c][d] = o;
+    }
 }
 
 /** A shape-function kind. */
@@ -166,7 +186,8 @@ typedef struct mpgm_shapefn_type {
   int domain;       /**< 1: the kind averages over the particle's domain
                          (q->domain; CPDI): the caller gives the nodes
                          within h of the domain's bounding box           */
-  /** N (q->n values) and dN (2 per node: d/dx, d/dy) at the point.
+  /** N (q->n values) and dN (MPGM_DIM per node: d/dx, d/dy (, d/dz)) at
+   *  the point.
    *  Returns 0, MPGM_ERR_JACOBIAN (inverted cell), MPGM_ERR_SHAPE
    *  (recoverable; reason in q->info) or MPGM_ERR_INPUT. Nodes outside the
    *  support get N = 0, dN = 0. */
@@ -221,29 +242,36 @@ const mpgm_shapefn_type *const *mpgm_shapefn_types(void);
 /* ---- finite-element reference elements (used by the "fe" kind and by the
  *      front ends to place points and probes) ---------------------------- */
 
-/** Nodes of a cell kind (3 or 4). */
+/* The cells of a build: T3 and Q4 in 2-D, H8 in 3-D; another kind is
+ * MPGM_ERR_INPUT (eval, gauss) or 0 (nnode). Local coordinates and node
+ * coordinates have MPGM_DIM components. */
+
+/** Nodes of a cell kind (3, 4 or 8); 0 for a kind this build lacks. */
 int mpgm_fe_nnode(int cell);
-/** Reference shape functions and their derivatives d/dxi, d/deta at xi.
- *  T3: xi in the unit triangle (N = 1 - xi - eta, xi, eta);
- *  Q4: xi in [-1, 1]^2, nodes (-1,-1), (1,-1), (1,1), (-1,1). */
-void mpgm_fe_ref(int cell, const double xi[2], double *N, double *dNdxi);
-/** Gauss rule with npts points: T3: 1 or 3; Q4: 1, 4 or 9 (n x n).
- *  xi: 2 per point; w: weights (sum = reference area: 1/2 or 4).
- *  Returns 0 or MPGM_ERR_INPUT for an unsupported count. */
+/** Reference shape functions and their derivatives d/dxi_k at xi
+ *  (MPGM_DIM per node). T3: xi in the unit triangle (N = 1 - xi - eta, xi,
+ *  eta); Q4: xi in [-1, 1]^2, nodes (-1,-1), (1,-1), (1,1), (-1,1); H8: xi
+ *  in [-1, 1]^3, the Q4's nodes at zeta = -1, then at zeta = +1. */
+void mpgm_fe_ref(int cell, const double xi[MPGM_DIM], double *N, double *dNdxi);
+/** Gauss rule with npts points: T3: 1 or 3; Q4: 1, 4 or 9 (n x n); H8: 1,
+ *  8 or 27 (n x n x n). xi: MPGM_DIM per point; w: weights (sum = the
+ *  reference measure: 1/2, 4 or 8). Returns 0 or MPGM_ERR_INPUT for an
+ *  unsupported count. */
 int mpgm_fe_gauss(int cell, int npts, double *xi, double *w);
-/** Sub-cell centres of a Q4: npts = n^2 (1, 4 or 9) points at the centres
- *  of n x n equal squares, weight 4 / npts each (the midpoint rule on the
- *  sub-cells). Returns 0 or MPGM_ERR_INPUT for other counts. */
+/** Sub-cell centres of the build's quadrilateral cell (Q4, H8): npts = n^DIM
+ *  (n = 1, 2, 3) points at the centres of the n^DIM equal sub-cells, weight
+ *  2^DIM / npts each (the midpoint rule on the sub-cells). Returns 0 or
+ *  MPGM_ERR_INPUT for other counts. */
 int mpgm_fe_centres(int npts, double *xi, double *w);
 /** N and spatial gradients at local xi of a cell with node coordinates xn;
  *  detJ (may be NULL) receives det(dx/dxi). MPGM_ERR_JACOBIAN if detJ <= 0. */
-int mpgm_fe_eval(int cell, const double *xn, const double xi[2], double *N,
+int mpgm_fe_eval(int cell, const double *xn, const double xi[MPGM_DIM], double *N,
                  double *dN, double *detJ);
-/** Local coordinates of point x in a cell (Newton for Q4, exact for T3).
- *  Returns 0, or MPGM_ERR_SHAPE if the inversion does not converge. */
-int mpgm_fe_local(int cell, const double *xn, const double x[2], double xi[2]);
+/** Local coordinates of point x in a cell (Newton for Q4 and H8, exact for
+ *  T3). Returns 0, or MPGM_ERR_SHAPE if the inversion does not converge. */
+int mpgm_fe_local(int cell, const double *xn, const double x[MPGM_DIM], double xi[MPGM_DIM]);
 /** 1 when local coordinates xi lie in the reference cell (with slack tol). */
-int mpgm_fe_inside(int cell, const double xi[2], double tol);
+int mpgm_fe_inside(int cell, const double xi[MPGM_DIM], double tol);
 
 #ifdef __cplusplus
 }

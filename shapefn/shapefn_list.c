@@ -5,9 +5,16 @@
 
 #include <string.h>
 
+/* The kinds of the build's dimension: the meshfree ones (mls, lme) and
+ * CPLS (its least squares are imls.c's, written for plane strain) are
+ * 2-D only for now. */
+#if MPGM_DIM == 2
 #define MPGM_SHAPEFN_LIST(X) \
   X(mpgm_shapefn_fe) X(mpgm_shapefn_mls) X(mpgm_shapefn_lme) X(mpgm_shapefn_ugimp) \
   X(mpgm_shapefn_cpdi) X(mpgm_shapefn_cpls)
+#else
+#define MPGM_SHAPEFN_LIST(X) X(mpgm_shapefn_fe) X(mpgm_shapefn_ugimp) X(mpgm_shapefn_cpdi)
+#endif
 
 #define MPGM_DECLARE(t) extern const mpgm_shapefn_type t;
 MPGM_SHAPEFN_LIST(MPGM_DECLARE)

@@ -35,6 +35,10 @@
 
 #include <math.h>
 
+#if MPGM_DIM != 2
+#error "shapefn/ugimp.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 /* The 1-D weight at offset d and its derivative in d. */
 static inline double weight(double d, double h, double lp, double *dS) {
   const double a = fabs(d), s = d < 0.0 ? -1.0 : 1.0;
