@@ -2,17 +2,15 @@
  * box, area, perimeter and width, and the validation of polygons (simple,
  * with area).
  *
- * 2-D only: the bodies are disks, rectangles and polygons of the plane,
- * written out in x and y (polygon vertices are (x, y) pairs); 3-D adds
- * solids of its own here. */
+ * Written for both dimensions: a rectangle (3-D: a box) and a disk (a
+ * ball) in MPGM_DIM loops; a polygon is a figure of the x-y plane, its
+ * vertices (x, y) pairs, extruded over [z0, z1] in 3-D; rings are plane
+ * only, cylinders solid only. The loops add in the order the plane-strain
+ * code wrote out by hand, so 2-D results are unchanged to the bit. */
 #include <math.h>
 #include <stdio.h>
 
 #include "mpgm_scene.h"
-
-#if MPGM_DIM != 2
-#error "core/geometry.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 /* Relative tolerance of "on the boundary" (of the body's size). */
 #define GEOM_REL_TOL 1e-12
@@ -38,10 +36,27 @@ static void ring_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max
   }
 }
 
+/* A cylinder's box: each end's circle reaches r sqrt(1 - e_d^2) from its
+ * centre along axis d (e the unit axis). */
+static void cylinder_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max[MPGM_DIM]) {
+  double L2 = 0.0;
+  for (int d = 0; d < MPGM_DIM; d++) L2 += b->axis[d] * b->axis[d];
+  for (int d = 0; d < MPGM_DIM; d++) {
+    const double e2 = L2 > 0.0 ? b->axis[d] * b->axis[d] / L2 : 0.0;
+    const double r = b->radius * sqrt(fmax(0.0, 1.0 - e2));
+    const double a = b->centre[d], c = b->centre[d] + b->axis[d];
+    min[d] = fmin(a, c) - r;
+    max[d] = fmax(a, c) + r;
+  }
+}
+
 void mpgm_body_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max[MPGM_DIM]) {
   switch (b->geometry) {
   case MPGM_GEOM_RING:
     ring_bbox(b, min, max);
+    return;
+  case MPGM_GEOM_CYLINDER:
+    cylinder_bbox(b, min, max);
     return;
   case MPGM_GEOM_DISK:
     for (int d = 0; d < MPGM_DIM; d++) {
@@ -57,13 +72,51 @@ void mpgm_body_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max[M
         min[d] = fmin(min[d], b->points[2 * i + d]);
         max[d] = fmax(max[d], b->points[2 * i + d]);
       }
+    if (MPGM_DIM == 3) { /* the extrusion */
+      min[MPGM_DIM - 1] = b->z[0];
+      max[MPGM_DIM - 1] = b->z[1];
+    }
     return;
-  default: /* rectangle: its corners are the data */
-    min[0] = b->min[0];
-    min[1] = b->min[1];
-    max[0] = b->max[0];
-    max[1] = b->max[1];
+  default: /* rectangle, box: its corners are the data */
+    for (int d = 0; d < MPGM_DIM; d++) {
+      min[d] = b->min[d];
+      max[d] = b->max[d];
+    }
   }
+}
+
+/* The sum of the bounding box's sides [m]: the size "on the boundary" is
+ * relative to. */
+static double box_size(const mpgm_scene_body *b) {
+  double L = 0.0;
+  for (int d = 0; d < MPGM_DIM; d++) L += b->max[d] - b->min[d];
+  return L;
+}
+
+/* x inside the bounding box, within tol. */
+static int in_box(const mpgm_scene_body *b, const double x[MPGM_DIM], double tol) {
+  for (int d = 0; d < MPGM_DIM; d++)
+    if (!(x[d] >= b->min[d] - tol && x[d] <= b->max[d] + tol)) return 0;
+  return 1;
+}
+
+/* A cylinder: the position along the axis within [0, L], the distance from
+ * it within the radius, both within 1e-12 of the diameter plus length. */
+static int cylinder_contains(const mpgm_scene_body *b, const double x[MPGM_DIM]) {
+  double L2 = 0.0, t = 0.0, w2 = 0.0;
+  for (int d = 0; d < MPGM_DIM; d++) {
+    L2 += b->axis[d] * b->axis[d];
+    t += (x[d] - b->centre[d]) * b->axis[d];
+  }
+  const double L = sqrt(L2), tol = GEOM_REL_TOL * (2.0 * b->radius + L);
+  t = L > 0.0 ? t / L : 0.0; /* distance along the axis */
+  if (t < -tol || t > L + tol) return 0;
+  for (int d = 0; d < MPGM_DIM; d++) {
+    const double w = x[d] - b->centre[d] - t * b->axis[d] / L;
+    w2 += w * w;
+  }
+  const double r = b->radius + tol;
+  return w2 <= r * r;
 }
 
 /* Crossing number with the half-open rule (an edge counts when exactly one
@@ -108,58 +161,93 @@ int mpgm_body_contains(const mpgm_scene_body *b, const double x[MPGM_DIM]) {
   }
   case MPGM_GEOM_DISK: {
     const double r = b->radius * (1.0 + 2.0 * GEOM_REL_TOL);
-    const double dx = x[0] - b->centre[0], dy = x[1] - b->centre[1];
-    return dx * dx + dy * dy <= r * r;
+    double r2 = 0.0;
+    for (int d = 0; d < MPGM_DIM; d++) {
+      const double dx = x[d] - b->centre[d];
+      r2 += dx * dx;
+    }
+    return r2 <= r * r;
   }
+  case MPGM_GEOM_CYLINDER: return cylinder_contains(b, x);
   case MPGM_GEOM_POLYGON: {
+    /* 2-D: the polygon's tolerance is of its width + height, in 3-D too
+     * (the crossing test sees the plane figure only) */
     const double tol = GEOM_REL_TOL * (b->max[0] - b->min[0] + b->max[1] - b->min[1]);
-    if (x[0] < b->min[0] - tol || x[0] > b->max[0] + tol || x[1] < b->min[1] - tol ||
-        x[1] > b->max[1] + tol)
-      return 0;
+    if (!in_box(b, x, tol)) return 0;
     return polygon_contains(b, x, tol);
   }
-  default: {
-    const double tol = GEOM_REL_TOL * (b->max[0] - b->min[0] + b->max[1] - b->min[1]);
-    return x[0] >= b->min[0] - tol && x[0] <= b->max[0] + tol && x[1] >= b->min[1] - tol &&
-           x[1] <= b->max[1] + tol;
-  }
+  default: return in_box(b, x, GEOM_REL_TOL * box_size(b));
   }
 }
 
 /* ------------------------------------------------------------- measures */
 
+/* The length of a cylinder's axis [m]. */
+static double axis_length(const mpgm_scene_body *b) {
+  double L2 = 0.0;
+  for (int d = 0; d < MPGM_DIM; d++) L2 += b->axis[d] * b->axis[d];
+  return sqrt(L2);
+}
+
+/* The extrusion of a 3-D polygon [m]; 1 in 2-D (a measure per unit
+ * thickness is the plane one). */
+static double depth(const mpgm_scene_body *b) {
+  return MPGM_DIM == 3 ? b->z[1] - b->z[0] : 1.0;
+}
+
 double mpgm_body_area(const mpgm_scene_body *b) {
+  const double r = b->radius;
   switch (b->geometry) {
-  case MPGM_GEOM_DISK: return GEOM_PI * b->radius * b->radius;
+  case MPGM_GEOM_DISK: return MPGM_DIM == 2 ? GEOM_PI * r * r : 4.0 / 3.0 * GEOM_PI * r * r * r;
   case MPGM_GEOM_RING:
     return 0.5 * (b->angle[1] - b->angle[0]) * (b->radius * b->radius - b->radius_in * b->radius_in);
-  case MPGM_GEOM_POLYGON: return fabs(mpgm_polygon_area(b->points, b->npoints));
-  default: return (b->max[0] - b->min[0]) * (b->max[1] - b->min[1]);
+  case MPGM_GEOM_CYLINDER: return GEOM_PI * r * r * axis_length(b);
+  case MPGM_GEOM_POLYGON: return fabs(mpgm_polygon_area(b->points, b->npoints)) * depth(b);
+  default: {
+    double v = b->max[0] - b->min[0];
+    for (int d = 1; d < MPGM_DIM; d++) v *= b->max[d] - b->min[d];
+    return v;
+  }
   }
 }
 
 double mpgm_body_width(const mpgm_scene_body *b) {
   if (b->geometry == MPGM_GEOM_DISK) return 2.0 * b->radius;
   if (b->geometry == MPGM_GEOM_RING) return b->radius - b->radius_in;
-  return fmin(b->max[0] - b->min[0], b->max[1] - b->min[1]);
+  if (b->geometry == MPGM_GEOM_CYLINDER) return fmin(2.0 * b->radius, axis_length(b));
+  double w = b->max[0] - b->min[0];
+  for (int d = 1; d < MPGM_DIM; d++) w = fmin(w, b->max[d] - b->min[d]);
+  return w;
+}
+
+/* A polygon's perimeter [m]. */
+static double polygon_perimeter(const mpgm_scene_body *b) {
+  double p = 0.0;
+  for (int i = 0; i < b->npoints; i++) {
+    const int j = (i + 1) % b->npoints;
+    p += hypot(b->points[2 * j] - b->points[2 * i], b->points[2 * j + 1] - b->points[2 * i + 1]);
+  }
+  return p;
 }
 
 double mpgm_body_perimeter(const mpgm_scene_body *b) {
+  const double r = b->radius;
   switch (b->geometry) {
-  case MPGM_GEOM_DISK: return 2.0 * GEOM_PI * b->radius;
+  case MPGM_GEOM_DISK: return MPGM_DIM == 2 ? 2.0 * GEOM_PI * r : 4.0 * GEOM_PI * r * r;
   case MPGM_GEOM_RING: {
     const double a = b->angle[1] - b->angle[0];
     return a * (b->radius + b->radius_in) + (a < 2.0 * GEOM_PI ? 2.0 * (b->radius - b->radius_in) : 0.0);
   }
-  case MPGM_GEOM_POLYGON: {
-    double p = 0.0;
-    for (int i = 0; i < b->npoints; i++) {
-      const int j = (i + 1) % b->npoints;
-      p += hypot(b->points[2 * j] - b->points[2 * i], b->points[2 * j + 1] - b->points[2 * i + 1]);
-    }
-    return p;
+  case MPGM_GEOM_CYLINDER: return 2.0 * GEOM_PI * r * (axis_length(b) + r);
+  case MPGM_GEOM_POLYGON:
+    if (MPGM_DIM == 2) return polygon_perimeter(b);
+    return polygon_perimeter(b) * depth(b) + 2.0 * fabs(mpgm_polygon_area(b->points, b->npoints));
+  default: {
+    double w[MPGM_DIM];
+    for (int d = 0; d < MPGM_DIM; d++) w[d] = b->max[d] - b->min[d];
+    if (MPGM_DIM == 2) return 2.0 * (w[0] + w[1]);
+    return 2.0 * (w[0] * w[1] + w[1] * w[MPGM_DIM - 1] + w[0] * w[MPGM_DIM - 1]);
   }
-  default: return 2.0 * (b->max[0] - b->min[0] + b->max[1] - b->min[1]);
   }
 }
 
@@ -191,19 +279,27 @@ static int segments_meet(const double *a, const double *b, const double *c, cons
 
 int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[MPGM_DIM],
                         const double hi[MPGM_DIM]) {
-  if (lo[0] > b->max[0] || hi[0] < b->min[0] || lo[1] > b->max[1] || hi[1] < b->min[1]) return 0;
-  if (b->geometry == MPGM_GEOM_DISK) {
-    const double cx = fmin(fmax(b->centre[0], lo[0]), hi[0]), cy = fmin(fmax(b->centre[1], lo[1]), hi[1]);
-    const double dx = cx - b->centre[0], dy = cy - b->centre[1];
+  for (int d = 0; d < MPGM_DIM; d++)
+    if (lo[d] > b->max[d] || hi[d] < b->min[d]) return 0;
+  if (b->geometry == MPGM_GEOM_DISK) { /* the box's point nearest the centre */
+    double r2 = 0.0;
+    for (int d = 0; d < MPGM_DIM; d++) {
+      const double dx = fmin(fmax(b->centre[d], lo[d]), hi[d]) - b->centre[d];
+      r2 += dx * dx;
+    }
     const double r = b->radius * (1.0 + 2.0 * GEOM_REL_TOL);
-    return dx * dx + dy * dy <= r * r;
+    return r2 <= r * r;
   }
-  if (b->geometry != MPGM_GEOM_POLYGON) return 1; /* boxes overlap */
+  if (b->geometry != MPGM_GEOM_POLYGON) return 1; /* boxes overlap (the cylinder too) */
+  /* a polygon (3-D: its prism, whose z range the boxes' overlap settled) */
   const double *p = b->points;
   const int n = b->npoints;
   for (int i = 0; i < n; i++)
     if (p[2 * i] >= lo[0] && p[2 * i] <= hi[0] && p[2 * i + 1] >= lo[1] && p[2 * i + 1] <= hi[1]) return 1;
-  const double corner[4][2] = {{lo[0], lo[1]}, {hi[0], lo[1]}, {hi[0], hi[1]}, {lo[0], hi[1]}};
+  /* the box's corners in the plane (3-D: at a z both the box and the prism
+   * hold) */
+  double corner[4][MPGM_DIM] = {{lo[0], lo[1]}, {hi[0], lo[1]}, {hi[0], hi[1]}, {lo[0], hi[1]}};
+  for (int k = 0; k < 4 && MPGM_DIM == 3; k++) corner[k][MPGM_DIM - 1] = fmax(lo[MPGM_DIM - 1], b->min[MPGM_DIM - 1]);
   for (int k = 0; k < 4; k++)
     if (mpgm_body_contains(b, corner[k])) return 1;
   const double L = b->max[0] - b->min[0] + b->max[1] - b->min[1];

@@ -46,12 +46,19 @@ typedef enum {
 } mpgm_format;
 /** output.compress: how VTK XML and HDF5 arrays are stored. */
 typedef enum { MPGM_COMPRESS_NONE = 0, MPGM_COMPRESS_ZLIB = 1 } mpgm_compress;
+/** Body geometries. The same kind is the plane figure in 2-D and the solid
+ *  in 3-D: a rectangle is a box, a disk a ball, a polygon the prism of the
+ *  polygon extruded along z. */
 typedef enum {
-  MPGM_GEOM_RECTANGLE = 0,
-  MPGM_GEOM_DISK = 1,
-  MPGM_GEOM_POLYGON = 2,
-  MPGM_GEOM_RING = 3 /**< an annulus or a sector of one, filled in polar sectors */
+  MPGM_GEOM_RECTANGLE = 0, /**< 2-D rectangle, 3-D box ("box")             */
+  MPGM_GEOM_DISK = 1,      /**< 2-D disk, 3-D ball ("sphere")              */
+  MPGM_GEOM_POLYGON = 2,   /**< 2-D polygon, 3-D the polygon x [z0, z1]     */
+  MPGM_GEOM_RING = 3, /**< an annulus or a sector of one, filled in polar
+                           sectors (2-D only)                           */
+  MPGM_GEOM_CYLINDER = 4   /**< 3-D only: a circular cylinder about any axis */
 } mpgm_geometry;
+#define MPGM_GEOM_BOX MPGM_GEOM_RECTANGLE
+#define MPGM_GEOM_SPHERE MPGM_GEOM_DISK
 typedef enum { MPGM_SELECT_X = 0, MPGM_SELECT_Y = 1, MPGM_SELECT_BOX = 2 } mpgm_select;
 /** How a boundary's fixed components were given. */
 typedef enum {
@@ -100,16 +107,22 @@ typedef struct mpgm_scene_body {
   int geometry;        /**< mpgm_geometry                            */
   double min[MPGM_DIM], max[MPGM_DIM]; /**< bounding box (rectangle: its
                             corners) [m]                            */
-  double centre[MPGM_DIM]; /**< disk: centre [m]                     */
-  double radius;       /**< disk, ring: (outer) radius [m]           */
+  double centre[MPGM_DIM]; /**< disk, sphere: centre; cylinder: the
+                            centre of one end [m]                    */
+  double axis[MPGM_DIM]; /**< cylinder: from the centre of one end to
+                            the centre of the other [m]              */
+  double radius;       /**< disk, sphere, cylinder, ring: (outer)
+                            radius [m]                               */
   double radius_in;    /**< ring: inner radius [m]                   */
   double angle[2];     /**< ring: the sector from angle[0] to angle[1]
                             [rad], counter-clockwise from +x          */
   int npoints;         /**< polygon: vertices (3..MPGM_POLYGON_MAX)   */
   double points[2 * MPGM_POLYGON_MAX]; /**< polygon: x0, y0, x1, y1, ...
                             in the order given (either orientation);
-                            simple, no repeated vertex [m] (2-D only:
-                            a polygon of the plane, (x, y) pairs)   */
+                            simple, no repeated vertex [m] (a polygon
+                            of the x-y plane, (x, y) pairs; in 3-D
+                            extruded over z)                        */
+  double z[2];         /**< polygon in 3-D: the extrusion z0 < z1 [m] */
   double velocity[MPGM_DIM]; /**< initial velocity [m/s]             */
   int geostatic;       /**< 1: geostatic initial stress is given       */
   double surface;      /**< geostatic: y of the free surface [m]       */
@@ -373,8 +386,8 @@ typedef struct mpgm_scene {
 
 
 /** 1 when the reference position x [m] lies inside body b or on its
- *  boundary within 1e-12 of the body's size (width + height of its bounding
- *  box; for a disk, its diameter), else 0. Needs b->min/max to hold the
+ *  boundary within 1e-12 of the body's size (the sum of its bounding box's
+ *  sides; for a disk or sphere, its diameter), else 0. Needs b->min/max to hold the
  *  bounding box (the loader fills them; see mpgm_body_bbox). Polygons: a
  *  crossing-number test with the half-open rule, after a distance test
  *  against every edge near x, so vertices and edges count as inside.
@@ -384,10 +397,12 @@ int mpgm_body_contains(const mpgm_scene_body *b, const double x[MPGM_DIM]);
  *  corners, disk centre and radius, polygon vertices). */
 void mpgm_body_bbox(const mpgm_scene_body *b, double min[MPGM_DIM], double max[MPGM_DIM]);
 
-/** Area [m^2], perimeter [m] and narrowest extent [m] (the diameter of a
- *  disk, the radial width of a ring, the shorter side of the bounding box
- *  otherwise) of body b, from its geometry data (the memory estimate,
- *  io/scene_size.c). */
+/** Measure (2-D area [m^2], 3-D volume [m^3]), the measure of its boundary
+ *  (2-D perimeter [m], 3-D surface area [m^2]) and narrowest extent [m]
+ *  (the diameter of a disk or sphere, the radial width of a ring, the
+ *  smaller of a cylinder's diameter and length, the shortest side of the
+ *  bounding box otherwise) of body b, from its geometry data (the memory
+ *  estimate, io/scene_size.c). */
 double mpgm_body_area(const mpgm_scene_body *b);
 double mpgm_body_perimeter(const mpgm_scene_body *b);
 double mpgm_body_width(const mpgm_scene_body *b);
@@ -404,7 +419,10 @@ double mpgm_polygon_area(const double *p, int n);
 int mpgm_polygon_check(const double *p, int n, char *msg, size_t len);
 
 /** 1 when body b (bounding box in b->min/max) meets the closed box
- *  [lo, hi] (touching counts), else 0. */
+ *  [lo, hi] (touching counts), else 0. Exact for every kind but the
+ *  cylinder, which is taken to meet every box its bounding box meets (the
+ *  callers check selectors, whose exact node selection a front end checks
+ *  again). */
 int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[MPGM_DIM],
                         const double hi[MPGM_DIM]);
 

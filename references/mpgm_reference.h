@@ -34,14 +34,16 @@ typedef struct mpgm_reference_type mpgm_reference_type;
 typedef struct mpgm_reference {
   const mpgm_reference_type *type; /**< kind; NULL: the scene has none   */
   int probe;      /**< index of the probe in the scene's probes          */
-  int component;  /**< 0: x, 1: y (kinds with needs_component; else 0)   */
+  int component;  /**< 0: x, 1: y, 2: z (kinds with needs_component;
+                       else 0)                                          */
   double param[MPGM_REF_MAXPARAM]; /**< in type->params order            */
-  double x0[2];   /**< the probe's initial position [m] (its material
-                       coordinate)                                      */
+  double x0[MPGM_DIM]; /**< the probe's initial position [m] (its
+                       material coordinate)                             */
 } mpgm_reference;
 
-/** The material points as a kind's observe sees them after a step (2-D:
- *  2 doubles per vector, stresses {xx, yy, xy, zz}). */
+/** The material points as a kind's observe sees them after a step
+ *  (MPGM_DIM doubles per vector, MPGM_NSTRESS per stress: 2-D {xx, yy,
+ *  xy, zz}). */
 typedef struct mpgm_ref_points {
   int n;                /**< material points                             */
   const double *x0;     /**< initial positions (material coordinates) [m] */
