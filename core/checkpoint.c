@@ -57,7 +57,7 @@ static int points_arrays(mpgm_points *P, arr *a) {
   a[k++] = (arr){"pts.F", P->F, MPGM_TENSOR * m * d, 1};
   a[k++] = (arr){"pts.sigma", P->sigma, MPGM_NSTRESS * m * d, 1};
   a[k++] = (arr){"pts.S0", P->S0, MPGM_NSTRESS * m * d, 1};
-  a[k++] = (arr){"pts.r0", P->r0, 2 * MPGM_DIM * m * d, 1};
+  a[k++] = (arr){"pts.r0", P->r0, MPGM_TENSOR * m * d, 1};
   a[k++] = (arr){"pts.L", P->L, MPGM_TENSOR * m * d, 1};
   a[k++] = (arr){"pts.state", P->state, (size_t)P->nstate * m * d, 1};
   a[k++] = (arr){"pts.mat", P->mat, m * sizeof(int), 0};

@@ -7,9 +7,6 @@
 #include "mpgm_data.h"
 #include "mpgm_integrator.h"
 
-#if MPGM_DIM != 2
-#error "core/data.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsurf, int nstate) {
   const int m = n + nprobe + nsurf;
@@ -28,7 +25,7 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsur
   MPGM_ALLOC(ctx, p->F, MPGM_TENSOR * m);
   MPGM_ALLOC(ctx, p->sigma, MPGM_NSTRESS * m);
   MPGM_ALLOC(ctx, p->S0, MPGM_NSTRESS * m);
-  MPGM_ALLOC(ctx, p->r0, 2 * MPGM_DIM * m);
+  MPGM_ALLOC(ctx, p->r0, MPGM_TENSOR * m);
   MPGM_ALLOC(ctx, p->L, MPGM_TENSOR * m);
   MPGM_ALLOC(ctx, p->state, (size_t)nstate * m);
   MPGM_ALLOC(ctx, p->mat, m);
@@ -41,28 +38,26 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsur
   MPGM_ALLOC(ctx, p->D_t, MPGM_NTANGENT * n);
   MPGM_ALLOC(ctx, p->state_t, (size_t)nstate * n);
   MPGM_ALLOC(ctx, p->vol_t, n);
-  for (int i = 0; i < m; i++) { /* F = I; 2-D only: F11 and F22 written out */
-    p->F[MPGM_TENSOR * i] = p->F[MPGM_TENSOR * i + 3] = 1.0;
-  }
+  for (int i = 0; i < m; i++) /* F = I */
+    for (int d = 0; d < MPGM_DIM; d++) p->F[MPGM_TENSOR * i + (MPGM_DIM + 1) * d] = 1.0;
   return 0;
 }
 
-void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double x, double y,
+void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, const double x[MPGM_DIM],
                     double vol) {
   const mpgm_scene_body *bd = &s->bodies[body];
   const mpgm_material *mat = &s->mats[bd->material];
-  /* 2-D only: the position (x, y) and velocity written out per component */
-  P->x[MPGM_DIM * p] = P->x0[MPGM_DIM * p] = x;
-  P->x[MPGM_DIM * p + 1] = P->x0[MPGM_DIM * p + 1] = y;
+  for (int d = 0; d < MPGM_DIM; d++) {
+    P->x[MPGM_DIM * p + d] = P->x0[MPGM_DIM * p + d] = x[d];
+    P->v[MPGM_DIM * p + d] = bd->velocity[d];
+  }
   P->vol[p] = P->vol0[p] = vol;
   P->mass[p] = mat->density * vol;
-  /* the domain: a square of the point's volume (a layout may set another) */
-  const double hs = 0.5 * sqrt(vol);
-  double *r0 = P->r0 + 2 * MPGM_DIM * p;
-  r0[0] = r0[3] = hs;
-  r0[1] = r0[2] = 0.0;
-  P->v[MPGM_DIM * p] = bd->velocity[0];
-  P->v[MPGM_DIM * p + 1] = bd->velocity[1];
+  /* the domain: a square (cube) of the point's volume (a layout may set
+   * another) */
+  const double hs = 0.5 * (MPGM_DIM == 2 ? sqrt(vol) : cbrt(vol));
+  double *r0 = P->r0 + MPGM_TENSOR * p;
+  for (int k = 0; k < MPGM_TENSOR; k++) r0[k] = k % (MPGM_DIM + 1) == 0 ? hs : 0.0;
   P->mat[p] = bd->material;
   P->body[p] = body;
   if (mat->type->init_state && P->nstate) mat->type->init_state(mat, P->state + (size_t)P->nstate * p);
@@ -135,7 +130,7 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *
       {(void **)&p->vol0, 1},              {(void **)&p->vol, 1},
       {(void **)&p->F, MPGM_TENSOR},       {(void **)&p->sigma, MPGM_NSTRESS},
       {(void **)&p->S0, MPGM_NSTRESS},     {(void **)&p->state, p->nstate},
-      {(void **)&p->r0, 2 * MPGM_DIM},     {(void **)&p->L, MPGM_TENSOR},
+      {(void **)&p->r0, MPGM_TENSOR},     {(void **)&p->L, MPGM_TENSOR},
       {(void **)&p->mat, -1},              {(void **)&p->body, -1},
       {(void **)&p->id, -1}};
   enum { NARR = sizeof arr / sizeof arr[0] };
@@ -277,7 +272,7 @@ void mpgm_conn_release(mpgm_conn *c) {
 void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx) {
   memset(fx, 0, sizeof *fx);
   fx->inertia = s->analysis != MPGM_ANALYSIS_STATIC;
-  fx->gravity = s->gravity[0] != 0.0 || s->gravity[1] != 0.0; /* 2-D only: x, y */
+  for (int d = 0; d < MPGM_DIM; d++) fx->gravity |= s->gravity[d] != 0.0;
   fx->geometric = s->kinematics == MPGM_KIN_FINITE;
   for (int i = 0; i < s->nmat; i++) fx->plasticity |= s->mats[i].plastic;
   for (int i = 0; i < s->nbc; i++) {

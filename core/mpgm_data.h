@@ -39,11 +39,13 @@ typedef struct mpgm_points {
                        point                                           */
   double *sigma;  /**< committed Cauchy stress {xx, yy, xy, zz} [Pa],
                        MPGM_NSTRESS per point                          */
-  double *r0;     /**< initial half-axes r1, r2 of the point's domain,
-                       2 MPGM_DIM per point [m] (a square of the point's
-                       volume, or the layout's shape): the parallelogram
-                       x +- r1 +- r2; now F r0 (shape kinds with a
-                       domain: CPDI)                                   */
+  double *r0;     /**< initial half-axes r1, r2 (, r3) of the point's
+                       domain, MPGM_DIM of MPGM_DIM components each,
+                       MPGM_TENSOR per point [m] (a square or cube of the
+                       point's volume, or the layout's shape): the
+                       parallelogram (parallelepiped) x +- r1 +- r2
+                       (+- r3); now F r0 (shape kinds with a domain:
+                       CPDI)                                           */
   double *L;      /**< velocity gradient of the last step, MPGM_TENSOR
                        per point [1/s] (kept for CPLS: the velocity at
                        the domain's corners, v_p + L (x_c - x_p))      */
@@ -60,14 +62,16 @@ typedef struct mpgm_points {
   double *F_t, *sigma_t, *D_t, *state_t, *vol_t, *dF_t;
 } mpgm_points;
 
-/** The current half-axes of point p's domain, r_k = F_p r_k^0 (2-D only:
- *  written out). */
-static inline void mpgm_point_domain(const mpgm_points *P, int p, double r[2 * MPGM_DIM]) {
-  const double *F = P->F + MPGM_TENSOR * p, *r0 = P->r0 + 2 * MPGM_DIM * p;
-  for (int c = 0; c < 2; c++) {
-    r[2 * c] = F[0] * r0[2 * c] + F[1] * r0[2 * c + 1];
-    r[2 * c + 1] = F[2] * r0[2 * c] + F[3] * r0[2 * c + 1];
-  }
+/** The current half-axes of point p's domain, r_k = F_p r_k^0 (the sums
+ *  in the order the plane code wrote them out). */
+static inline void mpgm_point_domain(const mpgm_points *P, int p, double r[MPGM_TENSOR]) {
+  const double *F = P->F + MPGM_TENSOR * p, *r0 = P->r0 + MPGM_TENSOR * p;
+  for (int c = 0; c < MPGM_DIM; c++)
+    for (int i = 0; i < MPGM_DIM; i++) {
+      double v = F[MPGM_DIM * i] * r0[MPGM_DIM * c];
+      for (int j = 1; j < MPGM_DIM; j++) v += F[MPGM_DIM * i + j] * r0[MPGM_DIM * c + j];
+      r[MPGM_DIM * c + i] = v;
+    }
 }
 
 /** Nodes (degrees of freedom carriers). */
@@ -153,11 +157,10 @@ void mpgm_effects_of_scene(const mpgm_scene *s, mpgm_effects *fx);
 /** Allocate points (n material, nprobe probes, nsurf surface tracers) with
  *  nstate doubles. */
 int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsurf, int nstate);
-/** Material point p of scene body `body` at (x, y) with volume vol [m^3]:
+/** Material point p of scene body `body` at x with volume vol [m^3]:
  *  position, mass (density x volume), the body's initial velocity,
- *  material, and the material's initial state. 2-D only: the position
- *  comes as x and y (3-D: a z, or a vector). */
-void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, double x, double y,
+ *  material, and the material's initial state. */
+void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, const double x[MPGM_DIM],
                     double vol);
 /** Equivalent plastic strain of the n material points into out (may be
  *  NULL; 0 for points whose material has no plastic_strain operation).

@@ -131,11 +131,10 @@ void mpgm_fill_points(const mpgm_fill *f, const mpgm_scene *s, mpgm_points *P) {
   for (size_t k = 0; k < f->ngauss; k++) {
     const int b = f->owner[k];
     if (b < 0) continue;
-    mpgm_point_set(P, p++, s, b, f->x[MPGM_DIM * k], f->x[MPGM_DIM * k + 1],
-                   f->vol[k % (size_t)f->ppc]);
+    mpgm_point_set(P, p++, s, b, f->x + MPGM_DIM * k, f->vol[k % (size_t)f->ppc]);
   }
   for (int k = 0; k < f->nring; k++, p++) { /* the polar sectors: their own domains */
-    mpgm_point_set(P, p, s, f->rowner[k], f->rx[MPGM_DIM * k], f->rx[MPGM_DIM * k + 1], f->rvol[k]);
+    mpgm_point_set(P, p, s, f->rowner[k], f->rx + MPGM_DIM * k, f->rvol[k]);
     memcpy(P->r0 + 4 * (size_t)p, f->rr0 + 4 * (size_t)k, sizeof(double) * 4);
   }
 }

@@ -86,12 +86,12 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
       int err = mpgm_fe_eval(m->cell, xn, gxi + MPGM_DIM * g, N, dN, &detJ);
       MPGM_CHECK(ctx, !err, err, "%s: cell %d of body \"%s\" is inverted (det J = %g)", s->file, c,
                  bd->name, detJ);
-      double x = 0, y = 0;
+      double x[MPGM_DIM] = {0, 0}; /* 2-D only: x and y written out */
       for (int a = 0; a < d->nn; a++) {
-        x += N[a] * xn[MPGM_DIM * a];
-        y += N[a] * xn[MPGM_DIM * a + 1];
+        x[0] += N[a] * xn[MPGM_DIM * a];
+        x[1] += N[a] * xn[MPGM_DIM * a + 1];
       }
-      mpgm_point_set(P, p, s, b, x, y, gw[g] * detJ);
+      mpgm_point_set(P, p, s, b, x, gw[g] * detJ);
       d->pcell[p] = c;
       d->pxi[MPGM_DIM * p] = gxi[MPGM_DIM * g];
       d->pxi[MPGM_DIM * p + 1] = gxi[MPGM_DIM * g + 1];
