@@ -8,44 +8,39 @@
 #include "mpgm_discretisation.h"
 #include "mpgm_grid.h"
 
-#if MPGM_DIM != 2
-#error "discretisation/fill.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
+/* Written for both dimensions; the ring bodies (polar sectors) are plane
+ * only. */
 
 int mpgm_points_rule(const mpgm_scene *s, int cell, double *xi, double *w) {
-  if (s->layout_centres && cell == MPGM_CELL_Q4) return mpgm_fe_centres(s->ppc, xi, w);
+  if (s->layout_centres && (cell == MPGM_CELL_Q4 || cell == MPGM_CELL_H8))
+    return mpgm_fe_centres(s->ppc, xi, w);
   return mpgm_fe_gauss(cell, s->ppc, xi, w);
 }
 
 int mpgm_bodies_fill(const mpgm_scene *s, int cell, int ncell,
                      void (*xy)(const void *grid, int c, double *xn), const void *grid,
                      int *owner, double *x, int *count) {
-  double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
+  double gxi[MPGM_DIM * MPGM_MAXRULE], gw[MPGM_MAXRULE];
   *count = 0;
   if (mpgm_points_rule(s, cell, gxi, gw)) return MPGM_ERR_INPUT;
   const int nn = mpgm_fe_nnode(cell);
-  double N[MPGM_FE_MAXNODE * 9];
+  double N[MPGM_FE_MAXNODE * MPGM_MAXRULE];
   for (int q = 0; q < s->ppc; q++) mpgm_fe_ref(cell, gxi + MPGM_DIM * q, N + nn * q, NULL);
   int n = 0;
   for (int c = 0; c < ncell; c++) {
     double xn[MPGM_DIM * MPGM_FE_MAXNODE];
     xy(grid, c, xn);
     for (int q = 0; q < s->ppc; q++) {
-      double p[MPGM_DIM] = {0, 0}; /* 2-D only: x and y written out */
-      for (int a = 0; a < nn; a++) {
-        p[0] += N[nn * q + a] * xn[MPGM_DIM * a];
-        p[1] += N[nn * q + a] * xn[MPGM_DIM * a + 1];
-      }
+      double p[MPGM_DIM] = {0};
+      for (int a = 0; a < nn; a++)
+        for (int d = 0; d < MPGM_DIM; d++) p[d] += N[nn * q + a] * xn[MPGM_DIM * a + d];
       int b = 0; /* rings are filled in polar sectors (ring_fill) */
       while (b < s->nbody &&
              (s->bodies[b].geometry == MPGM_GEOM_RING || !mpgm_body_contains(&s->bodies[b], p)))
         b++;
       const size_t k = (size_t)c * s->ppc + q;
       if (owner) owner[k] = b < s->nbody ? b : -1;
-      if (x) {
-        x[MPGM_DIM * k] = p[0];
-        x[MPGM_DIM * k + 1] = p[1];
-      }
+      if (x) memcpy(x + MPGM_DIM * k, p, sizeof p);
       n += b < s->nbody;
     }
   }
@@ -59,6 +54,7 @@ static void grid_cell_xy(const void *grid, int c, double *xn) {
   mpgm_grid_cell(grid, c, nodes, xn);
 }
 
+#if MPGM_DIM == 2
 /* The polar sectors of a ring body: nr layers of nt sectors, about sqrt(ppc)
  * points per cell length in each direction; with x (MPGM_DIM per point),
  * vol and r0 (the sector's radial and tangential half-axes) when not
@@ -102,16 +98,31 @@ static int ring_fill(mpgm_ctx *ctx, const mpgm_grid *g, const mpgm_scene *s, mpg
   f->count += f->nring;
   return 0;
 }
+#else
+/* Rings are plane figures: a 3-D scene has none (the loader refuses them). */
+static int ring_fill(mpgm_ctx *ctx, const mpgm_grid *g, const mpgm_scene *s, mpgm_fill *f) {
+  (void)g;
+  (void)f;
+  for (int b = 0; b < s->nbody; b++)
+    MPGM_CHECK(ctx, s->bodies[b].geometry != MPGM_GEOM_RING, MPGM_ERR_INTERNAL,
+               "%s: bodies.%d: a ring in a 3-D scene", s->file, b);
+  return 0;
+}
+#endif
 
 int mpgm_grid_fill(mpgm_ctx *ctx, const mpgm_grid *g, const mpgm_scene *s, mpgm_fill *f) {
   memset(f, 0, sizeof *f);
-  double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
+  double gxi[MPGM_DIM * MPGM_MAXRULE], gw[MPGM_MAXRULE];
   MPGM_CHECK(ctx, mpgm_points_rule(s, g->cell, gxi, gw) == 0, MPGM_ERR_INPUT,
              "%s: mesh.ppc: no Gauss rule of %d points", s->file, s->ppc);
-  /* a point's volume: cell area x Gauss weight / reference area (2-D only:
-   * areas of Q4 and T3 cells, per unit thickness) */
+  /* a point's volume: cell measure x Gauss weight / reference measure (2-D:
+   * areas of Q4 and T3 cells, per unit thickness; 3-D: H8 cubes) */
+#if MPGM_DIM == 2
   const double ref_area = g->cell == MPGM_CELL_Q4 ? 4.0 : 0.5;
   const double cell_area = g->h * g->h / (g->cell == MPGM_CELL_Q4 ? 1.0 : 2.0);
+#else
+  const double ref_area = 8.0, cell_area = g->h * g->h * g->h;
+#endif
   for (int q = 0; q < s->ppc; q++) f->vol[q] = cell_area * gw[q] / ref_area;
   f->ppc = s->ppc;
   f->ngauss = (size_t)g->ncell * (size_t)s->ppc;
@@ -135,7 +146,7 @@ void mpgm_fill_points(const mpgm_fill *f, const mpgm_scene *s, mpgm_points *P) {
   }
   for (int k = 0; k < f->nring; k++, p++) { /* the polar sectors: their own domains */
     mpgm_point_set(P, p, s, f->rowner[k], f->rx + MPGM_DIM * k, f->rvol[k]);
-    memcpy(P->r0 + 4 * (size_t)p, f->rr0 + 4 * (size_t)k, sizeof(double) * 4);
+    memcpy(P->r0 + MPGM_TENSOR * (size_t)p, f->rr0 + MPGM_TENSOR * (size_t)k, sizeof(double) * MPGM_TENSOR);
   }
 }
 

@@ -76,8 +76,9 @@ typedef struct mpgm_fill {
   int count;       /**< of them inside a body: the material points         */
   int *owner;      /**< per Gauss point: its body, or -1                   */
   double *x;       /**< per Gauss point: its position, MPGM_DIM each [m]    */
-  double vol[9];   /**< volume of a point at Gauss point q of a cell [m^3]
-                        (cell area x weight / reference area)             */
+  double vol[MPGM_MAXRULE]; /**< volume of a point at Gauss point q of a
+                        cell [m^3] (cell measure x weight / reference
+                        measure)                                          */
   /* ring bodies: points at the centres of polar sectors, after the grid's
    * (count includes them) */
   int nring;       /**< their number                                      */

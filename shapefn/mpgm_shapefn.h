@@ -35,6 +35,9 @@ typedef enum {
 /** Largest number of nodes a point may be connected to by a cell (2-D:
  *  Q4's 4; 3-D: H8's 8). */
 #define MPGM_FE_MAXNODE (1 << MPGM_DIM)
+/** Most points of a cell's Gauss or sub-cell rule (2-D 3 x 3, 3-D
+ *  3 x 3 x 3): the size of a rule's buffers. */
+#define MPGM_MAXRULE (MPGM_DIM == 2 ? 9 : 27)
 /** Corners of a particle domain (CPDI): a parallelogram's 4, a
  *  parallelepiped's 8. */
 #define MPGM_NCORNER (1 << MPGM_DIM)

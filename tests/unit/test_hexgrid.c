@@ -10,11 +10,16 @@
  *     map of their local coordinates (written here, not fe.c's) gives the
  *     point back; points beyond the box are MPGM_ERR_DOMAIN;
  *   - neighbours: 26 inside, 7 at a corner, each sharing a node;
+ *   - filling (discretisation/fill.c) with 2 x 2 x 2 points per cell in
+ *     the gauss and centres layouts: a box on whole cells gets 8 points
+ *     per cell at the rule's positions, volumes summing to its own; a
+ *     ball's points lie in it and their volumes approach 4/3 pi r^3;
  *   - a scene with another cell kind or too many nodes is refused. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
+#include "mpgm_discretisation.h"
 #include "mpgm_grid.h"
 #include "mpgm_test.h"
 
@@ -148,6 +153,60 @@ static void test_neighbours(const mpgm_grid *g) {
   mpgm_test(share, "neighbours: 7 at the corner cell, each sharing a node with it");
 }
 
+/* A box on whole cells and a ball, filled in the layout given. */
+static void test_fill(int centres) {
+  const char *name = centres ? "centres" : "gauss";
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_scene s;
+  const double lo[3] = {0, 0, 0}, hi[3] = {3, 2, 2};
+  scene_box(&s, lo, hi, 0.25);
+  s.layout_centres = centres;
+  mpgm_scene_body bodies[2];
+  memset(bodies, 0, sizeof bodies);
+  bodies[0].geometry = MPGM_GEOM_BOX;
+  const double bl[3] = {0.25, 0.5, 0.0}, bh[3] = {1.25, 1.0, 0.75};
+  memcpy(bodies[0].min, bl, sizeof bl);
+  memcpy(bodies[0].max, bh, sizeof bh);
+  bodies[1].geometry = MPGM_GEOM_SPHERE;
+  const double c[3] = {2.2, 1.0, 1.0}, r = 0.7;
+  memcpy(bodies[1].centre, c, sizeof c);
+  bodies[1].radius = r;
+  mpgm_body_bbox(&bodies[1], bodies[1].min, bodies[1].max);
+  s.bodies = bodies;
+  s.nbody = 2;
+  mpgm_grid g;
+  mpgm_fill f;
+  mpgm_test(mpgm_grid_init(&ctx, &g, &s) == 0 && mpgm_grid_fill(&ctx, &g, &s, &f) == 0,
+            "%s: a box and a ball filled (%s)", name, ctx.msg);
+  int nbox = 0, at_rule = 1, in_ball = 1;
+  double vbox = 0.0, vball = 0.0;
+  /* the rule's offsets from a cell's lower corner, in cells: gauss
+   * (1 -+ 1/sqrt 3) / 2, centres 1/4 and 3/4 */
+  const double o = centres ? 0.25 : 0.5 * (1.0 - 1.0 / sqrt(3.0));
+  for (size_t k = 0; k < f.ngauss; k++) {
+    const double *x = f.x + 3 * k;
+    if (f.owner[k] == 0) {
+      nbox++;
+      vbox += f.vol[k % 8];
+      for (int d = 0; d < 3; d++) {
+        const double t = x[d] / 0.25 - floor(x[d] / 0.25);
+        at_rule &= fabs(t - o) < 1e-12 || fabs(t - (1.0 - o)) < 1e-12;
+      }
+    } else if (f.owner[k] == 1) {
+      vball += f.vol[k % 8];
+      in_ball &= mpgm_body_contains(&bodies[1], x);
+    }
+  }
+  mpgm_test(nbox == 4 * 2 * 3 * 8, "%s: the box on 24 cells has 192 points (%d)", name, nbox);
+  mpgm_test(at_rule, "%s: the box's points sit at the rule's positions in their cells", name);
+  mpgm_test_rel(vbox, 1.0 * 0.5 * 0.75, TEST_TOL2, "%s: the box's point volumes sum to its volume", name);
+  mpgm_test(in_ball, "%s: the ball's points lie in it", name);
+  mpgm_test_rel(vball, 4.0 / 3.0 * 3.14159265358979323846 * r * r * r, 0.03,
+                "%s: the ball's point volumes approach 4/3 pi r^3 (3 %%, h = r / 2.8)", name);
+  mpgm_fill_free(&f);
+}
+
 int main(void) {
   mpgm_ctx ctx;
   mpgm_ctx_init(&ctx);
@@ -162,6 +221,8 @@ int main(void) {
   test_cells(&g);
   test_locate(&g);
   test_neighbours(&g);
+  test_fill(0);
+  test_fill(1);
   scene_box(&s, lo, hi, 0.25);
   s.cell = MPGM_CELL_H8 + 1;
   mpgm_test(mpgm_grid_init(&ctx, &g, &s) == MPGM_ERR_INPUT, "another cell kind is refused");
