@@ -59,7 +59,14 @@ typedef enum {
 } mpgm_geometry;
 #define MPGM_GEOM_BOX MPGM_GEOM_RECTANGLE
 #define MPGM_GEOM_SPHERE MPGM_GEOM_DISK
-typedef enum { MPGM_SELECT_X = 0, MPGM_SELECT_Y = 1, MPGM_SELECT_BOX = 2 } mpgm_select;
+/** A boundary's selector: a plane normal to an axis (its value the axis
+ *  index, so bodies' boxes can be indexed by it; z in 3-D only) or a box. */
+typedef enum { MPGM_SELECT_X = 0, MPGM_SELECT_Y = 1, MPGM_SELECT_Z = 2, MPGM_SELECT_BOX = 3 } mpgm_select;
+/** The scene key of a selector: "x", "y", "z" or "box". */
+static inline const char *mpgm_select_key(int select) {
+  static const char *const key[] = {"x", "y", "z", "box"};
+  return select >= 0 && select <= MPGM_SELECT_BOX ? key[select] : "?";
+}
 /** How a boundary's fixed components were given. */
 typedef enum {
   MPGM_COND_FIX = 0,   /**< explicit "fix": [...] list                  */
@@ -132,7 +139,8 @@ typedef struct mpgm_scene_body {
 typedef struct mpgm_scene_boundary {
   char name[MPGM_NAME_LEN];
   int select;          /**< mpgm_select                              */
-  double value;        /**< x or y of the selecting line [m]         */
+  double value;        /**< x, y (or z) of the selecting line (plane)
+                            [m]                                      */
   double min[MPGM_DIM], max[MPGM_DIM]; /**< box [m]                  */
   double tol;          /**< selection tolerance [m]                  */
   int condition;       /**< mpgm_condition (how fix was given)        */

@@ -19,7 +19,7 @@ int mpgm_nodes_apply_boundaries(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_nodes *
     MPGM_CHECK(ctx, hits > 0, MPGM_ERR_INPUT,
                "%s: boundaries.%d.%s (\"%s\"): expected a selector that picks nodes, found none "
                "within tol = %g of it", s->file, i,
-               bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box",
+               mpgm_select_key(bc->select),
                bc->name, bc->tol);
   }
   return 0;

@@ -92,7 +92,8 @@ static int selector_meets(const mpgm_scene_boundary *bc, const mpgm_scene_body *
   const double t = bc->tol;
   if (bc->select != MPGM_SELECT_BOX)
     return bc->value >= b->min[bc->select] - t && bc->value <= b->max[bc->select] + t;
-  const double lo[2] = {bc->min[0] - t, bc->min[1] - t}, hi[2] = {bc->max[0] + t, bc->max[1] + t};
+  double lo[MPGM_DIM], hi[MPGM_DIM];
+  for (int d = 0; d < MPGM_DIM; d++) lo[d] = bc->min[d] - t, hi[d] = bc->max[d] + t;
   return mpgm_body_meets_box(b, lo, hi);
 }
 
@@ -103,7 +104,7 @@ static int check_selector(mpgm_ctx *ctx, const mpgm_scene *s, int i) {
   const mpgm_scene_boundary *bc = &s->bcs[i];
   char path[48];
   snprintf(path, sizeof path, "boundaries.%d.%s", i,
-           bc->select == MPGM_SELECT_X ? "x" : bc->select == MPGM_SELECT_Y ? "y" : "box");
+           mpgm_select_key(bc->select));
   if (s->frontend->persistent_nodes) {
     for (int k = 0; k < s->nbody; k++)
       if (selector_meets(bc, &s->bodies[k])) return 0;
