@@ -42,15 +42,27 @@
  * no node (no box given) fails with MPGM_SHAPE_OFF_GRID, a domain with
  * r1 x r2 <= 0 (turned inside out) with MPGM_SHAPE_INVERTED. A query
  * without a domain (probes and surface tracers, which have none) gets the
- * grid functions and their gradients at x_p. */
+ * grid functions and their gradients at x_p.
+ *
+ * In 3-D the domain is the parallelepiped x_p + s1 r1 + s2 r2 + s3 r3,
+ * |s_k| <= 1, with 8 corners in mpgm_corner_sign's order; phi_I is
+ * replaced by the trilinear interpolant of the corner values, whose means
+ * are (V = 8 r1 . (r2 x r3), s_ck the signs of corner c)
+ *
+ *   N_Ip     = (1/8) sum_c phi_I(x_c),
+ *   dN_Ip/dx = (1/V) sum_c phi_I(x_c) w_c,
+ *   w_c      = s_c1 (r2 x r3) + s_c2 (r3 x r1) + s_c3 (r1 x r2)
+ *
+ * (the mean of d phi / d s_k over the cube is sum_c phi_c s_ck / 8, and
+ * J^-T = [r2 x r3, r3 x r1, r1 x r2] / (r1 . (r2 x r3)) for J = [r1 r2
+ * r3]; the 2-D formula above is the same construction with the 2-D
+ * cofactors). The box, the splines and the failures are as in 2-D; a
+ * domain with r1 . (r2 x r3) <= 0 is inverted. CPLS stays 2-D. */
 #include "mpgm_shapefn_impl.h"
 
 #include <math.h>
 
-#if MPGM_DIM != 2
-#error "shapefn/cpdi.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
-
+#if MPGM_DIM == 2
 /* The bilinear hat of the node at offset (dx, dy) = x - x_I on a grid of
  * spacing h, and (grad) its gradient (the one-sided value at a kink,
  * consistently from the side of the lower node). */
@@ -67,6 +79,8 @@ static inline double hat(double dx, double dy, double h, double *gx, double *gy)
   }
   return wx * wy;
 }
+
+#endif
 
 /* The node-centred quadratic B-spline of a grid of spacing h at offset
  * d = x - x_I (support |d| < 1.5 h), and (g) its derivative. */
@@ -107,6 +121,7 @@ static double bspline2_edge(double x, double xn, double h, double lo, double hi,
   return w;
 }
 
+#if MPGM_DIM == 2
 /* The grid function of node xn at x (par->grid_order: 1 the hats, 2 the
  * quadratic B-splines with the ghost rule at the grid box's edges), and
  * (gx, gy; optional) its gradient. */
@@ -123,14 +138,17 @@ static double gridfn(const mpgm_shape_params *par, const double *x, const double
   return w0 * w1;
 }
 
+#endif
+
 static int cpdi_radius(const mpgm_shape_params *par, double *R) {
   *R = 0.0;
   if (!par || !(par->h > 0.0)) return MPGM_ERR_INPUT;
   /* a point's own functions; a domain reaches farther */
-  *R = (par->grid_order == 2 ? 1.5 : 1.0) * sqrt(2.0) * par->h;
+  *R = (par->grid_order == 2 ? 1.5 : 1.0) * sqrt((double)MPGM_DIM) * par->h;
   return 0;
 }
 
+#if MPGM_DIM == 2
 /* Without a domain: the grid functions at x_p. */
 static int point_eval(const mpgm_shape_query *q, double *N, double *dN) {
   double sum = 0.0;
@@ -192,6 +210,131 @@ static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
   return 0;
 }
 
+#else /* MPGM_DIM == 3 */
+
+/* The trilinear hat of the node at offset d = x - x_I on a grid of spacing
+ * h and (g, optional) its gradient, one-sided at a kink as in 2-D. */
+static double hat3(const double d[3], double h, double *g) {
+  double w[3], s[3];
+  for (int k = 0; k < 3; k++) {
+    const double a = fabs(d[k]);
+    if (a >= h) {
+      if (g) g[0] = g[1] = g[2] = 0.0;
+      return 0.0;
+    }
+    w[k] = 1.0 - a / h;
+    s[k] = (d[k] >= 0.0 ? -1.0 : 1.0) / h;
+  }
+  if (g) {
+    g[0] = s[0] * w[1] * w[2];
+    g[1] = w[0] * s[1] * w[2];
+    g[2] = w[0] * w[1] * s[2];
+  }
+  return w[0] * w[1] * w[2];
+}
+
+/* The grid function of node xn at x (the hats, or the quadratic
+ * B-splines with the ghost rule on each axis) and (g, optional) its
+ * gradient. */
+static double gridfn3(const mpgm_shape_params *par, const double *x, const double *xn,
+                      double *g) {
+  if (par->grid_order != 2) {
+    const double d[3] = {x[0] - xn[0], x[1] - xn[1], x[2] - xn[2]};
+    return hat3(d, par->h, g);
+  }
+  double w[3], dw[3];
+  for (int k = 0; k < 3; k++)
+    w[k] = bspline2_edge(x[k], xn[k], par->h, par->grid_lo[k], par->grid_hi[k], dw + k);
+  if (g) {
+    g[0] = dw[0] * w[1] * w[2];
+    g[1] = w[0] * dw[1] * w[2];
+    g[2] = w[0] * w[1] * dw[2];
+  }
+  return w[0] * w[1] * w[2];
+}
+
+/* Without a domain: the grid functions at x_p. */
+static int point_eval(const mpgm_shape_query *q, double *N, double *dN) {
+  double sum = 0.0;
+  int nsup = 0;
+  for (int a = 0; a < q->n; a++) {
+    N[a] = gridfn3(q->par, q->xp, q->xn + 3 * a, dN + 3 * a);
+    sum += N[a];
+    nsup += N[a] > 0.0;
+  }
+  if (nsup == 0) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_TOO_FEW);
+  if (!(fabs(sum - 1.0) <= 1e-9)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OFF_GRID);
+  mpgm_shape_ok(q, 0, nsup, 0.0, 0.0);
+  return 0;
+}
+
+static void cross3(const double *a, const double *b, double *c) {
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* The parallelepiped xp + sum_k s_k r_k: its 8 corners x_c, pulled back
+ * onto the grid's box when one is given (returns how many coordinates
+ * were), and the corners' gradient weights w_c = s1 (r2 x r3) + s2 (r3 x
+ * r1) + s3 (r1 x r2). *V = 8 r1 . (r2 x r3). */
+static int corners3(const mpgm_shape_query *q, double xc[8][3], double wc[8][3], double *V) {
+  const double *r = q->domain, *lo = q->par->grid_lo, *hi = q->par->grid_hi;
+  double c23[3], c31[3], c12[3];
+  cross3(r + 3, r + 6, c23);
+  cross3(r + 6, r, c31);
+  cross3(r, r + 3, c12);
+  *V = 8.0 * (r[0] * c23[0] + r[1] * c23[1] + r[2] * c23[2]);
+  const int box = hi[0] > lo[0] && hi[1] > lo[1] && hi[2] > lo[2];
+  int clamped = 0;
+  mpgm_domain_corners(r, xc);
+  for (int c = 0; c < 8; c++) {
+    const double s1 = mpgm_corner_sign(c, 0), s2 = mpgm_corner_sign(c, 1);
+    const double s3 = mpgm_corner_sign(c, 2);
+    for (int i = 0; i < 3; i++) {
+      wc[c][i] = s1 * c23[i] + s2 * c31[i] + s3 * c12[i];
+      xc[c][i] += q->xp[i];
+      if (!box) continue;
+      const double v = fmin(fmax(xc[c][i], lo[i]), hi[i]);
+      clamped += v != xc[c][i];
+      xc[c][i] = v;
+    }
+  }
+  return clamped;
+}
+
+static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
+  MPGM_CALL(mpgm_shape_check_cloud(q, N, dN));
+  if (!q->par || !(q->par->h > 0.0))
+    return mpgm_shape_fail(q, N, dN, MPGM_ERR_INPUT, MPGM_SHAPE_BAD_INPUT);
+  if (!q->domain) return point_eval(q, N, dN);
+  double xc[8][3], wc[8][3], V;
+  const int clamped = corners3(q, xc, wc, &V);
+  if (!(V > 0.0)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_INVERTED);
+  double sum[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  int nsup = 0;
+  for (int a = 0; a < q->n; a++) {
+    double n = 0.0, g[3] = {0.0, 0.0, 0.0};
+    for (int c = 0; c < 8; c++) {
+      const double phi = gridfn3(q->par, xc[c], q->xn + 3 * a, NULL);
+      sum[c] += phi;
+      n += phi;
+      for (int i = 0; i < 3; i++) g[i] += phi * wc[c][i];
+    }
+    N[a] = 0.125 * n;
+    for (int i = 0; i < 3; i++) dN[3 * a + i] = g[i] / V;
+    nsup += N[a] > 0.0;
+  }
+  if (nsup == 0) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_TOO_FEW);
+  for (int c = 0; c < 8; c++)
+    if (!(fabs(sum[c] - 1.0) <= 1e-9)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OFF_GRID);
+  mpgm_shape_ok(q, 0, nsup, 0.0, 0.0);
+  if (q->info) q->info->clamped = clamped;
+  return 0;
+}
+#endif
+
+#if MPGM_DIM == 2
 /* CPLS (Tran et al. 2019): CPDI's N and grad N, the nodal velocities by
  * least squares from the points' centres and corners (mpm/cpls.c). */
 const mpgm_shapefn_type mpgm_shapefn_cpls = {
@@ -206,12 +349,19 @@ const mpgm_shapefn_type mpgm_shapefn_cpls = {
     .eval = cpdi_eval,
     .support_radius = cpdi_radius,
 };
+#endif
 
 const mpgm_shapefn_type mpgm_shapefn_cpdi = {
     .name = "cpdi",
+#if MPGM_DIM == 2
     .doc = "convected particle domain interpolation (CPDI1, Sadeghirad et al. 2011): bilinear "
            "hats (or quadratic B-splines, shape.grid_functions) averaged over the particle's "
            "parallelogram r_k = F r_k^0 from its corners; regular grids only (method mpm)",
+#else
+    .doc = "convected particle domain interpolation (CPDI1, Sadeghirad et al. 2011): trilinear "
+           "hats (or quadratic B-splines, shape.grid_functions) averaged over the particle's "
+           "parallelepiped r_k = F r_k^0 from its 8 corners; regular grids only (method mpm)",
+#endif
     .needs_cell = 0,
     .grid_only = 1,
     .domain = 1,

@@ -21,9 +21,15 @@
  * The weights sum to 1 and reproduce linear fields wherever all the nodes
  * within h + lp of the particle exist (a grid covering the body does).
  *
+ * In 3-D the particle is a cube of half-width lp and the weight the
+ * product of three such factors, S_I = S(dx) S(dy) S(dz), its gradient
+ * component k the factor k's derivative times the other two (the mean of
+ * the trilinear hat over the cube, for the same reason: the hat and the
+ * cube are both products over the axes).
+ *
  * The kind takes its cloud like the meshfree kinds: the caller searches the
- * nodes within sqrt(2) (h + lp) (the corner of the square support); nodes
- * outside the square get N = 0. h = par->h, lp = par->half_width (MPM sets
+ * nodes within sqrt(DIM) (h + lp) (the corner of the square or cube
+ * support); nodes outside it get N = 0. h = par->h, lp = par->half_width (MPM sets
  * h / (2 sqrt(ppc)), the half side of a particle's share of its cell).
  * Weights that do not sum to 1 (a node within h + lp missing: the grid
  * ends there) fail with MPGM_SHAPE_OFF_GRID rather than give forces that do
@@ -35,9 +41,6 @@
 
 #include <math.h>
 
-#if MPGM_DIM != 2
-#error "shapefn/ugimp.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 /* The 1-D weight at offset d and its derivative in d. */
 static inline double weight(double d, double h, double lp, double *dS) {
@@ -63,7 +66,7 @@ static int ugimp_radius(const mpgm_shape_params *par, double *R) {
   *R = 0.0;
   if (!par || !(par->h > 0.0) || !(par->half_width > 0.0) || !(par->half_width <= 0.5 * par->h))
     return MPGM_ERR_INPUT;
-  *R = sqrt(2.0) * (par->h + par->half_width);
+  *R = sqrt((double)MPGM_DIM) * (par->h + par->half_width);
   return 0;
 }
 
@@ -75,12 +78,21 @@ static int ugimp_eval(const mpgm_shape_query *q, double *N, double *dN) {
   int nsup = 0;
   double sum = 0.0;
   for (int a = 0; a < q->n; a++) {
+#if MPGM_DIM == 2
     double gx, gy;
     const double sx = weight(q->xp[0] - q->xn[2 * a], h, lp, &gx);
     const double sy = weight(q->xp[1] - q->xn[2 * a + 1], h, lp, &gy);
     N[a] = sx * sy;
     dN[2 * a] = gx * sy;
     dN[2 * a + 1] = sx * gy;
+#else
+    double g[3], w[3];
+    for (int d = 0; d < 3; d++) w[d] = weight(q->xp[d] - q->xn[3 * a + d], h, lp, g + d);
+    N[a] = w[0] * w[1] * w[2];
+    dN[3 * a] = g[0] * w[1] * w[2];
+    dN[3 * a + 1] = w[0] * g[1] * w[2];
+    dN[3 * a + 2] = w[0] * w[1] * g[2];
+#endif
     nsup += N[a] > 0.0;
     sum += N[a];
   }
@@ -94,8 +106,13 @@ static int ugimp_eval(const mpgm_shape_query *q, double *N, double *dN) {
 
 const mpgm_shapefn_type mpgm_shapefn_ugimp = {
     .name = "ugimp",
+#if MPGM_DIM == 2
     .doc = "uniform GIMP (Bardenhagen & Kober 2004): bilinear hats averaged over the particle's "
            "square of half-width h / (2 sqrt(ppc)); regular grids only (method mpm)",
+#else
+    .doc = "uniform GIMP (Bardenhagen & Kober 2004): trilinear hats averaged over the "
+           "particle's cube of half-width lp; regular grids only (method mpm)",
+#endif
     .needs_cell = 0,
     .grid_only = 1,
     .eval = ugimp_eval,

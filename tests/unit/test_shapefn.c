@@ -12,6 +12,13 @@
  *     monomials up to the rule's degree integrated exactly on the reference
  *     cell (and the first monomial above it not: the degree is tight);
  *   - an inverted (clockwise) cell returns MPGM_ERR_JACOBIAN.
+ *
+ * A 3-D build (MPGM_DIM = 3) runs the same checks on the trilinear
+ * hexahedron H8: a regular box, the box turned by a random rotation, and
+ * randomly distorted hexes (nodes moved, then rotated and translated); the
+ * sum of w detJ is checked against the volume from the divergence theorem
+ * over the six bilinear faces (an independent construction), the sub-cell
+ * centres are checked too, and the 2-D cell kinds must be refused.
  */
 #include "mpgm_shapefn.h"
 #include "mpgm_test.h"
@@ -32,6 +39,8 @@
 #define N_RANDOM 8     /* random interior points per cell */
 
 static const double PI = 3.14159265358979323846;
+
+#if MPGM_DIM == 2
 static const double LX = 2.385, LY = 1.7; /* regular cell size [m] */
 
 static const char *cell_name(int cell) { return cell == MPGM_CELL_T3 ? "T3" : "Q4"; }
@@ -346,9 +355,8 @@ static void check_local_far(void) {
   }
 }
 
-int main(void) {
+static void check_cells(void) {
   const mpgm_shapefn_type *const *all = mpgm_shapefn_types();
-  check_local_far();
   int ncell_kinds = 0;
   check_rules();
   for (int it = 0; all[it]; it++) {
@@ -373,6 +381,383 @@ int main(void) {
     }
   }
   mpgm_test(ncell_kinds > 0, "at least one cell-based kind (%d)", ncell_kinds);
+}
+
+#else /* MPGM_DIM == 3 */
+static const double LX = 2.385, LY = 1.7, LZ = 1.33; /* regular cell size [m] */
+
+/* The H8's node signs (s, t, u) = xi of node a. */
+static double node_xi(int a, int k) { return mpgm_corner_sign(a, k); }
+
+/* The undistorted cell: a box LX x LY x LZ away from the origin. */
+static void regular_hex(double *xn) {
+  const double x0[3] = {0.3173, -0.4621, 0.2489}, L[3] = {LX, LY, LZ};
+  for (int a = 0; a < 8; a++)
+    for (int d = 0; d < 3; d++) xn[3 * a + d] = x0[d] + 0.5 * (1.0 + node_xi(a, d)) * L[d];
+}
+
+/* A random rotation (from a random unit quaternion) and translation. */
+static void rotate_translate(rng *r, double *xn) {
+  double q[4], n = 0.0;
+  do {
+    n = 0.0;
+    for (int k = 0; k < 4; k++) {
+      q[k] = uniform(r, -1.0, 1.0);
+      n += q[k] * q[k];
+    }
+  } while (n < 0.05 || n > 1.0);
+  for (int k = 0; k < 4; k++) q[k] /= sqrt(n);
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  const double R[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                          {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                          {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+  const double t[3] = {uniform(r, -3.1, 3.1), uniform(r, -3.1, 3.1), uniform(r, -3.1, 3.1)};
+  for (int a = 0; a < 8; a++) {
+    const double p[3] = {xn[3 * a], xn[3 * a + 1], xn[3 * a + 2]};
+    for (int i = 0; i < 3; i++) xn[3 * a + i] = R[i][0] * p[0] + R[i][1] * p[1] + R[i][2] * p[2] + t[i];
+  }
+}
+
+/* Smallest det J over the 8 nodes and the 27 Gauss points, relative to
+ * the regular box's LX LY LZ / 8. */
+static double min_det(const double *xn) {
+  double xi[81], w[27], N[8], dN[24], det, m = HUGE_VAL;
+  mpgm_fe_gauss(MPGM_CELL_H8, 27, xi, w);
+  for (int k = 0; k < 35; k++) {
+    double c[3];
+    for (int d = 0; d < 3; d++) c[d] = k < 8 ? node_xi(k, d) : xi[3 * (k - 8) + d];
+    mpgm_fe_eval(MPGM_CELL_H8, xn, c, N, dN, &det);
+    m = fmin(m, det);
+  }
+  return m / (LX * LY * LZ / 8.0);
+}
+
+/* A random valid hex: every node of the box moved by up to 0.25 of the
+ * cell size, redrawn until det J > 0.1 (relative) at the nodes and the
+ * Gauss points, then rotated and translated. */
+static void distorted_hex(rng *r, double *xn) {
+  const double L[3] = {LX, LY, LZ};
+  do {
+    regular_hex(xn);
+    for (int a = 0; a < 8; a++)
+      for (int d = 0; d < 3; d++) xn[3 * a + d] += uniform(r, -0.25, 0.25) * L[d];
+  } while (!(min_det(xn) > 0.1));
+  rotate_translate(r, xn);
+}
+
+/* The 12 edges' longest. */
+static double hex_size(const double *xn) {
+  double h = 0.0;
+  for (int a = 0; a < 8; a++)
+    for (int b = a + 1; b < 8; b++) {
+      int diff = 0; /* an edge: the nodes' signs differ in one direction */
+      for (int k = 0; k < 3; k++) diff += node_xi(a, k) != node_xi(b, k);
+      if (diff != 1) continue;
+      double e = 0.0;
+      for (int d = 0; d < 3; d++) e += (xn[3 * a + d] - xn[3 * b + d]) * (xn[3 * a + d] - xn[3 * b + d]);
+      h = fmax(h, sqrt(e));
+    }
+  return h;
+}
+
+static void map_hex(const double *xn, const double xi[3], double x[3]) {
+  double N[8];
+  mpgm_fe_ref(MPGM_CELL_H8, xi, N, NULL);
+  x[0] = x[1] = x[2] = 0.0;
+  for (int a = 0; a < 8; a++)
+    for (int d = 0; d < 3; d++) x[d] += N[a] * xn[3 * a + d];
+}
+
+/* Volume by the divergence theorem, V = (1/3) sum over the faces of the
+ * integral of x . n dA, each face the bilinear patch of its 4 nodes
+ * (counter-clockwise seen from outside); the integrand has degree 2 in
+ * each face coordinate, so 2 x 2 Gauss is exact. */
+static double hex_volume(const double *xn) {
+  static const int face[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                 {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  static const double qs[4] = {-1, 1, 1, -1}, qt[4] = {-1, -1, 1, 1};
+  const double g = 1.0 / sqrt(3.0);
+  double V = 0.0;
+  for (int f = 0; f < 6; f++)
+    for (int i = 0; i < 4; i++) {
+      const double u = qs[i] * g, v = qt[i] * g;
+      double x[3] = {0, 0, 0}, xu[3] = {0, 0, 0}, xv[3] = {0, 0, 0};
+      for (int a = 0; a < 4; a++) {
+        const double *p = xn + 3 * face[f][a];
+        for (int d = 0; d < 3; d++) {
+          x[d] += 0.25 * (1 + qs[a] * u) * (1 + qt[a] * v) * p[d];
+          xu[d] += 0.25 * qs[a] * (1 + qt[a] * v) * p[d];
+          xv[d] += 0.25 * qt[a] * (1 + qs[a] * u) * p[d];
+        }
+      }
+      const double n[3] = {xu[1] * xv[2] - xu[2] * xv[1], xu[2] * xv[0] - xu[0] * xv[2],
+                           xu[0] * xv[1] - xu[1] * xv[0]};
+      V += (x[0] * n[0] + x[1] * n[1] + x[2] * n[2]) / 3.0;
+    }
+  return V;
+}
+
+static int eval_hex(const mpgm_shapefn_type *t, const double *xn, const double x[3], double *N,
+                    double *dN) {
+  mpgm_shape_query q = {.n = 8, .xn = xn, .xp = {x[0], x[1], x[2]}, .cell = MPGM_CELL_H8};
+  int err = mpgm_fe_local(MPGM_CELL_H8, xn, x, q.xi);
+  if (err) return err;
+  return t->eval(&q, N, dN);
+}
+
+/* ---- checks at one point ------------------------------------------------- */
+static void check_point_h8(const mpgm_shapefn_type *t, const double *xn, const double xi[3],
+                           const char *where) {
+  const double h = hex_size(xn);
+  double x[3];
+  map_hex(xn, xi, x);
+  double xl[3] = {NAN, NAN, NAN};
+  int err = mpgm_fe_local(MPGM_CELL_H8, xn, x, xl);
+  mpgm_test(err == 0, "%s H8 %s: mpgm_fe_local returns %d", t->name, where, err);
+  mpgm_test_abs(fabs(xl[0] - xi[0]) + fabs(xl[1] - xi[1]) + fabs(xl[2] - xi[2]), 0.0, TOL_EXACT,
+                "%s H8 %s: mpgm_fe_local(x(xi)) = xi", t->name, where);
+
+  mpgm_shape_query q = {.n = 8, .xn = xn, .xp = {x[0], x[1], x[2]}, .cell = MPGM_CELL_H8,
+                        .xi = {xi[0], xi[1], xi[2]}};
+  double N[8], dN[24];
+  err = t->eval(&q, N, dN);
+  mpgm_test(err == 0, "%s H8 %s: eval returns %d", t->name, where, err);
+  if (err) return;
+  double sum = 0.0, rx[3] = {0, 0, 0}, Id[9] = {0};
+  for (int a = 0; a < 8; a++) {
+    sum += N[a];
+    for (int i = 0; i < 3; i++) {
+      rx[i] += N[a] * xn[3 * a + i];
+      for (int j = 0; j < 3; j++) Id[3 * i + j] += xn[3 * a + i] * dN[3 * a + j];
+    }
+  }
+  mpgm_test_abs(sum, 1.0, TOL_EXACT, "%s H8 %s: partition of unity", t->name, where);
+  const double xs = fmax(fmax(fabs(x[0]), fabs(x[1])), fabs(x[2])) + h;
+  double ex = 0.0, eI = 0.0;
+  for (int i = 0; i < 3; i++) {
+    ex += fabs(rx[i] - x[i]);
+    for (int j = 0; j < 3; j++) eI += fabs(Id[3 * i + j] - (i == j));
+  }
+  mpgm_test_abs(ex, 0.0, TOL_EXACT * xs, "%s H8 %s: sum N x_I = x", t->name, where);
+  mpgm_test_abs(eI, 0.0, TOL_EXACT * xs / h, "%s H8 %s: sum x_I (x) grad N_I = I", t->name, where);
+
+  const double e = FD_STEP * h;
+  double gmax = 0.0, emax = 0.0;
+  int ok = 1;
+  for (int a = 0; a < 24; a++) gmax = fmax(gmax, fabs(dN[a]));
+  for (int d = 0; d < 3; d++) {
+    double xp[3] = {x[0], x[1], x[2]}, xm[3] = {x[0], x[1], x[2]}, Np[8], Nm[8], dd[24];
+    xp[d] += e;
+    xm[d] -= e;
+    ok &= eval_hex(t, xn, xp, Np, dd) == 0 && eval_hex(t, xn, xm, Nm, dd) == 0;
+    for (int a = 0; a < 8; a++) emax = fmax(emax, fabs((Np[a] - Nm[a]) / (2.0 * e) - dN[3 * a + d]));
+  }
+  mpgm_test(ok, "%s H8 %s: evaluation at perturbed points", t->name, where);
+  mpgm_test_abs(emax / gmax, 0.0, TOL_FD, "%s H8 %s: grad N = central differences (rel)", t->name,
+                where);
+}
+
+/* Random points, every Gauss point of the 3 rules, sum w detJ = volume. */
+static void check_hex(const mpgm_shapefn_type *t, const double *xn, rng *r, const char *cname) {
+  char where[96];
+  const double vol = hex_volume(xn);
+  for (int k = 0; k < N_RANDOM; k++) {
+    const double xi[3] = {uniform(r, -0.98, 0.98), uniform(r, -0.98, 0.98), uniform(r, -0.98, 0.98)};
+    snprintf(where, sizeof where, "%s random point %d", cname, k);
+    check_point_h8(t, xn, xi, where);
+  }
+  const int rules[3] = {1, 8, 27};
+  for (int ir = 0; ir < 3; ir++) {
+    double gxi[81], gw[27], sum = 0.0;
+    int err = mpgm_fe_gauss(MPGM_CELL_H8, rules[ir], gxi, gw);
+    mpgm_test(err == 0, "%s H8: %d-point rule returns %d", t->name, rules[ir], err);
+    if (err) continue;
+    for (int g = 0; g < rules[ir]; g++) {
+      snprintf(where, sizeof where, "%s Gauss %d/%d", cname, g, rules[ir]);
+      check_point_h8(t, xn, gxi + 3 * g, where);
+      double N[8], dN[24], detJ = NAN;
+      err |= mpgm_fe_eval(MPGM_CELL_H8, xn, gxi + 3 * g, N, dN, &detJ);
+      sum += gw[g] * detJ;
+    }
+    mpgm_test(err == 0, "%s H8 %s: %d-point rule: mpgm_fe_eval at every point", t->name, cname,
+              rules[ir]);
+    /* det J has degree 2 in each xi_k: the 1-point rule is not exact on
+     * a distorted hex, the 8- and 27-point rules are */
+    if (rules[ir] > 1 || strcmp(cname, "regular") == 0 || strcmp(cname, "rotated") == 0)
+      mpgm_test_rel(sum, vol, TOL_EXACT, "%s H8 %s: %d-point rule: sum w detJ = volume (%.15g)",
+                    t->name, cname, rules[ir], vol);
+  }
+}
+
+static double rule_monomial3(int np, const double *xi, const double *w, int a, int b, int c) {
+  double s = 0.0;
+  for (int g = 0; g < np; g++)
+    s += w[g] * pow(xi[3 * g], a) * pow(xi[3 * g + 1], b) * pow(xi[3 * g + 2], c);
+  return s;
+}
+
+static double exact_monomial3(int a, int b, int c) {
+  return (a % 2 ? 0.0 : 2.0 / (a + 1)) * (b % 2 ? 0.0 : 2.0 / (b + 1)) *
+         (c % 2 ? 0.0 : 2.0 / (c + 1));
+}
+
+/* n x n x n rules exact for degree 2n - 1 in each variable (and not for
+ * 2n); sub-cell centres; the 2-D kinds refused. */
+static void check_rules_h8(void) {
+  double xi[81], w[27];
+  for (int n = 1; n <= 3; n++) {
+    const int np = n * n * n, deg = 2 * n - 1;
+    int err = mpgm_fe_gauss(MPGM_CELL_H8, np, xi, w);
+    mpgm_test(err == 0, "H8 %d-point rule returns %d", np, err);
+    if (err) continue;
+    int inside = 1;
+    for (int g = 0; g < np; g++) inside &= mpgm_fe_inside(MPGM_CELL_H8, xi + 3 * g, 0.0) && w[g] > 0;
+    mpgm_test(inside, "H8 %d-point rule: points inside, weights positive", np);
+    double worst = 0.0;
+    for (int a = 0; a <= deg; a++)
+      for (int b = 0; b <= deg; b++)
+        for (int c = 0; c <= deg; c++)
+          worst = fmax(worst, fabs(rule_monomial3(np, xi, w, a, b, c) - exact_monomial3(a, b, c)));
+    mpgm_test_abs(worst, 0.0, TOL_EXACT, "H8 %d-point rule integrates xi^a eta^b zeta^c, a, b, c "
+                  "<= %d", np, deg);
+    for (int k = 0; k < 3; k++) { /* tight in each variable */
+      const int e[3] = {k == 0 ? deg + 1 : 0, k == 1 ? deg + 1 : 0, k == 2 ? deg + 1 : 0};
+      mpgm_test(fabs(rule_monomial3(np, xi, w, e[0], e[1], e[2]) -
+                     exact_monomial3(e[0], e[1], e[2])) > 1e-6,
+                "H8 %d-point rule is not exact for degree %d in variable %d", np, deg + 1, k);
+    }
+    err = mpgm_fe_centres(np, xi, w);
+    double sw = 0.0, m1 = 0.0, dmin = HUGE_VAL;
+    inside = err == 0;
+    for (int g = 0; g < np && !err; g++) {
+      sw += w[g];
+      inside &= mpgm_fe_inside(MPGM_CELL_H8, xi + 3 * g, 0.0) && w[g] == 8.0 / np;
+      for (int d = 0; d < 3; d++) { /* each coordinate at a sub-interval's centre */
+        const double u = (xi[3 * g + d] + 1.0) * n / 2.0 - 0.5;
+        dmin = fmin(dmin, -fabs(u - round(u)));
+        m1 += w[g] * xi[3 * g + d];
+      }
+    }
+    mpgm_test(inside && fabs(sw - 8.0) < TOL_EXACT && fabs(m1) < TOL_EXACT && dmin > -TOL_EXACT,
+              "H8 %d sub-cell centres: inside, at the sub-cells' centres, weights 8/%d (sum %.15g)",
+              np, np, sw);
+  }
+  mpgm_test(mpgm_fe_gauss(MPGM_CELL_H8, 4, xi, w) == MPGM_ERR_INPUT &&
+                mpgm_fe_gauss(MPGM_CELL_Q4, 8, xi, w) == MPGM_ERR_INPUT &&
+                mpgm_fe_centres(9, xi, w) == MPGM_ERR_INPUT,
+            "unsupported Gauss point / centre counts and 2-D cells return MPGM_ERR_INPUT");
+  double N[8], dN[24], xq[24] = {0};
+  const double c[3] = {0, 0, 0};
+  mpgm_test(mpgm_fe_nnode(MPGM_CELL_T3) == 0 && mpgm_fe_nnode(MPGM_CELL_Q4) == 0 &&
+                mpgm_fe_nnode(MPGM_CELL_H8) == 8 &&
+                mpgm_fe_eval(MPGM_CELL_Q4, xq, c, N, dN, NULL) == MPGM_ERR_INPUT,
+            "3-D build: T3 and Q4 have no nodes and do not evaluate; H8 has 8");
+}
+
+/* Inverted hex (top and bottom faces swapped: a mirror image), wrong node
+ * count, a 2-D cell kind. */
+static void check_inverted_h8(const mpgm_shapefn_type *t, const double *xn, const char *cname) {
+  double rev[24];
+  for (int a = 0; a < 8; a++)
+    for (int d = 0; d < 3; d++) rev[3 * a + d] = xn[3 * ((a + 4) % 8) + d];
+  const double xi[3] = {0.1934, -0.4172, 0.3071};
+  double N[8], dN[24], detJ = 0.0;
+  int err = mpgm_fe_eval(MPGM_CELL_H8, rev, xi, N, dN, &detJ);
+  mpgm_test(err == MPGM_ERR_JACOBIAN && detJ < 0.0,
+            "%s H8 %s inverted: mpgm_fe_eval returns MPGM_ERR_JACOBIAN (got %d, detJ %g)", t->name,
+            cname, err, detJ);
+  mpgm_shape_query q = {.n = 8, .xn = rev, .cell = MPGM_CELL_H8, .xi = {xi[0], xi[1], xi[2]}};
+  map_hex(rev, xi, q.xp);
+  err = t->eval(&q, N, dN);
+  mpgm_test(err == MPGM_ERR_JACOBIAN, "%s H8 %s inverted: eval returns MPGM_ERR_JACOBIAN (got %d)",
+            t->name, cname, err);
+  q.xn = xn;
+  q.n = 7;
+  err = t->eval(&q, N, dN);
+  mpgm_test(err != 0, "%s H8 %s: eval with 7 nodes fails (got %d)", t->name, cname, err);
+  q.n = 4;
+  q.cell = MPGM_CELL_Q4;
+  err = t->eval(&q, N, dN);
+  mpgm_test(err != 0, "%s H8 %s: eval of a Q4 cell in 3-D fails (got %d)", t->name, cname, err);
+}
+
+/* mpgm_fe_local on a small hex far from the origin with a point outside
+ * it, and on a strongly distorted hex (a twisted, tapered top) at points
+ * near its corners. */
+static void check_local_h8(void) {
+  double xn[24], xi[3], back[3];
+  const double far[3] = {1234.5, 678.9, -345.6}; /* a cube of h = 0.01 there */
+  for (int a = 0; a < 8; a++)
+    for (int d = 0; d < 3; d++) xn[3 * a + d] = far[d] + 0.005 * (1.0 + node_xi(a, d));
+  const double y[3] = {1234.5 + 0.013, 678.9 - 0.002, -345.6 + 0.004};
+  int err = mpgm_fe_local(MPGM_CELL_H8, xn, y, xi);
+  map_hex(xn, xi, back);
+  mpgm_test(err == 0 && fabs(back[0] - y[0]) < 1e-11 && fabs(back[1] - y[1]) < 1e-11 &&
+                fabs(back[2] - y[2]) < 1e-11,
+            "H8 of h = 0.01 at x ~ 1e3, point outside: mpgm_fe_local returns %d, x(xi) - x = "
+            "(%.1e, %.1e, %.1e)", err, back[0] - y[0], back[1] - y[1], back[2] - y[2]);
+  /* unit cube whose top face is turned by 40 degrees and shrunk to 0.5 */
+  const double th = 40.0 * PI / 180.0, c = 0.5 * cos(th), s = 0.5 * sin(th);
+  for (int a = 0; a < 8; a++) {
+    const double u = 0.5 * node_xi(a, 0), v = 0.5 * node_xi(a, 1);
+    xn[3 * a] = a < 4 ? u : c * u - s * v;
+    xn[3 * a + 1] = a < 4 ? v : s * u + c * v;
+    xn[3 * a + 2] = a < 4 ? 0.0 : 1.0;
+  }
+  double worst = 0.0;
+  int fails = 0;
+  for (int k = 0; k < 8; k++) {
+    const double z[3] = {0.97 * node_xi(k, 0), 0.97 * node_xi(k, 1), 0.97 * node_xi(k, 2)};
+    double x[3];
+    map_hex(xn, z, x);
+    fails += mpgm_fe_local(MPGM_CELL_H8, xn, x, xi) != 0;
+    for (int d = 0; d < 3; d++) worst = fmax(worst, fabs(xi[d] - z[d]));
+  }
+  mpgm_test(fails == 0 && worst < TOL_EXACT,
+            "H8 twisted (40 deg) and tapered: mpgm_fe_local at 0.97 of each corner (%d failed, "
+            "worst %.1e)", fails, worst);
+}
+
+static void check_h8(void) {
+  const mpgm_shapefn_type *const *all = mpgm_shapefn_types();
+  int ncell_kinds = 0;
+  check_local_h8();
+  check_rules_h8();
+  for (int it = 0; all[it]; it++) {
+    const mpgm_shapefn_type *t = all[it];
+    mpgm_test(t->name && mpgm_shapefn_type_find(t->name) == t && t->eval,
+              "%s: found by name, eval set", t->name);
+    if (!t->needs_cell) continue;
+    ncell_kinds++;
+    rng r = {0x9E3779B97F4A7C15ULL ^ (uint64_t)(1 + it * 2 + MPGM_CELL_H8)};
+    double xn[24];
+    regular_hex(xn);
+    mpgm_test_rel(hex_volume(xn), LX * LY * LZ, TOL_EXACT, "H8: the faces' volume of the box");
+    check_hex(t, xn, &r, "regular");
+    check_inverted_h8(t, xn, "regular");
+    rotate_translate(&r, xn);
+    mpgm_test_rel(hex_volume(xn), LX * LY * LZ, TOL_EXACT, "H8: the faces' volume of the turned box");
+    check_hex(t, xn, &r, "rotated");
+    check_inverted_h8(t, xn, "rotated");
+    for (int k = 0; k < N_DISTORTED; k++) {
+      char cname[32];
+      snprintf(cname, sizeof cname, "distorted %d", k);
+      distorted_hex(&r, xn);
+      check_hex(t, xn, &r, cname);
+      check_inverted_h8(t, xn, cname);
+    }
+  }
+  mpgm_test(ncell_kinds > 0, "at least one cell-based kind (%d)", ncell_kinds);
+}
+#endif
+
+int main(void) {
+#if MPGM_DIM == 2
+  check_local_far();
+  check_cells();
+#else
+  check_h8();
+#endif
   mpgm_test(mpgm_shapefn_type_find("no-such-kind") == NULL, "unknown kind name: NULL");
   return mpgm_test_summary();
 }

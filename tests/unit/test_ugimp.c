@@ -12,6 +12,12 @@
  *     MPGM_ERR_INPUT; the support radius is sqrt(2) (h + lp).
  * (Partition of unity, linear reproduction and the gradient identities on
  * a grid: test_shapefn_meshfree.c.)
+ *
+ * A 3-D build checks the cube: N_I is the product of the three 1-D means,
+ * partition of unity, linear reproduction and the gradient identities at
+ * points next to cell faces, edges and corners, central differences, C1
+ * along z, OFF_GRID next to the grid's corner, edge and face, the input
+ * errors and the support radius sqrt(3) (h + lp).
  */
 #include "mpgm_shapefn.h"
 #include "mpgm_test.h"
@@ -37,6 +43,7 @@ static double mean_hat(double d, double lp) {
   return sum / (2.0 * lp);
 }
 
+#if MPGM_DIM == 2
 /* the 7 x 7 grid nodes (i h, j h), |i|, |j| <= 3: every node within h + lp
  * of a point with |x|, |y| <= h + lp; node (0, 0) is number 24 */
 enum { NP = 49, ORIGIN = 24 };
@@ -154,12 +161,177 @@ static void check_failures(void) {
   mpgm_test_rel(R, sqrt(2.0) * (H + LP), TEST_TOL1, "support radius sqrt(2) (h + lp)");
 }
 
+#else
+/* ---- 3-D: the particle's cube ------------------------------------------ */
+
+/* The nodes (i h, j h, k h) of the grid with 0 <= i, j, k < lim (lim <= 0:
+ * no end) within 1.65 h of x on every axis (those within h + lp and a
+ * layer of zero-weight ones); returns their count. */
+static int cloud3(const double x[3], int lim, double *xn) {
+  int lo[3], hi[3], n = 0;
+  for (int d = 0; d < 3; d++) {
+    lo[d] = (int)ceil(x[d] / H - 1.65);
+    hi[d] = (int)floor(x[d] / H + 1.65);
+    if (lim > 0) {
+      lo[d] = lo[d] < 0 ? 0 : lo[d];
+      hi[d] = hi[d] > lim - 1 ? lim - 1 : hi[d];
+    }
+  }
+  for (int k = lo[2]; k <= hi[2]; k++)
+    for (int j = lo[1]; j <= hi[1]; j++)
+      for (int i = lo[0]; i <= hi[0]; i++, n++) {
+        xn[3 * n] = i * H;
+        xn[3 * n + 1] = j * H;
+        xn[3 * n + 2] = k * H;
+      }
+  return n;
+}
+
+static int eval3(const double x[3], int lim, double lp, double *xn, int *n, double *N, double *dN,
+                 mpgm_shape_info *info) {
+  *n = cloud3(x, lim, xn);
+  const mpgm_shape_params par = {.h = H, .half_width = lp};
+  mpgm_shape_query q = {.n = *n, .xn = xn, .xp = {x[0], x[1], x[2]}, .cell = -1, .par = &par,
+                        .info = info};
+  return mpgm_shapefn_type_find("ugimp")->eval(&q, N, dN);
+}
+
+/* Points in a cell and next to its faces, edges and corners: a random
+ * point, then each coordinate pushed to one of the break offsets
+ * (0, lp, h - lp, on the node plane) from a node. */
+static void point3(rng *r, int p, double x[3]) {
+  const double at[5] = {0.0, LP, H - LP, 0.5 * H, 1e-12 * H};
+  for (int d = 0; d < 3; d++) {
+    x[d] = uniform(r, -2.0 * H, 2.0 * H);
+    if (p % 4 > d) x[d] = H * round(x[d] / H) + at[(p + d) % 5]; /* near a face / edge / corner */
+  }
+}
+
+/* N_I = product of the 1-D means over the three axes (the trilinear hat
+ * over the cube separates), partition of unity, linear reproduction and
+ * the gradient identities, gradients against central differences. */
+static void check_grid3(void) {
+  double xn[3 * 128], N[128], dN[3 * 128], Np[128], Nm[128], g[3 * 128];
+  rng r = {0x2545F4914F6CDD1DULL};
+  double wN = 0, wsum = 0, wx = 0, wI = 0, wfd = 0;
+  int fails = 0, np = 0, nq = 0;
+  for (int p = 0; p < 200; p++) {
+    double x[3];
+    point3(&r, p, x);
+    int n;
+    if (eval3(x, 0, LP, xn, &n, N, dN, NULL)) {
+      fails++;
+      continue;
+    }
+    double s = 0, rx[3] = {0, 0, 0}, G[9] = {0};
+    for (int a = 0; a < n; a++) {
+      const double m = mean_hat(x[0] - xn[3 * a], LP) * mean_hat(x[1] - xn[3 * a + 1], LP) *
+                       mean_hat(x[2] - xn[3 * a + 2], LP);
+      wN = fmax(wN, fabs(N[a] - m));
+      s += N[a];
+      for (int i = 0; i < 3; i++) {
+        rx[i] += N[a] * xn[3 * a + i];
+        for (int j = 0; j < 3; j++) G[3 * i + j] += xn[3 * a + i] * dN[3 * a + j];
+      }
+    }
+    wsum = fmax(wsum, fabs(s - 1.0));
+    for (int i = 0; i < 3; i++) {
+      wx = fmax(wx, fabs(rx[i] - x[i]) / H);
+      for (int j = 0; j < 3; j++) wI = fmax(wI, fabs(G[3 * i + j] - (i == j)));
+    }
+    const double e = 1e-6 * H;
+    for (int c = 0; c < 3; c++) { /* the same cloud for both sides */
+      const mpgm_shape_params par = {.h = H, .half_width = LP};
+      mpgm_shape_query q = {.n = n, .xn = xn, .xp = {x[0], x[1], x[2]}, .cell = -1, .par = &par};
+      q.xp[c] += e;
+      fails += mpgm_shapefn_type_find("ugimp")->eval(&q, Np, g) != 0;
+      q.xp[c] -= 2 * e;
+      fails += mpgm_shapefn_type_find("ugimp")->eval(&q, Nm, g) != 0;
+      for (int a = 0; a < n; a++) wfd = fmax(wfd, fabs((Np[a] - Nm[a]) / (2 * e) - dN[3 * a + c]) * H);
+    }
+    np++;
+    nq = n > nq ? n : nq;
+  }
+  mpgm_test(fails == 0, "ugimp 3-D: %d points near faces, edges and corners evaluate (%d failed; "
+            "up to %d nodes)", np, fails, nq);
+  mpgm_test(wN < 1e-14, "ugimp 3-D: N_I = the product of the 1-D means of the hat (%.1e)", wN);
+  mpgm_test(wsum < 1e-14 && wx < 1e-13 && wI < 1e-12,
+            "ugimp 3-D: sum N = 1 (%.1e), sum N x_I = x (%.1e h), sum x_I (x) grad N = I (%.1e)",
+            wsum, wx, wI);
+  mpgm_test(wfd < 1e-6, "ugimp 3-D: grad N against central differences (x h: %.2g)", wfd);
+}
+
+/* C1 across the break points along z, the axis 2-D never has. */
+static void check_c1_z(void) {
+  const double brk[6] = {LP, H - LP, H + LP, -LP, -(H - LP), -(H + LP)}, e = 1e-9 * H;
+  double xn[3 * 128], N1[128], N2[128], g1[3 * 128], g2[3 * 128];
+  for (int b = 0; b < 6; b++) {
+    const double x1[3] = {0.31 * H, -0.17 * H, brk[b] - e}, x2[3] = {x1[0], x1[1], brk[b] + e};
+    int n1, n2;
+    double jN = 0, jg = 0;
+    int err = eval3(x1, 0, LP, xn, &n1, N1, g1, NULL);
+    double o1 = 0, o2 = 0, s1 = 0, s2 = 0; /* the node at the origin */
+    for (int a = 0; a < n1; a++)
+      if (xn[3 * a] == 0 && xn[3 * a + 1] == 0 && xn[3 * a + 2] == 0) { o1 = N1[a]; s1 = g1[3 * a + 2]; }
+    err |= eval3(x2, 0, LP, xn, &n2, N2, g2, NULL);
+    for (int a = 0; a < n2; a++)
+      if (xn[3 * a] == 0 && xn[3 * a + 1] == 0 && xn[3 * a + 2] == 0) { o2 = N2[a]; s2 = g2[3 * a + 2]; }
+    jN = fabs(o1 - o2);
+    jg = fabs(s1 - s2);
+    mpgm_test(!err && jN < 1e-8 && jg < 1e-7 / H && (fabs(brk[b]) >= H + LP || o1 > 0.0),
+              "ugimp 3-D: C1 at dz = %+.3f h: weight jumps %.2g, slope %.2g", brk[b] / H, jN, jg);
+  }
+}
+
+static void check_failures3(void) {
+  double xn[3 * 128], N[128], dN[3 * 128];
+  mpgm_shape_info info = {0};
+  int n;
+  /* the grid [0, 3h]^3: a point 0.1 h from its corner reaches past it */
+  const double cx[3] = {0.1 * H, 0.1 * H, 0.1 * H};
+  int err = eval3(cx, 4, LP, xn, &n, N, dN, &info);
+  double nz = 0.0;
+  for (int a = 0; a < n; a++) nz += fabs(N[a]) + fabs(dN[3 * a]) + fabs(dN[3 * a + 1]) + fabs(dN[3 * a + 2]);
+  mpgm_test(err == MPGM_ERR_SHAPE && info.reason == MPGM_SHAPE_OFF_GRID && nz == 0.0,
+            "ugimp 3-D: at a grid corner, nodes missing: MPGM_ERR_SHAPE, OFF_GRID, N = dN = 0 (%s)",
+            info.msg ? info.msg : "?");
+  /* at the centre of its sub-cube the cube stays in the cell */
+  const double cc[3] = {0.25 * H, 0.25 * H, 0.25 * H};
+  err = eval3(cc, 4, 0.25 * H, xn, &n, N, dN, &info);
+  mpgm_test(err == 0, "ugimp 3-D: at a sub-cube centre by the grid's corner no node beyond is "
+            "needed (%d)", err);
+  /* next to an edge of the grid (two faces), and next to one face */
+  const double ex[3] = {0.1 * H, 0.1 * H, 1.5 * H}, fx[3] = {1.5 * H, 1.5 * H, 0.1 * H};
+  const int e1 = eval3(ex, 4, LP, xn, &n, N, dN, &info), r1 = info.reason;
+  const int e2 = eval3(fx, 4, LP, xn, &n, N, dN, &info), r2 = info.reason;
+  mpgm_test(e1 == MPGM_ERR_SHAPE && r1 == MPGM_SHAPE_OFF_GRID && e2 == MPGM_ERR_SHAPE &&
+                r2 == MPGM_SHAPE_OFF_GRID,
+            "ugimp 3-D: next to the grid's edge and face: OFF_GRID (%d, %d)", r1, r2);
+  const double in[3] = {1.5 * H, 1.5 * H, 1.5 * H};
+  mpgm_test(eval3(in, 4, LP, xn, &n, N, dN, &info) == 0, "ugimp 3-D: inside the grid: ok");
+  mpgm_test(eval3(in, 4, 0.6 * H, xn, &n, N, dN, &info) == MPGM_ERR_INPUT &&
+                eval3(in, 4, 0.0, xn, &n, N, dN, &info) == MPGM_ERR_INPUT,
+            "ugimp 3-D: lp > h/2 or no half-width: MPGM_ERR_INPUT");
+  const mpgm_shape_params par = {.h = H, .half_width = LP};
+  double R = 0.0;
+  mpgm_test(mpgm_shape_support_radius(mpgm_shapefn_type_find("ugimp"), &par, &R) == 0,
+            "support radius defined");
+  mpgm_test_rel(R, sqrt(3.0) * (H + LP), TEST_TOL1, "ugimp 3-D: support radius sqrt(3) (h + lp)");
+}
+#endif
+
 int main(void) {
   mpgm_test(mpgm_shapefn_type_find("ugimp") != NULL, "ugimp registered");
   if (!mpgm_shapefn_type_find("ugimp")) return mpgm_test_summary();
+#if MPGM_DIM == 2
   check_closed_form();
   check_c1();
   check_fd();
   check_failures();
+#else
+  check_grid3();
+  check_c1_z();
+  check_failures3();
+#endif
   return mpgm_test_summary();
 }
