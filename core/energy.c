@@ -8,10 +8,7 @@
 #include <string.h>
 
 #include "mpgm_core_impl.h"
-
-#if MPGM_DIM != 2
-#error "core/energy.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
+#include "mpgm_tensor.h"
 
 /* Work of the stresses over the step about to be committed (the trial
  * arrays against the committed ones), by the midpoint rule: the rate of
@@ -23,36 +20,34 @@ void mpgm_work_internal(mpgm_problem *pb) {
   const mpgm_points *P = &pb->pts;
   const int small = !pb->fx.geometric;
   double w = 0.0;
-  for (int p = 0; p < P->n; p++) { /* 2-D only: 2x2 written out */
+  for (int p = 0; p < P->n; p++) {
     const double *dF = P->dF_t + MPGM_TENSOR * p;
-    const double H[4] = {dF[0] - 1.0, dF[1], dF[2], dF[3] - 1.0};
-    double h[4];
+    double H[MPGM_TENSOR], h[MPGM_TENSOR];
+    for (int c = 0; c < MPGM_TENSOR; c++) H[c] = dF[c] - (c % (MPGM_DIM + 1) == 0 ? 1.0 : 0.0);
     if (small) {
       memcpy(h, H, sizeof h);
     } else { /* H M^-1, M = (I + dF) / 2 */
-      const double m0 = 0.5 * (1.0 + dF[0]), m1 = 0.5 * dF[1], m2 = 0.5 * dF[2],
-                   m3 = 0.5 * (1.0 + dF[3]);
-      const double det = m0 * m3 - m1 * m2;
-      const double i0 = m3 / det, i1 = -m1 / det, i2 = -m2 / det, i3 = m0 / det;
-      h[0] = H[0] * i0 + H[1] * i2;
-      h[1] = H[0] * i1 + H[1] * i3;
-      h[2] = H[2] * i0 + H[3] * i2;
-      h[3] = H[2] * i1 + H[3] * i3;
+      double M[MPGM_TENSOR], iM[MPGM_TENSOR];
+      for (int c = 0; c < MPGM_TENSOR; c++) M[c] = 0.5 * ((c % (MPGM_DIM + 1) == 0 ? 1.0 : 0.0) + dF[c]);
+      mpgm_inv(M, mpgm_det(M), iM);
+      mpgm_mul(H, iM, h);
     }
     const double *s0 = P->sigma + MPGM_NSTRESS * p, *s1 = P->sigma_t + MPGM_NSTRESS * p;
     const double v0 = P->vol[p], v1 = P->vol_t[p];
-    double s[3];
-    for (int c = 0; c < 3; c++) s[c] = 0.5 * (v0 * s0[c] + v1 * s1[c]);
-    w += s[0] * h[0] + s[1] * h[3] + s[2] * (h[1] + h[2]);
+    double s[MPGM_NVOIGT];
+    for (int c = 0; c < MPGM_NVOIGT; c++) s[c] = 0.5 * (v0 * s0[c] + v1 * s1[c]);
+    w += mpgm_stress_work(s, h);
   }
   pb->work_int += w;
 }
 
 double mpgm_kinetic_energy(const mpgm_points *P) {
   double k = 0.0;
-  for (int p = 0; p < P->n; p++) { /* 2-D only: x and y written out */
-    const double vx = P->v[MPGM_DIM * p], vy = P->v[MPGM_DIM * p + 1];
-    k += 0.5 * P->mass[p] * (vx * vx + vy * vy);
+  for (int p = 0; p < P->n; p++) {
+    const double *v = P->v + MPGM_DIM * p;
+    double v2 = v[0] * v[0];
+    for (int d = 1; d < MPGM_DIM; d++) v2 += v[d] * v[d];
+    k += 0.5 * P->mass[p] * v2;
   }
   return k;
 }
@@ -65,17 +60,15 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
   e->work_int = pb->work_int;
   e->work_ext = pb->work_ext;
   e->kinetic = mpgm_kinetic_energy(P);
-  for (int p = 0; p < P->n; p++) { /* 2-D only: x and y written out */
-    const double m = P->mass[p], vx = P->v[MPGM_DIM * p], vy = P->v[MPGM_DIM * p + 1];
-    e->momentum[0] += m * vx;
-    e->momentum[1] += m * vy;
+  for (int p = 0; p < P->n; p++) {
+    const double m = P->mass[p];
+    for (int d = 0; d < MPGM_DIM; d++) e->momentum[d] += m * P->v[MPGM_DIM * p + d];
     /* the nodes' momentum sum_I m_I v_I with the lumped masses m_I =
      * sum_p N_Ip m_p: summed over the points */
     if (pb->step == 0 || C->np != P->n + P->nprobe + P->nsurf) continue;
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
-      e->node_momentum[0] += m * C->N[k] * nd->v_new[MPGM_DIM * I];
-      e->node_momentum[1] += m * C->N[k] * nd->v_new[MPGM_DIM * I + 1];
+      for (int d = 0; d < MPGM_DIM; d++) e->node_momentum[d] += m * C->N[k] * nd->v_new[MPGM_DIM * I + d];
     }
   }
   if (pb->step == 0) memcpy(e->node_momentum, e->momentum, sizeof e->momentum);

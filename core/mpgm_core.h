@@ -190,8 +190,8 @@ typedef struct mpgm_energy {
   double work_ext;  /**< work of gravity so far [J]                       */
   double total;     /**< kinetic + work_int - work_ext: constant while no
                          other force (contact, supports in motion) works */
-  double momentum[2]; /**< sum_p m_p v_p [kg m/s]                         */
-  double node_momentum[2]; /**< sum_I m_I v_I of the last step's nodes, m_I =
+  double momentum[MPGM_DIM]; /**< sum_p m_p v_p [kg m/s]                  */
+  double node_momentum[MPGM_DIM]; /**< sum_I m_I v_I of the last step's nodes, m_I =
                          sum_p N_Ip m_p (the points' at step 0)          */
 } mpgm_energy;
 void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e);

@@ -77,7 +77,7 @@ typedef struct mpgm_shape_params {
   int order;          /**< MLS basis: 1 linear (default, also for 0),
                            2 quadratic                                        */
   /* uGIMP */
-  double half_width;  /**< half side lp of a particle's square [m] (required,
+  double half_width;  /**< half side lp of a particle's square (3-D: cube) [m] (required,
                            0 < lp <= h / 2; a scene sets h / (2 sqrt(ppc)))  */
   /* CPDI */
   int grid_order;     /**< grid functions: 1 (also 0) the bilinear hats,

@@ -15,7 +15,7 @@
 #define MPGM_MLS_DILATION 2.0
 #define MPGM_MLS_MAX_COND 1e10
 
-/** Zero N (n values) and dN (2n), fill q->info, return code. Used on every
+/** Zero N (n values) and dN (MPGM_DIM n), fill q->info, return code. Used on every
  *  failure path so that a caller never sees NaN or stale values. */
 int mpgm_shape_fail(const mpgm_shape_query *q, double *N, double *dN, int code, int reason);
 
