@@ -7,23 +7,36 @@
 #include <string.h>
 
 #include "mpgm_core_impl.h"
+#include "mpgm_tensor.h"
 
 #if MPGM_DIM != 2
 #error "core/assembly.c is written for plane strain only (MPGM_DIM = 2)"
 #endif
 
-/* 2x2 helpers, row major {a00, a01, a10, a11}. 2-D only: written out for
- * MPGM_DIM = 2 (3-D: the 3x3 determinant and product). */
-static inline double det2(const double *a) { return a[0] * a[3] - a[1] * a[2]; }
-/* inverse of a with determinant J (a 2x2 row major). */
-static inline void inv2(const double *a, double J, double *ia) {
-  ia[0] = a[3] / J; ia[1] = -a[1] / J; ia[2] = -a[2] / J; ia[3] = a[0] / J;
-}
-static inline void mul2(const double *a, const double *b, double *c) {
-  c[0] = a[0] * b[0] + a[1] * b[2];
-  c[1] = a[0] * b[1] + a[1] * b[3];
-  c[2] = a[2] * b[0] + a[3] * b[2];
-  c[3] = a[2] * b[1] + a[3] * b[3];
+/* sigma += J^-1 F S0 F^T: the initial stress pushed forward with F. */
+static void push_prestress(const double *F, const double *S, double *sg) {
+#if MPGM_DIM == 2 /* written out; zz is out of plane (F33 = 1) */
+  const double J = mpgm_det(F);
+  const double A0 = F[0] * S[0] + F[1] * S[2], A1 = F[0] * S[2] + F[1] * S[1];
+  const double A2 = F[2] * S[0] + F[3] * S[2], A3 = F[2] * S[2] + F[3] * S[1];
+  sg[0] += (A0 * F[0] + A1 * F[1]) / J;
+  sg[1] += (A2 * F[2] + A3 * F[3]) / J;
+  sg[2] += (A0 * F[2] + A1 * F[3]) / J;
+  sg[3] += S[3] / J;
+#else /* S0 as a tensor, F S0 F^T, back to Voigt */
+  const double J = mpgm_det(F);
+  double T[MPGM_TENSOR], A[MPGM_TENSOR], Ft[MPGM_TENSOR], B[MPGM_TENSOR];
+  for (int k = 0; k < MPGM_NVOIGT; k++) {
+    const int i = mpgm_voigt_pair[k][0], j = mpgm_voigt_pair[k][1];
+    T[MPGM_DIM * i + j] = T[MPGM_DIM * j + i] = S[k];
+  }
+  for (int i = 0; i < MPGM_DIM; i++)
+    for (int j = 0; j < MPGM_DIM; j++) Ft[MPGM_DIM * i + j] = F[MPGM_DIM * j + i];
+  mpgm_mul(F, T, A);
+  mpgm_mul(A, Ft, B);
+  for (int k = 0; k < MPGM_NVOIGT; k++)
+    sg[k] += B[MPGM_DIM * mpgm_voigt_pair[k][0] + mpgm_voigt_pair[k][1]] / J;
+#endif
 }
 
 /* Kinematics and constitutive update of points [p0, p1), with their
@@ -40,19 +53,16 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
   double *D_t = want_D ? P->D_t : NULL;
   for (int p = p0; p < p1; p++) {
     int err;
-    /* H = sum_I du_I (x) grad N_I, the gradient of the step's increment.
-     * 2-D only: H and dF = I + H written out per component (3-D: 3x3,
-     * loops over MPGM_DIM) */
-    double H[MPGM_TENSOR] = {0, 0, 0, 0};
+    /* H = sum_I du_I (x) grad N_I, the gradient of the step's increment,
+     * and dF = I + H */
+    double H[MPGM_TENSOR] = {0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-      const int I = C->node[k];
-      const double ux = nd->du[MPGM_DIM * I], uy = nd->du[MPGM_DIM * I + 1];
-      const double gx = C->dN[MPGM_DIM * k], gy = C->dN[MPGM_DIM * k + 1];
-      H[0] += ux * gx; H[1] += ux * gy;
-      H[2] += uy * gx; H[3] += uy * gy;
+      const double *u = nd->du + MPGM_DIM * C->node[k], *g = C->dN + MPGM_DIM * k;
+      for (int i = 0; i < MPGM_DIM; i++)
+        for (int j = 0; j < MPGM_DIM; j++) H[MPGM_DIM * i + j] += u[i] * g[j];
     }
     double *dF = P->dF_t + MPGM_TENSOR * p, *F = P->F_t + MPGM_TENSOR * p;
-    dF[0] = 1.0 + H[0]; dF[1] = H[1]; dF[2] = H[2]; dF[3] = 1.0 + H[3];
+    for (int c = 0; c < MPGM_TENSOR; c++) dF[c] = c % (MPGM_DIM + 1) == 0 ? 1.0 + H[c] : H[c];
     const mpgm_material *m = &mats[P->mat[p]];
     double *st_n = ns ? P->state + (size_t)ns * p : NULL;
     double *st_t = ns ? P->state_t + (size_t)ns * p : NULL;
@@ -62,33 +72,33 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
        * keep the total displacement (MPM's grid is reset every step) */
       for (int c = 0; c < MPGM_TENSOR; c++) F[c] = P->F[MPGM_TENSOR * p + c] + H[c];
       P->vol_t[p] = P->vol0[p];
-      if (want_D) /* g = dN, for the tangent; 2-D only: x, y apart */
-        for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-          C->g[MPGM_DIM * k] = C->dN[MPGM_DIM * k];
-          C->g[MPGM_DIM * k + 1] = C->dN[MPGM_DIM * k + 1];
-        }
+      if (want_D) /* g = dN, for the tangent */
+        memcpy(C->g + MPGM_DIM * C->ptr[p], C->dN + MPGM_DIM * C->ptr[p],
+               sizeof(double) * MPGM_DIM * (size_t)(C->ptr[p + 1] - C->ptr[p]));
       err = m->type->update(m, MPGM_KIN_SMALL, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
                             D_t ? D_t + MPGM_NTANGENT * p : NULL);
     } else {
-      double J = det2(dF);
+      double J = mpgm_det(dF);
       if (p == 0 && mpgm_fault_due(pb->ctx, MPGM_ERR_JACOBIAN, pb->step + 1)) J = -J; /* tests */
       if (!(J > 0.0)) {
         *fail = p;
         *fail_J = J;
         return MPGM_ERR_JACOBIAN;
       }
-      mul2(dF, P->F + MPGM_TENSOR * p, F);
+      mpgm_mul(dF, P->F + MPGM_TENSOR * p, F);
       P->vol_t[p] = J * P->vol[p];
       /* gradients at the iterate, g = dN dF^-1, for the tangent only (the
-       * residual takes dN, see stress_on_dN). 2-D only: the 2x2 inverse
-       * and the product written out (3-D: the 3x3 inverse) */
+       * residual takes dN, see stress_on_dN) */
       if (want_D) {
         double iF[MPGM_TENSOR];
-        inv2(dF, J, iF);
+        mpgm_inv(dF, J, iF);
         for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-          const double a = C->dN[MPGM_DIM * k], b = C->dN[MPGM_DIM * k + 1];
-          C->g[MPGM_DIM * k] = a * iF[0] + b * iF[2];
-          C->g[MPGM_DIM * k + 1] = a * iF[1] + b * iF[3];
+          const double *a = C->dN + MPGM_DIM * k;
+          for (int j = 0; j < MPGM_DIM; j++) {
+            double gj = a[0] * iF[j];
+            for (int i = 1; i < MPGM_DIM; i++) gj += a[i] * iF[MPGM_DIM * i + j];
+            C->g[MPGM_DIM * k + j] = gj;
+          }
         }
       }
       err = m->type->update(m, MPGM_KIN_FINITE, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
@@ -106,14 +116,8 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
       double *sg = P->sigma_t + MPGM_NSTRESS * p;
       if (small) {
         for (int c = 0; c < MPGM_NSTRESS; c++) sg[c] += S[c];
-      } else { /* 2-D only: F S0 F^T written out; zz is out of plane (F33 = 1) */
-        const double J = F[0] * F[3] - F[1] * F[2];
-        const double A0 = F[0] * S[0] + F[1] * S[2], A1 = F[0] * S[2] + F[1] * S[1];
-        const double A2 = F[2] * S[0] + F[3] * S[2], A3 = F[2] * S[2] + F[3] * S[1];
-        sg[0] += (A0 * F[0] + A1 * F[1]) / J;
-        sg[1] += (A2 * F[2] + A3 * F[3]) / J;
-        sg[2] += (A0 * F[2] + A1 * F[3]) / J;
-        sg[3] += S[3] / J;
+      } else {
+        push_prestress(F, S, sg);
       }
     }
   }
@@ -341,19 +345,27 @@ typedef struct {
  * sigma dF^-T, so that its force on node a is v B dN_a = v sigma g_a with
  * g_a = dN_a dF^-1, the gradient at the iterate: the residual reads dN,
  * and the iterate's gradients g are made only for a tangent (eval_range).
- * Small kinematics: g = dN and B = sigma. 2-D only: the 2x2 inverse and
- * product written out (3-D: 3x3; sigma's xz, yz, zz terms). */
+ * Small kinematics: g = dN and B = sigma. */
 static inline void stress_on_dN(const mpgm_problem *pb, int p, double B[MPGM_TENSOR]) {
   const double *s = pb->pts.sigma_t + MPGM_NSTRESS * p;
+  double S[MPGM_TENSOR]; /* the Voigt stress as a tensor */
+  for (int k = 0; k < MPGM_NVOIGT; k++) {
+    const int i = mpgm_voigt_pair[k][0], j = mpgm_voigt_pair[k][1];
+    S[MPGM_DIM * i + j] = S[MPGM_DIM * j + i] = s[k];
+  }
   if (!pb->fx.geometric) {
-    B[0] = s[0]; B[1] = s[2]; B[2] = s[2]; B[3] = s[1];
+    memcpy(B, S, sizeof S);
     return;
   }
   const double *dF = pb->pts.dF_t + MPGM_TENSOR * p;
   double iF[MPGM_TENSOR];
-  inv2(dF, det2(dF), iF);
-  B[0] = s[0] * iF[0] + s[2] * iF[1]; B[1] = s[0] * iF[2] + s[2] * iF[3];
-  B[2] = s[2] * iF[0] + s[1] * iF[1]; B[3] = s[2] * iF[2] + s[1] * iF[3];
+  mpgm_inv(dF, mpgm_det(dF), iF);
+  for (int i = 0; i < MPGM_DIM; i++) /* B = S iF^T */
+    for (int j = 0; j < MPGM_DIM; j++) {
+      double b = S[MPGM_DIM * i] * iF[MPGM_DIM * j];
+      for (int k = 1; k < MPGM_DIM; k++) b += S[MPGM_DIM * i + k] * iF[MPGM_DIM * j + k];
+      B[MPGM_DIM * i + j] = b;
+    }
 }
 
 /* Internal (and inertial) force of point p subtracted from R. */
