@@ -67,6 +67,16 @@ static const int mpgm_voigt_pair[MPGM_NVOIGT][2] =
 #else
     {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {0, 2}};
 #endif
+/** The Voigt component of tensor entry (i, j) (the inverse of
+ *  mpgm_voigt_pair): 2-D {{xx, xy}, {xy, yy}} = {{0, 2}, {2, 1}}. */
+static const int mpgm_voigt_of[MPGM_DIM][MPGM_DIM] =
+#if MPGM_DIM == 2
+    {{0, 2}, {2, 1}};
+#else
+    {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
+#endif
+/** 1 on the diagonal of a DIM x DIM tensor stored row major (entry c). */
+#define MPGM_DIAG(c) ((c) % (MPGM_DIM + 1) == 0)
 
 /** Error codes. Negative: fatal. Positive: recoverable (cut the step). */
 typedef enum {

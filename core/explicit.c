@@ -23,9 +23,6 @@
 
 #include "mpgm_core_impl.h"
 
-#if MPGM_DIM != 2
-#error "core/explicit.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 typedef struct explicit_data {
   double *f;   /**< MPGM_DIM per node: f_ext - f_int [N]               */
@@ -86,8 +83,12 @@ static double max_speed(const explicit_data *d, const mpgm_problem *pb) {
   const mpgm_points *P = &pb->pts;
   double vmax = 0.0, c2max = 0.0;
   for (int p = 0; p < P->n; p++) {
-    const double *v = P->v + MPGM_DIM * p; /* 2-D only: |v| of x and y */
+    const double *v = P->v + MPGM_DIM * p;
+#if MPGM_DIM == 2
     vmax = fmax(vmax, hypot(v[0], v[1]));
+#else
+    vmax = fmax(vmax, sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+#endif
     c2max = fmax(c2max, d->mod[P->mat[p]] * P->vol[p] / P->mass[p]);
   }
   return fmax(vmax, sqrt(c2max));
@@ -139,10 +140,12 @@ static int stress(mpgm_problem *pb, const double *vel) {
   mpgm_points *P = &pb->pts;
   for (int i = 0; i < MPGM_DIM * nd->n; i++) nd->du[i] = pb->dt * vel[i];
   MPGM_CALL(mpgm_eval_points(pb, 0)); /* no tangent: nothing is assembled */
-  if (!pb->fx.geometric) /* 2-D only: tr of dF - I over x and y */
+  if (!pb->fx.geometric) /* V (1 + tr(dF - I)) */
     for (int p = 0; p < P->n; p++) {
       const double *dF = P->dF_t + MPGM_TENSOR * p;
-      P->vol_t[p] = P->vol[p] * (dF[0] + dF[3] - 1.0);
+      double tr = dF[0];
+      for (int d = 1; d < MPGM_DIM; d++) tr += dF[(MPGM_DIM + 1) * d];
+      P->vol_t[p] = P->vol[p] * (tr - (MPGM_DIM - 1.0));
     }
   return 0;
 }
@@ -154,7 +157,7 @@ typedef struct {
   mpgm_problem *pb;
   int ntask;
   const double *sigma, *vol, *b; /* forces: stress, volumes, body force  */
-  double gx, gy;                 /* forces: gravity at the step's time   */
+  double grav[MPGM_DIM];         /* forces: gravity at the step's time   */
   double g;                      /* predictor: npc's gamma               */
   double *out;                   /* MPGM_DIM per node                    */
 } node_job;
@@ -164,11 +167,13 @@ typedef struct {
 static inline void force_of(const node_job *j, const mpgm_points *P, const mpgm_conn *C, int p,
                             int k, double f[MPGM_DIM]) {
   const double *sg = j->sigma + MPGM_NSTRESS * p, m = P->mass[p], v = j->vol[p];
-  const double gx = j->gx + (j->b ? j->b[MPGM_DIM * p] : 0.0);
-  const double gy = j->gy + (j->b ? j->b[MPGM_DIM * p + 1] : 0.0);
-  const double N = C->N[k], ax = C->dN[MPGM_DIM * k], ay = C->dN[MPGM_DIM * k + 1];
-  f[0] = m * N * gx - v * (sg[0] * ax + sg[2] * ay); /* 2-D only: components written out */
-  f[1] = m * N * gy - v * (sg[2] * ax + sg[1] * ay);
+  const double N = C->N[k], *a = C->dN + MPGM_DIM * k;
+  for (int i = 0; i < MPGM_DIM; i++) {
+    const double g = j->grav[i] + (j->b ? j->b[MPGM_DIM * p + i] : 0.0);
+    double sa = sg[mpgm_voigt_of[i][0]] * a[0]; /* (sigma grad N)_i */
+    for (int l = 1; l < MPGM_DIM; l++) sa += sg[mpgm_voigt_of[i][l]] * a[l];
+    f[i] = m * N * g - v * sa;
+  }
 }
 
 /* f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip) at task t's nodes. */
@@ -228,7 +233,8 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
   const double gf = mpgm_gravity_factor(pb, t);
   node_job j = {.pb = pb, .ntask = mpgm_ntask(nd->n, 256), .sigma = sigma, .vol = vol,
                 .b = pb->fx.manufactured ? mpgm_mms_forces(pb, t) : NULL,
-                .gx = gf * pb->scene->gravity[0], .gy = gf * pb->scene->gravity[1], .out = f};
+                .out = f};
+  for (int c = 0; c < MPGM_DIM; c++) j.grav[c] = gf * pb->scene->gravity[c];
   if (gather) mpgm_pool_run(pb->pool, j.ntask, force_task, &j);
   else force_scatter(&j);
   const double alpha = pb->scene->local_damping;
@@ -256,8 +262,8 @@ static void commit_stress(mpgm_problem *pb) {
   mpgm_work_internal(pb);
   if (pb->scene->shape->velocity_ls)
     for (int p = 0; p < P->n; p++)
-      for (int i = 0; i < MPGM_TENSOR; i++) /* 2-D only: I's diagonal at 0 and 3 */
-        P->L[MPGM_TENSOR * p + i] = (P->dF_t[MPGM_TENSOR * p + i] - (i == 0 || i == 3)) / pb->dt;
+      for (int i = 0; i < MPGM_TENSOR; i++)
+        P->L[MPGM_TENSOR * p + i] = (P->dF_t[MPGM_TENSOR * p + i] - MPGM_DIAG(i)) / pb->dt;
   memcpy(P->F, P->F_t, sizeof(double) * MPGM_TENSOR * (size_t)P->n);
   memcpy(P->sigma, P->sigma_t, sizeof(double) * MPGM_NSTRESS * (size_t)P->n);
   memcpy(P->vol, P->vol_t, sizeof(double) * (size_t)P->n);
@@ -268,7 +274,7 @@ typedef struct {
   mpgm_problem *pb;
   int ntask, m;
   const double *V, *A, *b;
-  double c2, gx, gy;
+  double c2, g[MPGM_DIM];
   double *wp; /* per material point: the work of gravity, of b */
 } move_job;
 
@@ -281,15 +287,15 @@ static void move_task(void *arg, int t, int tid) {
   const mpgm_conn *C = &j->pb->conn;
   const double dt = j->pb->dt, c2 = j->c2, *V = j->V, *A = j->A;
   const int p0 = mpgm_task_begin(j->m, j->ntask, t), p1 = mpgm_task_begin(j->m, j->ntask, t + 1);
-  for (int p = p0; p < p1; p++) { /* 2-D only: components written out */
+  for (int p = p0; p < p1; p++) {
     double a[MPGM_DIM] = {0}, w[MPGM_DIM] = {0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       const double N = C->N[k];
-      a[0] += N * A[MPGM_DIM * I];
-      a[1] += N * A[MPGM_DIM * I + 1];
-      w[0] += N * (dt * V[MPGM_DIM * I] + c2 * A[MPGM_DIM * I]);
-      w[1] += N * (dt * V[MPGM_DIM * I + 1] + c2 * A[MPGM_DIM * I + 1]);
+      for (int q = 0; q < MPGM_DIM; q++) {
+        a[q] += N * A[MPGM_DIM * I + q];
+        w[q] += N * (dt * V[MPGM_DIM * I + q] + c2 * A[MPGM_DIM * I + q]);
+      }
     }
     for (int q = 0; q < MPGM_DIM; q++) {
       P->a[MPGM_DIM * p + q] = a[q];
@@ -298,8 +304,13 @@ static void move_task(void *arg, int t, int tid) {
       P->u[MPGM_DIM * p + q] += w[q];
     }
     if (p >= P->n) continue;
-    j->wp[2 * p] = P->mass[p] * (j->gx * w[0] + j->gy * w[1]);
-    if (j->b) j->wp[2 * p + 1] = P->mass[p] * (j->b[MPGM_DIM * p] * w[0] + j->b[MPGM_DIM * p + 1] * w[1]);
+    double gw = j->g[0] * w[0], bw = j->b ? j->b[MPGM_DIM * p] * w[0] : 0.0;
+    for (int q = 1; q < MPGM_DIM; q++) {
+      gw += j->g[q] * w[q];
+      if (j->b) bw += j->b[MPGM_DIM * p + q] * w[q];
+    }
+    j->wp[2 * p] = P->mass[p] * gw;
+    if (j->b) j->wp[2 * p + 1] = P->mass[p] * bw;
   }
 }
 
@@ -342,8 +353,8 @@ static int move_points(mpgm_problem *pb, explicit_data *d, const double *V, cons
   const int m = P->n + P->nprobe + P->nsurf;
   move_job j = {.pb = pb, .ntask = mpgm_ntask(m, 512), .m = m, .V = V, .A = A,
                 .b = pb->fx.manufactured ? mpgm_mms_forces(pb, pb->t + 0.5 * dt) : NULL,
-                .c2 = c * dt * dt, .gx = gf * pb->scene->gravity[0],
-                .gy = gf * pb->scene->gravity[1], .wp = d->wp};
+                .c2 = c * dt * dt, .wp = d->wp};
+  for (int q = 0; q < MPGM_DIM; q++) j.g[q] = gf * pb->scene->gravity[q];
   mpgm_pool_run(pb->pool, j.ntask, move_task, &j);
   double wext = 0.0;
   for (int p = 0; p < P->n; p++) {
