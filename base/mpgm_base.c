@@ -9,6 +9,15 @@
 #include <string.h>
 #include <time.h>
 
+const char *mpgm_point_str(const double x[MPGM_DIM], char buf[MPGM_POINT_STR]) {
+#if MPGM_DIM == 2
+  snprintf(buf, MPGM_POINT_STR, "(%g, %g)", x[0], x[1]);
+#else
+  snprintf(buf, MPGM_POINT_STR, "(%g, %g, %g)", x[0], x[1], x[2]);
+#endif
+  return buf;
+}
+
 const char *mpgm_code_str(int code) {
   switch (code) {
   case MPGM_OK: return "success";

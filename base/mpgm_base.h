@@ -117,6 +117,12 @@ typedef struct mpgm_param_spec {
 /** Short fixed description of a code ("bad input", "det F <= 0", ...). */
 const char *mpgm_code_str(int code);
 
+/** Room for mpgm_point_str's text. */
+#define MPGM_POINT_STR 96
+/** A position for messages, "(x, y)" or "(x, y, z)" (%g each), in buf;
+ *  returns buf. */
+const char *mpgm_point_str(const double x[MPGM_DIM], char buf[MPGM_POINT_STR]);
+
 /** Timers of the time split reported in summary.json. */
 typedef enum {
   MPGM_T_SHAPE = 0, /**< shape functions and connectivity       */

@@ -9,9 +9,6 @@
 
 #include "mpgm_core_impl.h"
 
-#if MPGM_DIM != 2
-#error "core/implicit.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 /* Commit a converged step: points (material and tracers) and nodes. */
 static void commit(mpgm_problem *pb) {
@@ -25,39 +22,41 @@ static void commit(mpgm_problem *pb) {
   const int m = P->n + P->nprobe + P->nsurf;
   /* work of gravity (dynamic), at its value in the middle of the step */
   const double gf = inertia ? mpgm_gravity_factor(pb, pb->t + 0.5 * pb->dt) : 0.0;
-  const double gx = gf * pb->scene->gravity[0], gy = gf * pb->scene->gravity[1];
+  double g[MPGM_DIM];
+  for (int c = 0; c < MPGM_DIM; c++) g[c] = gf * pb->scene->gravity[c];
   double wext = 0.0;
   /* a manufactured body force's work, the same */
   const double *b = pb->fx.manufactured && inertia ? mpgm_mms_forces(pb, pb->t + 0.5 * pb->dt) : NULL;
-  /* 2-D only: the points' increments written out per component (3-D: a
-   * third component) */
   for (int p = 0; p < m; p++) {
     double d[MPGM_DIM] = {0}, v[MPGM_DIM] = {0}, a[MPGM_DIM] = {0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       const double N = C->N[k];
-      d[0] += N * nd->du[MPGM_DIM * I];
-      d[1] += N * nd->du[MPGM_DIM * I + 1];
-      if (inertia) {
-        v[0] += N * nd->v_new[MPGM_DIM * I]; v[1] += N * nd->v_new[MPGM_DIM * I + 1];
-        a[0] += N * nd->a_new[MPGM_DIM * I]; a[1] += N * nd->a_new[MPGM_DIM * I + 1];
+      for (int c = 0; c < MPGM_DIM; c++) d[c] += N * nd->du[MPGM_DIM * I + c];
+      if (inertia)
+        for (int c = 0; c < MPGM_DIM; c++) {
+          v[c] += N * nd->v_new[MPGM_DIM * I + c];
+          a[c] += N * nd->a_new[MPGM_DIM * I + c];
+        }
+    }
+    double gd = g[0] * d[0], bd = b && p < P->n ? b[MPGM_DIM * p] * d[0] : 0.0;
+    for (int c = 1; c < MPGM_DIM; c++) {
+      gd += g[c] * d[c];
+      if (b && p < P->n) bd += b[MPGM_DIM * p + c] * d[c];
+    }
+    if (p < P->n) wext += P->mass[p] * gd;
+    if (p < P->n && b) wext += P->mass[p] * bd;
+    for (int c = 0; c < MPGM_DIM; c++) {
+      const int i = MPGM_DIM * p + c;
+      P->u[i] += d[c];
+      if (move) P->x[i] += d[c];
+      if (inertia && newmark_pv) { /* eq (48): trapezoidal in the particle */
+        P->v[i] += 0.5 * pb->dt * (P->a[i] + a[c]);
+        P->a[i] = a[c];
+      } else if (inertia) {
+        P->v[i] = v[c];
+        P->a[i] = a[c];
       }
-    }
-    P->u[MPGM_DIM * p] += d[0];
-    P->u[MPGM_DIM * p + 1] += d[1];
-    if (p < P->n) wext += P->mass[p] * (gx * d[0] + gy * d[1]);
-    if (p < P->n && b) wext += P->mass[p] * (b[MPGM_DIM * p] * d[0] + b[MPGM_DIM * p + 1] * d[1]);
-    if (move) {
-      P->x[MPGM_DIM * p] += d[0];
-      P->x[MPGM_DIM * p + 1] += d[1];
-    }
-    if (inertia && newmark_pv) { /* eq (48): trapezoidal in the particle */
-      P->v[MPGM_DIM * p] += 0.5 * pb->dt * (P->a[MPGM_DIM * p] + a[0]);
-      P->v[MPGM_DIM * p + 1] += 0.5 * pb->dt * (P->a[MPGM_DIM * p + 1] + a[1]);
-      P->a[MPGM_DIM * p] = a[0]; P->a[MPGM_DIM * p + 1] = a[1];
-    } else if (inertia) {
-      P->v[MPGM_DIM * p] = v[0]; P->v[MPGM_DIM * p + 1] = v[1];
-      P->a[MPGM_DIM * p] = a[0]; P->a[MPGM_DIM * p + 1] = a[1];
     }
   }
   if (inertia) {
@@ -181,13 +180,10 @@ static int initial_acceleration(mpgm_problem *pb) {
   }
   if (pb->fe->point_velocity == MPGM_PV_NEWMARK)
     for (int p = 0; p < P->n + P->nprobe + P->nsurf; p++) {
-      double a[MPGM_DIM] = {0}; /* 2-D only: a_p written out per component */
-      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-        a[0] += C->N[k] * nd->a[MPGM_DIM * C->node[k]];
-        a[1] += C->N[k] * nd->a[MPGM_DIM * C->node[k] + 1];
-      }
-      P->a[MPGM_DIM * p] = a[0];
-      P->a[MPGM_DIM * p + 1] = a[1];
+      double a[MPGM_DIM] = {0};
+      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++)
+        for (int c = 0; c < MPGM_DIM; c++) a[c] += C->N[k] * nd->a[MPGM_DIM * C->node[k] + c];
+      for (int c = 0; c < MPGM_DIM; c++) P->a[MPGM_DIM * p + c] = a[c];
     }
   return MPGM_OK;
 }

@@ -132,8 +132,10 @@ typedef struct mpgm_scene_body {
   double z[2];         /**< polygon in 3-D: the extrusion z0 < z1 [m] */
   double velocity[MPGM_DIM]; /**< initial velocity [m/s]             */
   int geostatic;       /**< 1: geostatic initial stress is given       */
-  double surface;      /**< geostatic: y of the free surface [m]       */
-  double k0;           /**< geostatic: sigma_xx = sigma_zz = k0 sigma_yy */
+  double surface;      /**< geostatic: the free surface's coordinate
+                            along the vertical (mpgm_scene_vertical) [m] */
+  double k0;           /**< geostatic: each horizontal normal stress is
+                            k0 times the vertical one                  */
 } mpgm_scene_body;
 
 typedef struct mpgm_scene_boundary {
@@ -433,6 +435,16 @@ int mpgm_polygon_check(const double *p, int n, char *msg, size_t len);
  *  again). */
 int mpgm_body_meets_box(const mpgm_scene_body *b, const double lo[MPGM_DIM],
                         const double hi[MPGM_DIM]);
+
+/** The vertical axis of a scene: that of gravity's largest component
+ *  (the last of equal ones; y, or z in 3-D, without gravity). Geostatic
+ *  stress and its free surface are measured along it. */
+static inline int mpgm_scene_vertical(const mpgm_scene *s) {
+  int v = MPGM_DIM - 1;
+  for (int d = MPGM_DIM - 2; d >= 0; d--)
+    if (fabs(s->gravity[d]) > fabs(s->gravity[v])) v = d;
+  return v;
+}
 
 /** 1 when some boundary of s is a contact at surface points. */
 static inline int mpgm_scene_contact_at_points(const mpgm_scene *s) {

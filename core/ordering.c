@@ -18,9 +18,6 @@
 #include <math.h>
 #include <stdlib.h>
 
-#if MPGM_DIM != 2
-#error "core/ordering.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 /* Leaves: at most this many nodes are numbered as they come (their block
  * of L is small and dense whatever their order). */
@@ -101,15 +98,16 @@ static void dissect(nd_work *w, int *v, int m, int pos) {
     for (int k = 0; k < m; k++) w->perm[pos + k] = v[k];
     return;
   }
-  /* 2-D only: the box's initial values and the longer of its two sides
-   * written out (3-D: the longest of three) */
-  double lo[MPGM_DIM] = {INFINITY, INFINITY}, hi[MPGM_DIM] = {-INFINITY, -INFINITY};
+  double lo[MPGM_DIM], hi[MPGM_DIM];
+  for (int c = 0; c < MPGM_DIM; c++) lo[c] = INFINITY, hi[c] = -INFINITY;
   for (int k = 0; k < m; k++)
     for (int c = 0; c < MPGM_DIM; c++) {
       lo[c] = fmin(lo[c], x[MPGM_DIM * v[k] + c]);
       hi[c] = fmax(hi[c], x[MPGM_DIM * v[k] + c]);
     }
-  const int c = hi[1] - lo[1] > hi[0] - lo[0];
+  int c = 0; /* the longest side (the first of equal ones) */
+  for (int d = 1; d < MPGM_DIM; d++)
+    if (hi[d] - lo[d] > hi[c] - lo[c]) c = d;
   select_kth(x, c, v, m, m / 2);
   /* left: coordinate below the median value (a grid line of nodes at the
    * median goes whole to the right half) */

@@ -5,9 +5,6 @@
 
 #include "mpgm_core_impl.h"
 
-#if MPGM_DIM != 2
-#error "core/problem.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v) {
   *v = (mpgm_fe_view){.ctx = pb->ctx,
@@ -24,8 +21,10 @@ void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v) {
                       .lambda = mpgm_load_factor(pb)};
 }
 
-/* Geostatic initial stress of the material points of bodies that have it:
- * sigma_yy = rho g_y (surface - y), sigma_xx = sigma_zz = k0 sigma_yy. A
+/* Geostatic initial stress of the material points of bodies that have it,
+ * vertical the axis v of gravity's largest component (y in a plane scene
+ * under gravity along y, z in a 3-D one along z): sigma_vv = rho g_v
+ * (surface - x_v), the other normal stresses k0 sigma_vv, no shear. A
  * material with state carries it as its own (plasticity must see the whole
  * stress); otherwise it is the initial stress S0 the assembly adds. */
 static int initial_stress(mpgm_problem *pb) {
@@ -34,10 +33,12 @@ static int initial_stress(mpgm_problem *pb) {
   for (int p = 0; p < P->n; p++) {
     const mpgm_scene_body *b = &scene->bodies[P->body[p]];
     if (!b->geostatic) continue;
-    /* 2-D only: y is up; s0 written out as {xx, yy, xy, zz} */
-    const double syy = scene->mats[b->material].density * scene->gravity[1] *
-                       (b->surface - P->x0[MPGM_DIM * p + 1]);
-    const double s0[MPGM_NSTRESS] = {b->k0 * syy, syy, 0.0, b->k0 * syy};
+    const int v = mpgm_scene_vertical(scene);
+    const double svv = scene->mats[b->material].density * scene->gravity[v] *
+                       (b->surface - P->x0[MPGM_DIM * p + v]);
+    double s0[MPGM_NSTRESS] = {0}; /* the normal stresses, plane strain's zz too */
+    for (int c = 0; c < MPGM_NSTRESS; c++)
+      if (c < MPGM_DIM || (MPGM_DIM == 2 && c == MPGM_NSTRESS - 1)) s0[c] = c == v ? svv : b->k0 * svv;
     const mpgm_material *m = &scene->mats[b->material];
     memcpy(P->sigma + MPGM_NSTRESS * p, s0, sizeof s0);
     if (!m->type->init_stress || !P->nstate) {
@@ -47,8 +48,11 @@ static int initial_stress(mpgm_problem *pb) {
     char msg[256] = "";
     if (m->type->init_stress(m, scene->kinematics, s0, P->state + (size_t)P->nstate * p, msg,
                              sizeof msg))
-      MPGM_ERROR(pb->ctx, MPGM_ERR_INPUT, "%s: bodies.%s: geostatic initial stress at (%g, %g): %s",
-                 scene->file, b->name, P->x0[MPGM_DIM * p], P->x0[MPGM_DIM * p + 1], msg);
+    {
+      char at[MPGM_POINT_STR];
+      MPGM_ERROR(pb->ctx, MPGM_ERR_INPUT, "%s: bodies.%s: geostatic initial stress at %s: %s",
+                 scene->file, b->name, mpgm_point_str(P->x0 + MPGM_DIM * p, at), msg);
+    }
   }
   return 0;
 }
