@@ -435,7 +435,8 @@ static int update(const mpgm_material *m, int kin, const double F[9], const doub
     double e[6];
     for (int k = 0; k < 6; k++) e[k] = small_strain(F, k) + 0.5 * (state_n[k] - (k < 3));
     if (mpgm_sym3_eigen(e, t.e, t.V)) return MPGM_ERR_RETURN_MAP;
-    for (int k = 0; k < 3; k++) t.x[k] = t.e[mpgm_voigt_pair[3 + k][0]] - t.e[mpgm_voigt_pair[3 + k][1]];
+    for (int k = 0; k < 3; k++)
+      t.x[k] = t.e[mpgm_voigt_pair[3 + k][0]] - t.e[mpgm_voigt_pair[3 + k][1]];
     t.J = 1.0;
     t.finite = 0;
   } else {
