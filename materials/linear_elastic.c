@@ -5,6 +5,8 @@
  *   s_zz  = lambda (eps_xx + eps_yy)
  *   D     = [[lambda + 2 mu, lambda, 0], [lambda, lambda + 2 mu, 0],
  *            [0, 0, mu]]      (Voigt {xx, yy, xy}, engineering shear)
+ * In 3-D eps has all six components and D is the 6x6 matrix with
+ * lambda + 2 mu, lambda in the normal block and mu on the shear diagonal.
  *
  * Constants after setup: c[0] = lambda [Pa], c[1] = mu [Pa].
  */
@@ -13,9 +15,6 @@
 #include <math.h>
 #include <stdio.h>
 
-#if MPGM_DIM != 2
-#error "materials/linear_elastic.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 enum { P_E = 0, P_NU = 1 };
 enum { C_LAMBDA = 0, C_MU = 1 };
@@ -33,9 +32,9 @@ static int setup(mpgm_material *m, char *msg, size_t msglen) {
 
 /* Stress and constant tangent of the linear law for grad u = F - I.
  * Finite kinematics is not provided: MPGM_ERR_UNSUPPORTED. */
-static int update(const mpgm_material *m, int kin, const double F[4],
-                  const double dF[4], const double *state_n, double *state,
-                  double sigma[4], double D[9]) {
+static int update(const mpgm_material *m, int kin, const double F[MPGM_TENSOR],
+                  const double dF[MPGM_TENSOR], const double *state_n, double *state,
+                  double sigma[MPGM_NSTRESS], double D[MPGM_NTANGENT]) {
   (void)dF;
   (void)state_n;
   (void)state;
@@ -44,11 +43,11 @@ static int update(const mpgm_material *m, int kin, const double F[4],
   return MPGM_OK;
 }
 
-/** Isotropic linear elasticity (small strain, plane strain); params E [Pa],
+/** Isotropic linear elasticity (small strain; plane strain or 3-D); params E [Pa],
  *  nu [-]. update() returns MPGM_ERR_UNSUPPORTED for MPGM_KIN_FINITE. */
 const mpgm_material_type mpgm_material_linear_elastic = {
     .name = "linear_elastic",
-    .doc = "isotropic linear elasticity, small strain only (plane strain)",
+    .doc = "isotropic linear elasticity, small strain only",
     .nparam = (int)(sizeof(params) / sizeof(params[0])),
     .params = params,
     .nstate = 0,

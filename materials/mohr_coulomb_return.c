@@ -11,9 +11,6 @@
 
 #include "mohr_coulomb_impl.h"
 
-#if MPGM_DIM != 2
-#error "materials/mohr_coulomb_return.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 /* c = a x b */
 static void cross(const double a[3], const double b[3], double c[3]) {

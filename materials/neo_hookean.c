@@ -10,6 +10,10 @@
  *   D = [[l + 2 m, l, 0], [l, l + 2 m, 0], [0, 0, m]],
  *   l = lambda / J,  m = (mu - lambda ln J) / J.
  *
+ * In 3-D b is the full 3x3 F F^T, sigma has its six Voigt components and
+ * D is the 6x6 form of the same c: l + 2 m, l in the normal block, m on
+ * the shear diagonal.
+ *
  * Small-strain analysis uses the linear-elastic limit (identical to
  * linear_elastic). Constants after setup: c[0] = lambda, c[1] = mu [Pa].
  */
@@ -18,9 +22,6 @@
 #include <math.h>
 #include <stdio.h>
 
-#if MPGM_DIM != 2
-#error "materials/neo_hookean.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 enum { P_E = 0, P_NU = 1 };
 enum { C_LAMBDA = 0, C_MU = 1 };
@@ -40,9 +41,9 @@ static int setup(mpgm_material *m, char *msg, size_t msglen) {
 /* Cauchy stress and spatial tangent for the total deformation gradient F
  * (finite) or the linear limit (small). det F <= 0 (or not finite):
  * MPGM_ERR_JACOBIAN, outputs left untouched. */
-static int update(const mpgm_material *m, int kin, const double F[4],
-                  const double dF[4], const double *state_n, double *state,
-                  double sigma[4], double D[9]) {
+static int update(const mpgm_material *m, int kin, const double F[MPGM_TENSOR],
+                  const double dF[MPGM_TENSOR], const double *state_n, double *state,
+                  double sigma[MPGM_NSTRESS], double D[MPGM_NTANGENT]) {
   (void)dF;
   (void)state_n;
   (void)state;
@@ -53,6 +54,7 @@ static int update(const mpgm_material *m, int kin, const double F[4],
   }
   if (kin != MPGM_KIN_FINITE) return MPGM_ERR_UNSUPPORTED;
 
+#if MPGM_DIM == 2
   const double J = F[0] * F[3] - F[1] * F[2];
   if (!(J > 0.0) || !isfinite(J)) return MPGM_ERR_JACOBIAN;
   const double lnJ = log(J), iJ = 1.0 / J;
@@ -71,10 +73,25 @@ static int update(const mpgm_material *m, int kin, const double F[4],
     D[3] = l;           D[4] = l + 2.0 * s; D[5] = 0.0;
     D[6] = 0.0;         D[7] = 0.0;         D[8] = s;
   }
+#else
+  const double J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+                   F[2] * (F[3] * F[7] - F[4] * F[6]);
+  if (!(J > 0.0) || !isfinite(J)) return MPGM_ERR_JACOBIAN;
+  const double lnJ = log(J), iJ = 1.0 / J;
+  const double p = lam * lnJ * iJ, g = mu * iJ;
+  for (int k = 0; k < MPGM_NVOIGT; k++) {
+    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
+    /* (b - I)_ab, b = F F^T */
+    const double bab = F[3 * a] * F[3 * b] + F[3 * a + 1] * F[3 * b + 1] +
+                       F[3 * a + 2] * F[3 * b + 2] - (a == b ? 1.0 : 0.0);
+    sigma[k] = (a == b ? p : 0.0) + g * bab;
+  }
+  if (D) mpgm_elastic_tangent(lam * iJ, (mu - lam * lnJ) * iJ, D);
+#endif
   return MPGM_OK;
 }
 
-/** Compressible neo-Hookean solid (plane strain); params E [Pa], nu [-] of
+/** Compressible neo-Hookean solid (plane strain or 3-D); params E [Pa], nu [-] of
  *  the linearised law. Finite and small kinematics; det F <= 0 returns
  *  MPGM_ERR_JACOBIAN. */
 const mpgm_material_type mpgm_material_neo_hookean = {

@@ -1,5 +1,5 @@
 /* elastic_impl.h -- private to materials/: the isotropic elastic pieces that
- * several laws share (E, nu validation; the plane-strain linear law). */
+ * several laws share (E, nu validation; the small-strain linear law). */
 #ifndef MPGM_ELASTIC_IMPL_H
 #define MPGM_ELASTIC_IMPL_H
 
@@ -10,10 +10,15 @@
  *  symmetric and elastic. MPGM_ERR_INPUT with msg ("NAME: need ...") else. */
 int mpgm_elastic_setup(mpgm_material *m, const char *name, char *msg, size_t msglen);
 
-/** Plane-strain linear law for grad u = F - I: sigma = lambda tr(eps) I +
- *  2 mu eps with s_zz = lambda (eps_xx + eps_yy); D (if not NULL) the
- *  constant Voigt matrix with engineering shear. */
-void mpgm_elastic_small(double lambda, double mu, const double F[4], double sigma[4],
-                        double D[9]);
+/** Linear law for grad u = F - I: sigma = lambda tr(eps) I + 2 mu eps,
+ *  eps = sym(F - I); plane strain adds s_zz = lambda (eps_xx + eps_yy).
+ *  D (if not NULL) the constant Voigt matrix with engineering shear. */
+void mpgm_elastic_small(double lambda, double mu, const double F[MPGM_TENSOR],
+                        double sigma[MPGM_NSTRESS], double D[MPGM_NTANGENT]);
+
+/** The isotropic tangent l I (x) I + 2 s I_sym as the MPGM_NVOIGT Voigt
+ *  matrix with engineering shear: l + 2 s and l in the normal block, s on
+ *  the shear diagonal, 0 elsewhere. */
+void mpgm_elastic_tangent(double l, double s, double D[MPGM_NTANGENT]);
 
 #endif

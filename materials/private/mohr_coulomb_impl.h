@@ -46,4 +46,12 @@ double mpgm_mc_yield_principal(const mpgm_material *m, const double s[3]);
  *  Returns the region (mpgm_mc_region). */
 int mpgm_mc_return(const mpgm_material *m, const double st[3], double s[3], double dsdt[9]);
 
+/** Eigen-decomposition of the symmetric 3x3 matrix S given by its Voigt
+ *  components {xx, yy, zz, xy, yz, xz} (cyclic Jacobi, sym_eigen3.c):
+ *  S = V diag(l) V^T, V row major with the eigenvectors as columns
+ *  (V[3 r + i] = component r of vector i), l unsorted. The eigenvalues of a
+ *  positive definite S keep relative accuracy. Returns 0, or -1 when S
+ *  holds a NaN or Inf or the sweeps did not converge. */
+int mpgm_sym3_eigen(const double S[6], double l[3], double V[9]);
+
 #endif

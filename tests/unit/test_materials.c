@@ -28,50 +28,87 @@
 #define N_FINITE 24  /* random deformation gradients per finite type */
 #define N_SMALL 8    /* random displacement gradients per type       */
 static const double PI = 3.14159265358979323846;
+/* Layouts follow the build's MPGM_DIM (mpgm_base.h); the same checks run
+ * in plane strain and in 3-D, the s_zz checks in plane strain only. */
 
-/* ---- 2x2 row-major helpers ---------------------------------------------- */
-static void mul(const double A[4], const double B[4], double C[4]) {
-  double c0 = A[0] * B[0] + A[1] * B[2], c1 = A[0] * B[1] + A[1] * B[3];
-  double c2 = A[2] * B[0] + A[3] * B[2], c3 = A[2] * B[1] + A[3] * B[3];
-  C[0] = c0; C[1] = c1; C[2] = c2; C[3] = c3;
+/* ---- DIM x DIM row-major helpers ---------------------------------------- */
+enum { DIM = MPGM_DIM, NT = MPGM_TENSOR, NV = MPGM_NVOIGT, NS = MPGM_NSTRESS };
+
+static void mul(const double A[NT], const double B[NT], double C[NT]) {
+  double T[NT];
+  for (int i = 0; i < DIM; i++)
+    for (int j = 0; j < DIM; j++) {
+      double v = 0.0;
+      for (int k = 0; k < DIM; k++) v += A[DIM * i + k] * B[DIM * k + j];
+      T[DIM * i + j] = v;
+    }
+  memcpy(C, T, sizeof T);
 }
-static void transpose(const double A[4], double T[4]) {
-  double a1 = A[1];
-  T[0] = A[0]; T[1] = A[2]; T[2] = a1; T[3] = A[3];
+static void transpose(const double A[NT], double T[NT]) {
+  double B[NT];
+  for (int i = 0; i < DIM; i++)
+    for (int j = 0; j < DIM; j++) B[DIM * j + i] = A[DIM * i + j];
+  memcpy(T, B, sizeof B);
 }
-static void rotation(double th, double R[4]) {
-  R[0] = cos(th); R[1] = -sin(th); R[2] = sin(th); R[3] = cos(th);
+static void identity(double I[NT]) {
+  for (int i = 0; i < NT; i++) I[i] = i % (DIM + 1) == 0 ? 1.0 : 0.0;
 }
-static double det(const double F[4]) { return F[0] * F[3] - F[1] * F[2]; }
+static double det(const double F[NT]) {
+#if MPGM_DIM == 2
+  return F[0] * F[3] - F[1] * F[2];
+#else
+  return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+         F[2] * (F[3] * F[7] - F[4] * F[6]);
+#endif
+}
 /* Q A Q^T */
-static void rotate(const double Q[4], const double A[4], double B[4]) {
-  double Qt[4], T[4];
+static void rotate(const double Q[NT], const double A[NT], double B[NT]) {
+  double Qt[NT], T[NT];
   transpose(Q, Qt);
   mul(Q, A, T);
   mul(T, Qt, B);
 }
-/* Symmetric 2x2 from stress layout {xx, yy, xy, ...}. */
-static void sym_of(const double s[3], double S[4]) {
-  S[0] = s[0]; S[1] = s[2]; S[2] = s[2]; S[3] = s[1];
+/* Symmetric DIM x DIM tensor from the Voigt part of the stress layout. */
+static void sym_of(const double s[NV], double S[NT]) {
+  for (int k = 0; k < NV; k++) {
+    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
+    S[DIM * a + b] = S[DIM * b + a] = s[k];
+  }
 }
-/* Frobenius norm of A - B (2x2), and of A. */
-static double dist(const double A[4], const double B[4]) {
+/* Frobenius norm of A - B (DIM x DIM), and of A. */
+static double dist(const double A[NT], const double B[NT]) {
   double s = 0.0;
-  for (int i = 0; i < 4; i++) s += (A[i] - B[i]) * (A[i] - B[i]);
+  for (int i = 0; i < NT; i++) s += (A[i] - B[i]) * (A[i] - B[i]);
   return sqrt(s);
 }
-static double norm(const double A[4]) {
+static double norm(const double A[NT]) {
   double s = 0.0;
-  for (int i = 0; i < 4; i++) s += A[i] * A[i];
+  for (int i = 0; i < NT; i++) s += A[i] * A[i];
   return sqrt(s);
 }
-/* T = D : sym(H) as a 2x2 tensor (Voigt, engineering shear). */
-static void tangent_action(const double D[9], const double H[4], double T[4]) {
-  const double v[3] = {H[0], H[3], H[1] + H[2]};
-  double s[3];
-  for (int i = 0; i < 3; i++)
-    s[i] = D[3 * i] * v[0] + D[3 * i + 1] * v[1] + D[3 * i + 2] * v[2];
+/* Voigt strain {e_aa..., 2 e_ab} of sym(H) (engineering shear). */
+static void voigt_strain(const double H[NT], double v[NV]) {
+  for (int k = 0; k < NV; k++) {
+    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
+    v[k] = a == b ? H[DIM * a + a] : H[DIM * a + b] + H[DIM * b + a];
+  }
+}
+/* T = D : sym(H) as a DIM x DIM tensor (Voigt, engineering shear). */
+static void tangent_action(const double D[MPGM_NTANGENT], const double H[NT], double T[NT]) {
+  double v[NV], s[NV];
+  voigt_strain(H, v);
+  for (int i = 0; i < NV; i++) {
+    s[i] = 0.0;
+    for (int j = 0; j < NV; j++) s[i] += D[NV * i + j] * v[j];
+  }
   sym_of(s, T);
+}
+/* sum over i < j of |D_ij - D_ji|: zero for a symmetric tangent. */
+static double asymmetry(const double D[MPGM_NTANGENT]) {
+  double a = 0.0;
+  for (int i = 0; i < NV; i++)
+    for (int j = i + 1; j < NV; j++) a += fabs(D[NV * i + j] - D[NV * j + i]);
+  return a;
 }
 
 /* ---- material set-up with high-entropy parameters ----------------------- */
@@ -101,33 +138,54 @@ typedef struct point {
   double *state_n, *state;
 } point;
 
-static int eval(point *p, int kin, const double F[4], double sigma[4],
-                double D[9]) {
+static int eval(point *p, int kin, const double F[NT], double sigma[NS],
+                double D[MPGM_NTANGENT]) {
   return p->m.type->update(&p->m, kin, F, F, p->m.type->nstate ? p->state_n : NULL,
                            p->m.type->nstate ? p->state : NULL, sigma, D);
 }
 
-/* Kirchhoff stress tau = det F sigma, in-plane {xx, yy, xy} as 2x2. */
-static int kirchhoff(point *p, const double F[4], double tau[4]) {
-  double s[4];
+/* Kirchhoff stress tau = det F sigma as a DIM x DIM tensor (2-D: in-plane). */
+static int kirchhoff(point *p, const double F[NT], double tau[NT]) {
+  double s[NS];
   int ierr = eval(p, MPGM_KIN_FINITE, F, s, NULL);
-  double S[4];
+  double S[NT];
   sym_of(s, S);
-  for (int i = 0; i < 4; i++) tau[i] = det(F) * S[i];
+  for (int i = 0; i < NT; i++) tau[i] = det(F) * S[i];
   return ierr;
 }
 
-/* A random F = R(theta) U, theta in [-pi, pi], U upper triangular with
- * stretches 0.6..1.6 and shear (any F with det F > 0 has this form). */
-static void random_F(rng *r, double F[4]) {
-  double R[4], U[4] = {uniform(r, 0.6, 1.6), uniform(r, -0.5, 0.5), 0.0,
-                       uniform(r, 0.6, 1.6)};
-  rotation(uniform(r, -PI, PI), R);
+/* A random rotation: 2-D by an angle in [-pi, pi]; 3-D by a uniform unit
+ * quaternion (Shoemake: uniform over SO(3)). */
+static void random_rotation(rng *r, double R[NT]) {
+#if MPGM_DIM == 2
+  const double th = uniform(r, -PI, PI);
+  R[0] = cos(th); R[1] = -sin(th); R[2] = sin(th); R[3] = cos(th);
+#else
+  const double u1 = uniform(r, 0.0, 1.0), u2 = uniform(r, 0.0, 2.0 * PI),
+               u3 = uniform(r, 0.0, 2.0 * PI);
+  const double w = sqrt(1.0 - u1) * sin(u2), x = sqrt(1.0 - u1) * cos(u2),
+               y = sqrt(u1) * sin(u3), z = sqrt(u1) * cos(u3);
+  const double Q[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),
+                       2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+                       2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)};
+  memcpy(R, Q, sizeof Q);
+#endif
+}
+
+/* A random F = R U, R a random rotation, U upper triangular with
+ * stretches 0.6..1.6 and shears -0.5..0.5 (any F with det F > 0 has this
+ * form). */
+static void random_F(rng *r, double F[NT]) {
+  double R[NT], U[NT] = {0};
+  for (int i = 0; i < DIM; i++)
+    for (int j = i; j < DIM; j++)
+      U[DIM * i + j] = i == j ? uniform(r, 0.6, 1.6) : uniform(r, -0.5, 0.5);
+  random_rotation(r, R);
   mul(R, U, F);
 }
 
-static void random_H(rng *r, double H[4]) {
-  for (int i = 0; i < 4; i++) H[i] = uniform(r, -1.0, 1.0);
+static void random_H(rng *r, double H[NT]) {
+  for (int i = 0; i < NT; i++) H[i] = uniform(r, -1.0, 1.0);
 }
 
 /* ---- checks ------------------------------------------------------------- */
@@ -146,38 +204,55 @@ static void check_meta(const mpgm_material_type *t, const point *p) {
 
 static void check_reference(point *p, int kin) {
   const char *kn = kin == MPGM_KIN_FINITE ? "finite" : "small";
-  const double I[4] = {1.0, 0.0, 0.0, 1.0};
-  double s[4] = {0}, D[9] = {0};
+  double I[NT], s[NS] = {0}, D[MPGM_NTANGENT] = {0};
+  identity(I);
   int ierr = eval(p, kin, I, s, D);
   double dn = 0.0, sn = 0.0;
-  for (int i = 0; i < 9; i++) dn += D[i] * D[i];
-  for (int i = 0; i < 4; i++) sn += s[i] * s[i];
+  for (int i = 0; i < MPGM_NTANGENT; i++) dn += D[i] * D[i];
+  for (int i = 0; i < NS; i++) sn += s[i] * s[i];
   mpgm_test(ierr == 0, "%s %s: update at F = I returns %d", p->m.type->name, kn,
             ierr);
   mpgm_test_abs(sqrt(sn), 0.0, TEST_TOL1 * sqrt(dn),
                 "%s %s: stress-free reference sigma(I) = 0", p->m.type->name, kn);
 }
 
+/* The linear law for grad u = G in the stress layout (2-D: with s_zz). */
+static void linear_law(double lam, double mu, const double G[NT], double se[NS]) {
+  double tr = 0.0;
+  for (int i = 0; i < DIM; i++) tr += G[(DIM + 1) * i];
+  for (int k = 0; k < NV; k++) {
+    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
+    se[k] = (a == b ? lam * tr : 0.0) + mu * (G[DIM * a + b] + G[DIM * b + a]);
+  }
+#if MPGM_DIM == 2
+  se[3] = lam * tr;
+#endif
+}
+
 /* Small kinematics: linear law and D against central differences. */
 static void check_small(point *p, rng *r) {
   const char *name = p->m.type->name;
   const int iE = param_index(p->m.type, "E"), inu = param_index(p->m.type, "nu");
-  /* unit Voigt strains {xx, yy, gamma_xy} as grad u */
-  const double unit[3][4] = {{1, 0, 0, 0}, {0, 0, 0, 1}, {0, 0.5, 0.5, 0}};
+  /* unit Voigt strains {e_aa, gamma_ab} as grad u */
+  double unit[NV][NT] = {{0}};
+  for (int k = 0; k < NV; k++) {
+    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
+    if (a == b) unit[k][DIM * a + a] = 1.0;
+    else unit[k][DIM * a + b] = unit[k][DIM * b + a] = 0.5;
+  }
   for (int k = 0; k < N_SMALL; k++) {
-    double G[4], F[4], s[4], D[9];
-    for (int i = 0; i < 4; i++) G[i] = uniform(r, -2.3e-4, 2.3e-4);
-    for (int i = 0; i < 4; i++) F[i] = G[i] + (i == 0 || i == 3 ? 1.0 : 0.0);
+    double G[NT], F[NT], s[NS], D[MPGM_NTANGENT];
+    for (int i = 0; i < NT; i++) G[i] = uniform(r, -2.3e-4, 2.3e-4);
+    identity(F);
+    for (int i = 0; i < NT; i++) F[i] += G[i];
     int ierr = eval(p, MPGM_KIN_SMALL, F, s, D);
     mpgm_test(ierr == 0, "%s small #%d: update returns %d", name, k, ierr);
     if (iE >= 0 && inu >= 0) {
-      double lam, mu;
+      double lam, mu, se[NS];
       mpgm_lame(p->m.param[iE], p->m.param[inu], &lam, &mu);
-      const double tr = G[0] + G[3];
-      const double se[4] = {lam * tr + 2 * mu * G[0], lam * tr + 2 * mu * G[3],
-                            mu * (G[1] + G[2]), lam * tr};
+      linear_law(lam, mu, G, se);
       double e = 0.0, n = 0.0;
-      for (int i = 0; i < 4; i++) {
+      for (int i = 0; i < NS; i++) {
         e += (s[i] - se[i]) * (s[i] - se[i]);
         n += se[i] * se[i];
       }
@@ -188,16 +263,16 @@ static void check_small(point *p, rng *r) {
      * rounding error of F - I */
     const double h = 1e-5;
     double e = 0.0, n = 0.0;
-    for (int j = 0; j < 3; j++) {
-      double Fp[4], Fm[4], sp[4], sm[4];
-      for (int i = 0; i < 4; i++) {
+    for (int j = 0; j < NV; j++) {
+      double Fp[NT], Fm[NT], sp[NS], sm[NS];
+      for (int i = 0; i < NT; i++) {
         Fp[i] = F[i] + h * unit[j][i];
         Fm[i] = F[i] - h * unit[j][i];
       }
       eval(p, MPGM_KIN_SMALL, Fp, sp, NULL);
       eval(p, MPGM_KIN_SMALL, Fm, sm, NULL);
-      for (int i = 0; i < 3; i++) {
-        double fd = (sp[i] - sm[i]) / (2.0 * h), dij = D[3 * i + j];
+      for (int i = 0; i < NV; i++) {
+        double fd = (sp[i] - sm[i]) / (2.0 * h), dij = D[NV * i + j];
         e += (fd - dij) * (fd - dij);
         n += dij * dij;
       }
@@ -206,8 +281,7 @@ static void check_small(point *p, rng *r) {
                   "%s small #%d: D = d sigma / d grad u (central diff, rel err)",
                   name, k);
     if (p->m.symmetric)
-      mpgm_test_abs(fabs(D[1] - D[3]) + fabs(D[2] - D[6]) + fabs(D[5] - D[7]),
-                    0.0, TEST_TOL1 * sqrt(n),
+      mpgm_test_abs(asymmetry(D), 0.0, TEST_TOL1 * sqrt(n),
                     "%s small #%d: D has major symmetry", name, k);
   }
 }
@@ -215,7 +289,7 @@ static void check_small(point *p, rng *r) {
 /* Finite kinematics at one random F: tangent, objectivity, symmetry. */
 static void check_finite_at(point *p, rng *r, int k) {
   const char *name = p->m.type->name;
-  double F[4], H[4], s[4], D[9];
+  double F[NT], H[NT], s[NS], D[MPGM_NTANGENT];
   random_F(r, F);
   random_H(r, H);
   const double J = det(F);
@@ -226,42 +300,53 @@ static void check_finite_at(point *p, rng *r, int k) {
 
   /* J D : sym(H) = d/de tau((I + e H) F) - (H tau + tau H^T) */
   const double h = 1e-6;
-  double Fp[4], Fm[4], Ip[4] = {1 + h * H[0], h * H[1], h * H[2], 1 + h * H[3]},
-                       Im[4] = {1 - h * H[0], -h * H[1], -h * H[2], 1 - h * H[3]};
+  double Fp[NT], Fm[NT], Ip[NT], Im[NT];
+  identity(Ip);
+  identity(Im);
+  for (int i = 0; i < NT; i++) {
+    Ip[i] += h * H[i];
+    Im[i] -= h * H[i];
+  }
   mul(Ip, F, Fp);
   mul(Im, F, Fm);
-  double tp[4], tm[4], tau[4], S[4], Ht[4], Htau[4], tauHt[4], lie[4], lhs[4];
+  double tp[NT], tm[NT], tau[NT], S[NT], Ht[NT], Htau[NT], tauHt[NT], lie[NT], lhs[NT];
   int e1 = kirchhoff(p, Fp, tp), e2 = kirchhoff(p, Fm, tm);
   sym_of(s, S);
-  for (int i = 0; i < 4; i++) tau[i] = J * S[i];
+  for (int i = 0; i < NT; i++) tau[i] = J * S[i];
   transpose(H, Ht);
   mul(H, tau, Htau);
   mul(tau, Ht, tauHt);
-  for (int i = 0; i < 4; i++)
+  for (int i = 0; i < NT; i++)
     lie[i] = (tp[i] - tm[i]) / (2.0 * h) - Htau[i] - tauHt[i];
   tangent_action(D, H, lhs);
-  for (int i = 0; i < 4; i++) lhs[i] *= J;
+  for (int i = 0; i < NT; i++) lhs[i] *= J;
   mpgm_test(e1 == 0 && e2 == 0, "%s finite #%d: perturbed updates succeed",
             name, k);
   mpgm_test_abs(dist(lhs, lie) / norm(lhs), 0.0, 1e-6,
                 "%s finite #%d: J D:sym(H) = Lie derivative of tau (rel err)",
                 name, k);
 
-  /* objectivity: sigma(Q F) = Q sigma(F) Q^T, s_zz unchanged */
-  double Q[4], QF[4], sq[4], Dq[9], Sq[4], QSQ[4];
-  rotation(uniform(r, -PI, PI), Q);
+  /* objectivity: sigma(Q F) = Q sigma(F) Q^T (2-D: s_zz unchanged) */
+  double Q[NT], QF[NT], sq[NS], Dq[MPGM_NTANGENT], Sq[NT], QSQ[NT];
+  random_rotation(r, Q);
   mul(Q, F, QF);
   ierr = eval(p, MPGM_KIN_FINITE, QF, sq, Dq);
   mpgm_test(ierr == 0, "%s finite #%d: update at Q F returns %d", name, k, ierr);
   sym_of(sq, Sq);
   rotate(Q, S, QSQ);
+#if MPGM_DIM == 2
   const double sn = sqrt(norm(S) * norm(S) + s[3] * s[3]);
+#else
+  const double sn = norm(S);
+#endif
   mpgm_test_abs(dist(Sq, QSQ) / sn, 0.0, TEST_TOL4,
                 "%s finite #%d: sigma(Q F) = Q sigma(F) Q^T (rel err)", name, k);
+#if MPGM_DIM == 2
   mpgm_test_abs(fabs(sq[3] - s[3]) / sn, 0.0, TEST_TOL4,
                 "%s finite #%d: s_zz(Q F) = s_zz(F) (rel err)", name, k);
+#endif
   /* D(Q F) : sym(Q H Q^T) = Q (D(F) : sym(H)) Q^T */
-  double QHQ[4], T[4], QTQ[4], Tq[4];
+  double QHQ[NT], T[NT], QTQ[NT], Tq[NT];
   rotate(Q, H, QHQ);
   tangent_action(D, H, T);
   rotate(Q, T, QTQ);
@@ -271,9 +356,8 @@ static void check_finite_at(point *p, rng *r, int k) {
                 name, k);
   if (p->m.symmetric) {
     double dn = 0.0;
-    for (int i = 0; i < 9; i++) dn += D[i] * D[i];
-    mpgm_test_abs(fabs(D[1] - D[3]) + fabs(D[2] - D[6]) + fabs(D[5] - D[7]),
-                  0.0, TEST_TOL1 * sqrt(dn),
+    for (int i = 0; i < MPGM_NTANGENT; i++) dn += D[i] * D[i];
+    mpgm_test_abs(asymmetry(D), 0.0, TEST_TOL1 * sqrt(dn),
                   "%s finite #%d: D has major symmetry", name, k);
   }
 }
@@ -281,19 +365,23 @@ static void check_finite_at(point *p, rng *r, int k) {
 /* det F <= 0: MPGM_ERR_JACOBIAN and no NaN or Inf written. */
 static void check_jacobian(point *p, rng *r) {
   const char *name = p->m.type->name;
-  double F[6][4] = {{1.5, 3.0, 0.5, 1.0}, /* det = 0 exactly */
-                    {0.0, 0.0, 0.0, 0.0}};
+#if MPGM_DIM == 2
+  double F[6][NT] = {{1.5, 3.0, 0.5, 1.0}, /* det = 0 exactly */
+                     {0.0, 0.0, 0.0, 0.0}};
+#else
+  double F[6][NT] = {{1.5, 3.0, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0, 1.0}, /* det = 0 */
+                     {0.0}};
+#endif
   for (int k = 2; k < 6; k++) { /* det < 0: a reflection of a random F */
     random_F(r, F[k]);
-    F[k][1] = -F[k][1];
-    F[k][3] = -F[k][3];
+    for (int i = 0; i < DIM; i++) F[k][DIM * i + 1] = -F[k][DIM * i + 1];
   }
   for (int k = 0; k < 6; k++) {
-    double s[4] = {0}, D[9] = {0};
+    double s[NS] = {0}, D[MPGM_NTANGENT] = {0};
     int ierr = eval(p, MPGM_KIN_FINITE, F[k], s, D);
     int finite = 1;
-    for (int i = 0; i < 4; i++) finite &= isfinite(s[i]) != 0;
-    for (int i = 0; i < 9; i++) finite &= isfinite(D[i]) != 0;
+    for (int i = 0; i < NS; i++) finite &= isfinite(s[i]) != 0;
+    for (int i = 0; i < MPGM_NTANGENT; i++) finite &= isfinite(D[i]) != 0;
     mpgm_test(ierr == MPGM_ERR_JACOBIAN && finite,
               "%s: det F = %.3g gives MPGM_ERR_JACOBIAN (%d), no NaN written",
               name, det(F[k]), ierr);
@@ -308,14 +396,15 @@ static void check_small_limit(point *p, rng *r) {
   const char *name = p->m.type->name;
   const double eps = 1e-7;
   for (int k = 0; k < 4; k++) {
-    double G[4], F[4], sf[4], ss[4];
+    double G[NT], F[NT], sf[NS], ss[NS];
     random_H(r, G);
-    for (int i = 0; i < 4; i++) F[i] = ((i == 0 || i == 3) ? 1.0 : 0.0) + eps * G[i];
+    identity(F);
+    for (int i = 0; i < NT; i++) F[i] += eps * G[i];
     int e1 = eval(p, MPGM_KIN_FINITE, F, sf, NULL);
     int e2 = eval(p, MPGM_KIN_SMALL, F, ss, NULL);
     double e = 0.0, n = 0.0;
-    for (int i = 0; i < 4; i++) {
-      double w = i == 2 ? 2.0 : 1.0; /* xy counts twice */
+    for (int i = 0; i < NS; i++) {
+      double w = i >= DIM && i < NV ? 2.0 : 1.0; /* shears count twice */
       e += w * (sf[i] - ss[i]) * (sf[i] - ss[i]);
       n += w * ss[i] * ss[i];
     }
@@ -368,8 +457,9 @@ int main(void) {
       check_jacobian(&p, &r);
       check_small_limit(&p, &r);
     } else {
-      const double F[4] = {1.01, 0.02, -0.01, 0.99};
-      double s[4], D[9];
+      double F[NT], s[NS], D[MPGM_NTANGENT];
+      identity(F);
+      F[0] = 1.01, F[1] = 0.02, F[DIM] = -0.01, F[DIM + 1] = 0.99;
       int e = eval(&p, MPGM_KIN_FINITE, F, s, D);
       mpgm_test(e == MPGM_ERR_UNSUPPORTED,
                 "%s: finite kinematics refused with MPGM_ERR_UNSUPPORTED (%d)",

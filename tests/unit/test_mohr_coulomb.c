@@ -16,6 +16,10 @@
  *     (Lie derivative), per region; the small-strain tangent likewise;
  *   - major symmetry of D exactly when psi = phi; setup rejects psi > phi;
  *     the initial-stress state reproduces s0 and refuses one outside f <= 0.
+ *
+ * In MPGM_DIM terms; second steps not coaxial with the first, f(tau) = 0
+ * after the return, the new b_e gives the returned stress back, repeated
+ * stretches stay finite; 3-D also checks the Jacobi eigensolver.
  */
 #include "mohr_coulomb_impl.h"
 #include "mpgm_material.h"
@@ -42,6 +46,17 @@ static int make(double psi, mpgm_material *m) {
   m->param[4] = psi;      /* psi */
   char msg[256] = "";
   return m->type->setup(m, msg, sizeof msg);
+}
+
+/* Sort three values in descending order. */
+static void sort3(double t[3]) {
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2 - i; j++)
+      if (t[j] < t[j + 1]) {
+        const double q = t[j];
+        t[j] = t[j + 1];
+        t[j + 1] = q;
+      }
 }
 
 /* ---- an independent reference: trial and error on the KKT conditions ---- */
@@ -159,13 +174,7 @@ static void check_return(const mpgm_material *m, rng *r, const char *tag) {
   for (int n = 0; n < NSAMPLE; n++) {
     double st[3];
     for (int i = 0; i < 3; i++) st[i] = sa + uniform(r, -R, 0.4 * R);
-    for (int i = 0; i < 2; i++) /* sort descending */
-      for (int j = 0; j < 2 - i; j++)
-        if (st[j] < st[j + 1]) {
-          const double t = st[j];
-          st[j] = st[j + 1];
-          st[j + 1] = t;
-        }
+    sort3(st);
     double s[3], T[9], sref[3] = {0, 0, 0};
     const int reg = mpgm_mc_return(m, st, s, T);
     const int ref = reference_region(m, st, sref);
@@ -250,30 +259,132 @@ static void check_return(const mpgm_material *m, rng *r, const char *tag) {
   }
 }
 
-/* ---- finite strain ------------------------------------------------------- */
-static void mul(const double A[4], const double B[4], double C[4]) {
-  const double c0 = A[0] * B[0] + A[1] * B[2], c1 = A[0] * B[1] + A[1] * B[3];
-  const double c2 = A[2] * B[0] + A[3] * B[2], c3 = A[2] * B[1] + A[3] * B[3];
-  C[0] = c0; C[1] = c1; C[2] = c2; C[3] = c3;
-}
-static double det(const double F[4]) { return F[0] * F[3] - F[1] * F[2]; }
+/* ---- finite strain: DIM x DIM helpers ------------------------------------ */
+/* Layouts of the build's MPGM_DIM: F row major, stresses and the b_e slots
+ * of the state in the stress layout (2-D {xx, yy, xy, zz}, 3-D Voigt). */
+enum { DIM = MPGM_DIM, NT = MPGM_TENSOR, NV = MPGM_NVOIGT, NS = MPGM_NSTRESS, NST = NS + 1 };
 
-/* Hencky: tau = lambda tr(e) I + 2 mu e, e = 1/2 ln(F F^T) (plane strain). */
-static void hencky(const mpgm_material *m, const double F[4], double sigma[4]) {
+/* C = A B (C must not alias A or B) */
+static void mul(const double A[NT], const double B[NT], double C[NT]) {
+  for (int i = 0; i < DIM; i++)
+    for (int j = 0; j < DIM; j++) {
+      C[DIM * i + j] = 0.0;
+      for (int k = 0; k < DIM; k++) C[DIM * i + j] += A[DIM * i + k] * B[DIM * k + j];
+    }
+}
+static void transpose(const double A[NT], double T[NT]) {
+  for (int i = 0; i < DIM; i++)
+    for (int j = 0; j < DIM; j++) T[DIM * j + i] = A[DIM * i + j];
+}
+static void eye(double I[NT]) {
+  for (int i = 0; i < NT; i++) I[i] = i % (DIM + 1) == 0 ? 1.0 : 0.0;
+}
+static double det(const double F[NT]) {
+#if MPGM_DIM == 2
+  return F[0] * F[3] - F[1] * F[2];
+#else
+  return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+         F[2] * (F[3] * F[7] - F[4] * F[6]);
+#endif
+}
+static void inverse(const double F[NT], double inv[NT]) {
+  const double d = det(F);
+#if MPGM_DIM == 2
+  inv[0] = F[3] / d; inv[1] = -F[1] / d; inv[2] = -F[2] / d; inv[3] = F[0] / d;
+#else
+  for (int p = 0; p < 3; p++) /* adjugate / det */
+    for (int q = 0; q < 3; q++) {
+      const int p1 = (p + 1) % 3, p2 = (p + 2) % 3, q1 = (q + 1) % 3, q2 = (q + 2) % 3;
+      inv[3 * q + p] = (F[3 * p1 + q1] * F[3 * p2 + q2] - F[3 * p1 + q2] * F[3 * p2 + q1]) / d;
+    }
+#endif
+}
+/* Rotation by th about the unit axis n (Rodrigues; 2-D: about z). */
+static void axis_rotation(const double n[3], double th, double R[NT]) {
+  const double c = cos(th), s = sin(th);
+#if MPGM_DIM == 2
+  (void)n;
+  R[0] = c; R[1] = -s; R[2] = s; R[3] = c;
+#else
+  const double C = 1.0 - c;
+  const double Q[9] = {c + n[0] * n[0] * C, n[0] * n[1] * C - n[2] * s, n[0] * n[2] * C + n[1] * s,
+                       n[1] * n[0] * C + n[2] * s, c + n[1] * n[1] * C, n[1] * n[2] * C - n[0] * s,
+                       n[2] * n[0] * C - n[1] * s, n[2] * n[1] * C + n[0] * s, c + n[2] * n[2] * C};
+  memcpy(R, Q, sizeof Q);
+#endif
+}
+/* A random unit vector (2-D: in the plane). */
+static void random_unit(rng *r, double n[3]) {
+  double nn;
+  do {
+    for (int i = 0; i < 3; i++) n[i] = i < DIM ? uniform(r, -1, 1) : 0.0;
+    nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  } while (!(nn > 0.1 && nn <= 1.0));
+  for (int i = 0; i < 3; i++) n[i] /= nn;
+}
+/* A random rotation: random axis (3-D), angle in [-pi, pi]. */
+static void random_rotation(rng *r, double R[NT]) {
+  double n[3];
+  random_unit(r, n);
+  axis_rotation(n, uniform(r, -PI, PI), R);
+}
+/* Symmetric DIM x DIM tensor from the Voigt part of the stress layout, and
+ * back (2-D: the zz slot is left alone). */
+static void full_of(const double v[NS], double S[NT]) {
+  for (int k = 0; k < NV; k++) {
+    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
+    S[DIM * a + b] = S[DIM * b + a] = v[k];
+  }
+}
+static void voigt_of(const double S[NT], double v[NS]) {
+  for (int k = 0; k < NV; k++) v[k] = S[DIM * mpgm_voigt_pair[k][0] + mpgm_voigt_pair[k][1]];
+}
+/* Principal values l and directions (the columns of V) of a symmetric
+ * tensor in the stress layout: 2-D the in-plane pair in closed form, then
+ * zz (direction z, not in V); 3-D the library's Jacobi solver (checked on
+ * its own in check_eigen). */
+static void eig_layout(const double v[NS], double l[3], double V[NT]) {
+#if MPGM_DIM == 2
+  const double h = 0.5 * (v[0] - v[1]), R = hypot(h, v[2]), mid = 0.5 * (v[0] + v[1]);
+  const double th = 0.5 * atan2(v[2], h);
+  l[0] = mid + R; l[1] = mid - R; l[2] = v[3];
+  V[0] = cos(th); V[1] = -sin(th); V[2] = sin(th); V[3] = cos(th);
+#else
+  mpgm_sym3_eigen(v, l, V);
+#endif
+}
+/* b = A B A^T in the stress layout for b0 = B in it (2-D: b_zz = B_zz). */
+static void push(const double A[NT], const double B[NS], double b[NS]) {
+  double Bf[NT], T[NT], At[NT], bf[NT];
+  full_of(B, Bf);
+  transpose(A, At);
+  mul(A, Bf, T);
+  mul(T, At, bf);
+  voigt_of(bf, b);
+#if MPGM_DIM == 2
+  b[3] = B[3];
+#endif
+}
+/* Hencky: tau = lambda tr(e) I + 2 mu e, e = 1/2 ln(F F^T). */
+static void hencky(const mpgm_material *m, const double F[NT], double sigma[NS]) {
   const double lam = m->c[MPGM_MC_LAMBDA], mu = m->c[MPGM_MC_MU];
-  const double b[3] = {F[0] * F[0] + F[1] * F[1], F[2] * F[2] + F[3] * F[3],
-                       F[0] * F[2] + F[1] * F[3]};
-  const double h = 0.5 * (b[0] - b[1]), R = hypot(h, b[2]), mid = 0.5 * (b[0] + b[1]);
-  const double l0 = mid + R, l1 = det(F) * det(F) / l0, th = 0.5 * atan2(b[2], h);
-  const double e0 = 0.5 * log(l0), e1 = 0.5 * log(l1), tr = lam * (e0 + e1);
-  const double t0 = tr + 2 * mu * e0, t1 = tr + 2 * mu * e1, c = cos(th), s = sin(th);
-  const double J = det(F);
-  sigma[0] = (c * c * t0 + s * s * t1) / J;
-  sigma[1] = (s * s * t0 + c * c * t1) / J;
-  sigma[2] = c * s * (t0 - t1) / J;
+  double I[NS] = {0}, b[NS], l[3], V[NT];
+  for (int k = 0; k < NS; k++) I[k] = k < DIM || k == NV ? 1.0 : 0.0;
+  push(F, I, b);
+  eig_layout(b, l, V);
+  const double e[3] = {0.5 * log(l[0]), 0.5 * log(l[1]), 0.5 * log(l[2])};
+  const double tr = lam * (e[0] + e[1] + e[2]), J = det(F);
+  for (int k = 0; k < NV; k++) {
+    const int a = mpgm_voigt_pair[k][0], c = mpgm_voigt_pair[k][1];
+    sigma[k] = 0.0;
+    for (int i = 0; i < DIM; i++) sigma[k] += V[DIM * a + i] * V[DIM * c + i] * (tr + 2 * mu * e[i]) / J;
+  }
+#if MPGM_DIM == 2
   sigma[3] = tr / J;
+#endif
 }
 
+/* Elastic paths: one step and 7 increments through b_e = Hencky. */
 static void check_hencky(rng *r) {
   mpgm_material m;
   make(7.3, &m);
@@ -282,135 +393,242 @@ static void check_hencky(rng *r) {
   m.type->setup(&m, msg, sizeof msg);
   double worst1 = 0.0, worstn = 0.0;
   for (int k = 0; k < 16; k++) {
+    double Q[NT], U[NT] = {0}, F[NT], s[NS], se[NS], st0[NST], st1[NST], st[NST], ax[3];
+    random_unit(r, ax);
     const double th = uniform(r, -PI, PI);
-    const double U[4] = {uniform(r, 0.7, 1.4), uniform(r, -0.3, 0.3), 0.0, uniform(r, 0.7, 1.4)};
-    const double Q[4] = {cos(th), -sin(th), sin(th), cos(th)};
-    double F[4], s[4], se[4], st0[5], st1[5], st[5];
+    axis_rotation(ax, th, Q);
+    for (int i = 0; i < DIM; i++)
+      for (int j = i; j < DIM; j++)
+        U[DIM * i + j] = i == j ? uniform(r, 0.7, 1.4) : uniform(r, -0.3, 0.3);
     mul(Q, U, F);
     hencky(&m, F, se);
     m.type->init_state(&m, st0);
     m.type->update(&m, MPGM_KIN_FINITE, F, F, st0, st1, s, NULL);
-    const double sn = fabs(se[0]) + fabs(se[1]) + fabs(se[2]) + fabs(se[3]);
-    for (int i = 0; i < 4; i++) worst1 = fmax(worst1, fabs(s[i] - se[i]) / sn);
+    double sn = 0.0;
+    for (int i = 0; i < NS; i++) sn += fabs(se[i]);
+    for (int i = 0; i < NS; i++) worst1 = fmax(worst1, fabs(s[i] - se[i]) / sn);
     /* the same end point in 7 increments F_i = Q(a th) (I + a (U - I)),
      * a = i/7, through b_e */
-    double Fn[4] = {1, 0, 0, 1};
+    double Fn[NT];
+    eye(Fn);
     m.type->init_state(&m, st);
     int ierr = 0;
     for (int i = 1; i <= 7; i++) {
       const double a = i / 7.0;
-      const double Qa[4] = {cos(a * th), -sin(a * th), sin(a * th), cos(a * th)};
-      double Ua[4], Fi[4], Fninv[4], dF[4];
-      for (int q = 0; q < 4; q++) Ua[q] = (q == 0 || q == 3 ? 1.0 - a : 0.0) + a * U[q];
+      double Fi[NT], inv[NT], dF[NT], nst[NST], Qa[NT], Ua[NT];
+      for (int q = 0; q < NT; q++) Ua[q] = (q % (DIM + 1) == 0 ? 1.0 - a : 0.0) + a * U[q];
+      axis_rotation(ax, a * th, Qa);
       mul(Qa, Ua, Fi);
-      const double dn = det(Fn);
-      Fninv[0] = Fn[3] / dn; Fninv[1] = -Fn[1] / dn; Fninv[2] = -Fn[2] / dn; Fninv[3] = Fn[0] / dn;
-      mul(Fi, Fninv, dF);
-      double nst[5];
+      inverse(Fn, inv);
+      mul(Fi, inv, dF);
       ierr |= m.type->update(&m, MPGM_KIN_FINITE, Fi, dF, st, nst, s, NULL);
       memcpy(st, nst, sizeof st);
       memcpy(Fn, Fi, sizeof Fn);
     }
-    for (int i = 0; i < 4; i++) worstn = fmax(worstn, fabs(s[i] - se[i]) / sn);
-    mpgm_test(ierr == 0 && st[4] == 0.0, "elastic path #%d: updates succeed, eps_p stays 0", k);
+    for (int i = 0; i < NS; i++) worstn = fmax(worstn, fabs(s[i] - se[i]) / sn);
+    mpgm_test(ierr == 0 && st[NS] == 0.0, "elastic path #%d: updates succeed, eps_p stays 0", k);
   }
   mpgm_test_abs(worst1, 0.0, TEST_TOL4, "elastic: one step = Hencky law (max rel err %.2e)", worst1);
   mpgm_test_abs(worstn, 0.0, TEST_TOL5,
                 "elastic: 7 increments through b_e = Hencky law (max rel err %.2e)", worstn);
 }
 
-/* Region of the return a finite update takes (recomputed from b_tr). */
-static int finite_region(const mpgm_material *m, const double dF[4], const double *st_n) {
-  const double bx = st_n[0], by = st_n[1], bs = st_n[2];
-  const double A0 = dF[0] * bx + dF[1] * bs, A1 = dF[0] * bs + dF[1] * by;
-  const double A2 = dF[2] * bx + dF[3] * bs, A3 = dF[2] * bs + dF[3] * by;
-  const double b[3] = {A0 * dF[0] + A1 * dF[1], A2 * dF[2] + A3 * dF[3], A0 * dF[2] + A1 * dF[3]};
-  const double h = 0.5 * (b[0] - b[1]), R = hypot(h, b[2]), mid = 0.5 * (b[0] + b[1]);
-  const double e[3] = {0.5 * log(mid + R), 0.5 * log(mid - R), 0.5 * log(st_n[3])};
+/* Region of the return for the trial tensor x in the stress layout:
+ * principal trial strains 1/2 ln of its eigenvalues (logs: x = b_tr) or
+ * the eigenvalues themselves (x = eps_tr). */
+static int trial_region(const mpgm_material *m, const double x[NS], int logs) {
+  double l[3], V[NT], t[3], s[3];
+  eig_layout(x, l, V);
+  if (logs)
+    for (int i = 0; i < 3; i++) l[i] = 0.5 * log(l[i]);
   const double lam = m->c[MPGM_MC_LAMBDA], mu = m->c[MPGM_MC_MU];
-  const double tr = lam * (e[0] + e[1] + e[2]);
-  double t[3];
-  for (int i = 0; i < 3; i++) t[i] = tr + 2 * mu * e[i];
-  for (int i = 0; i < 2; i++)
-    for (int j = 0; j < 2 - i; j++)
-      if (t[j] < t[j + 1]) {
-        const double q = t[j];
-        t[j] = t[j + 1];
-        t[j + 1] = q;
-      }
-  double s[3];
+  const double tr = lam * (l[0] + l[1] + l[2]);
+  for (int i = 0; i < 3; i++) t[i] = tr + 2 * mu * l[i];
+  sort3(t);
   return mpgm_mc_return(m, t, s, NULL);
 }
 
+/* Region of the return a finite update takes (recomputed from b_tr). */
+static int finite_region(const mpgm_material *m, const double dF[NT], const double *st_n) {
+  double b[NS];
+  push(dF, st_n, b);
+  return trial_region(m, b, 1);
+}
+
+/* I + l n (x) n (uniaxial, mode 1) or I + l (I - n (x) n) (biaxial, mode 2)
+ * along a random unit n, plus noise; mode 0: I + random entries in
+ * [lo, hi] on the diagonal and +-w off it. */
+static void random_stretch(rng *r, int mode, double lo, double hi, double w, double F[NT]) {
+  double n[3];
+  random_unit(r, n);
+  const double l = uniform(r, lo, hi);
+  for (int i = 0; i < DIM; i++)
+    for (int j = 0; j < DIM; j++) {
+      const double d = i == j ? 1.0 : 0.0;
+      double *v = &F[DIM * i + j];
+      if (mode == 0) *v = d + (i == j ? uniform(r, lo, hi) : uniform(r, -w, w));
+      else *v = d + l * (mode == 1 ? n[i] * n[j] : d - n[i] * n[j]) + uniform(r, -1e-4, 1e-4);
+    }
+}
+
+/* J D : sym(H) against the Lie derivative of tau by central differences,
+ * F = (I + h H) dF F_n, from the committed state st1: rel err, or
+ * *same = 0 when the perturbed steps leave the region reg. */
+static double lie_error(const mpgm_material *m, const double Fn[NT], const double dF[NT],
+                        const double *st1, const double s[NS], const double D[MPGM_NTANGENT],
+                        rng *r, int reg, int *same) {
+  double H[NT], Ip[NT], Im[NT], dFp[NT], dFm[NT], Fp[NT], Fm[NT], F[NT], sp[NS], sm[NS], tmp[NST];
+  const double h = 1e-7;
+  for (int q = 0; q < NT; q++) {
+    H[q] = uniform(r, -1, 1);
+    Ip[q] = (q % (DIM + 1) == 0) + h * H[q];
+    Im[q] = (q % (DIM + 1) == 0) - h * H[q];
+  }
+  mul(Ip, dF, dFp);
+  mul(Im, dF, dFm);
+  mul(dFp, Fn, Fp);
+  mul(dFm, Fn, Fm);
+  mul(dF, Fn, F);
+  *same = finite_region(m, dFp, st1) == reg && finite_region(m, dFm, st1) == reg;
+  if (!*same) return 0.0;
+  m->type->update(m, MPGM_KIN_FINITE, Fp, dFp, st1, tmp, sp, NULL);
+  m->type->update(m, MPGM_KIN_FINITE, Fm, dFm, st1, tmp, sm, NULL);
+  const double J = det(F), Jp = det(Fp), Jm = det(Fm);
+  double Sp[NT], Sm[NT], S[NT], lie[NT], lhs[NT], o[NS], Ht[NT], HS[NT], SHt[NT];
+  full_of(s, S);
+  full_of(sp, Sp);
+  full_of(sm, Sm);
+  transpose(H, Ht);
+  mul(H, S, HS);
+  mul(S, Ht, SHt); /* tau = J sigma */
+  for (int q = 0; q < NT; q++) lie[q] = (Jp * Sp[q] - Jm * Sm[q]) / (2 * h) - J * (HS[q] + SHt[q]);
+  for (int i = 0; i < NV; i++) { /* J D : sym(H), engineering shear */
+    o[i] = 0.0;
+    for (int j = 0; j < NV; j++) {
+      const int a = mpgm_voigt_pair[j][0], b = mpgm_voigt_pair[j][1];
+      o[i] += J * D[NV * i + j] * (a == b ? H[(DIM + 1) * a] : H[DIM * a + b] + H[DIM * b + a]);
+    }
+  }
+  full_of(o, lhs);
+  double e2 = 0, n2 = 0;
+  for (int q = 0; q < NT; q++) {
+    e2 += (lhs[q] - lie[q]) * (lhs[q] - lie[q]);
+    n2 += lie[q] * lie[q];
+  }
+  return sqrt(e2 / n2);
+}
+
+#if MPGM_DIM == 3
+/* R diag(l) R^T as Voigt components, scaled: d_a d_b (R diag(l) R^T)_ab. */
+static void spd(const double R[9], const double l[3], const double d[3], double v[6]) {
+  for (int k = 0; k < 6; k++) {
+    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
+    v[k] = d[a] * d[b] *
+           (R[3 * a] * R[3 * b] * l[0] + R[3 * a + 1] * R[3 * b + 1] * l[1] + R[3 * a + 2] * R[3 * b + 2] * l[2]);
+  }
+}
+
+/* The eigensolver on its own: S V = V diag(l) and V^T V = I for random
+ * symmetric S with known eigenvalues, repeated ones included (no NaN);
+ * a graded positive definite S = D A D (D = diag(1, 1e-3, 1e-6)) keeps the
+ * product of its eigenvalues, det S, to relative accuracy, i.e. the tiny
+ * eigenvalue is not lost to the large ones. */
+static void check_eigen(rng *r) {
+  double worst_l = 0.0, worst_orth = 0.0, worst_det = 0.0;
+  int fails = 0;
+  for (int n = 0; n < 2000; n++) {
+    double R[9], lt[3], v[6], l[3], V[9];
+    const double one[3] = {1, 1, 1}, grade[3] = {1.0, 1e-3, 1e-6};
+    random_rotation(r, R);
+    for (int i = 0; i < 3; i++) lt[i] = uniform(r, -2.0, 2.0);
+    if (n % 4 == 1) lt[1] = lt[0];                /* a repeated pair */
+    if (n % 4 == 2) lt[1] = lt[2] = lt[0];        /* all equal       */
+    if (n % 4 == 3) lt[2] = lt[0] * (1 + 1e-13);  /* nearly repeated */
+    spd(R, lt, one, v);
+    fails += mpgm_sym3_eigen(v, l, V) != 0;
+    sort3(l);
+    sort3(lt);
+    const double lmax = fmax(fabs(lt[0]), fabs(lt[2]));
+    for (int i = 0; i < 3; i++) worst_l = fmax(worst_l, fabs(l[i] - lt[i]) / lmax);
+    for (int q = 0; q < 9; q++) { /* V^T V - I */
+      const int i = q / 3, j = q % 3;
+      const double d = V[i] * V[j] + V[3 + i] * V[3 + j] + V[6 + i] * V[6 + j] - (i == j);
+      worst_orth = fmax(worst_orth, isfinite(d) ? fabs(d) : 1.0);
+    }
+    /* graded SPD: A with eigenvalues 0.5..2 */
+    for (int i = 0; i < 3; i++) lt[i] = uniform(r, 0.5, 2.0);
+    spd(R, lt, grade, v);
+    fails += mpgm_sym3_eigen(v, l, V) != 0;
+    const double dS = lt[0] * lt[1] * lt[2] * 1e-18; /* det A (d0 d1 d2)^2 */
+    worst_det = fmax(worst_det, fabs(l[0] * l[1] * l[2] - dS) / dS + !(l[0] > 0 && l[1] > 0 && l[2] > 0));
+  }
+  mpgm_test(fails == 0, "eigen: 4000 decompositions converge (%d failed)", fails);
+  mpgm_test_abs(worst_l, 0.0, TEST_TOL2,
+                "eigen: eigenvalues of R diag(l) R^T, repeated ones included (max err / |l|max %.2e)",
+                worst_l);
+  mpgm_test_abs(worst_orth, 0.0, TEST_TOL2, "eigen: V^T V = I (max %.2e)", worst_orth);
+  mpgm_test_abs(worst_det, 0.0, TEST_TOL3,
+                "eigen: graded SPD (scales 1, 1e-3, 1e-6): l0 l1 l2 = det S (max rel err %.2e)",
+                worst_det);
+  const double I6[6] = {2, 2, 2, 0, 0, 0}, bad[6] = {1, 1, NAN, 0, 0, 0};
+  double l[3], V[9];
+  mpgm_test(mpgm_sym3_eigen(I6, l, V) == 0 && l[0] == 2 && l[1] == 2 && l[2] == 2 && V[0] == 1 &&
+                V[4] == 1 && V[8] == 1, "eigen: 2 I gives 2, 2, 2 and V = I");
+  mpgm_test(mpgm_sym3_eigen(bad, l, V) != 0, "eigen: NaN refused");
+}
+
+#endif
+
 /* From a committed state on the yield surface (one plastic step), a second
- * step dF: J D : sym(H) against the Lie derivative of tau by central
- * differences, F = (I + e H) dF F_n. */
+ * step dF not coaxial with it: per region, J D : sym(H) against the Lie
+ * derivative of tau, f(tau) = 0 after the return, and the new b_e carries
+ * the returned stress; the states with three distinct principal stresses
+ * and all three shear stresses non-zero counted apart. */
 static void check_finite_tangent(const mpgm_material *m, rng *r, const char *tag) {
-  int count[5] = {0};
-  double err[5] = {0}, asym = 0.0, dnorm_max = 0.0;
-  for (int n = 0; n < 40000; n++) {
-    double st0[5], st1[5], st2[5], s[4], D[9];
+  int count[5] = {0}, n3d = 0;
+  double err[5] = {0}, asym = 0.0, worst_f = 0.0, worst_state = 0.0;
+  for (int n = 0; n < 60000; n++) {
+    double st0[NST], st1[NST], st2[NST], tmp[NST], s[NS], s2[NS], D[MPGM_NTANGENT], Q[NT], U1[NT], Fn[NT], dF[NT], F[NT];
     m->type->init_state(m, st0);
-    const double th = uniform(r, -PI, PI), Q[4] = {cos(th), -sin(th), sin(th), cos(th)};
-    const double U1[4] = {1 + uniform(r, -0.02, 0.01), uniform(r, -0.02, 0.02), 0,
-                          1 + uniform(r, -0.02, 0.01)};
-    double Fn[4], dF[4], F[4];
+    const int mode = n % 3; /* random, uniaxial, biaxial compression */
+    random_rotation(r, Q);
+    random_stretch(r, mode, -0.02, mode ? -0.005 : 0.01, 0.02, U1);
     mul(Q, U1, Fn);
-    const double ca = cos(th), sa = sin(th);
-    if (n % 2) /* uniaxial compression along (ca, sa): near the edge s1 = s2 */
-      for (int q = 0; q < 4; q++) {
-        const double l = uniform(r, -0.02, -0.005), A[4] = {ca * ca, ca * sa, ca * sa, sa * sa};
-        Fn[q] = (q == 0 || q == 3 ? 1.0 : 0.0) + l * A[q] + uniform(r, -1e-4, 1e-4);
-      }
     if (m->type->update(m, MPGM_KIN_FINITE, Fn, Fn, st0, st1, s, NULL)) continue;
-    if (!(st1[4] > 0.0)) continue; /* start from a state on the yield surface */
-    for (int q = 0; q < 4; q++) dF[q] = (q == 0 || q == 3 ? 1.0 : 0.0) + uniform(r, -0.006, 0.006);
-    if (n % 2) /* and more of it */
-      for (int q = 0; q < 4; q++) {
-        const double l = uniform(r, -0.01, -0.001), A[4] = {ca * ca, ca * sa, ca * sa, sa * sa};
-        dF[q] = (q == 0 || q == 3 ? 1.0 : 0.0) + l * A[q] + uniform(r, -1e-4, 1e-4);
-      }
+    if (!(st1[NS] > 0.0)) continue; /* start from a state on the yield surface */
+    random_stretch(r, mode, mode ? -0.01 : -0.006, mode ? -0.001 : 0.006, 0.006, dF);
     mul(dF, Fn, F);
     const int reg = finite_region(m, dF, st1);
     if (count[reg] >= 60) continue;
     if (m->type->update(m, MPGM_KIN_FINITE, F, dF, st1, st2, s, D)) continue;
-    double H[4];
-    for (int q = 0; q < 4; q++) H[q] = uniform(r, -1, 1);
-    const double h = 1e-7;
-    const double Ip[4] = {1 + h * H[0], h * H[1], h * H[2], 1 + h * H[3]};
-    const double Im[4] = {1 - h * H[0], -h * H[1], -h * H[2], 1 - h * H[3]};
-    double dFp[4], dFm[4], Fp[4], Fm[4], sp[4], sm[4], tmp[5];
-    mul(Ip, dF, dFp);
-    mul(Im, dF, dFm);
-    mul(dFp, Fn, Fp);
-    mul(dFm, Fn, Fm);
-    if (finite_region(m, dFp, st1) != reg || finite_region(m, dFm, st1) != reg) continue;
-    m->type->update(m, MPGM_KIN_FINITE, Fp, dFp, st1, tmp, sp, NULL);
-    m->type->update(m, MPGM_KIN_FINITE, Fm, dFm, st1, tmp, sm, NULL);
-    const double J = det(F), Jp = det(Fp), Jm = det(Fm);
-    const double tau[4] = {J * s[0], J * s[2], J * s[2], J * s[1]}; /* 2x2 */
-    double lie[4], lhs[4];
-    const double dtau[4] = {(Jp * sp[0] - Jm * sm[0]) / (2 * h), (Jp * sp[2] - Jm * sm[2]) / (2 * h),
-                            (Jp * sp[2] - Jm * sm[2]) / (2 * h), (Jp * sp[1] - Jm * sm[1]) / (2 * h)};
-    double Ht[4] = {H[0], H[2], H[1], H[3]}, Htau[4], tauHt[4];
-    mul(H, tau, Htau);
-    mul(tau, Ht, tauHt);
-    for (int i = 0; i < 4; i++) lie[i] = dtau[i] - Htau[i] - tauHt[i];
-    const double v[3] = {H[0], H[3], H[1] + H[2]};
-    double o[3];
-    for (int i = 0; i < 3; i++) o[i] = J * (D[3 * i] * v[0] + D[3 * i + 1] * v[1] + D[3 * i + 2] * v[2]);
-    lhs[0] = o[0]; lhs[1] = o[2]; lhs[2] = o[2]; lhs[3] = o[1];
-    double e2 = 0, n2 = 0, dn = 0;
-    for (int i = 0; i < 4; i++) {
-      e2 += (lhs[i] - lie[i]) * (lhs[i] - lie[i]);
-      n2 += lie[i] * lie[i];
-    }
-    for (int i = 0; i < 9; i++) dn += D[i] * D[i];
-    err[reg] = fmax(err[reg], sqrt(e2 / n2));
+    int same;
+    const double e = lie_error(m, Fn, dF, st1, s, D, r, reg, &same);
+    if (!same) continue;
+    err[reg] = fmax(err[reg], e);
     count[reg]++;
+    const double J = det(F);
+    double tau[NS], l[3], V[NT], sn = 0.0, dn = 0.0;
+    for (int k = 0; k < NS; k++) {
+      tau[k] = J * s[k];
+      sn += s[k] * s[k];
+    }
+    for (int k = 0; k < MPGM_NTANGENT; k++) dn += D[k] * D[k];
+    eig_layout(tau, l, V);
+    sort3(l);
+    const double scale = fabs(l[0]) + fabs(l[1]) + fabs(l[2]) + m->param[2];
+    if (reg != MPGM_MC_ELASTIC) worst_f = fmax(worst_f, fabs(m->type->yield(m, tau)) / scale);
+    eye(V); /* dF = I from the new state */
+    m->type->update(m, MPGM_KIN_FINITE, F, V, st2, tmp, s2, NULL);
+    for (int k = 0; k < NS; k++) worst_state = fmax(worst_state, fabs(s2[k] - s[k]) / sqrt(sn));
+    const double gap = fmin(l[0] - l[1], l[1] - l[2]) / (fabs(l[0]) + fabs(l[2]));
+    int shears = 1;
+    for (int k = DIM; k < NV; k++) shears &= fabs(s[k]) > 1e-3 * sqrt(sn);
+    n3d += reg != MPGM_MC_ELASTIC && gap > 1e-2 && shears;
     if (reg != MPGM_MC_ELASTIC && reg != MPGM_MC_APEX) {
-      asym = fmax(asym, (fabs(D[1] - D[3]) + fabs(D[2] - D[6]) + fabs(D[5] - D[7])) / sqrt(dn));
-      dnorm_max = fmax(dnorm_max, sqrt(dn));
+      double a = 0.0;
+      for (int i = 0; i < NV; i++)
+        for (int j = i + 1; j < NV; j++) a += fabs(D[NV * i + j] - D[NV * j + i]);
+      asym = fmax(asym, a / sqrt(dn));
     }
   }
   for (int g = 0; g < 5; g++) {
@@ -420,6 +638,13 @@ static void check_finite_tangent(const mpgm_material *m, rng *r, const char *tag
                   "%s finite: J D:sym(H) = Lie derivative of tau (central diff) in region %s "
                   "(max rel err %.2e)", tag, region_name[g], err[g]);
   }
+  mpgm_test_abs(worst_f, 0.0, 1e-10, "%s finite: |f(tau)| <= 1e-10 scale after the return (max %.2e)",
+                tag, worst_f);
+  mpgm_test_abs(worst_state, 0.0, TEST_TOL4,
+                "%s finite: the new b_e carries the returned stress (max rel err %.2e)", tag,
+                worst_state);
+  mpgm_test(n3d >= 20, "%s finite: %d of the checked plastic states have distinct principal "
+            "stresses and all shears non-zero", tag, n3d);
   if (m->symmetric)
     mpgm_test_abs(asym, 0.0, TEST_TOL3, "%s finite: psi = phi: D symmetric (max %.2e)", tag, asym);
   else
@@ -427,43 +652,85 @@ static void check_finite_tangent(const mpgm_material *m, rng *r, const char *tag
               asym);
 }
 
+/* Repeated principal stretches (F = I, uniaxial, biaxial and hydrostatic
+ * stretch, exactly on the axes and rotated): finite outputs, and the
+ * tangent against central differences where the region is the same on
+ * both sides. */
+static void check_repeated(const mpgm_material *m, rng *r, const char *tag) {
+  const double cases[5][3] = {{1, 1, 1}, {0.97, 1, 1}, {1, 0.975, 0.975}, {1.02, 1.02, 1.02},
+                              {0.96, 0.96, 0.96}};
+  int finite = 1, nfd = 0;
+  double worst = 0.0;
+  for (int c = 0; c < 5; c++)
+    for (int rot = 0; rot < 2; rot++) {
+      double Q[NT], Qt[NT], G[NT] = {0}, T[NT], F[NT], st0[NST], st1[NST], s[NS], D[MPGM_NTANGENT];
+      eye(Q);
+      if (rot) random_rotation(r, Q);
+      for (int i = 0; i < DIM; i++) G[(DIM + 1) * i] = cases[c][i];
+      transpose(Q, Qt); /* F = Q G Q^T, symmetric */
+      mul(Q, G, T);
+      mul(T, Qt, F);
+      m->type->init_state(m, st0);
+      for (int kin = 0; kin < 2; kin++) {
+        const int e = m->type->update(m, kin, F, F, st0, st1, s, D);
+        finite &= e == 0;
+        for (int k = 0; k < MPGM_NTANGENT; k++)
+          finite &= isfinite(D[k]) && (k >= NS || isfinite(s[k])) && (k >= NST || isfinite(st1[k]));
+      }
+      m->type->update(m, MPGM_KIN_FINITE, F, F, st0, st1, s, D);
+      eye(Q); /* F_n = I */
+      int same;
+      const double err = lie_error(m, Q, F, st0, s, D, r, finite_region(m, F, st0), &same);
+      if (same) {
+        nfd++;
+        worst = fmax(worst, err);
+      }
+    }
+  mpgm_test(finite, "%s repeated stretches: updates succeed, stress, tangent, state finite", tag);
+  mpgm_test(nfd >= 8, "%s repeated stretches: %d of 10 cases away from region boundaries", tag, nfd);
+  mpgm_test_abs(worst, 0.0, 1e-6, "%s repeated stretches: tangent = central differences (max %.2e)",
+                tag, worst);
+}
+
 /* Small kinematics from a plastic state: D against central differences of
  * sigma w.r.t. the engineering strain. */
 static void check_small_tangent(const mpgm_material *m, rng *r, const char *tag) {
-  const double unit[3][4] = {{1, 0, 0, 0}, {0, 0, 0, 1}, {0, 0.5, 0.5, 0}};
+  double unit[NV][NT] = {{0}};
+  for (int k = 0; k < NV; k++) {
+    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
+    if (a == b) unit[k][(DIM + 1) * a] = 1.0;
+    else unit[k][DIM * a + b] = unit[k][DIM * b + a] = 0.5;
+  }
   double worst = 0.0;
   int nplastic = 0;
-  for (int n = 0; n < 200; n++) {
-    double st0[5], st1[5], tmp[5], s[4], D[9], F1[4], F[4];
+  for (int n = 0; n < 300; n++) {
+    double st0[NST], st1[NST], tmp[NST], s[NS], D[MPGM_NTANGENT], F1[NT], F[NT];
     m->type->init_state(m, st0);
-    for (int q = 0; q < 4; q++) F1[q] = (q == 0 || q == 3 ? 1.0 : 0.0) + uniform(r, -0.02, 0.01);
+    for (int q = 0; q < NT; q++) F1[q] = (q % (DIM + 1) == 0 ? 1.0 : 0.0) + uniform(r, -0.02, 0.01);
     m->type->update(m, MPGM_KIN_SMALL, F1, F1, st0, st1, s, NULL);
-    for (int q = 0; q < 4; q++) F[q] = F1[q] + uniform(r, -0.004, 0.004);
+    for (int q = 0; q < NT; q++) F[q] = F1[q] + uniform(r, -0.004, 0.004);
     m->type->update(m, MPGM_KIN_SMALL, F, F, st1, tmp, s, D);
-    if (tmp[4] == st1[4]) continue; /* elastic second step */
+    if (tmp[NS] == st1[NS]) continue; /* elastic second step */
     nplastic++;
     const double h = 1e-8;
     double e2 = 0, n2 = 0;
-    for (int j = 0; j < 3; j++) {
-      double Fp[4], Fm[4], sp[4], sm[4];
-      for (int q = 0; q < 4; q++) {
+    for (int j = 0; j < NV; j++) {
+      double Fp[NT], Fm[NT], sp[NS], sm[NS];
+      for (int q = 0; q < NT; q++) {
         Fp[q] = F[q] + h * unit[j][q];
         Fm[q] = F[q] - h * unit[j][q];
       }
       m->type->update(m, MPGM_KIN_SMALL, Fp, Fp, st1, tmp, sp, NULL);
       m->type->update(m, MPGM_KIN_SMALL, Fm, Fm, st1, tmp, sm, NULL);
-      for (int i = 0; i < 3; i++) {
+      for (int i = 0; i < NV; i++) {
         const double fd = (sp[i] - sm[i]) / (2 * h);
-        e2 += (fd - D[3 * i + j]) * (fd - D[3 * i + j]);
+        e2 += (fd - D[NV * i + j]) * (fd - D[NV * i + j]);
       }
     }
-    for (int i = 0; i < 9; i++) n2 += D[i] * D[i];
-    /* relative to |D|, or to mu at the apex (D = 0) */
+    for (int i = 0; i < MPGM_NTANGENT; i++) n2 += D[i] * D[i];
     worst = fmax(worst, sqrt(e2) / fmax(sqrt(n2), m->c[MPGM_MC_MU]));
   }
   mpgm_test(nplastic >= 50, "%s small: %d plastic second steps", tag, nplastic);
-  /* h = 1e-8 of strain: a region boundary within h of a sample is unlikely
-   * at this count; the bound is the FD truncation/rounding level */
   mpgm_test_abs(worst, 0.0, 1e-6, "%s small: D = d sigma/d eps (central diff, max rel err %.2e)",
                 tag, worst);
 }
@@ -474,30 +741,38 @@ static void check_setup_and_init(void) {
             "psi = phi: symmetric tangent, plastic");
   mpgm_test(make(0.0, &m) == 0 && m.symmetric == 0, "psi = 0: unsymmetric tangent");
   mpgm_test(make(30.0, &m) == MPGM_ERR_INPUT, "psi > phi refused");
-  mpgm_test(m.type->nstate == 5 && m.type->plastic_strain && m.type->yield,
-            "state of 5 doubles, eps_p and yield operations");
+  mpgm_test(m.type->nstate == MPGM_NSTRESS + 1 && m.type->plastic_strain && m.type->yield,
+            "state of %d doubles, eps_p and yield operations", m.type->nstate);
   make(4.1, &m);
   /* apex at c cot phi; yield value 0 on the triaxial compression line */
   const double sp = sin(25.31 * PI / 180), c = 5.137e3;
   mpgm_test_rel(m.c[MPGM_MC_APEXS], c / tan(25.31 * PI / 180), TEST_TOL2, "apex at c cot phi");
   const double s3 = -4.0e4, s1 = s3 * (1 + sp) / (1 - sp) - 2 * c * cos(25.31 * PI / 180) / (1 - sp);
-  const double tau[4] = {s3, s1, 0.0, s3};
+  double tau[NS] = {0}; /* xx = zz = s3, yy = s1 */
+  tau[0] = tau[DIM == 2 ? 3 : 2] = s3;
+  tau[1] = s1;
   mpgm_test_abs(m.type->yield(&m, tau), 0.0, TEST_TOL3 * fabs(s1),
                 "yield = 0 at sigma_1 = sigma_3 (1 + sin phi)/(1 - sin phi) + 2c cos phi/(1 - sin phi)");
   /* initial stress */
+#if MPGM_DIM == 2
   const double s0[4] = {-2.31e4, -4.17e4, 3.2e3, -2.29e4};
+  const double bad[4] = {-1.0e3, -4.17e5, 0.0, -1.0e3};
+#else /* three distinct principal stresses, principal axes off the frame */
+  const double s0[6] = {-2.31e4, -4.17e4, -2.29e4, 3.2e3, -1.7e3, 2.1e3};
+  const double bad[6] = {-1.0e3, -4.17e5, -1.0e3, 0.0, 0.0, 0.0};
+#endif
+  double I[NT];
+  eye(I);
   for (int kin = 0; kin < 2; kin++) {
-    double st[5], st1[5], s[4];
+    double st[MPGM_NSTRESS + 1], st1[MPGM_NSTRESS + 1], s[MPGM_NSTRESS];
     char msg[256] = "";
     int e = m.type->init_stress(&m, kin, s0, st, msg, sizeof msg);
-    const double I[4] = {1, 0, 0, 1};
     m.type->update(&m, kin, I, I, st, st1, s, NULL);
     double err = 0;
-    for (int i = 0; i < 4; i++) err = fmax(err, fabs(s[i] - s0[i]) / 4.17e4);
+    for (int i = 0; i < MPGM_NSTRESS; i++) err = fmax(err, fabs(s[i] - s0[i]) / 4.17e4);
     mpgm_test(e == 0, "init_stress %s returns %d", kin ? "small" : "finite", e);
     mpgm_test_abs(err, 0.0, TEST_TOL3, "init_stress %s: update at F = I returns s0 (rel err %.2e)",
                   kin ? "small" : "finite", err);
-    const double bad[4] = {-1.0e3, -4.17e5, 0.0, -1.0e3};
     mpgm_test(m.type->init_stress(&m, kin, bad, st, msg, sizeof msg) == MPGM_ERR_INPUT &&
                   strstr(msg, "outside the yield surface"),
               "init_stress %s: s0 outside the surface refused (%s)", kin ? "small" : "finite", msg);
@@ -507,6 +782,9 @@ static void check_setup_and_init(void) {
 int main(void) {
   rng r = {0x2545F4914F6CDD1DULL};
   check_setup_and_init();
+#if MPGM_DIM == 3
+  check_eigen(&r);
+#endif
   const double psis[3] = {0.0, 11.7, 25.31};
   const char *tags[3] = {"psi = 0", "psi = 11.7", "psi = phi"};
   for (int k = 0; k < 3; k++) {
@@ -515,6 +793,7 @@ int main(void) {
     check_return(&m, &r, tags[k]);
     check_finite_tangent(&m, &r, tags[k]);
     check_small_tangent(&m, &r, tags[k]);
+    check_repeated(&m, &r, tags[k]);
   }
   check_hencky(&r);
   return mpgm_test_summary();
