@@ -8,9 +8,13 @@
 
 #include "mpgm_core_impl.h"
 
-#if MPGM_DIM != 2
-#error "core/pattern.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
+/* How many of node I's first n components are numbered (have an
+ * equation): the rows of I before its component n in a column of K. */
+static inline int numbered(const mpgm_nodes *nd, int I, int n) {
+  int c = 0;
+  for (int d = 0; d < n; d++) c += nd->dof[MPGM_DIM * I + d] >= 0;
+  return c;
+}
 
 /* ---- sparsity pattern ------------------------------------------------- */
 
@@ -306,8 +310,7 @@ static int matrix_pattern(mpgm_problem *pb) {
       if (nd->dof[MPGM_DIM * J + j] < 0) continue;
       for (int t = nptr[J]; t < nptr[J + 1]; t++) {
         const int I = pair[t];
-        /* 2-D only: the numbered components of I, x and y written out */
-        nnz += (nd->dof[MPGM_DIM * I] >= 0) + (nd->dof[MPGM_DIM * I + 1] >= 0);
+        nnz += numbered(nd, I, MPGM_DIM);
       }
     }
   K->rowind = malloc((nnz ? nnz : 1) * sizeof(int));
@@ -342,14 +345,13 @@ static int matrix_pattern(mpgm_problem *pb) {
     MPGM_CHECK(ctx, k == n, MPGM_ERR_INTERNAL, "ordering: %d of %d equations placed", k, n);
   }
   /* node I's rows in a column of node J start nbr_off[t] entries into the
-   * column, t the place of I in J's list (2-D only: the numbered components
-   * counted x and y apart) */
+   * column, t the place of I in J's list */
   int *off = malloc(((size_t)nptr[nn] + 1) * sizeof(int));
   MPGM_CHECK(ctx, off, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
   for (int J = 0; J < nn; J++)
     for (int t = nptr[J], c = 0; t < nptr[J + 1]; t++) {
       off[t] = c;
-      c += (nd->dof[MPGM_DIM * pair[t]] >= 0) + (nd->dof[MPGM_DIM * pair[t] + 1] >= 0);
+      c += numbered(nd, pair[t], MPGM_DIM);
     }
   free(pb->nbr_off);
   pb->nbr_off = off;
@@ -470,9 +472,8 @@ static int group_map(mpgm_problem *pb, int g, int *srt, int *tpos, size_t *s) {
           int pos = -1;
           /* held contact components are numbered but get no terms */
           if (row >= 0 && col >= 0 && !nd->fix[MPGM_DIM * I + i] && !nd->fix[MPGM_DIM * J + j]) {
-            /* 2-D only: the rows of I before row i are x's, if numbered
-             * (3-D: count the numbered components before i) */
-            pos = K->colptr[col] + pb->nbr_off[t] + (i == 1 && dof[MPGM_DIM * I] >= 0);
+            /* after the rows of I's numbered components before i */
+            pos = K->colptr[col] + pb->nbr_off[t] + numbered(nd, I, i);
             /* a broken invariant, checked on every 16th group: the read is
              * a cache miss (a third of the maps' cost on clouds) */
             MPGM_CHECK(ctx, (g & 15) != 0 || K->rowind[pos] == row, MPGM_ERR_INTERNAL,
