@@ -1,16 +1,14 @@
 /* mesh.c -- persistent-node FE problems over any conforming mesh of T3 or
- * Q4 cells: nodes, Gauss points, probes, boundaries, connectivity, and the
- * shape functions of every step (mpgm_discretisation.h); the structured
- * meshes of rectangle bodies. */
+ * Q4 cells (2-D) or H8 cells (3-D): nodes, Gauss points, probes,
+ * boundaries, connectivity, and the shape functions of every step
+ * (mpgm_discretisation.h); the structured meshes of rectangle (box)
+ * bodies. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "mpgm_discretisation.h"
 
-#if MPGM_DIM != 2
-#error "discretisation/mesh.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 struct mpgm_fem_cells {
   int cell;        /**< mpgm_cell_kind of every cell                  */
@@ -33,13 +31,16 @@ void mpgm_fem_cells_destroy(mpgm_fem_cells *d) {
   free(d);
 }
 
-/* The coordinates of cell c's nodes (2-D only: x and y written out). */
+/* The coordinates of cell c's nodes. */
 static void cell_coords(const fem_data *d, const double *x, int c, double *xn) {
   const int *cn = d->cnode + (size_t)d->nn * c;
-  for (int a = 0; a < d->nn; a++) {
-    xn[MPGM_DIM * a] = x[MPGM_DIM * cn[a]];
-    xn[MPGM_DIM * a + 1] = x[MPGM_DIM * cn[a] + 1];
-  }
+  for (int a = 0; a < d->nn; a++)
+    memcpy(xn + MPGM_DIM * a, x + MPGM_DIM * cn[a], sizeof(double) * MPGM_DIM);
+}
+
+/* The VTK cell type of a kind: VTK_TRIANGLE, VTK_QUAD, VTK_HEXAHEDRON. */
+static int vtk_type(int cell) {
+  return cell == MPGM_CELL_H8 ? 12 : cell == MPGM_CELL_Q4 ? 9 : 5;
 }
 
 int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fem_cells **out) {
@@ -64,7 +65,7 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
   mpgm_points *P = v->pts;
   memcpy(nd->X, m->X, sizeof(double) * MPGM_DIM * (size_t)m->nnode);
   memcpy(nd->x, m->X, sizeof(double) * MPGM_DIM * (size_t)m->nnode);
-  double gxi[MPGM_DIM * 9], gw[9]; /* rules of up to 9 points */
+  double gxi[MPGM_DIM * MPGM_MAXRULE], gw[MPGM_MAXRULE];
   MPGM_CALL(mpgm_points_rule(s, m->cell, gxi, gw));
   int p = 0;
   for (int c = 0; c < m->ncell; c++) {
@@ -72,13 +73,9 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
     const mpgm_scene_body *bd = &s->bodies[b];
     const int *cn = d->cnode + (size_t)d->nn * c;
     d->cptr[c + 1] = d->cptr[c] + d->nn;
-    d->ctype[c] = m->cell == MPGM_CELL_Q4 ? 9 : 5; /* VTK_QUAD, VTK_TRIANGLE */
-    /* 2-D only: velocities, positions and local coordinates written out in
-     * x and y here and for the probes below */
-    for (int a = 0; a < d->nn; a++) {
-      nd->v[MPGM_DIM * cn[a]] = bd->velocity[0];
-      nd->v[MPGM_DIM * cn[a] + 1] = bd->velocity[1];
-    }
+    d->ctype[c] = vtk_type(m->cell);
+    for (int a = 0; a < d->nn; a++)
+      memcpy(nd->v + MPGM_DIM * cn[a], bd->velocity, sizeof(double) * MPGM_DIM);
     double xn[MPGM_DIM * MPGM_FE_MAXNODE];
     cell_coords(d, nd->X, c, xn);
     for (int g = 0; g < s->ppc; g++, p++) {
@@ -86,15 +83,12 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
       int err = mpgm_fe_eval(m->cell, xn, gxi + MPGM_DIM * g, N, dN, &detJ);
       MPGM_CHECK(ctx, !err, err, "%s: cell %d of body \"%s\" is inverted (det J = %g)", s->file, c,
                  bd->name, detJ);
-      double x[MPGM_DIM] = {0, 0}; /* 2-D only: x and y written out */
-      for (int a = 0; a < d->nn; a++) {
-        x[0] += N[a] * xn[MPGM_DIM * a];
-        x[1] += N[a] * xn[MPGM_DIM * a + 1];
-      }
+      double x[MPGM_DIM] = {0};
+      for (int a = 0; a < d->nn; a++)
+        for (int k = 0; k < MPGM_DIM; k++) x[k] += N[a] * xn[MPGM_DIM * a + k];
       mpgm_point_set(P, p, s, b, x, gw[g] * detJ);
       d->pcell[p] = c;
-      d->pxi[MPGM_DIM * p] = gxi[MPGM_DIM * g];
-      d->pxi[MPGM_DIM * p + 1] = gxi[MPGM_DIM * g + 1];
+      memcpy(d->pxi + MPGM_DIM * p, gxi + MPGM_DIM * g, sizeof(double) * MPGM_DIM);
     }
   }
   /* probes: the cell holding the reference position */
@@ -106,16 +100,15 @@ int mpgm_fem_cells_create(const mpgm_fe_view *v, const mpgm_fem_mesh *m, mpgm_fe
       cell_coords(d, nd->X, cc, xn);
       if (mpgm_fe_local(m->cell, xn, xp, xi) == 0 && mpgm_fe_inside(m->cell, xi, 1e-10)) {
         found = cc;
-        d->pxi[MPGM_DIM * p] = xi[0];
-        d->pxi[MPGM_DIM * p + 1] = xi[1];
+        memcpy(d->pxi + MPGM_DIM * p, xi, sizeof xi);
       }
     }
+    char at[MPGM_POINT_STR];
     MPGM_CHECK(ctx, found >= 0, MPGM_ERR_INPUT,
-               "%s: probes.%s: expected a position inside a body, found (%g, %g)", s->file,
-               s->probes[k].name, xp[0], xp[1]);
+               "%s: probes.%s: expected a position inside a body, found %s", s->file,
+               s->probes[k].name, mpgm_point_str(xp, at));
     d->pcell[p] = found;
-    P->x[MPGM_DIM * p] = P->x0[MPGM_DIM * p] = xp[0];
-    P->x[MPGM_DIM * p + 1] = P->x0[MPGM_DIM * p + 1] = xp[1];
+    for (int i = 0; i < MPGM_DIM; i++) P->x[MPGM_DIM * p + i] = P->x0[MPGM_DIM * p + i] = xp[i];
   }
   MPGM_CALL(mpgm_nodes_apply_boundaries(ctx, s, nd));
   /* connectivity pattern: fixed for the whole run */
@@ -154,31 +147,74 @@ int mpgm_fem_cells_output(const mpgm_fem_cells *d, mpgm_cells *out) {
   return 0;
 }
 
-/* Cells of a body meshed nx x ny over [min, max]; count (if not NULL)
- * accumulates its nodes and cells, unclamped, in double. 2-D only, as the
- * structured meshes of rectangles below: squares nx x ny in x and y. */
-static void body_grid(const mpgm_scene *s, const mpgm_scene_body *b, int *nx, int *ny,
+/* The cells of a body meshed n[0] x n[1] (x n[2]) over its box [min,
+ * max]; count (if not NULL) accumulates its nodes and cells, unclamped, in
+ * double. */
+static void body_grid(const mpgm_scene *s, const mpgm_scene_body *b, int n[MPGM_DIM],
                       double count[2]) {
-  const double fx = fmax(1.0, ceil((b->max[0] - b->min[0]) / s->h - 1e-9));
-  const double fy = fmax(1.0, ceil((b->max[1] - b->min[1]) / s->h - 1e-9));
-  if (count) {
-    count[0] += (fx + 1.0) * (fy + 1.0);
-    count[1] += fx * fy;
+  double nodes = 1.0, cells = 1.0;
+  for (int d = 0; d < MPGM_DIM; d++) {
+    const double f = fmax(1.0, ceil((b->max[d] - b->min[d]) / s->h - 1e-9));
+    nodes *= f + 1.0;
+    cells *= f;
+    /* clamp before converting: a tiny h overflows int (the caller checks
+     * the size in double first) */
+    n[d] = f > 1e9 ? 1000000000 : (int)f;
   }
-  /* clamp before converting: a tiny h overflows int (fem_setup checks the
-   * size in double first) */
-  *nx = fx > 1e9 ? 1000000000 : (int)fx;
-  *ny = fy > 1e9 ? 1000000000 : (int)fy;
+  if (count) {
+    count[0] += nodes;
+    count[1] += cells;
+  }
+}
+
+/* The nodes of a body's structured mesh, from node n0 on: (i, j(, k)) at
+ * n0 + (k (ny + 1) + j) (nx + 1) + i, the last one of a row on the box's
+ * far side exactly. */
+static void body_nodes(const mpgm_scene_body *bd, const int n[MPGM_DIM], int n0, double *X) {
+  double h[MPGM_DIM];
+  int total = 1;
+  for (int d = 0; d < MPGM_DIM; d++) {
+    h[d] = (bd->max[d] - bd->min[d]) / n[d];
+    total *= n[d] + 1;
+  }
+  for (int k = 0; k < total; k++)
+    for (int d = 0, r = k; d < MPGM_DIM; r /= n[d] + 1, d++) {
+      const int i = r % (n[d] + 1);
+      X[MPGM_DIM * (n0 + k) + d] = i == n[d] ? bd->max[d] : bd->min[d] + i * h[d];
+    }
+}
+
+/* The cells of square (cube) q of a body's mesh: Q4 its corners, T3 two
+ * triangles, H8 the bottom face then the top; returns how many. */
+static int square_cells(int cell, const int n[MPGM_DIM], int n0, int q, int *cnode) {
+  const int w = n[0] + 1, i = q % n[0], j = (q / n[0]) % n[1];
+  const int k = MPGM_DIM == 3 ? q / (n[0] * n[1]) : 0;
+  const int l = MPGM_DIM == 3 ? w * (n[1] + 1) : 0;
+  int c[8];
+  for (int t = 0; t < (MPGM_DIM == 3 ? 2 : 1); t++) {
+    const int b = n0 + (k + t) * l;
+    c[4 * t + 0] = b + j * w + i;
+    c[4 * t + 1] = b + j * w + i + 1;
+    c[4 * t + 2] = b + (j + 1) * w + i + 1;
+    c[4 * t + 3] = b + (j + 1) * w + i;
+  }
+  if (cell != MPGM_CELL_T3) {
+    memcpy(cnode, c, sizeof(int) * (size_t)mpgm_fe_nnode(cell));
+    return 1;
+  }
+  const int tri[6] = {c[0], c[1], c[2], c[0], c[2], c[3]};
+  memcpy(cnode, tri, sizeof tri);
+  return 2;
 }
 
 int mpgm_fem_rectangles(const mpgm_fe_view *v, mpgm_fem_cells **out) {
   mpgm_ctx *ctx = v->ctx;
   const mpgm_scene *s = v->scene;
-  const int per_sq = s->cell == MPGM_CELL_Q4 ? 1 : 2, nn = mpgm_fe_nnode(s->cell);
+  const int per_sq = s->cell == MPGM_CELL_T3 ? 2 : 1, nn = mpgm_fe_nnode(s->cell);
   /* count: in double first, so a tiny h cannot overflow the integers */
   double count[2] = {0.0, 0.0};
-  int nx, ny;
-  for (int b = 0; b < s->nbody; b++) body_grid(s, &s->bodies[b], &nx, &ny, count);
+  int n[MPGM_DIM];
+  for (int b = 0; b < s->nbody; b++) body_grid(s, &s->bodies[b], n, count);
   MPGM_CHECK(ctx, count[0] < 5e7 && count[1] * per_sq * s->ppc < 1e8, MPGM_ERR_INPUT,
              "%s: mesh.h: expected a mesh of at most 5e7 nodes and 1e8 points, found %.4g nodes "
              "and %.4g points (h = %g)", s->file, count[0], count[1] * per_sq * s->ppc, s->h);
@@ -191,26 +227,15 @@ int mpgm_fem_rectangles(const mpgm_fe_view *v, mpgm_fem_cells **out) {
   }
   int n0 = 0, c = 0;
   for (int b = 0; b < s->nbody; b++) {
-    const mpgm_scene_body *bd = &s->bodies[b];
-    body_grid(s, bd, &nx, &ny, NULL);
-    const double hx = (bd->max[0] - bd->min[0]) / nx, hy = (bd->max[1] - bd->min[1]) / ny;
-    for (int j = 0; j <= ny; j++)
-      for (int i = 0; i <= nx; i++) {
-        const int k = n0 + j * (nx + 1) + i;
-        X[MPGM_DIM * k] = i == nx ? bd->max[0] : bd->min[0] + i * hx;
-        X[MPGM_DIM * k + 1] = j == ny ? bd->max[1] : bd->min[1] + j * hy;
-      }
-    for (int j = 0; j < ny; j++)
-      for (int i = 0; i < nx; i++) {
-        const int q[4] = {n0 + j * (nx + 1) + i, n0 + j * (nx + 1) + i + 1,
-                          n0 + (j + 1) * (nx + 1) + i + 1, n0 + (j + 1) * (nx + 1) + i};
-        const int tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
-        for (int t = 0; t < per_sq; t++, c++) {
-          memcpy(cnode + (size_t)nn * c, per_sq == 1 ? q : tri[t], sizeof(int) * nn);
-          cbody[c] = b;
-        }
-      }
-    n0 += (nx + 1) * (ny + 1);
+    body_grid(s, &s->bodies[b], n, NULL);
+    body_nodes(&s->bodies[b], n, n0, X);
+    int nsq = 1, nodes = 1;
+    for (int d = 0; d < MPGM_DIM; d++) nsq *= n[d], nodes *= n[d] + 1;
+    for (int q = 0; q < nsq; q++) {
+      const int k = square_cells(s->cell, n, n0, q, cnode + (size_t)nn * c);
+      for (int t = 0; t < k; t++) cbody[c++] = b;
+    }
+    n0 += nodes;
   }
   const mpgm_fem_mesh mesh = {s->cell, nnode, X, ncell, cnode, cbody};
   int err = mpgm_fem_cells_create(v, &mesh, out);
