@@ -73,8 +73,7 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
       for (int c = 0; c < MPGM_TENSOR; c++) F[c] = P->F[MPGM_TENSOR * p + c] + H[c];
       P->vol_t[p] = P->vol0[p];
       if (want_D) /* g = dN, for the tangent */
-        memcpy(C->g + MPGM_DIM * C->ptr[p], C->dN + MPGM_DIM * C->ptr[p],
-               sizeof(double) * MPGM_DIM * (size_t)(C->ptr[p + 1] - C->ptr[p]));
+        for (int i = MPGM_DIM * C->ptr[p]; i < MPGM_DIM * C->ptr[p + 1]; i++) C->g[i] = C->dN[i];
       err = m->type->update(m, MPGM_KIN_SMALL, F, dF, st_n, st_t, P->sigma_t + MPGM_NSTRESS * p,
                             D_t ? D_t + MPGM_NTANGENT * p : NULL);
     } else {

@@ -8,9 +8,6 @@
 
 #include "scene_impl.h"
 
-#if MPGM_DIM != 2
-#error "io/scene_reference.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 int mpgm_reference_read(jr_node *root, mpgm_scene *s) {
   mpgm_reference *ref = &s->reference;
@@ -43,10 +40,9 @@ int mpgm_reference_read(jr_node *root, mpgm_scene *s) {
     return jr_fail(&r, "probe", "expected the name of a probe defined in probes (%s), found \"%s\"",
                    s->nprobe ? list : "none defined", pname);
   }
-  ref->x0[0] = s->probes[ref->probe].x[0]; /* 2-D only: x and y */
-  ref->x0[1] = s->probes[ref->probe].x[1];
+  memcpy(ref->x0, s->probes[ref->probe].x, sizeof ref->x0);
   if (ref->type->needs_component) {
-    static const char *const comps[] = {"x", "y", NULL};
+    static const char *const comps[] = {"x", "y", MPGM_DIM == 3 ? "z" : NULL, NULL};
     MPGM_CALL(jr_enum(&r, "component", comps, -1, &ref->component));
   }
   for (int p = 0; p < ref->type->nparam && p < MPGM_REF_MAXPARAM; p++) {

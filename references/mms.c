@@ -13,6 +13,10 @@
 #include "mpgm_base.h"
 #include "mpgm_mms.h"
 
+#if MPGM_DIM != 2
+#error "references/mms.c is written for plane strain only (MPGM_DIM = 2)"
+#endif
+
 static const double PI = 3.14159265358979323846;
 
 /* The parameters with the paper's values for fields left 0, the Lame

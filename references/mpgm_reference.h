@@ -5,14 +5,16 @@
  * probe history into accuracy metrics of summary.json ("metrics").
  *
  * Every kind reads "probe" (the name of a scene probe) and, when it says so,
- * "component" ("x" | "y"), plus its own numeric parameter table. Each kind
- * is one .c exporting a `const mpgm_reference_type`; the list of all of
- * them is MPGM_REFERENCE_LIST in reference_list.c.
+ * "component" ("x" | "y", or "z" in 3-D), plus its own numeric parameter
+ * table. Each kind is one .c exporting a `const mpgm_reference_type`; the
+ * list of all of them is MPGM_REFERENCE_LIST in reference_list.c. Kinds
+ * that need "the vertical" take the last axis (y, or z in 3-D).
  *
  * Probe history layout (as core/output.c records it): row-major, nrow rows
  * of ncol doubles; column 0 the step, column 1 the time [s] (dynamic) or
- * the load factor (static), then ux, uy [m] of each probe in scene order
- * (probe k at columns 2 + 2k, 3 + 2k). Row 0 is the initial state.
+ * the load factor (static), then the MPGM_DIM displacement components [m]
+ * of each probe in scene order (component c of probe k at column
+ * mpgm_ref_column(k, c)). Row 0 is the initial state.
  */
 #ifndef MPGM_REFERENCE_H
 #define MPGM_REFERENCE_H
@@ -77,6 +79,9 @@ struct mpgm_reference_type {
   void (*observe)(const mpgm_reference *r, double t, double dt, const mpgm_ref_points *pts,
                   double *acc);
 };
+
+/** The column of component c of probe k in a probe history. */
+static inline int mpgm_ref_column(int k, int c) { return 2 + MPGM_DIM * k + c; }
 
 /** All kinds, NULL-terminated (for docs and error messages). */
 const mpgm_reference_type *const *mpgm_reference_types(void);

@@ -46,7 +46,7 @@ static int column_wave_metrics(const mpgm_reference *r, int nrow, int ncol, cons
                                const double *acc, mpgm_metric *out) {
   (void)acc;
   const double H = r->param[0], M = r->param[1], rho = r->param[2], g = r->param[3];
-  const int col = 2 + 2 * r->probe + r->component;
+  const int col = mpgm_ref_column(r->probe, r->component);
   const double amp_ref = rho * g * H * H / M;
   double lo = INFINITY, hi = -INFINITY, sum = 0.0, emax = 0.0;
   for (int k = 0; k < nrow; k++) {

@@ -64,10 +64,12 @@ static void dyka_bar_observe(const mpgm_reference *r, double t, double dt,
   const double L = r->param[0], c = sqrt(r->param[1] / r->param[2]), v0 = r->param[3];
   double sum = 0.0;
   for (int p = 0; p < pts->n; p++) {
-    const double X = pts->x0[2 * p];
+    const double X = pts->x0[MPGM_DIM * p], *v = pts->v + MPGM_DIM * p;
     const double ex = 0.5 * (f_ext(L, v0, X - c * t) + f_ext(L, v0, X + c * t));
-    const double dx = pts->v[2 * p] - ex, dy = pts->v[2 * p + 1];
-    sum += dx * dx + dy * dy;
+    const double dx = v[0] - ex;
+    double e2 = dx * dx; /* and the velocity across the bar, which is 0 */
+    for (int d = 1; d < MPGM_DIM; d++) e2 += v[d] * v[d];
+    sum += e2;
   }
   const double rms = pts->n ? sqrt(sum / pts->n) : 0.0;
   if (acc[1] == 0.0 && t >= r->param[4] * (1.0 - 1e-9)) {
@@ -92,7 +94,7 @@ static double displacement(const mpgm_reference *r, double X, double t) {
 static int dyka_bar_metrics(const mpgm_reference *r, int nrow, int ncol, const double *hist,
                             const double *acc, mpgm_metric *out) {
   const double L = r->param[0], c = sqrt(r->param[1] / r->param[2]), v0 = r->param[3];
-  const int col = 2 + 2 * r->probe + r->component;
+  const int col = mpgm_ref_column(r->probe, r->component);
   double sum = 0.0, emax = 0.0;
   for (int k = 1; k < nrow; k++) {
     const double *row = hist + (size_t)ncol * k;

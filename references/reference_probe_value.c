@@ -16,7 +16,7 @@ static int probe_value_metrics(const mpgm_reference *r, int nrow, int ncol, cons
                                const double *acc, mpgm_metric *out) {
   (void)acc;
   const double value = r->param[0];
-  const double u = hist[(size_t)ncol * (nrow - 1) + 2 + 2 * r->probe + r->component];
+  const double u = hist[(size_t)ncol * (nrow - 1) + mpgm_ref_column(r->probe, r->component)];
   const double err = fabs(u - value);
   int n = 0;
   out[n++] = (mpgm_metric){"reference_value", value};

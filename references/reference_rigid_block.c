@@ -43,15 +43,15 @@ static void rigid_block_observe(const mpgm_reference *r, double t, double dt,
   const double H = r->param[0], rho = r->param[1], g = r->param[2];
   if (acc[ROW] == 0.0) {
     acc[YMIN] = INFINITY;
-    for (int p = 0; p < pts->n; p++) acc[YMIN] = fmin(acc[YMIN], pts->x0[2 * p + 1]);
+    for (int p = 0; p < pts->n; p++) acc[YMIN] = fmin(acc[YMIN], pts->x0[MPGM_DIM * p + MPGM_DIM - 1]);
   }
   const double ymin = acc[YMIN];
   double sum = 0.0;
   int n = 0;
   for (int p = 0; p < pts->n; p++) {
-    const double Y = pts->x0[2 * p + 1];
+    const double Y = pts->x0[MPGM_DIM * p + MPGM_DIM - 1]; /* the vertical: y (3-D z) */
     if (Y > ymin + 1e-9 * H) continue;
-    const double s = pts->sigma[4 * p + 1];
+    const double s = pts->sigma[MPGM_NSTRESS * p + MPGM_DIM - 1]; /* yy (3-D zz) */
     if (!isfinite(s)) acc[BAD] = 1.0;
     sum += s / (-rho * g * (H - Y));
     n++;
@@ -83,8 +83,9 @@ static int rigid_block_metrics(const mpgm_reference *r, int nrow, int ncol, cons
     for (int k = 0; k < nrow; k++) {
       const double *row = hist + (size_t)ncol * k;
       if (row[1] < r->param[3]) continue;
-      lo = fmin(lo, row[3 + 2 * r->probe]);
-      hi = fmax(hi, row[3 + 2 * r->probe]);
+      const double u = row[mpgm_ref_column(r->probe, MPGM_DIM - 1)]; /* the vertical */
+      lo = fmin(lo, u);
+      hi = fmax(hi, u);
     }
     out[n++] = (mpgm_metric){"settlement_ref", ref};
     if (hi >= lo) {

@@ -27,7 +27,7 @@ static int rolling_disk_metrics(const mpgm_reference *r, int nrow, int ncol, con
   (void)acc;
   const double alpha = r->param[0] * deg, g = r->param[1];
   const double k2 = g * sin(alpha) / 3.0, ca = cos(alpha); /* s_ref = k2 t^2 */
-  const int col = 2 + 2 * r->probe;
+  const int col = mpgm_ref_column(r->probe, 0);
   const double *last = hist + (size_t)ncol * (nrow - 1);
   const double s_final = last[col], s_ref_final = k2 * last[1] * last[1];
   int n = 0;
