@@ -33,15 +33,6 @@ static void plane_of(const mpgm_scene_boundary *bc, int *axis, int *side) {
   *side = bc->side;
 }
 
-void mpgm_cpoints_enforce_all(mpgm_cpoints *cp) { memset(cp->off, 0, (size_t)cp->n); }
-
-void mpgm_cpoints_unenforce(mpgm_cpoints *cp, int i) {
-  cp->unenforced += !cp->off[i];
-  cp->off[i] = 1;
-}
-
-int mpgm_cpoints_unenforced(const mpgm_cpoints *cp, int i) { return cp->off[i]; }
-
 void mpgm_cpoints_free(mpgm_cpoints *cp) {
   free(cp->plane);
   free(cp->flip);

@@ -10,9 +10,6 @@
 
 #include "mpgm_discretisation.h"
 
-#if MPGM_DIM != 2
-#error "discretisation/light.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
 
 int mpgm_light_nodes(const mpgm_conn *c, int np, const double *pmass, int nnode,
                      const unsigned char *eligible, double min_node_mass, double *mass,
@@ -57,9 +54,8 @@ int mpgm_light_drop(mpgm_ctx *ctx, mpgm_conn *c, int m, const unsigned char *lig
     const int surface = p >= first_surface;
     /* a surface point not enforced in this step has no functions */
     if (surface && mpgm_cpoints_unenforced(cp, p - first_surface)) continue;
-    /* 2-D only: Shepard's sums and the renormalised grad N written out in
-     * x and y (3-D: Sz and a third component) */
-    double S = 0, Sx = 0, Sy = 0;
+    /* Shepard's sums: of N and of grad N over the nodes kept */
+    double S = 0, Sg[MPGM_DIM] = {0};
     int lost = 0;
     for (int k = k0; k < k1; k++) {
       if (light[c->node[k]]) {
@@ -67,30 +63,30 @@ int mpgm_light_drop(mpgm_ctx *ctx, mpgm_conn *c, int m, const unsigned char *lig
         continue;
       }
       S += c->N[k];
-      Sx += c->dN[MPGM_DIM * k];
-      Sy += c->dN[MPGM_DIM * k + 1];
+      for (int d = 0; d < MPGM_DIM; d++) Sg[d] += c->dN[MPGM_DIM * k + d];
     }
     if (lost && !(S > 1e-12)) {
       /* a surface point among light nodes only: not enforced this step;
        * a probe: no functions (both are carried by mpgm_tracers_carry) */
       if (surface) mpgm_cpoints_unenforce(cp, p - first_surface);
       if (p >= P->n) continue;
-      MPGM_ERROR(ctx, MPGM_ERR_SHAPE, "step %ld: %s %d at (%g, %g) lost every node to "
+      char at[MPGM_POINT_STR];
+      MPGM_ERROR(ctx, MPGM_ERR_SHAPE, "step %ld: %s %d at %s lost every node to "
                  "mesh.min_node_mass = %g", step + 1, kind_of(P, p), p < P->n ? P->id[p] : p - P->n,
-                 P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], min_node_mass);
+                 mpgm_point_str(P->x + MPGM_DIM * p, at), min_node_mass);
     }
     for (int k = k0; k < k1; k++) {
       if (light[c->node[k]]) continue;
-      const double Nk = c->N[k], gx = c->dN[MPGM_DIM * k], gy = c->dN[MPGM_DIM * k + 1];
+      const double Nk = c->N[k];
+      double g[MPGM_DIM];
+      memcpy(g, c->dN + MPGM_DIM * k, sizeof g);
       c->node[w] = c->node[k];
       if (lost) { /* Shepard: sum N = 1 and sum grad N = 0 still hold */
         c->N[w] = Nk / S;
-        c->dN[MPGM_DIM * w] = gx / S - Nk * Sx / (S * S);
-        c->dN[MPGM_DIM * w + 1] = gy / S - Nk * Sy / (S * S);
+        for (int d = 0; d < MPGM_DIM; d++) c->dN[MPGM_DIM * w + d] = g[d] / S - Nk * Sg[d] / (S * S);
       } else {
         c->N[w] = Nk;
-        c->dN[MPGM_DIM * w] = gx;
-        c->dN[MPGM_DIM * w + 1] = gy;
+        memcpy(c->dN + MPGM_DIM * w, g, sizeof g);
       }
       w++;
     }

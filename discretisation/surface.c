@@ -6,14 +6,14 @@
 
 #include "mpgm_discretisation.h"
 
-#if MPGM_DIM != 2
-#error "discretisation/surface.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
-
+/* The bodies' surface points are plane figures' (contact at surface points
+ * in 3-D comes with the 3-D meshfree methods); carrying tracers with their
+ * nearest material point is written for both dimensions. */
+#if MPGM_DIM == 2
 static const double PI = 3.14159265358979323846;
 
-/* 2-D only: a circle and the edges of polygons (vertices: (x, y) pairs),
- * written out in x and y. */
+/* A circle and the edges of polygons (vertices: (x, y) pairs), written out
+ * in x and y. */
 int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x) {
   int n = 0;
   if (b->geometry == MPGM_GEOM_DISK) {
@@ -52,6 +52,7 @@ int mpgm_body_surface(const mpgm_scene_body *b, double spacing, double *x) {
   }
   return n;
 }
+#endif
 
 /* Spacing of the surface points: the smallest of the contact boundaries
  * enforced at points. */
@@ -67,24 +68,32 @@ int mpgm_surface_tracers_count(const mpgm_scene *s) { return mpgm_surface_tracer
 int mpgm_surface_tracers_xy(const mpgm_scene *s, double *x) {
   const double spacing = surface_spacing(s);
   int n = 0;
+#if MPGM_DIM == 2
   for (int b = 0; b < s->nbody && isfinite(spacing); b++)
     n += mpgm_body_surface(&s->bodies[b], spacing, x ? x + MPGM_DIM * n : NULL);
+#else /* none: a 3-D scene has no contact at points (refused when it loads) */
+  (void)x;
+  (void)spacing;
+#endif
   return n;
 }
 
 void mpgm_surface_tracers_fill(mpgm_points *P, const mpgm_scene *s) {
   const double spacing = surface_spacing(s);
+#if MPGM_DIM == 2
   for (int b = 0, p = P->n + P->nprobe; b < s->nbody && P->nsurf; b++) {
     const int k = mpgm_body_surface(&s->bodies[b], spacing, P->x + MPGM_DIM * p);
-    for (int q = p; q < p + k; q++) { /* 2-D only: x and y written out */
-      P->x0[MPGM_DIM * q] = P->x[MPGM_DIM * q];
-      P->x0[MPGM_DIM * q + 1] = P->x[MPGM_DIM * q + 1];
+    for (int q = p; q < p + k; q++) {
+      memcpy(P->x0 + MPGM_DIM * q, P->x + MPGM_DIM * q, sizeof(double) * MPGM_DIM);
       P->body[q] = b;
-      P->v[MPGM_DIM * q] = s->bodies[b].velocity[0];
-      P->v[MPGM_DIM * q + 1] = s->bodies[b].velocity[1];
+      memcpy(P->v + MPGM_DIM * q, s->bodies[b].velocity, sizeof(double) * MPGM_DIM);
     }
     p += k;
   }
+#else
+  (void)P;
+  (void)spacing;
+#endif
 }
 
 /* The nearest material point to x (ties: the lowest index). */

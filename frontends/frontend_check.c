@@ -67,7 +67,8 @@ static int check_shape(mpgm_ctx *ctx, const mpgm_scene *s) {
 }
 
 static int check_bodies(mpgm_ctx *ctx, const mpgm_scene *s) {
-  static const char *const geo[] = {"rectangle", "disk", "polygon", "ring"};
+  static const char *const geo[] = {MPGM_DIM == 2 ? "rectangle" : "box", MPGM_DIM == 2 ? "disk" : "sphere",
+                                     "polygon", "ring", "cylinder"};
   for (int b = 0; b < s->nbody; b++) {
     const unsigned g = 1u << s->bodies[b].geometry;
     if (s->frontend->geometries & g) continue;

@@ -5,10 +5,17 @@
 
 #include "mpgm_fem.h"
 #include "mpgm_frontends.h"
+#if MPGM_DIM == 2
 #include "mpgm_gmm.h"
+#endif
 #include "mpgm_mpm.h"
 
+/* 3-D: UL-FEM and MPM (GMM comes with the 3-D meshfree kinds) */
+#if MPGM_DIM == 2
 #define MPGM_FRONTEND_LIST(X) X(mpgm_frontend_fem) X(mpgm_frontend_mpm) X(mpgm_frontend_gmm)
+#else
+#define MPGM_FRONTEND_LIST(X) X(mpgm_frontend_fem) X(mpgm_frontend_mpm)
+#endif
 
 #define MPGM_ADDR(t) &t,
 static const mpgm_frontend_type *const all_types[] = {MPGM_FRONTEND_LIST(MPGM_ADDR) NULL};

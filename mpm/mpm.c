@@ -12,9 +12,11 @@
 #include "mpgm_grid.h"
 #include "mpgm_kdtree.h"
 
-#if MPGM_DIM != 2
-#error "mpm/mpm.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
+/* Written for both dimensions. The meshfree kinds (clouds of grid nodes
+ * over a kd-tree), CPLS and the surface points of contact at points are
+ * plane strain only (MPM_PLANE_ONLY: their code is compiled out of a 3-D
+ * build, whose scenes cannot ask for them). */
+#define MPM_PLANE_ONLY (MPGM_DIM == 2)
 
 typedef struct mpm_data {
   mpgm_grid g;
@@ -72,11 +74,13 @@ static void mpm_destroy(void *self) {
   mpgm_conn_release(&d->plists);
   mpgm_conn_release(&d->carry);
   free(d->gx);
+#if MPM_PLANE_ONLY
   mpgm_kdtree_destroy(&d->tree);
   mpgm_clouds_destroy(d->clouds);
+  mpgm_cpls_destroy(d->cpls);
+#endif
   free(d->perm);
   free(d->pscr);
-  mpgm_cpls_destroy(d->cpls);
   mpgm_conn_par_free(&d->par_build);
   mpgm_conn_task_free(&d->tail);
   free(d);
@@ -149,10 +153,14 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
       d->gpar.grid_hi[i] = g->max[i];
     }
   } else if (d->meshfree) { /* clouds of grid nodes: the grid's nodes never move */
+#if MPM_PLANE_ONLY
     MPGM_ALLOC(ctx, d->gx, MPGM_DIM * (size_t)g->nnode);
     for (int i = 0; i < g->nnode; i++) mpgm_grid_node(g, i, d->gx + MPGM_DIM * i);
     MPGM_CALL(mpgm_kdtree_create(ctx, d->gx, g->nnode, 0, &d->tree));
     MPGM_CALL(mpgm_clouds_create(ctx, s, &d->clouds));
+#else
+    MPGM_ERROR(ctx, MPGM_ERR_INTERNAL, "%s: meshfree kind \"%s\" in a 3-D build", s->file, s->shape->name);
+#endif
   }
   /* grid boundaries: the grid never moves, so the fixity of every grid
    * node is decided once */
@@ -165,15 +173,16 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
       mpgm_grid_node(g, k, X);
       if (!mpgm_boundary_selects(&s->bcs[i], X)) continue;
       hits++;
+      char at[MPGM_POINT_STR];
       MPGM_CHECK(ctx, d->gpar.grid_order != 2 || on_grid_edge(g, X), MPGM_ERR_INPUT,
                  "%s: boundaries.%d (\"%s\"): with shape.grid_functions \"quadratic_bspline\" a "
                  "support holds the field only on the edge of the grid (mesh.domain), where one "
-                 "node's spline alone is non-zero; found grid node (%g, %g) inside it: expected "
-                 "the grid's edge on the support", s->file, i, s->bcs[i].name, X[0], X[1]);
+                 "node's spline alone is non-zero; found grid node %s inside it: expected the "
+                 "grid's edge on the support", s->file, i, s->bcs[i].name, mpgm_point_str(X, at));
       for (int c = 0; c < MPGM_DIM; c++)
         d->gfix[MPGM_DIM * k + c] |= (unsigned char)s->bcs[i].fix[c];
       if (s->bcs[i].condition == MPGM_COND_CONTACT) /* normal axis, body side */
-        d->gcontact[k] = (signed char)((s->bcs[i].select == MPGM_SELECT_X ? 1 : 2) * s->bcs[i].side);
+        d->gcontact[k] = (signed char)((s->bcs[i].select + 1) * s->bcs[i].side);
     }
     MPGM_CHECK(ctx, hits > 0, MPGM_ERR_INPUT,
                "%s: boundaries.%d (\"%s\"): expected a selector that picks grid nodes, found none "
@@ -187,7 +196,7 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
 static int probe_cell(const mpm_data *d, const double x[MPGM_DIM], int *cell,
                       double xi[MPGM_DIM]) {
   if (d->cact[*cell]) return 0;
-  int cand[18];
+  int cand[27];
   const int nc = mpgm_grid_neighbours(&d->g, *cell, cand);
   for (int i = 0; i < nc; i++) {
     if (!d->cact[cand[i]]) continue;
@@ -196,14 +205,14 @@ static int probe_cell(const mpm_data *d, const double x[MPGM_DIM], int *cell,
     mpgm_grid_cell(&d->g, cand[i], nodes, xn);
     if (mpgm_fe_local(d->g.cell, xn, x, t) == 0 && mpgm_fe_inside(d->g.cell, t, 1e-9)) {
       *cell = cand[i];
-      xi[0] = t[0]; /* 2-D only: written out */
-      xi[1] = t[1];
+      memcpy(xi, t, sizeof t);
       return 0;
     }
   }
   return MPGM_ERR_DOMAIN;
 }
 
+#if MPM_PLANE_ONLY
 /* Cell of a surface tracer: its own cell if active, else the active
  * neighbour whose centre is nearest (the tracer may sit just outside the
  * material: its shape functions there extrapolate the cell's linear
@@ -244,6 +253,7 @@ static int surface_cell(const mpm_data *d, const double x[MPGM_DIM], int *cell,
   *cell = best;
   return 0;
 }
+#endif
 
 /* a[i] = a[perm[i]] for n records of w doubles, through scratch */
 static void permute(double *a, double *scr, const int *perm, int n, int w) {
@@ -290,12 +300,13 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
   for (int t = 0; t < j.ntask; t++) /* the lowest point outside the grid */
     if (j.fail[t] < np) {
       const int p = j.fail[t];
+      char x0[MPGM_POINT_STR], x[MPGM_POINT_STR], lo[MPGM_POINT_STR], hi[MPGM_POINT_STR];
       MPGM_ERROR(ctx, MPGM_ERR_DOMAIN,
-                 "step %ld: particle %d (body \"%s\", started at (%g, %g)) is at (%g, %g), "
-                 "outside the background grid [%g, %g] x [%g, %g] (mesh.domain)",
-                 d->step, P->id[p], s->bodies[P->body[p]].name, P->x0[MPGM_DIM * p],
-                 P->x0[MPGM_DIM * p + 1], P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1], g->min[0],
-                 g->max[0], g->min[1], g->max[1]);
+                 "step %ld: particle %d (body \"%s\", started at %s) is at %s, outside the "
+                 "background grid from %s to %s (mesh.domain)", d->step, P->id[p],
+                 s->bodies[P->body[p]].name, mpgm_point_str(P->x0 + MPGM_DIM * p, x0),
+                 mpgm_point_str(P->x + MPGM_DIM * p, x), mpgm_point_str(g->min, lo),
+                 mpgm_point_str(g->max, hi));
     }
   for (int p = 0; p < np; p++) d->cact[d->pcell[p]] = 1;
   for (int p = np; p < ms; p++) /* a probe outside the grid: carried (below) */
@@ -313,7 +324,9 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
     MPGM_CALL(mpgm_points_sort(ctx, v->pool, P, d->pcell, g->ncell, d->perm));
     /* the front end's own per-particle data moves along */
     permute(d->pxi, d->pscr, d->perm, np, MPGM_DIM);
+#if MPM_PLANE_ONLY
     if (d->clouds) mpgm_clouds_permute(d->clouds, d->perm, np, d->pscr); /* LME warm starts */
+#endif
     for (int p = 0; p < np; p++) d->pscr[p] = d->pcell[d->perm[p]];
     for (int p = 0; p < np; p++) d->pcell[p] = (int)d->pscr[p];
   }
@@ -323,10 +336,14 @@ static int locate(const mpgm_fe_view *v, mpm_data *d) {
   for (int p = np; p < ms; p++)
     if (d->pcell[p] >= 0 && probe_cell(d, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p))
       d->pcell[p] = -1;
+#if MPM_PLANE_ONLY
   if (m > ms) mpgm_cpoints_enforce_all(v->cp);
   for (int p = ms; p < m; p++)
     if (surface_cell(d, P->x + MPGM_DIM * p, d->pcell + p, d->pxi + MPGM_DIM * p))
       mpgm_cpoints_unenforce(v->cp, p - ms);
+#else
+  (void)m;
+#endif
   return 0;
 }
 
@@ -346,15 +363,15 @@ static int cell_point(void *arg, int p, mpgm_conn_task *t) {
   const int k = t->n;
   double xn[MPGM_DIM * MPGM_FE_MAXNODE];
   mpgm_grid_cell(g, j->d->pcell[p], t->node + k, xn); /* grid ids for now */
-  /* 2-D only: the query's xp and xi written out (mpgm_shapefn.h) */
-  mpgm_shape_query q = {.n = nn, .xn = xn, .xp = {P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]},
-                        .cell = g->cell,
-                        .xi = {j->d->pxi[MPGM_DIM * p], j->d->pxi[MPGM_DIM * p + 1]}};
+  mpgm_shape_query q = {.n = nn, .xn = xn, .cell = g->cell};
+  memcpy(q.xp, P->x + MPGM_DIM * p, sizeof q.xp);
+  memcpy(q.xi, j->d->pxi + MPGM_DIM * p, sizeof q.xi);
   const int err = j->v->scene->shape->eval(&q, t->N + k, t->dN + MPGM_DIM * k);
   if (err) {
-    snprintf(t->msg, sizeof t->msg, "step %ld: %s shape functions failed at point %d at (%g, %g)",
+    char at[MPGM_POINT_STR];
+    snprintf(t->msg, sizeof t->msg, "step %ld: %s shape functions failed at point %d at %s",
              j->d->step, j->v->scene->shape->name, p < P->n ? P->id[p] : p - P->n,
-             P->x[MPGM_DIM * p], P->x[MPGM_DIM * p + 1]);
+             mpgm_point_str(P->x + MPGM_DIM * p, at));
     return err;
   }
   t->n = k + nn;
@@ -373,57 +390,68 @@ static int grid_point(void *arg, int p, mpgm_conn_task *t) {
   const mpgm_grid *g = &j->d->g;
   const mpgm_points *P = v->pts;
   const double *x = P->x + MPGM_DIM * p;
-  double r[2 * MPGM_DIM], *dom = NULL;
+  double r[MPGM_TENSOR], *dom = NULL;
   if (p < P->n && v->scene->shape->domain) {
     mpgm_point_domain(P, p, r);
     dom = r;
   }
-  int i0 = mpgm_grid_line(g, 0, x[0]) - 1, j0 = mpgm_grid_line(g, 1, x[1]) - 1;
-  int i1 = i0 + 3, j1 = j0 + 3;
-  const char *why = NULL;
-  if (v->scene->shape->domain) { /* 2-D only: the box's extents in x and y */
-    const double ex = dom ? fabs(dom[0]) + fabs(dom[2]) : 0.0;
-    const double ey = dom ? fabs(dom[1]) + fabs(dom[3]) : 0.0;
-    const int pad = j->d->gpar.grid_order == 2; /* the splines reach 1.5 h */
-    i0 = mpgm_grid_line(g, 0, x[0] - ex) - pad;
-    i1 = mpgm_grid_line(g, 0, x[0] + ex) + 1 + pad;
-    j0 = mpgm_grid_line(g, 1, x[1] - ey) - pad;
-    j1 = mpgm_grid_line(g, 1, x[1] + ey) + 1 + pad;
-    if (((long)i1 - i0 + 1) * ((long)j1 - j0 + 1) > MPGM_SHAPE_MAXNODE)
-      why = "the particle's domain spans more grid nodes than a point may have (MPGM_SHAPE_MAXNODE)";
+  /* the block of grid lines lo .. hi along each axis */
+  int lo[MPGM_DIM], hi[MPGM_DIM];
+  long count = 1;
+  const int pad = j->d->gpar.grid_order == 2; /* the splines reach 1.5 h */
+  for (int a = 0; a < MPGM_DIM; a++) {
+    if (v->scene->shape->domain) { /* the domain's bounding box along a */
+      double e = 0.0;
+      for (int c = 0; dom && c < MPGM_DIM; c++) e += fabs(dom[MPGM_DIM * c + a]);
+      lo[a] = mpgm_grid_line(g, a, x[a] - e) - pad;
+      hi[a] = mpgm_grid_line(g, a, x[a] + e) + 1 + pad;
+    } else {
+      lo[a] = mpgm_grid_line(g, a, x[a]) - 1;
+      hi[a] = lo[a] + 3;
+    }
+    count *= (long)hi[a] - lo[a] + 1;
   }
+  const char *why = NULL;
+  if (v->scene->shape->domain && count > MPGM_SHAPE_MAXNODE)
+    why = "the particle's domain spans more grid nodes than a point may have (MPGM_SHAPE_MAXNODE)";
   int id[MPGM_SHAPE_MAXNODE], n = 0, err = MPGM_ERR_SHAPE, clamped = 0;
   double xn[MPGM_DIM * MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE], dN[MPGM_DIM * MPGM_SHAPE_MAXNODE];
-  for (int jj = j0; jj <= j1 && !why; jj++)
-    for (int i = i0; i <= i1; i++) {
-      if (i < 0 || jj < 0 || i > g->nx || jj > g->ny) continue;
-      id[n] = jj * (g->nx + 1) + i;
-      mpgm_grid_node(g, id[n], xn + MPGM_DIM * n);
-      n++;
-    }
+  const int nl[3] = {g->nx, g->ny, MPGM_DIM == 3 ? g->nz : 0};
+  const int k0 = MPGM_DIM == 3 ? lo[MPGM_DIM - 1] : 0, k1 = MPGM_DIM == 3 ? hi[MPGM_DIM - 1] : 0;
+  for (int kk = k0; kk <= k1 && !why; kk++)
+    for (int jj = lo[1]; jj <= hi[1]; jj++)
+      for (int i = lo[0]; i <= hi[0]; i++) {
+        if (i < 0 || jj < 0 || kk < 0 || i > nl[0] || jj > nl[1] || kk > nl[2]) continue;
+        id[n] = (kk * (g->ny + 1) + jj) * (g->nx + 1) + i;
+        mpgm_grid_node(g, id[n], xn + MPGM_DIM * n);
+        n++;
+      }
   if (!why) {
     mpgm_shape_info info = {0};
-    /* 2-D only: the query's position written out (mpgm_shapefn.h) */
-    const mpgm_shape_query q = {.n = n, .xn = xn, .xp = {x[0], x[1]}, .cell = -1,
-                                .par = &j->d->gpar, .info = &info, .domain = dom};
+    mpgm_shape_query q = {.n = n, .xn = xn, .cell = -1, .par = &j->d->gpar, .info = &info,
+                          .domain = dom};
+    memcpy(q.xp, x, sizeof q.xp);
     err = n ? v->scene->shape->eval(&q, N, dN) : MPGM_ERR_SHAPE;
     why = n ? info.msg : "no grid node near";
     clamped = info.clamped;
   }
+  char at[MPGM_POINT_STR], from[MPGM_POINT_STR];
   if (err && p < P->n)
     snprintf(t->msg, sizeof t->msg, "step %ld: %s shape functions failed at point %d (body "
-             "\"%s\", started at (%g, %g)) at (%g, %g): %s", j->d->step, v->scene->shape->name,
-             P->id[p], v->scene->bodies[P->body[p]].name, P->x0[MPGM_DIM * p],
-             P->x0[MPGM_DIM * p + 1], x[0], x[1], why ? why : "?");
+             "\"%s\", started at %s) at %s: %s", j->d->step, v->scene->shape->name, P->id[p],
+             v->scene->bodies[P->body[p]].name, mpgm_point_str(P->x0 + MPGM_DIM * p, from),
+             mpgm_point_str(x, at), why ? why : "?");
   else if (err)
-    snprintf(t->msg, sizeof t->msg, "step %ld: %s shape functions failed at tracer %d at (%g, "
-             "%g): %s", j->d->step, v->scene->shape->name, p - P->n, x[0], x[1], why ? why : "?");
+    snprintf(t->msg, sizeof t->msg, "step %ld: %s shape functions failed at tracer %d at %s: %s",
+             j->d->step, v->scene->shape->name, p - P->n, mpgm_point_str(x, at), why ? why : "?");
   if (err) return err;
   t->count[MPGM_C_DOMAIN_CLAMPS] += clamped;
   if (mpgm_conn_task_room(t, n)) return MPGM_ERR_NOMEM;
-  for (int a = 0; a < n; a++)
-    if (N[a] != 0.0 || dN[MPGM_DIM * a] != 0.0 || dN[MPGM_DIM * a + 1] != 0.0)
-      mpgm_conn_task_push(t, id[a], N[a], dN + MPGM_DIM * a);
+  for (int a = 0; a < n; a++) {
+    int nonzero = N[a] != 0.0;
+    for (int c = 0; c < MPGM_DIM; c++) nonzero |= dN[MPGM_DIM * a + c] != 0.0;
+    if (nonzero) mpgm_conn_task_push(t, id[a], N[a], dN + MPGM_DIM * a);
+  }
   return 0;
 }
 
@@ -487,8 +515,7 @@ static void step_nodes(const mpgm_fe_view *v, mpm_data *d) {
     if (d->light[i]) continue;
     d->gmap[i] = n;
     mpgm_grid_node(g, i, nd->X + MPGM_DIM * n);
-    nd->x[MPGM_DIM * n] = nd->X[MPGM_DIM * n]; /* 2-D only: x and y written out */
-    nd->x[MPGM_DIM * n + 1] = nd->X[MPGM_DIM * n + 1];
+    memcpy(nd->x + MPGM_DIM * n, nd->X + MPGM_DIM * n, sizeof(double) * MPGM_DIM);
     nd->contact[n] = d->gcontact[i];
     d->lglob[n] = i;
     for (int c = 0; c < MPGM_DIM; c++) {
@@ -524,7 +551,7 @@ static void project_task(void *arg, int t, int tid) {
       const int p = C->tp[e];
       const double wm = C->N[C->tk[e]] * P->mass[p];
       m += wm;
-      if (inertia) /* 2-D only: momentum and inertia force written out */
+      if (inertia) /* momentum and inertia force */
         for (int c = 0; c < MPGM_DIM; c++) {
           q[c] += wm * P->v[MPGM_DIM * p + c];
           f[c] += wm * P->a[MPGM_DIM * p + c];
@@ -552,7 +579,7 @@ static void project_scatter(const mpgm_fe_view *v) {
       const int I = C->node[k];
       const double wm = C->N[k] * P->mass[p];
       nd->mass[I] += wm;
-      if (inertia) /* 2-D only: momentum and inertia force written out */
+      if (inertia) /* momentum and inertia force */
         for (int c = 0; c < MPGM_DIM; c++) {
           nd->v[MPGM_DIM * I + c] += wm * P->v[MPGM_DIM * p + c];
           nd->a[MPGM_DIM * I + c] += wm * P->a[MPGM_DIM * p + c];
@@ -581,6 +608,7 @@ static int project(const mpgm_fe_view *v, mpm_data *d) {
     project_scatter(v);
   }
   if (!v->fx->inertia || !v->scene->shape->velocity_ls) return 0;
+#if MPM_PLANE_ONLY
   /* CPLS: the velocities by least squares from centres and corners */
   long lower = 0, kept = 0;
   MPGM_CALL(mpgm_cpls_velocities(v->ctx, &d->cpls, &d->g, P, v->scene->shape_par.order, n,
@@ -588,6 +616,10 @@ static int project(const mpgm_fe_view *v, mpm_data *d) {
   mpgm_count(v->ctx, MPGM_C_CPLS_LINEAR, lower);
   mpgm_count(v->ctx, MPGM_C_CPLS_PROJECTED, kept);
   return 0;
+#else
+  (void)d;
+  MPGM_ERROR(v->ctx, MPGM_ERR_INTERNAL, "CPLS in a 3-D build");
+#endif
 }
 
 /* FE: the same active cells, nodes and fixity give the same pattern (new
@@ -639,8 +671,12 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(locate(v, d));
   /* meshfree kinds (LME-MPM, MLS-MPM): the clouds of grid nodes at the
    * undeformed grid, ids of grid nodes (discretisation/clouds.c) */
+#if MPM_PLANE_ONLY
   MPGM_CALL(d->meshfree && !d->gridfn ? mpgm_clouds_build(d->clouds, v, d->tree, NULL, v->conn)
                                       : point_shape(v, d));
+#else
+  MPGM_CALL(point_shape(v, d));
+#endif
   memset(d->light, 0, (size_t)d->g.nnode);
   mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->min_node_mass, d->gm, d->light);
   MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));
@@ -658,8 +694,11 @@ static int mpm_end_step(void *self, const mpgm_fe_view *v) {
   const mpgm_nodes *nd = v->nodes;
   memset(d->gfree, 0, (size_t)d->g.nnode);
   for (int i = 0; i < nd->n; i++)
-    if (nd->contact[i]) /* 2-D only: x and y written out */
-      d->gfree[d->lglob[i]] = !nd->fix[MPGM_DIM * i] && !nd->fix[MPGM_DIM * i + 1];
+    if (nd->contact[i]) { /* released: every component free */
+      int free_all = 1;
+      for (int c = 0; c < MPGM_DIM; c++) free_all &= !nd->fix[MPGM_DIM * i + c];
+      d->gfree[d->lglob[i]] = (unsigned char)free_all;
+    }
   d->pn = nd->n;
   memcpy(d->plglob, d->lglob, sizeof(int) * (size_t)nd->n);
   memcpy(d->pfix, nd->fix, MPGM_DIM * (size_t)nd->n);
@@ -681,7 +720,11 @@ static int mpm_save(const void *self, mpgm_ctx *ctx, mpgm_blob *b) {
   const mpm_data *d = self;
   MPGM_CALL(mpgm_blob_put(ctx, b, "mpm.gfree", d->gfree, (size_t)d->g.nnode));
   MPGM_CALL(mpgm_blob_put(ctx, b, "mpm.step", &d->step, sizeof d->step));
+#if MPM_PLANE_ONLY
   return d->clouds ? mpgm_clouds_save(d->clouds, ctx, b) : 0;
+#else
+  return 0;
+#endif
 }
 
 static int mpm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
@@ -699,8 +742,12 @@ static int mpm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
              "checkpoint: section 'mpm.step': %ld steps "
              "begun, %ld done",
              d->step, v->step);
+#if MPM_PLANE_ONLY
   const mpgm_points *P = v->pts;
   return d->clouds ? mpgm_clouds_restore(d->clouds, ctx, b, P->n + P->nprobe + P->nsurf) : 0;
+#else
+  return 0;
+#endif
 }
 
 const mpgm_frontend_type mpgm_frontend_mpm = {
@@ -709,10 +756,17 @@ const mpgm_frontend_type mpgm_frontend_mpm = {
            "points carried through it",
     .persistent_nodes = 0,
     .point_velocity = MPGM_PV_NEWMARK,
+#if MPGM_DIM == 2
     .shapes = MPGM_FE_SHAPE_CELL | MPGM_FE_SHAPE_CLOUD,
     .geometries = 1u << MPGM_GEOM_RECTANGLE | 1u << MPGM_GEOM_DISK | 1u << MPGM_GEOM_POLYGON |
                   1u << MPGM_GEOM_RING,
     .conditions = MPGM_FE_COND_FIX | MPGM_FE_COND_CONTACT_NODES | MPGM_FE_COND_CONTACT_POINTS,
+#else /* boxes, balls, cylinders, prisms; supports (contact comes later) */
+    .shapes = MPGM_FE_SHAPE_CELL | MPGM_FE_SHAPE_CLOUD, /* (the grid kinds) */
+    .geometries = 1u << MPGM_GEOM_BOX | 1u << MPGM_GEOM_SPHERE | 1u << MPGM_GEOM_POLYGON |
+                  1u << MPGM_GEOM_CYLINDER,
+    .conditions = MPGM_FE_COND_FIX,
+#endif
     .obstacles = 0,
     .explicit_schemes = 1,
     .create = mpm_create,
