@@ -526,6 +526,11 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
                      s->cell == MPGM_CELL_Q4 ? "1, 4 or 9 points per quad" : "1 or 3 points per triangle", s->ppc);
   }
   MPGM_CALL(jr_child(&mesh, "domain", 1, &dom));
+  /* a scene is 3-D when its domain has three coordinates */
+  const cJSON *dmin = dom.j ? cJSON_GetObjectItemCaseSensitive(dom.j, "min") : NULL;
+  if (cJSON_IsArray(dmin) && cJSON_GetArraySize(dmin) == 3)
+    return jr_fail(&dom, "min", "found three coordinates, a 3-D scene: this mpgm runs plane-strain "
+                   "scenes (two coordinates [x, y]); its 3-D front ends are not complete yet");
   MPGM_CALL(jr_vec2_len(&dom, "min", NULL, s->dom_min));
   MPGM_CALL(jr_vec2_len(&dom, "max", NULL, s->dom_max));
   MPGM_CALL(jr_end(&dom));
