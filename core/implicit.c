@@ -32,12 +32,13 @@ static void commit(mpgm_problem *pb) {
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       const double N = C->N[k];
-      for (int c = 0; c < MPGM_DIM; c++) d[c] += N * nd->du[MPGM_DIM * I + c];
-      if (inertia)
-        for (int c = 0; c < MPGM_DIM; c++) {
-          v[c] += N * nd->v_new[MPGM_DIM * I + c];
-          a[c] += N * nd->a_new[MPGM_DIM * I + c];
-        }
+      const double *du = nd->du + MPGM_DIM * I;
+      for (int c = 0; c < MPGM_DIM; c++) d[c] += N * du[c];
+      if (inertia) {
+        const double *vn = nd->v_new + MPGM_DIM * I, *an = nd->a_new + MPGM_DIM * I;
+        for (int c = 0; c < MPGM_DIM; c++) v[c] += N * vn[c];
+        for (int c = 0; c < MPGM_DIM; c++) a[c] += N * an[c];
+      }
     }
     double gd = g[0] * d[0], bd = b && p < P->n ? b[MPGM_DIM * p] * d[0] : 0.0;
     for (int c = 1; c < MPGM_DIM; c++) {
@@ -46,17 +47,16 @@ static void commit(mpgm_problem *pb) {
     }
     if (p < P->n) wext += P->mass[p] * gd;
     if (p < P->n && b) wext += P->mass[p] * bd;
-    for (int c = 0; c < MPGM_DIM; c++) {
-      const int i = MPGM_DIM * p + c;
-      P->u[i] += d[c];
-      if (move) P->x[i] += d[c];
-      if (inertia && newmark_pv) { /* eq (48): trapezoidal in the particle */
-        P->v[i] += 0.5 * pb->dt * (P->a[i] + a[c]);
-        P->a[i] = a[c];
-      } else if (inertia) {
-        P->v[i] = v[c];
-        P->a[i] = a[c];
-      }
+    double *u = P->u + MPGM_DIM * p, *x = P->x + MPGM_DIM * p;
+    double *vp = P->v + MPGM_DIM * p, *ap = P->a + MPGM_DIM * p;
+    for (int c = 0; c < MPGM_DIM; c++) u[c] += d[c];
+    if (move)
+      for (int c = 0; c < MPGM_DIM; c++) x[c] += d[c];
+    if (inertia && newmark_pv) { /* eq (48): trapezoidal in the particle */
+      for (int c = 0; c < MPGM_DIM; c++) vp[c] += 0.5 * pb->dt * (ap[c] + a[c]);
+      for (int c = 0; c < MPGM_DIM; c++) ap[c] = a[c];
+    } else if (inertia) {
+      for (int c = 0; c < MPGM_DIM; c++) vp[c] = v[c], ap[c] = a[c];
     }
   }
   if (inertia) {
