@@ -127,10 +127,10 @@ SPEC = {
                   yrange="0:100")),
     "compare_binaries": dict(
         what="Two binaries in one sitting, alternating (`bench/compare_binaries`): before and after the "
-             "restructuring of issue 15.",
+             "dimension rewrite of issue 53 (the 2-D path must stay within 3 %).",
         table=0,
         plot=dict(kind="bars", table=0, label="run", values=["A median [s]", "B median [s]"], short=True,
-                  titles=["A (e0658bc)", "B (5e09b28)"], ylabel="median wall time [s]")),
+                  titles=["A (1ef250e, before)", "B (after)"], ylabel="median wall time [s]")),
     "output_formats": dict(
         what="Output formats on a run of 10^6 points or more: file size and write time of VTK XML (.vtu), "
              "XDMF + HDF5 and legacy VTK (issue 52, item 2).",
