@@ -18,6 +18,7 @@
  */
 #include "mpgm_material.h"
 #include "mpgm_test.h"
+#include "support_tensor.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -34,47 +35,6 @@ static const double PI = 3.14159265358979323846;
 /* ---- DIM x DIM row-major helpers ---------------------------------------- */
 enum { DIM = MPGM_DIM, NT = MPGM_TENSOR, NV = MPGM_NVOIGT, NS = MPGM_NSTRESS };
 
-static void mul(const double A[NT], const double B[NT], double C[NT]) {
-  double T[NT];
-  for (int i = 0; i < DIM; i++)
-    for (int j = 0; j < DIM; j++) {
-      double v = 0.0;
-      for (int k = 0; k < DIM; k++) v += A[DIM * i + k] * B[DIM * k + j];
-      T[DIM * i + j] = v;
-    }
-  memcpy(C, T, sizeof T);
-}
-static void transpose(const double A[NT], double T[NT]) {
-  double B[NT];
-  for (int i = 0; i < DIM; i++)
-    for (int j = 0; j < DIM; j++) B[DIM * j + i] = A[DIM * i + j];
-  memcpy(T, B, sizeof B);
-}
-static void identity(double I[NT]) {
-  for (int i = 0; i < NT; i++) I[i] = i % (DIM + 1) == 0 ? 1.0 : 0.0;
-}
-static double det(const double F[NT]) {
-#if MPGM_DIM == 2
-  return F[0] * F[3] - F[1] * F[2];
-#else
-  return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
-         F[2] * (F[3] * F[7] - F[4] * F[6]);
-#endif
-}
-/* Q A Q^T */
-static void rotate(const double Q[NT], const double A[NT], double B[NT]) {
-  double Qt[NT], T[NT];
-  transpose(Q, Qt);
-  mul(Q, A, T);
-  mul(T, Qt, B);
-}
-/* Symmetric DIM x DIM tensor from the Voigt part of the stress layout. */
-static void sym_of(const double s[NV], double S[NT]) {
-  for (int k = 0; k < NV; k++) {
-    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
-    S[DIM * a + b] = S[DIM * b + a] = s[k];
-  }
-}
 /* Frobenius norm of A - B (DIM x DIM), and of A. */
 static double dist(const double A[NT], const double B[NT]) {
   double s = 0.0;

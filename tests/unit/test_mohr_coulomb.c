@@ -24,6 +24,7 @@
 #include "mohr_coulomb_impl.h"
 #include "mpgm_material.h"
 #include "mpgm_test.h"
+#include "support_tensor.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -264,41 +265,6 @@ static void check_return(const mpgm_material *m, rng *r, const char *tag) {
  * of the state in the stress layout (2-D {xx, yy, xy, zz}, 3-D Voigt). */
 enum { DIM = MPGM_DIM, NT = MPGM_TENSOR, NV = MPGM_NVOIGT, NS = MPGM_NSTRESS, NST = NS + 1 };
 
-/* C = A B (C must not alias A or B) */
-static void mul(const double A[NT], const double B[NT], double C[NT]) {
-  for (int i = 0; i < DIM; i++)
-    for (int j = 0; j < DIM; j++) {
-      C[DIM * i + j] = 0.0;
-      for (int k = 0; k < DIM; k++) C[DIM * i + j] += A[DIM * i + k] * B[DIM * k + j];
-    }
-}
-static void transpose(const double A[NT], double T[NT]) {
-  for (int i = 0; i < DIM; i++)
-    for (int j = 0; j < DIM; j++) T[DIM * j + i] = A[DIM * i + j];
-}
-static void eye(double I[NT]) {
-  for (int i = 0; i < NT; i++) I[i] = i % (DIM + 1) == 0 ? 1.0 : 0.0;
-}
-static double det(const double F[NT]) {
-#if MPGM_DIM == 2
-  return F[0] * F[3] - F[1] * F[2];
-#else
-  return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
-         F[2] * (F[3] * F[7] - F[4] * F[6]);
-#endif
-}
-static void inverse(const double F[NT], double inv[NT]) {
-  const double d = det(F);
-#if MPGM_DIM == 2
-  inv[0] = F[3] / d; inv[1] = -F[1] / d; inv[2] = -F[2] / d; inv[3] = F[0] / d;
-#else
-  for (int p = 0; p < 3; p++) /* adjugate / det */
-    for (int q = 0; q < 3; q++) {
-      const int p1 = (p + 1) % 3, p2 = (p + 2) % 3, q1 = (q + 1) % 3, q2 = (q + 2) % 3;
-      inv[3 * q + p] = (F[3 * p1 + q1] * F[3 * p2 + q2] - F[3 * p1 + q2] * F[3 * p2 + q1]) / d;
-    }
-#endif
-}
 /* Rotation by th about the unit axis n (Rodrigues; 2-D: about z). */
 static void axis_rotation(const double n[3], double th, double R[NT]) {
   const double c = cos(th), s = sin(th);
@@ -328,17 +294,6 @@ static void random_rotation(rng *r, double R[NT]) {
   random_unit(r, n);
   axis_rotation(n, uniform(r, -PI, PI), R);
 }
-/* Symmetric DIM x DIM tensor from the Voigt part of the stress layout, and
- * back (2-D: the zz slot is left alone). */
-static void full_of(const double v[NS], double S[NT]) {
-  for (int k = 0; k < NV; k++) {
-    const int a = mpgm_voigt_pair[k][0], b = mpgm_voigt_pair[k][1];
-    S[DIM * a + b] = S[DIM * b + a] = v[k];
-  }
-}
-static void voigt_of(const double S[NT], double v[NS]) {
-  for (int k = 0; k < NV; k++) v[k] = S[DIM * mpgm_voigt_pair[k][0] + mpgm_voigt_pair[k][1]];
-}
 /* Principal values l and directions (the columns of V) of a symmetric
  * tensor in the stress layout: 2-D the in-plane pair in closed form, then
  * zz (direction z, not in V); 3-D the library's Jacobi solver (checked on
@@ -356,7 +311,7 @@ static void eig_layout(const double v[NS], double l[3], double V[NT]) {
 /* b = A B A^T in the stress layout for b0 = B in it (2-D: b_zz = B_zz). */
 static void push(const double A[NT], const double B[NS], double b[NS]) {
   double Bf[NT], T[NT], At[NT], bf[NT];
-  full_of(B, Bf);
+  sym_of(B, Bf);
   transpose(A, At);
   mul(A, Bf, T);
   mul(T, At, bf);
@@ -410,7 +365,7 @@ static void check_hencky(rng *r) {
     /* the same end point in 7 increments F_i = Q(a th) (I + a (U - I)),
      * a = i/7, through b_e */
     double Fn[NT];
-    eye(Fn);
+    identity(Fn);
     m.type->init_state(&m, st);
     int ierr = 0;
     for (int i = 1; i <= 7; i++) {
@@ -495,9 +450,9 @@ static double lie_error(const mpgm_material *m, const double Fn[NT], const doubl
   m->type->update(m, MPGM_KIN_FINITE, Fm, dFm, st1, tmp, sm, NULL);
   const double J = det(F), Jp = det(Fp), Jm = det(Fm);
   double Sp[NT], Sm[NT], S[NT], lie[NT], lhs[NT], o[NS], Ht[NT], HS[NT], SHt[NT];
-  full_of(s, S);
-  full_of(sp, Sp);
-  full_of(sm, Sm);
+  sym_of(s, S);
+  sym_of(sp, Sp);
+  sym_of(sm, Sm);
   transpose(H, Ht);
   mul(H, S, HS);
   mul(S, Ht, SHt); /* tau = J sigma */
@@ -509,7 +464,7 @@ static double lie_error(const mpgm_material *m, const double Fn[NT], const doubl
       o[i] += J * D[NV * i + j] * (a == b ? H[(DIM + 1) * a] : H[DIM * a + b] + H[DIM * b + a]);
     }
   }
-  full_of(o, lhs);
+  sym_of(o, lhs);
   double e2 = 0, n2 = 0;
   for (int q = 0; q < NT; q++) {
     e2 += (lhs[q] - lie[q]) * (lhs[q] - lie[q]);
@@ -617,7 +572,7 @@ static void check_finite_tangent(const mpgm_material *m, rng *r, const char *tag
     sort3(l);
     const double scale = fabs(l[0]) + fabs(l[1]) + fabs(l[2]) + m->param[2];
     if (reg != MPGM_MC_ELASTIC) worst_f = fmax(worst_f, fabs(m->type->yield(m, tau)) / scale);
-    eye(V); /* dF = I from the new state */
+    identity(V); /* dF = I from the new state */
     m->type->update(m, MPGM_KIN_FINITE, F, V, st2, tmp, s2, NULL);
     for (int k = 0; k < NS; k++) worst_state = fmax(worst_state, fabs(s2[k] - s[k]) / sqrt(sn));
     const double gap = fmin(l[0] - l[1], l[1] - l[2]) / (fabs(l[0]) + fabs(l[2]));
@@ -664,7 +619,7 @@ static void check_repeated(const mpgm_material *m, rng *r, const char *tag) {
   for (int c = 0; c < 5; c++)
     for (int rot = 0; rot < 2; rot++) {
       double Q[NT], Qt[NT], G[NT] = {0}, T[NT], F[NT], st0[NST], st1[NST], s[NS], D[MPGM_NTANGENT];
-      eye(Q);
+      identity(Q);
       if (rot) random_rotation(r, Q);
       for (int i = 0; i < DIM; i++) G[(DIM + 1) * i] = cases[c][i];
       transpose(Q, Qt); /* F = Q G Q^T, symmetric */
@@ -678,7 +633,7 @@ static void check_repeated(const mpgm_material *m, rng *r, const char *tag) {
           finite &= isfinite(D[k]) && (k >= NS || isfinite(s[k])) && (k >= NST || isfinite(st1[k]));
       }
       m->type->update(m, MPGM_KIN_FINITE, F, F, st0, st1, s, D);
-      eye(Q); /* F_n = I */
+      identity(Q); /* F_n = I */
       int same;
       const double err = lie_error(m, Q, F, st0, s, D, r, finite_region(m, F, st0), &same);
       if (same) {
@@ -762,7 +717,7 @@ static void check_setup_and_init(void) {
   const double bad[6] = {-1.0e3, -4.17e5, -1.0e3, 0.0, 0.0, 0.0};
 #endif
   double I[NT];
-  eye(I);
+  identity(I);
   for (int kin = 0; kin < 2; kin++) {
     double st[MPGM_NSTRESS + 1], st1[MPGM_NSTRESS + 1], s[MPGM_NSTRESS];
     char msg[256] = "";
