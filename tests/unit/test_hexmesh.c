@@ -17,6 +17,7 @@
 #include "mpgm_core_impl.h" /* mpgm_points_free, mpgm_nodes_free */
 #include "mpgm_discretisation.h"
 #include "mpgm_test.h"
+#include "support_conn.h"
 
 #if MPGM_DIM != 3
 #error "test_hexmesh.c checks the 3-D meshes: build it with MPGM_DIM = 3"
@@ -51,11 +52,7 @@ static void world_init(world *w, const double probe[3]) {
   s->cell = MPGM_CELL_H8;
   s->h = 0.25;
   s->ppc = 8;
-  w->mat.type = mpgm_material_type_find("neo_hookean");
-  w->mat.density = 2000.0;
-  w->mat.param[0] = 1e6, w->mat.param[1] = 0.3;
-  char msg[128];
-  w->mat.type->setup(&w->mat, msg, sizeof msg);
+  neo_hookean_of(&w->mat, 2000.0);
   s->mats = &w->mat;
   s->nmat = 1;
   const double l0[3] = {0, 0, 0}, h0[3] = {1.0, 0.5, 0.75};
@@ -102,27 +99,10 @@ static void test_counts(const world *w) {
 }
 
 static void test_shape(const world *w) {
-  double pu = 0.0, lin = 0.0, grad = 0.0;
-  const mpgm_conn *C = &w->conn;
-  for (int p = 0; p < w->pts.n + w->pts.nprobe; p++) {
-    double s = 0.0, x[3] = {0, 0, 0}, G[9] = {0};
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-      const double *X = w->nodes.X + 3 * C->node[k];
-      s += C->N[k];
-      for (int i = 0; i < 3; i++) {
-        x[i] += C->N[k] * X[i];
-        for (int j = 0; j < 3; j++) G[3 * i + j] += C->dN[3 * k + j] * X[i];
-      }
-    }
-    pu = fmax(pu, fabs(s - 1.0));
-    for (int i = 0; i < 3; i++) {
-      lin = fmax(lin, fabs(x[i] - w->pts.x[3 * p + i]));
-      for (int j = 0; j < 3; j++) grad = fmax(grad, fabs(G[3 * i + j] - (i == j)));
-    }
-  }
-  mpgm_test_abs(pu, 0.0, TEST_TOL2, "shape: sum N = 1 at every point and the probe");
-  mpgm_test_abs(lin, 0.0, TEST_TOL3, "shape: sum N_a x_a = x_p");
-  mpgm_test_abs(grad, 0.0, TEST_TOL4, "shape: sum grad N_a (x) x_a = I");
+  const conn_errors e = conn_check(&w->conn, w->nodes.X, w->pts.x, w->pts.n + w->pts.nprobe);
+  mpgm_test_abs(e.unity, 0.0, TEST_TOL2, "shape: sum N = 1 at every point and the probe");
+  mpgm_test_abs(e.linear, 0.0, TEST_TOL3, "shape: sum N_a x_a = x_p");
+  mpgm_test_abs(e.gradient, 0.0, TEST_TOL4, "shape: sum grad N_a (x) x_a = I");
 }
 
 static void test_fixity(const world *w) {

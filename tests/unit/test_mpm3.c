@@ -23,6 +23,7 @@
 #include "mpgm_discretisation.h"
 #include "mpgm_mpm.h"
 #include "mpgm_test.h"
+#include "support_conn.h"
 
 #if MPGM_DIM != 3
 #error "test_mpm3.c checks the 3-D MPM front end: build it with MPGM_DIM = 3"
@@ -57,11 +58,7 @@ static void world_init(world *w, const char *kind, double min_node_mass) {
   const double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {2.5, 1.5, 1.5};
   memcpy(s->dom_min, lo, sizeof lo);
   memcpy(s->dom_max, hi, sizeof hi);
-  w->mat.type = mpgm_material_type_find("neo_hookean");
-  w->mat.density = 1500.0;
-  w->mat.param[0] = 1e6, w->mat.param[1] = 0.3;
-  char msg[128];
-  w->mat.type->setup(&w->mat, msg, sizeof msg);
+  neo_hookean_of(&w->mat, 1500.0);
   s->mats = &w->mat;
   s->nmat = 1;
   mpgm_scene_body *b = w->bodies;
@@ -110,27 +107,11 @@ static void check_step(const world *w, const char *kind, int step, int light) {
   const mpgm_points *P = &w->pts;
   const mpgm_nodes *nd = &w->nodes;
   const mpgm_conn *C = &w->conn;
-  double pu = 0.0, lin = 0.0, grad = 0.0;
-  for (int p = 0; p < P->n + P->nprobe; p++) {
-    double s = 0.0, x[3] = {0, 0, 0}, G[9] = {0};
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-      const double *X = nd->X + 3 * C->node[k];
-      s += C->N[k];
-      for (int i = 0; i < 3; i++) {
-        x[i] += C->N[k] * X[i];
-        for (int j = 0; j < 3; j++) G[3 * i + j] += C->dN[3 * k + j] * X[i];
-      }
-    }
-    pu = fmax(pu, fabs(s - 1.0));
-    for (int i = 0; i < 3; i++) {
-      lin = fmax(lin, fabs(x[i] - P->x[3 * p + i]));
-      for (int j = 0; j < 3; j++) grad = fmax(grad, fabs(G[3 * i + j] - (i == j)));
-    }
-  }
-  mpgm_test_abs(pu, 0.0, TEST_TOL3, "%s step %d: sum N = 1 at every point and the probe", kind, step);
+  const conn_errors e = conn_check(C, nd->X, P->x, P->n + P->nprobe);
+  mpgm_test_abs(e.unity, 0.0, TEST_TOL3, "%s step %d: sum N = 1 at every point and the probe", kind, step);
   if (!light) {
-    mpgm_test_abs(lin, 0.0, TEST_TOL4, "%s step %d: sum N_a x_a = x_p", kind, step);
-    mpgm_test_abs(grad, 0.0, TEST_TOL5, "%s step %d: sum grad N_a (x) x_a = I", kind, step);
+    mpgm_test_abs(e.linear, 0.0, TEST_TOL4, "%s step %d: sum N_a x_a = x_p", kind, step);
+    mpgm_test_abs(e.gradient, 0.0, TEST_TOL5, "%s step %d: sum grad N_a (x) x_a = I", kind, step);
   }
   double mp = 0.0, mn = 0.0, qp[3] = {0}, qn[3] = {0};
   for (int p = 0; p < P->n; p++) {
