@@ -148,6 +148,19 @@ static int cpdi_radius(const mpgm_shape_params *par, double *R) {
   return 0;
 }
 
+/* The end of an evaluation over a domain's nc corners (a point without
+ * domain: one): no node in the support, or a corner whose functions do not
+ * sum to 1 (it lies where the grid has no node), fails; else the info. */
+static int domain_done(const mpgm_shape_query *q, double *N, double *dN, int nsup,
+                       const double *sum, int nc, int clamped) {
+  if (nsup == 0) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_TOO_FEW);
+  for (int c = 0; c < nc; c++)
+    if (!(fabs(sum[c] - 1.0) <= 1e-9)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OFF_GRID);
+  mpgm_shape_ok(q, 0, nsup, 0.0, 0.0);
+  if (q->info) q->info->clamped = clamped;
+  return 0;
+}
+
 #if MPGM_DIM == 2
 /* Without a domain: the grid functions at x_p. */
 static int point_eval(const mpgm_shape_query *q, double *N, double *dN) {
@@ -158,10 +171,7 @@ static int point_eval(const mpgm_shape_query *q, double *N, double *dN) {
     sum += N[a];
     nsup += N[a] > 0.0;
   }
-  if (nsup == 0) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_TOO_FEW);
-  if (!(fabs(sum - 1.0) <= 1e-9)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OFF_GRID);
-  mpgm_shape_ok(q, 0, nsup, 0.0, 0.0);
-  return 0;
+  return domain_done(q, N, dN, nsup, &sum, 1, 0); /* the point as a domain of one corner */
 }
 
 static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
@@ -201,13 +211,7 @@ static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
     dN[2 * a + 1] = (d13 * (r[2] - r[0]) - d24 * (r[0] + r[2])) / V;
     nsup += N[a] > 0.0;
   }
-  if (nsup == 0) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_TOO_FEW);
-  /* a corner whose hats do not sum to 1 lies where the grid has no node */
-  for (int c = 0; c < 4; c++)
-    if (!(fabs(sum[c] - 1.0) <= 1e-9)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OFF_GRID);
-  mpgm_shape_ok(q, 0, nsup, 0.0, 0.0);
-  if (q->info) q->info->clamped = clamped;
-  return 0;
+  return domain_done(q, N, dN, nsup, sum, 4, clamped);
 }
 
 #else /* MPGM_DIM == 3 */
@@ -262,10 +266,7 @@ static int point_eval(const mpgm_shape_query *q, double *N, double *dN) {
     sum += N[a];
     nsup += N[a] > 0.0;
   }
-  if (nsup == 0) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_TOO_FEW);
-  if (!(fabs(sum - 1.0) <= 1e-9)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OFF_GRID);
-  mpgm_shape_ok(q, 0, nsup, 0.0, 0.0);
-  return 0;
+  return domain_done(q, N, dN, nsup, &sum, 1, 0); /* the point as a domain of one corner */
 }
 
 static void cross3(const double *a, const double *b, double *c) {
@@ -325,12 +326,7 @@ static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
     for (int i = 0; i < 3; i++) dN[3 * a + i] = g[i] / V;
     nsup += N[a] > 0.0;
   }
-  if (nsup == 0) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_TOO_FEW);
-  for (int c = 0; c < 8; c++)
-    if (!(fabs(sum[c] - 1.0) <= 1e-9)) return mpgm_shape_fail(q, N, dN, MPGM_ERR_SHAPE, MPGM_SHAPE_OFF_GRID);
-  mpgm_shape_ok(q, 0, nsup, 0.0, 0.0);
-  if (q->info) q->info->clamped = clamped;
-  return 0;
+  return domain_done(q, N, dN, nsup, sum, 8, clamped);
 }
 #endif
 
