@@ -57,7 +57,7 @@ void mpgm_point_set(mpgm_points *P, int p, const mpgm_scene *s, int body, const 
    * another) */
   const double hs = 0.5 * (MPGM_DIM == 2 ? sqrt(vol) : cbrt(vol));
   double *r0 = P->r0 + MPGM_TENSOR * p;
-  for (int k = 0; k < MPGM_TENSOR; k++) r0[k] = k % (MPGM_DIM + 1) == 0 ? hs : 0.0;
+  for (int k = 0; k < MPGM_TENSOR; k++) r0[k] = MPGM_DIAG(k) ? hs : 0.0;
   P->mat[p] = bd->material;
   P->body[p] = body;
   if (mat->type->init_state && P->nstate) mat->type->init_state(mat, P->state + (size_t)P->nstate * p);

@@ -23,12 +23,12 @@ void mpgm_work_internal(mpgm_problem *pb) {
   for (int p = 0; p < P->n; p++) {
     const double *dF = P->dF_t + MPGM_TENSOR * p;
     double H[MPGM_TENSOR], h[MPGM_TENSOR];
-    for (int c = 0; c < MPGM_TENSOR; c++) H[c] = dF[c] - (c % (MPGM_DIM + 1) == 0 ? 1.0 : 0.0);
+    for (int c = 0; c < MPGM_TENSOR; c++) H[c] = dF[c] - (MPGM_DIAG(c) ? 1.0 : 0.0);
     if (small) {
       memcpy(h, H, sizeof h);
     } else { /* H M^-1, M = (I + dF) / 2 */
       double M[MPGM_TENSOR], iM[MPGM_TENSOR];
-      for (int c = 0; c < MPGM_TENSOR; c++) M[c] = 0.5 * ((c % (MPGM_DIM + 1) == 0 ? 1.0 : 0.0) + dF[c]);
+      for (int c = 0; c < MPGM_TENSOR; c++) M[c] = 0.5 * ((MPGM_DIAG(c) ? 1.0 : 0.0) + dF[c]);
       mpgm_inv(M, mpgm_det(M), iM);
       mpgm_mul(H, iM, h);
     }

@@ -59,7 +59,7 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
         for (int j = 0; j < MPGM_DIM; j++) H[MPGM_DIM * i + j] += u[i] * g[j];
     }
     double *dF = P->dF_t + MPGM_TENSOR * p, *F = P->F_t + MPGM_TENSOR * p;
-    for (int c = 0; c < MPGM_TENSOR; c++) dF[c] = c % (MPGM_DIM + 1) == 0 ? 1.0 + H[c] : H[c];
+    for (int c = 0; c < MPGM_TENSOR; c++) dF[c] = MPGM_DIAG(c) ? 1.0 + H[c] : H[c];
     const mpgm_material *m = &mats[P->mat[p]];
     double *st_n = ns ? P->state + (size_t)ns * p : NULL;
     double *st_t = ns ? P->state_t + (size_t)ns * p : NULL;

@@ -30,10 +30,10 @@ void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v) {
 static int initial_stress(mpgm_problem *pb) {
   const mpgm_scene *scene = pb->scene;
   mpgm_points *P = &pb->pts;
+  const int v = mpgm_scene_vertical(scene);
   for (int p = 0; p < P->n; p++) {
     const mpgm_scene_body *b = &scene->bodies[P->body[p]];
     if (!b->geostatic) continue;
-    const int v = mpgm_scene_vertical(scene);
     const double svv = scene->mats[b->material].density * scene->gravity[v] *
                        (b->surface - P->x0[MPGM_DIM * p + v]);
     double s0[MPGM_NSTRESS] = {0}; /* the normal stresses, plane strain's zz too */
