@@ -232,7 +232,7 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
   double *f = d->f;
   const double gf = mpgm_gravity_factor(pb, t);
   node_job j = {.pb = pb, .ntask = mpgm_ntask(nd->n, 256), .sigma = sigma, .vol = vol,
-                .b = pb->fx.manufactured ? mpgm_mms_forces(pb, t) : NULL,
+                .b = MPGM_MMS_FORCES(pb, t),
                 .out = f};
   for (int c = 0; c < MPGM_DIM; c++) j.grav[c] = gf * pb->scene->gravity[c];
   if (gather) mpgm_pool_run(pb->pool, j.ntask, force_task, &j);
@@ -352,7 +352,7 @@ static int move_points(mpgm_problem *pb, explicit_data *d, const double *V, cons
   const double dt = pb->dt, gf = mpgm_gravity_factor(pb, pb->t + 0.5 * dt);
   const int m = P->n + P->nprobe + P->nsurf;
   move_job j = {.pb = pb, .ntask = mpgm_ntask(m, 512), .m = m, .V = V, .A = A,
-                .b = pb->fx.manufactured ? mpgm_mms_forces(pb, pb->t + 0.5 * dt) : NULL,
+                .b = MPGM_MMS_FORCES(pb, pb->t + 0.5 * dt),
                 .c2 = c * dt * dt, .wp = d->wp};
   for (int q = 0; q < MPGM_DIM; q++) j.g[q] = gf * pb->scene->gravity[q];
   mpgm_pool_run(pb->pool, j.ntask, move_task, &j);

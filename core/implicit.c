@@ -26,7 +26,7 @@ static void commit(mpgm_problem *pb) {
   for (int c = 0; c < MPGM_DIM; c++) g[c] = gf * pb->scene->gravity[c];
   double wext = 0.0;
   /* a manufactured body force's work, the same */
-  const double *b = pb->fx.manufactured && inertia ? mpgm_mms_forces(pb, pb->t + 0.5 * pb->dt) : NULL;
+  const double *b = inertia ? MPGM_MMS_FORCES(pb, pb->t + 0.5 * pb->dt) : NULL;
   for (int p = 0; p < m; p++) {
     double d[MPGM_DIM] = {0}, v[MPGM_DIM] = {0}, a[MPGM_DIM] = {0};
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
@@ -108,7 +108,11 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
      * state is checked again by the step. */
     if (contact && !checked && nt.it > 0 && !pb->lift && nt.res <= sc->contact_check * nt.ref) {
       checked = 1;
+#if MPGM_DIM == 2 /* contact is plane strain (MPGM_MMS_FORCES) */
       const int changed = mpgm_contact_update(pb);
+#else
+      const int changed = 0;
+#endif
       if (changed) {
         pb->last.iterations = nt.it;
         *again = changed;
@@ -237,7 +241,11 @@ static int implicit_step(void *self, mpgm_problem *pb) {
     int early = 0;
     MPGM_CALL(newton(pb, round > 0, &early));
     its += pb->last.iterations;
+#if MPGM_DIM == 2
     const int changed = early ? early : pb->fx.contact || pb->fx.contact_points ? mpgm_contact_update(pb) : 0;
+#else /* contact is plane strain (MPGM_MMS_FORCES) */
+    const int changed = early;
+#endif
     if (!changed) break;
     MPGM_CHECK(ctx, round < 50, MPGM_ERR_NOT_CONVERGED,
                "the contact active set did not settle in %d solves of the step", round + 1);

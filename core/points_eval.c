@@ -177,7 +177,7 @@ int mpgm_body_force(mpgm_problem *pb, double t) {
   memset(pb->fext, 0, sizeof(double) * (size_t)n);
   if (!pb->fx.gravity && !pb->fx.manufactured) return 0;
   mpgm_timer_start(ctx, MPGM_T_BODYFORCE);
-  const double *b = pb->fx.manufactured ? mpgm_mms_forces(pb, t) : NULL;
+  const double *b = MPGM_MMS_FORCES(pb, t);
   /* static: gravity grows with the load factor; dynamic: it acts in full
    * from the start unless the scene ramps it (gravity_ramp); prescribed
    * displacements ramp over the run */

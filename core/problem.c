@@ -101,7 +101,9 @@ static int setup(mpgm_problem *pb) {
   mpgm_timer_stop(ctx, MPGM_T_SHAPE);
   MPGM_CALL(err);
   if (pb->fx.prestress) MPGM_CALL(initial_stress(pb));
+#if MPGM_DIM == 2 /* the manufactured solutions are plane strain (MPGM_MMS_FORCES) */
   if (pb->fx.manufactured) MPGM_CALL(mpgm_mms_setup(pb));
+#endif
   mpgm_nodes_number(&pb->nodes);
   MPGM_CALL(vectors(pb));
   MPGM_CALL(mpgm_bfgs_setup(pb));
@@ -110,7 +112,9 @@ static int setup(mpgm_problem *pb) {
              "%s: time.hht_alpha: not with contact at surface points (their spring forces are "
              "not weighted between t_n and t_n+1); use newmark_beta and newmark_gamma",
              scene->file);
+#if MPGM_DIM == 2 /* contact is plane strain (MPGM_MMS_FORCES) */
   if (pb->fx.contact_points) MPGM_CALL(mpgm_cpoints_setup(pb));
+#endif
   if (pb->integ->create) MPGM_CALL(pb->integ->create(pb, &pb->integ_data));
   MPGM_CHECK(ctx, pb->nodes.n == 0 || pb->nodes.ndof > 0, MPGM_ERR_INPUT,
              "%s: boundaries: every degree of freedom is fixed; nothing to solve", scene->file);
@@ -164,7 +168,9 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
                  pb->fext, pb->delta, pb->dubar, pb->react, pb->cflip, pb->fix_factored, pb->mms_b, pb->fint_n};
   for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
   mpgm_pool_destroy(&pb->pool);
+#if MPGM_DIM == 2
   mpgm_cpoints_free(&pb->cp);
+#endif
   mpgm_lowrank_free(&pb->lr);
   mpgm_bfgs_free(&pb->bfgs);
   mpgm_solver_destroy(&pb->solver);

@@ -352,6 +352,16 @@ int mpgm_energy_guard(mpgm_problem *pb);
  *  per unit mass at every material point at time t (pb->mms_b). */
 int mpgm_mms_setup(mpgm_problem *pb);
 const double *mpgm_mms_forces(mpgm_problem *pb, double t);
+/** The manufactured body force of the points at t, NULL without one. The
+ *  manufactured solutions and contact are still plane strain: a 3-D build
+ *  leaves out their files (manufactured.c, contact_nodes.c,
+ *  contact_points.c), the scene reader refuses a 3-D scene that asks for
+ *  them, and their calls compile out (#if MPGM_DIM == 2 at each). */
+#if MPGM_DIM == 2
+#define MPGM_MMS_FORCES(pb, t) ((pb)->fx.manufactured ? mpgm_mms_forces(pb, t) : NULL)
+#else
+#define MPGM_MMS_FORCES(pb, t) ((void)(pb), (void)(t), (const double *)NULL)
+#endif
 
 /** The view of the problem a front end gets (mpgm_frontend.h). */
 void mpgm_problem_view(mpgm_problem *pb, mpgm_fe_view *v);
