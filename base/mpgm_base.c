@@ -29,6 +29,7 @@ const char *mpgm_code_str(int code) {
   case MPGM_ERR_INTERNAL: return "internal error";
   case MPGM_ERR_DOMAIN: return "point left the background grid";
   case MPGM_ERR_INTERRUPTED: return "interrupted";
+  case MPGM_ERR_DIMENSION: return "a scene of the other dimension";
   case MPGM_ERR_JACOBIAN: return "det F <= 0 (inverted point or cell)";
   case MPGM_ERR_NOT_CONVERGED: return "Newton did not converge";
   case MPGM_ERR_DIVERGED: return "Newton diverged";
@@ -120,4 +121,13 @@ const char *mpgm_version(void) {
 #else
   return "unknown";
 #endif
+}
+
+const char *mpgm_box_str(const double lo[MPGM_DIM], const double hi[MPGM_DIM], char buf[MPGM_BOX_STR]) {
+#if MPGM_DIM == 2
+  snprintf(buf, MPGM_BOX_STR, "[%g, %g] x [%g, %g]", lo[0], hi[0], lo[1], hi[1]);
+#else
+  snprintf(buf, MPGM_BOX_STR, "[%g, %g] x [%g, %g] x [%g, %g]", lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]);
+#endif
+  return buf;
 }

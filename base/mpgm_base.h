@@ -90,6 +90,9 @@ typedef enum {
   MPGM_ERR_INTERNAL = -6,    /**< broken invariant: a bug               */
   MPGM_ERR_DOMAIN = -7,      /**< a point left the background grid      */
   MPGM_ERR_INTERRUPTED = -8, /**< the caller asked the run to stop       */
+  MPGM_ERR_DIMENSION = -9,   /**< a scene (checkpoint) of the other
+                                  dimension's build: bad input to this one,
+                                  which the command hands to the other   */
   /* recoverable */
   MPGM_ERR_JACOBIAN = 1,     /**< det F <= 0 or inverted cell            */
   MPGM_ERR_NOT_CONVERGED = 2,/**< Newton exceeded its iteration limit     */
@@ -122,6 +125,11 @@ const char *mpgm_code_str(int code);
 /** A position for messages, "(x, y)" or "(x, y, z)" (%g each), in buf;
  *  returns buf. */
 const char *mpgm_point_str(const double x[MPGM_DIM], char buf[MPGM_POINT_STR]);
+/** Room for mpgm_box_str's text. */
+#define MPGM_BOX_STR 160
+/** A box "[x0, x1] x [y0, y1]" (" x [z0, z1]" in 3-D), %g each, into buf;
+ *  returns buf (for messages). */
+const char *mpgm_box_str(const double lo[MPGM_DIM], const double hi[MPGM_DIM], char buf[MPGM_BOX_STR]);
 
 /** Timers of the time split reported in summary.json. */
 typedef enum {

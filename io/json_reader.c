@@ -391,40 +391,42 @@ int jr_len(jr_node *o, const char *key, double def, double lo, double hi, double
   return 0;
 }
 
-/* [x, y]: two finite numbers, or (lengths) two lengths as len_of reads
- * them; def NULL: required. */
-static int vec2_read(jr_node *o, const char *key, const double *def, int lengths, double out[2]) {
-  const char *what = lengths ? "lengths" : "numbers";
+/* [x, y] ([x, y, z] in 3-D): MPGM_DIM finite numbers, or (lengths)
+ * MPGM_DIM lengths as len_of reads them; def NULL: required. */
+static int vec_read(jr_node *o, const char *key, const double *def, int lengths,
+                    double out[MPGM_DIM]) {
+  const char *what = lengths ? "lengths" : "numbers", *form = MPGM_DIM == 2 ? "[x, y]" : "[x, y, z]";
   const cJSON *v;
   MPGM_CALL(lookup(o, key, AS_JSON, &v));
   if (!v) {
-    if (!def) return jr_fail(o, key, "required key is missing (expected [x, y])");
-    out[0] = def[0];
-    out[1] = def[1];
+    if (!def) return jr_fail(o, key, "required key is missing (expected %s)", form);
+    for (int i = 0; i < MPGM_DIM; i++) out[i] = def[i];
   } else {
-    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2)
-      return jr_fail(o, key, "expected an array of 2 %s [x, y], found %s%s", what, jr_type(v),
-                     cJSON_IsArray(v) ? " of another length" : "");
-    for (int i = 0; i < 2; i++) {
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != MPGM_DIM)
+      return jr_fail(o, key, "expected an array of %d %s %s, found %s%s", MPGM_DIM, what, form,
+                     jr_type(v), cJSON_IsArray(v) ? " of another length" : "");
+    for (int i = 0; i < MPGM_DIM; i++) {
       const cJSON *e = cJSON_GetArrayItem(v, i);
       if (lengths) {
-        MPGM_CALL(len_of(o, key, e, i ? " at index 1" : " at index 0", &out[i]));
+        char at[16];
+        snprintf(at, sizeof at, " at index %d", i);
+        MPGM_CALL(len_of(o, key, e, at, &out[i]));
         continue;
       }
       if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
-        return jr_fail(o, key, "expected an array of 2 numbers [x, y], found %s at index %d",
-                       jr_type(e), i);
+        return jr_fail(o, key, "expected an array of %d numbers %s, found %s at index %d", MPGM_DIM,
+                       form, jr_type(e), i);
       out[i] = e->valuedouble;
     }
   }
-  if (o->out) cJSON_AddItemToObject(o->out, key, cJSON_CreateDoubleArray(out, 2));
+  if (o->out) cJSON_AddItemToObject(o->out, key, cJSON_CreateDoubleArray(out, MPGM_DIM));
   return 0;
 }
 
-int jr_vec2(jr_node *o, const char *key, const double *def, double out[2]) {
-  return vec2_read(o, key, def, 0, out);
+int jr_vec(jr_node *o, const char *key, const double *def, double out[MPGM_DIM]) {
+  return vec_read(o, key, def, 0, out);
 }
 
-int jr_vec2_len(jr_node *o, const char *key, const double *def, double out[2]) {
-  return vec2_read(o, key, def, 1, out);
+int jr_vec_len(jr_node *o, const char *key, const double *def, double out[MPGM_DIM]) {
+  return vec_read(o, key, def, 1, out);
 }

@@ -64,15 +64,16 @@ int jr_enum(jr_node *o, const char *key, const char *const *choices, int def,
 /** String; def NULL: required. */
 int jr_str(jr_node *o, const char *key, const char *def, char *buf,
            size_t len);
-/** Array of 2 finite numbers; def NULL: required. */
-int jr_vec2(jr_node *o, const char *key, const double *def, double out[2]);
+/** Array of MPGM_DIM finite numbers ([x, y], or [x, y, z] in 3-D); def
+ *  NULL: required. */
+int jr_vec(jr_node *o, const char *key, const double *def, double out[MPGM_DIM]);
 /** A length: a number (metres), {"cells": k} (k h) or {"at": x, "cells": k}
  *  (x + k h), h = o->r->h (docs/scene-format.md, "Lengths in cells"); def
  *  NAN: required; range [lo, hi] in metres. The resolved tree holds metres. */
 int jr_len(jr_node *o, const char *key, double def, double lo, double hi, double *out);
-/** [x, y] whose components are lengths as jr_len reads them; def NULL:
- *  required. */
-int jr_vec2_len(jr_node *o, const char *key, const double *def, double out[2]);
+/** [x, y] ([x, y, z] in 3-D) whose components are lengths as jr_len reads
+ *  them; def NULL: required. */
+int jr_vec_len(jr_node *o, const char *key, const double *def, double out[MPGM_DIM]);
 /** Child object (absent allowed when !required: child->j = NULL). */
 int jr_child(jr_node *o, const char *key, int required, jr_node *child);
 /** Raw item of a key (marks it known; overrides are not applied). */

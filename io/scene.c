@@ -12,7 +12,7 @@
 #include "mpgm_json_reader.h"
 #include "scene_impl.h"
 
-static const char *const cell_names[] = {"tri", "quad", NULL}; /* = mpgm_cell_kind */
+static const char *const cell_names[] = {"tri", "quad", "hex", NULL}; /* = mpgm_cell_kind */
 static const char *const node_motion_names[] = {"coefficient", "interpolated", NULL}; /* = mpgm_node_motion */
 static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", "explicit", NULL};
@@ -24,7 +24,7 @@ static const char *const field_names[] = {"displacement", "velocity", "stress", 
                                           "body", NULL};
 
 /* Names of materials, bodies, probes: usable in dotted paths. */
-static int check_name(jr_node *o, const char *name) {
+int mpgm_scene_check_name(jr_node *o, const char *name) {
   size_t n = strlen(name);
   if (n == 0 || n >= MPGM_NAME_LEN)
     return jr_fail(o, NULL, "expected a name of 1 to %d characters, found \"%s\"",
@@ -37,7 +37,7 @@ static int check_name(jr_node *o, const char *name) {
 
 /* An object-valued key whose members are named entries (materials, probes).
  * *map is NULL when absent. */
-static int get_map(jr_node *o, const char *key, const cJSON **map) {
+int mpgm_scene_get_map(jr_node *o, const char *key, const cJSON **map) {
   const cJSON *v = jr_override_json(o, key);
   if (!v) v = jr_raw(o, key);
   else jr_raw(o, key);
@@ -94,7 +94,7 @@ static int read_material(jr_node *m, mpgm_material *mat) {
 
 static int read_materials(jr_node *root, mpgm_scene *s) {
   const cJSON *map = NULL;
-  MPGM_CALL(get_map(root, "materials", &map));
+  MPGM_CALL(mpgm_scene_get_map(root, "materials", &map));
   if (!map || !map->child) return jr_fail(root, "materials", "expected at least one named material, found none");
   s->nmat = cJSON_GetArraySize(map);
   MPGM_ALLOC(root->r->ctx, s->mats, s->nmat);
@@ -103,7 +103,7 @@ static int read_materials(jr_node *root, mpgm_scene *s) {
   for (const cJSON *c = map->child; c; c = c->next, i++) {
     jr_node m = {.r = root->r, .j = c};
     snprintf(m.path, sizeof m.path, "materials.%s", c->string);
-    MPGM_CALL(check_name(&m, c->string));
+    MPGM_CALL(mpgm_scene_check_name(&m, c->string));
     for (const cJSON *d = map->child; d != c; d = d->next)
       if (strcmp(d->string, c->string) == 0) return jr_fail(&m, NULL, "duplicate material name");
     if (!cJSON_IsObject(c)) return jr_fail(&m, NULL, "expected an object, found %s", jr_type(c));
@@ -130,182 +130,6 @@ int mpgm_material_load(mpgm_ctx *ctx, const char *file, const char *path, const 
   cJSON_Delete(out);
   cJSON_Delete(r.tmp);
   return err;
-}
-
-static int find_material(const mpgm_scene *s, const char *name) {
-  for (int i = 0; i < s->nmat; i++)
-    if (strcmp(s->mats[i].name, name) == 0) return i;
-  return -1;
-}
-
-/* "points": [[x, y], ...] of a polygon (validated: simple, with area). */
-static int read_polygon_points(jr_node *g, mpgm_scene_body *body) {
-  const cJSON *v = jr_override_json(g, "points");
-  if (!v) v = jr_raw(g, "points");
-  else jr_raw(g, "points");
-  if (!v) return jr_fail(g, "points", "required key is missing (expected [[x, y], ...], at least 3 points)");
-  if (!cJSON_IsArray(v))
-    return jr_fail(g, "points", "expected an array of points [[x, y], ...], found %s", jr_type(v));
-  const int n = cJSON_GetArraySize(v);
-  if (n > MPGM_POLYGON_MAX)
-    return jr_fail(g, "points", "expected at most %d points, found %d", MPGM_POLYGON_MAX, n);
-  int i = 0;
-  for (const cJSON *c = v->child; c; c = c->next, i++) {
-    if (!cJSON_IsArray(c) || cJSON_GetArraySize(c) != 2)
-      return jr_fail(g, "points", "expected points [x, y], found %s%s at index %d", jr_type(c),
-                     cJSON_IsArray(c) ? " of another length" : "", i);
-    for (int d = 0; d < 2; d++) {
-      const cJSON *e = cJSON_GetArrayItem(c, d);
-      if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
-        return jr_fail(g, "points", "expected points [x, y] of 2 finite numbers, found %s in point %d",
-                       jr_type(e), i);
-      body->points[2 * i + d] = e->valuedouble;
-    }
-  }
-  body->npoints = n;
-  char msg[256] = "";
-  if (mpgm_polygon_check(body->points, n, msg, sizeof msg)) return jr_fail(g, "points", "%s", msg);
-  cJSON *a = cJSON_AddArrayToObject(g->out, "points");
-  for (int k = 0; k < n; k++) cJSON_AddItemToArray(a, cJSON_CreateDoubleArray(body->points + 2 * k, 2));
-  return 0;
-}
-
-/* "ring": an annulus, or the sector of one between two angles (degrees in
- * the scene, radians in the body). */
-static int read_ring(jr_node *g, mpgm_scene_body *body) {
-  MPGM_CALL(jr_vec2(g, "centre", NULL, body->centre));
-  MPGM_CALL(jr_num(g, "inner", NAN, 0, INFINITY, 0, 0, &body->radius_in));
-  MPGM_CALL(jr_num(g, "outer", NAN, 0, INFINITY, 1, 0, &body->radius));
-  double a0, a1;
-  MPGM_CALL(jr_num(g, "from", 0.0, -360.0, 360.0, 0, 0, &a0));
-  MPGM_CALL(jr_num(g, "to", 360.0, -360.0, 720.0, 0, 0, &a1));
-  MPGM_CALL(jr_end(g));
-  if (!(body->radius > body->radius_in))
-    return jr_fail(g, "outer", "expected outer > inner = %g m, found %g m", body->radius_in, body->radius);
-  if (!(a1 > a0) || a1 - a0 > 360.0)
-    return jr_fail(g, "to", "expected from < to <= from + 360 degrees, found from %g, to %g", a0, a1);
-  body->angle[0] = a0 * 3.14159265358979323846 / 180.0;
-  body->angle[1] = a1 * 3.14159265358979323846 / 180.0;
-  return 0;
-}
-
-/* Exactly one of "rectangle", "disk", "polygon", "ring"; fills the geometry
- * and the bounding box (body->min/max). *g is the geometry's node, for
- * messages. */
-static int read_geometry(jr_node *b, mpgm_scene_body *body, jr_node *g) {
-  const cJSON *hr = jr_raw(b, "rectangle"), *hd = jr_raw(b, "disk"), *hp = jr_raw(b, "polygon");
-  const cJSON *hg = jr_raw(b, "ring");
-  const int ng = !!hr + !!hd + !!hp + !!hg;
-  if (ng > 1)
-    return jr_fail(b, NULL, "expected exactly one geometry: \"rectangle\", \"disk\", \"polygon\" "
-                   "or \"ring\", found %d", ng);
-  if (ng == 0 && !jr_override_json(b, "rectangle"))
-    return jr_fail(b, "rectangle", "required key is missing (expected one geometry: \"rectangle\": "
-                   "{\"min\", \"max\"}, \"disk\": {\"centre\", \"radius\"}, \"polygon\": "
-                   "{\"points\"} or \"ring\": {\"centre\", \"inner\", \"outer\"})");
-  if (hd) {
-    body->geometry = MPGM_GEOM_DISK;
-    MPGM_CALL(jr_child(b, "disk", 1, g));
-    MPGM_CALL(jr_vec2(g, "centre", NULL, body->centre));
-    MPGM_CALL(jr_num(g, "radius", NAN, 0, INFINITY, 1, 0, &body->radius));
-    MPGM_CALL(jr_end(g));
-  } else if (hg) {
-    body->geometry = MPGM_GEOM_RING;
-    MPGM_CALL(jr_child(b, "ring", 1, g));
-    MPGM_CALL(read_ring(g, body));
-  } else if (hp) {
-    body->geometry = MPGM_GEOM_POLYGON;
-    MPGM_CALL(jr_child(b, "polygon", 1, g));
-    MPGM_CALL(read_polygon_points(g, body));
-    MPGM_CALL(jr_end(g));
-  } else {
-    body->geometry = MPGM_GEOM_RECTANGLE;
-    MPGM_CALL(jr_child(b, "rectangle", 1, g));
-    MPGM_CALL(jr_vec2_len(g, "min", NULL, body->min));
-    MPGM_CALL(jr_vec2_len(g, "max", NULL, body->max));
-    MPGM_CALL(jr_end(g));
-    if (!(body->max[0] > body->min[0]) || !(body->max[1] > body->min[1]))
-      return jr_fail(g, NULL, "expected max > min in x and y (a body with area), found an empty "
-                     "rectangle [%g, %g] x [%g, %g]", body->min[0], body->max[0], body->min[1], body->max[1]);
-  }
-  mpgm_body_bbox(body, body->min, body->max);
-  return 0;
-}
-
-static int read_bodies(jr_node *root, mpgm_scene *s) {
-  const cJSON *arr = NULL;
-  MPGM_CALL(mpgm_scene_get_array(root, "bodies", &arr));
-  if (!arr || cJSON_GetArraySize(arr) == 0)
-    return jr_fail(root, "bodies", "expected at least one body, found none");
-  s->nbody = cJSON_GetArraySize(arr);
-  MPGM_ALLOC(root->r->ctx, s->bodies, s->nbody);
-  cJSON *out = cJSON_AddArrayToObject(root->out, "bodies");
-  for (int i = 0; i < s->nbody; i++) {
-    jr_node b;
-    MPGM_CALL(mpgm_scene_array_elem(root, "bodies", arr, i, out, &b));
-    mpgm_scene_body *body = &s->bodies[i];
-    char def[32], mname[MPGM_NAME_LEN];
-    snprintf(def, sizeof def, "body%d", i);
-    MPGM_CALL(jr_str(&b, "name", def, body->name, sizeof body->name));
-    MPGM_CALL(jr_str(&b, "material", NULL, mname, sizeof mname));
-    body->material = find_material(s, mname);
-    if (body->material < 0) {
-      char list[512] = "";
-      for (int k = 0; k < s->nmat; k++) {
-        size_t l = strlen(list);
-        snprintf(list + l, sizeof list - l, "%s\"%s\"", k ? ", " : "", s->mats[k].name);
-      }
-      return jr_fail(&b, "material", "expected the name of a material defined in materials (%s), found \"%s\"",
-                     list, mname);
-    }
-    jr_node g;
-    MPGM_CALL(read_geometry(&b, body, &g));
-    const double zero[2] = {0, 0};
-    MPGM_CALL(jr_vec2(&b, "velocity", zero, body->velocity));
-    jr_node geo;
-    MPGM_CALL(jr_child(&b, "geostatic", 0, &geo));
-    if (geo.j) { /* sigma_yy = rho g_y (surface - y), sigma_xx = sigma_zz = k0 sigma_yy */
-      body->geostatic = 1;
-      MPGM_CALL(jr_num(&geo, "surface", NAN, -INFINITY, INFINITY, 0, 0, &body->surface));
-      MPGM_CALL(jr_num(&geo, "k0", NAN, 0.0, 10.0, 0, 0, &body->k0));
-      MPGM_CALL(jr_end(&geo));
-    } else if (b.out) { /* absent: no empty object in the resolved scene, which must load again */
-      cJSON_DeleteItemFromObjectCaseSensitive(b.out, "geostatic");
-    }
-    MPGM_CALL(jr_end(&b));
-    const double tol[2] = {1e-12 * (s->dom_max[0] - s->dom_min[0]), 1e-12 * (s->dom_max[1] - s->dom_min[1])};
-    for (int d = 0; d < 2; d++)
-      if (body->min[d] < s->dom_min[d] - tol[d] || body->max[d] > s->dom_max[d] + tol[d])
-        return jr_fail(&g, NULL, "expected a body inside the domain [%g, %g] x [%g, %g] (mesh.domain), "
-                       "found [%g, %g] x [%g, %g]", s->dom_min[0], s->dom_max[0], s->dom_min[1],
-                       s->dom_max[1], body->min[0], body->max[0], body->min[1], body->max[1]);
-  }
-  return 0;
-}
-
-static int read_probes(jr_node *root, mpgm_scene *s) {
-  const cJSON *map = NULL;
-  MPGM_CALL(get_map(root, "probes", &map));
-  s->nprobe = map ? cJSON_GetArraySize(map) : 0;
-  if (s->nprobe > 32) return jr_fail(root, "probes", "expected at most 32 probes, found %d", s->nprobe);
-  MPGM_ALLOC(root->r->ctx, s->probes, s->nprobe);
-  jr_node p = {.r = root->r, .j = map};
-  snprintf(p.path, sizeof p.path, "probes");
-  p.out = cJSON_AddObjectToObject(root->out, "probes");
-  int i = 0;
-  for (const cJSON *c = map ? map->child : NULL; c; c = c->next, i++) {
-    jr_node q = {.r = root->r};
-    snprintf(q.path, sizeof q.path, "probes.%s", c->string);
-    MPGM_CALL(check_name(&q, c->string));
-    snprintf(s->probes[i].name, MPGM_NAME_LEN, "%s", c->string);
-    MPGM_CALL(jr_vec2_len(&p, c->string, NULL, s->probes[i].x));
-    const double *x = s->probes[i].x;
-    int in = 0;
-    for (int b = 0; b < s->nbody && !in; b++) in = mpgm_body_contains(&s->bodies[b], x);
-    if (!in) return jr_fail(&q, NULL, "expected a position inside a body, found (%g, %g)", x[0], x[1]);
-  }
-  MPGM_CALL(jr_end(&p));
-  return 0;
 }
 
 /* output.matrices: a step (from 1) or an increasing array of them ([]: none). */
@@ -506,36 +330,44 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_child(root, "mesh", 1, &mesh));
   MPGM_CALL(jr_num(&mesh, "h", NAN, 0, INFINITY, 1, 0, &s->h));
   root->r->h = s->h; /* the cell of the lengths given in cells from here on */
-  MPGM_CALL(jr_enum(&mesh, "cell", cell_names, MPGM_CELL_Q4, &s->cell));
-  MPGM_CALL(jr_int(&mesh, "ppc", s->cell == MPGM_CELL_Q4 ? 4 : 3, 1, 9, &s->ppc));
+  MPGM_CALL(jr_enum(&mesh, "cell", cell_names, MPGM_DIM == 2 ? MPGM_CELL_Q4 : MPGM_CELL_H8, &s->cell));
+  if (MPGM_DIM == 2 && s->cell == MPGM_CELL_H8)
+    return jr_fail(&mesh, "cell", "a hexahedron is a 3-D cell: expected \"quad\" or \"tri\" in a "
+                   "plane-strain scene, found \"hex\"");
+  if (MPGM_DIM == 3 && s->cell != MPGM_CELL_H8)
+    return jr_fail(&mesh, "cell", "a 3-D scene's cells are hexahedra: expected \"hex\", found \"%s\"",
+                   cell_names[s->cell]);
+  const int ppc0 = s->cell == MPGM_CELL_H8 ? 8 : s->cell == MPGM_CELL_Q4 ? 4 : 3;
+  MPGM_CALL(jr_int(&mesh, "ppc", ppc0, 1, MPGM_MAXRULE, &s->ppc));
   MPGM_CALL(jr_num(&mesh, "min_node_mass", 1e-2, 0.0, 0.5, 0, 1, &s->min_node_mass));
   MPGM_CALL(jr_num(&mesh, "min_node_distance", 0.0, 0.0, 1.0, 0, 1, &s->min_node_distance));
   MPGM_CALL(jr_enum(&mesh, "node_motion", node_motion_names, MPGM_NODES_COEFFICIENT, &s->node_motion));
   static const char *const layout_names[] = {"gauss", "centres", NULL};
   /* a kind with particle domains (CPDI) tiles the body with them: the
-   * sub-cell squares of quads */
-  const int centres = s->shape->domain && s->cell == MPGM_CELL_Q4;
+   * sub-cell squares of quads (cubes of hexahedra) */
+  const int centres = s->shape->domain && s->cell != MPGM_CELL_T3;
   MPGM_CALL(jr_enum(&mesh, "layout", layout_names, centres, &s->layout_centres));
-  if (s->layout_centres && s->cell != MPGM_CELL_Q4)
+  if (s->layout_centres && s->cell == MPGM_CELL_T3)
     return jr_fail(&mesh, "layout", "\"centres\" splits a square cell into ppc equal squares: "
                    "expected cell \"quad\", found \"tri\"");
   {
-    double xi[18], w[9];
+    double xi[MPGM_DIM * MPGM_MAXRULE], w[MPGM_MAXRULE];
     if (mpgm_fe_gauss(s->cell, s->ppc, xi, w))
       return jr_fail(&mesh, "ppc", "expected %s, found %d",
-                     s->cell == MPGM_CELL_Q4 ? "1, 4 or 9 points per quad" : "1 or 3 points per triangle", s->ppc);
+                     s->cell == MPGM_CELL_H8   ? "1, 8 or 27 points per hexahedron"
+                     : s->cell == MPGM_CELL_Q4 ? "1, 4 or 9 points per quad"
+                                               : "1 or 3 points per triangle", s->ppc);
   }
+  /* the scene's dimension (the domain's coordinates) was matched to this
+   * build's before (scene_dimension) */
   MPGM_CALL(jr_child(&mesh, "domain", 1, &dom));
-  /* a scene is 3-D when its domain has three coordinates */
-  const cJSON *dmin = dom.j ? cJSON_GetObjectItemCaseSensitive(dom.j, "min") : NULL;
-  if (cJSON_IsArray(dmin) && cJSON_GetArraySize(dmin) == 3)
-    return jr_fail(&dom, "min", "found three coordinates, a 3-D scene: this mpgm runs plane-strain "
-                   "scenes (two coordinates [x, y]); its 3-D front ends are not complete yet");
-  MPGM_CALL(jr_vec2_len(&dom, "min", NULL, s->dom_min));
-  MPGM_CALL(jr_vec2_len(&dom, "max", NULL, s->dom_max));
+  MPGM_CALL(jr_vec_len(&dom, "min", NULL, s->dom_min));
+  MPGM_CALL(jr_vec_len(&dom, "max", NULL, s->dom_max));
   MPGM_CALL(jr_end(&dom));
-  if (!(s->dom_max[0] > s->dom_min[0]) || !(s->dom_max[1] > s->dom_min[1]))
-    return jr_fail(&dom, NULL, "expected max > min in x and y, found an empty domain");
+  for (int d = 0; d < MPGM_DIM; d++)
+    if (!(s->dom_max[d] > s->dom_min[d]))
+      return jr_fail(&dom, NULL, "expected max > min in %s, found an empty domain",
+                     MPGM_DIM == 2 ? "x and y" : "x, y and z");
   MPGM_CALL(jr_end(&mesh));
 
   return 0;
@@ -577,7 +409,21 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   return 0;
 }
 
+/* In a 3-D scene, the value of o.key (after --set) when it names one of
+ * the plane-strain-only names: an error saying so, not an unknown name. */
+static int refuse_plane_only(jr_node *o, const char *key, const char *const *names, const char *what) {
+  if (MPGM_DIM == 2) return 0;
+  const cJSON *v = jr_override_json(o, key);
+  if (!v && o->j) v = cJSON_GetObjectItemCaseSensitive(o->j, key);
+  for (int k = 0; cJSON_IsString(v) && names[k]; k++)
+    if (strcmp(v->valuestring, names[k]) == 0)
+      return jr_fail(o, key, "%s \"%s\" is plane strain for now: not in a 3-D scene", what, names[k]);
+  return 0;
+}
+
 static int read_scene(jr_node *root, mpgm_scene *s) {
+  static const char *const plane_methods[] = {"gmm", NULL};
+  static const char *const plane_kinds[] = {"mls", "lme", "cpls", NULL};
   char desc[2048];
   MPGM_CALL(jr_str(root, "description", "", desc, sizeof desc));
   /* method: a front end of the list (the first is the default) */
@@ -587,6 +433,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   for (; ft[nf] && nf < 15; nf++) fnames[nf] = ft[nf]->name;
   fnames[nf] = NULL;
   int fi;
+  MPGM_CALL(refuse_plane_only(root, "method", plane_methods, "method"));
   MPGM_CALL(jr_enum(root, "method", fnames, 0, &fi));
   s->frontend = ft[fi];
 
@@ -598,6 +445,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   for (; st[ns] && ns < 15; ns++) snames[ns] = st[ns]->name;
   snames[ns] = NULL;
   int sk;
+  MPGM_CALL(refuse_plane_only(&sh, "kind", plane_kinds, "shape function"));
   MPGM_CALL(jr_enum(&sh, "kind", snames, 0, &sk));
   s->shape = st[sk];
   MPGM_CALL(read_shape_params(&sh, s));
@@ -605,7 +453,8 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
 
   MPGM_CALL(read_mesh(root, s));
   /* uGIMP: a particle's square is its share of its cell, ppc to a cell */
-  if (s->shape->grid_only) s->shape_par.half_width = s->h / (2.0 * sqrt((double)s->ppc));
+  if (s->shape->grid_only) /* (a cube's in 3-D) */
+    s->shape_par.half_width = s->h / (2.0 * (MPGM_DIM == 2 ? sqrt((double)s->ppc) : cbrt((double)s->ppc)));
   MPGM_CALL(jr_enum(root, "kinematics", kin_names, MPGM_KIN_FINITE, &s->kinematics));
   MPGM_CALL(jr_int(root, "threads", 0, 0, 256, &s->loop_threads));
 
@@ -624,7 +473,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   }
 
   MPGM_CALL(read_materials(root, s));
-  MPGM_CALL(read_bodies(root, s));
+  MPGM_CALL(mpgm_scene_read_bodies(root, s));
   MPGM_CALL(mpgm_scene_read_boundaries(root, s));
   MPGM_CALL(mpgm_scene_read_obstacles(root, s));
   /* after the boundaries: a default follows them (solver.contact_check) */
@@ -644,13 +493,13 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
         return jr_fail(&m, "type", "material has an unsymmetric tangent: solver.%s \"%s\" needs a "
                        "symmetric matrix (use \"umfpack\" or \"auto\")", key[k], by[k]->name);
   }
-  const double g0[2] = {0, 0};
-  MPGM_CALL(jr_vec2(root, "gravity", g0, s->gravity));
+  const double g0[MPGM_DIM] = {0};
+  MPGM_CALL(jr_vec(root, "gravity", g0, s->gravity));
   MPGM_CALL(jr_num(root, "gravity_ramp", 0.0, 0.0, INFINITY, 0, 0, &s->gravity_ramp));
   if (s->gravity_ramp > 0.0 && s->analysis == MPGM_ANALYSIS_STATIC)
     return jr_fail(root, "gravity_ramp", "ramps gravity in time: expected time.analysis \"dynamic\" "
                    "or \"explicit\" (static runs ramp it with the load factor), found \"static\"");
-  MPGM_CALL(read_probes(root, s));
+  MPGM_CALL(mpgm_scene_read_probes(root, s));
   MPGM_CALL(mpgm_scene_read_manufactured(root, s));
   MPGM_CALL(mpgm_reference_read(root, s));
   MPGM_CALL(read_output(root, s));
@@ -679,6 +528,24 @@ static int parse_sets(mpgm_ctx *ctx, const char *file, int nset, const char *con
   return 0;
 }
 
+/* A scene is 3-D when mesh.domain.min (after --set) has three
+ * coordinates: MPGM_ERR_DIMENSION when this build is the other
+ * dimension's, before anything else is read (whatever else the scene
+ * holds is the other build's to judge). Anything but an array of 2 or 3
+ * is left to the reader's own messages. */
+static int scene_dimension(jr_reader *r, const cJSON *doc) {
+  const cJSON *mesh = cJSON_IsObject(doc) ? cJSON_GetObjectItemCaseSensitive(doc, "mesh") : NULL;
+  jr_node dom = {.r = r, .j = cJSON_IsObject(mesh) ? cJSON_GetObjectItemCaseSensitive(mesh, "domain") : NULL};
+  snprintf(dom.path, sizeof dom.path, "mesh.domain");
+  const cJSON *min = jr_override_json(&dom, "min");
+  if (!min && cJSON_IsObject(dom.j)) min = cJSON_GetObjectItemCaseSensitive(dom.j, "min");
+  const int n = cJSON_IsArray(min) ? cJSON_GetArraySize(min) : 0;
+  if ((n != 2 && n != 3) || n == MPGM_DIM) return 0;
+  MPGM_ERROR(r->ctx, MPGM_ERR_DIMENSION, "%s: mesh.domain.min: found %s coordinates, a %s scene: "
+             "run it with %s", r->file, n == 3 ? "three" : "two", n == 3 ? "3-D" : "plane-strain",
+             n == 3 ? "mpgm-3d (which mpgm calls for a 3-D scene)" : "mpgm");
+}
+
 /* Read the scene doc (owned, freed here) named file, with overrides. */
 static int scene_read(mpgm_ctx *ctx, const char *file, cJSON *doc, int from_file, int nset,
                       const char *const *sets, mpgm_scene **out) {
@@ -689,6 +556,7 @@ static int scene_read(mpgm_ctx *ctx, const char *file, cJSON *doc, int from_file
   jr_reader r = {.ctx = ctx, .file = file, .ov = ov, .nov = nset};
   cJSON *resolved = cJSON_CreateObject();
   if (!err) err = parse_sets(ctx, file, nset, sets, ov);
+  if (!err) err = scene_dimension(&r, doc);
   if (!err) {
     snprintf(s->file, sizeof s->file, "%s", file);
     const char *base = strrchr(file, '/');

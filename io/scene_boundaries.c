@@ -12,28 +12,40 @@
 
 static const char *const condition_names[] = {"stick", "slip", "contact", NULL}; /* = mpgm_condition - 1 */
 
-static int read_fix(jr_node *o, const char *key, int fix[2]) {
+/* the components' names, and the forms of "fix" for messages */
+static const char *const comp_names[] = {"x", "y", "z"};
+#if MPGM_DIM == 2
+#define FIX_FORMS "[\"x\"], [\"y\"] or [\"x\", \"y\"]"
+#define COMP_FORMS "\"x\" or \"y\""
+#else
+#define FIX_FORMS "1 to 3 of \"x\", \"y\", \"z\" (e.g. [\"z\"] or [\"x\", \"y\", \"z\"])"
+#define COMP_FORMS "\"x\", \"y\" or \"z\""
+#endif
+
+static int read_fix(jr_node *o, const char *key, int fix[MPGM_DIM]) {
   const cJSON *v = jr_override_json(o, key);
   if (!v) v = jr_raw(o, key);
   else jr_raw(o, key);
   if (!v)
-    return jr_fail(o, key, "required key is missing (expected \"fix\": [\"x\"], [\"y\"] or [\"x\", \"y\"], "
+    return jr_fail(o, key, "required key is missing (expected \"fix\": " FIX_FORMS ", "
                    "or \"condition\": \"stick\" | \"slip\")");
-  fix[0] = fix[1] = 0;
-  if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) < 1 || cJSON_GetArraySize(v) > 2)
-    return jr_fail(o, key, "expected [\"x\"], [\"y\"] or [\"x\", \"y\"], found %s%s", jr_type(v),
+  for (int d = 0; d < MPGM_DIM; d++) fix[d] = 0;
+  if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) < 1 || cJSON_GetArraySize(v) > MPGM_DIM)
+    return jr_fail(o, key, "expected " FIX_FORMS ", found %s%s", jr_type(v),
                    cJSON_IsArray(v) ? " of another length" : "");
   for (const cJSON *c = v->child; c; c = c->next) {
-    int d = cJSON_IsString(c) ? (strcmp(c->valuestring, "x") == 0 ? 0 : strcmp(c->valuestring, "y") == 0 ? 1 : -1) : -1;
-    if (d < 0) return jr_fail(o, key, "expected components \"x\" or \"y\", found %s%s%s%s", jr_type(c),
+    int d = -1;
+    for (int k = 0; k < MPGM_DIM && cJSON_IsString(c); k++)
+      if (strcmp(c->valuestring, comp_names[k]) == 0) d = k;
+    if (d < 0) return jr_fail(o, key, "expected components " COMP_FORMS ", found %s%s%s%s", jr_type(c),
                               cJSON_IsString(c) ? " \"" : "", cJSON_IsString(c) ? c->valuestring : "",
                               cJSON_IsString(c) ? "\"" : "");
     if (fix[d]) return jr_fail(o, key, "component \"%s\" listed twice", c->valuestring);
     fix[d] = 1;
   }
   cJSON *a = cJSON_AddArrayToObject(o->out, key);
-  if (fix[0]) cJSON_AddItemToArray(a, cJSON_CreateString("x"));
-  if (fix[1]) cJSON_AddItemToArray(a, cJSON_CreateString("y"));
+  for (int d = 0; d < MPGM_DIM; d++)
+    if (fix[d]) cJSON_AddItemToArray(a, cJSON_CreateString(comp_names[d]));
   return 0;
 }
 
@@ -68,6 +80,37 @@ static int read_contact_points(jr_node *b, const mpgm_scene *s, mpgm_scene_bound
   return 0;
 }
 
+/* The node selector of a boundary: exactly one of a plane "x", "y" (or
+ * "z" in 3-D) = value, or a "box" {min, max}. */
+static int read_selector(jr_node *b, mpgm_scene_boundary *bc) {
+  const cJSON *hp[MPGM_DIM], *hb = jr_raw(b, "box");
+  int nsel = !!hb, plane = -1;
+  for (int d = 0; d < MPGM_DIM; d++) {
+    hp[d] = jr_raw(b, comp_names[d]);
+    nsel += !!hp[d];
+    if (hp[d]) plane = d;
+  }
+  if (nsel != 1)
+    return jr_fail(b, NULL, "expected exactly one node selector: %s or \"box\": {\"min\", \"max\"}, "
+                   "found %d", MPGM_DIM == 2 ? "\"x\": value, \"y\": value" :
+                   "\"x\": value, \"y\": value, \"z\": value", nsel);
+  if (plane >= 0) {
+    bc->select = plane; /* = MPGM_SELECT_X, _Y, _Z */
+    return jr_len(b, comp_names[plane], NAN, -INFINITY, INFINITY, &bc->value);
+  }
+  jr_node box;
+  bc->select = MPGM_SELECT_BOX;
+  MPGM_CALL(jr_child(b, "box", 1, &box));
+  MPGM_CALL(jr_vec_len(&box, "min", NULL, bc->min));
+  MPGM_CALL(jr_vec_len(&box, "max", NULL, bc->max));
+  MPGM_CALL(jr_end(&box));
+  for (int d = 0; d < MPGM_DIM; d++)
+    if (bc->max[d] < bc->min[d])
+      return jr_fail(&box, NULL, "expected max >= min in %s, found an inverted box",
+                     MPGM_DIM == 2 ? "x and y" : "x, y and z");
+  return 0;
+}
+
 int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s) {
   const cJSON *arr = NULL;
   MPGM_CALL(mpgm_scene_get_array(root, "boundaries", &arr));
@@ -81,24 +124,7 @@ int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s) {
     char def[32];
     snprintf(def, sizeof def, "boundary%d", i);
     MPGM_CALL(jr_str(&b, "name", def, bc->name, sizeof bc->name));
-    const cJSON *hx = jr_raw(&b, "x"), *hy = jr_raw(&b, "y"), *hb = jr_raw(&b, "box");
-    int nsel = !!hx + !!hy + !!hb;
-    if (nsel != 1)
-      return jr_fail(&b, NULL, "expected exactly one node selector: \"x\": value, \"y\": value or "
-                     "\"box\": {\"min\", \"max\"}, found %d", nsel);
-    if (hx || hy) {
-      bc->select = hx ? MPGM_SELECT_X : MPGM_SELECT_Y;
-      MPGM_CALL(jr_len(&b, hx ? "x" : "y", NAN, -INFINITY, INFINITY, &bc->value));
-    } else {
-      jr_node box;
-      bc->select = MPGM_SELECT_BOX;
-      MPGM_CALL(jr_child(&b, "box", 1, &box));
-      MPGM_CALL(jr_vec2_len(&box, "min", NULL, bc->min));
-      MPGM_CALL(jr_vec2_len(&box, "max", NULL, bc->max));
-      MPGM_CALL(jr_end(&box));
-      if (bc->max[0] < bc->min[0] || bc->max[1] < bc->min[1])
-        return jr_fail(&box, NULL, "expected max >= min in x and y, found an inverted box");
-    }
+    MPGM_CALL(read_selector(&b, bc));
     MPGM_CALL(jr_len(&b, "tol", 1e-6 * s->h, 0, INFINITY, &bc->tol));
     const cJSON *hf = jr_raw(&b, "fix"), *hc = jr_raw(&b, "condition");
     if (hf && hc)
@@ -110,7 +136,10 @@ int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s) {
       bc->condition = c + 1;
       if (bc->condition == MPGM_COND_SLIP && bc->select == MPGM_SELECT_BOX)
         return jr_fail(&b, "condition", "\"slip\" fixes the normal component of a plane selector "
-                       "(\"x\" or \"y\"); a box selector has no normal (use \"stick\" or \"fix\")");
+                       "(" COMP_FORMS "); a box selector has no normal (use \"stick\" or \"fix\")");
+      if (MPGM_DIM == 3 && bc->condition == MPGM_COND_CONTACT)
+        return jr_fail(&b, "condition", "contact is plane strain for now: expected \"stick\" or "
+                       "\"slip\" in a 3-D scene, found \"contact\"");
       if (bc->condition == MPGM_COND_CONTACT) {
         if (bc->select == MPGM_SELECT_BOX)
           return jr_fail(&b, "condition", "\"contact\" needs a plane selector (\"x\" or \"y\"), "
@@ -118,14 +147,14 @@ int mpgm_scene_read_boundaries(jr_node *root, mpgm_scene *s) {
         MPGM_CALL(read_contact_points(&b, s, bc));
       }
       /* the resolved scene keeps "condition" only, so it loads again as is */
-      bc->fix[0] = bc->condition != MPGM_COND_SLIP || bc->select == MPGM_SELECT_X;
-      bc->fix[1] = bc->condition != MPGM_COND_SLIP || bc->select == MPGM_SELECT_Y;
+      for (int d = 0; d < MPGM_DIM; d++) /* slip: the plane's normal, x, y or z */
+        bc->fix[d] = bc->condition != MPGM_COND_SLIP || (int)bc->select == d;
     } else {
       bc->condition = MPGM_COND_FIX;
       MPGM_CALL(read_fix(&b, "fix", bc->fix));
     }
-    const double zero[2] = {0, 0};
-    MPGM_CALL(jr_vec2(&b, "displacement", zero, bc->displacement));
+    const double zero[MPGM_DIM] = {0};
+    MPGM_CALL(jr_vec(&b, "displacement", zero, bc->displacement));
     MPGM_CALL(jr_end(&b));
   }
   return 0;
@@ -170,6 +199,9 @@ int mpgm_scene_read_obstacles(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(mpgm_scene_get_array(root, "obstacles", &arr));
   s->nobstacle = arr ? cJSON_GetArraySize(arr) : 0;
   if (!arr) return 0;
+  if (MPGM_DIM == 3)
+    return jr_fail(root, "obstacles", "the rigid node layers are plane strain for now: expected no "
+                   "\"obstacles\" in a 3-D scene");
   if (s->nobstacle > 16) return jr_fail(root, "obstacles", "expected at most 16 obstacles, found %d", s->nobstacle);
   MPGM_ALLOC(root->r->ctx, s->obstacles, s->nobstacle);
   cJSON *out = cJSON_AddArrayToObject(root->out, "obstacles");

@@ -24,15 +24,23 @@
  * x, x0, u, v, a (2 each), mass, vol0, vol, F, sigma, the domain r0 (4
  * each), and the trial F_t, dF_t, sigma_t (4 each), vol_t: 42 doubles;
  * mat, body, id: 3 ints. Implicit runs add the tangent D_t (9 doubles). */
+/* 3-D: x .. a 3 each, F, dF_t, F_t, r0 9 each, sigma, sigma_t 6 each,
+ * mass, vol0, vol, vol_t (4 more, as in 2-D): 67 + 4 doubles; D_t 36. */
+#if MPGM_DIM == 2
 #define POINT_BYTES (42 * 8 + 3 * 4)
 #define POINT_TANGENT_BYTES (9 * 8)
-/* Per connectivity entry: the node (int), N, grad N (3 doubles); implicit
- * runs add grad N at the iterate (2 doubles). */
-#define ENTRY_BYTES (4 + 3 * 8)
-#define ENTRY_ITERATE_BYTES (2 * 8)
+#else
+#define POINT_BYTES (71 * 8 + 3 * 4)
+#define POINT_TANGENT_BYTES (36 * 8)
+#endif
+/* Per connectivity entry: the node (int), N, grad N (1 + MPGM_DIM
+ * doubles); implicit runs add grad N at the iterate (MPGM_DIM doubles). */
+#define ENTRY_BYTES (4 + (1 + MPGM_DIM) * 8)
+#define ENTRY_ITERATE_BYTES (MPGM_DIM * 8)
 /* Per node (core/data.c, mpgm_nodes_alloc): mass, X, x, u, du, v, a,
- * v_new, a_new, ubar (19 doubles), fix, contact, dof (5 ints). */
-#define NODE_BYTES (19 * 8 + 5 * 4)
+ * v_new, a_new, ubar (1 + 9 MPGM_DIM doubles), fix, contact, dof
+ * (1 + 2 MPGM_DIM ints). */
+#define NODE_BYTES ((1 + 9 * MPGM_DIM) * 8 + (1 + 2 * MPGM_DIM) * 4)
 /* Per node of MPM's background grid: its map and flags (mpm/mpm.c). */
 #define GRID_NODE_BYTES 6
 /* Per nonzero of the tangent (CSC: value and row) and of a factor. */
@@ -71,9 +79,47 @@ static int cloud(const mpgm_scene *s, double area, double perim, double *e, doub
   return 1;
 }
 
+#if MPGM_DIM == 3
+/* The counts of a 3-D scene (H8 cells; bodies of volume mpgm_body_area):
+ * 8 nodes a point, 27 coupled to a node, 3 x 3 entries a pair; a direct
+ * factor's fill on a k^3 grid grows as N^(4/3) (George and Liu 1981),
+ * here FILL_LOG k coupled / 27 entries per equation beyond the tangent's
+ * lower half (unchecked against measured factors in 3-D). */
+static int size_counts3(const mpgm_scene *s, mpgm_size *z) {
+  double vol = 0.0, big = 0.0, width = 0.0, g = 1.0;
+  for (int b = 0; b < s->nbody; b++) {
+    const double v = mpgm_body_area(&s->bodies[b]);
+    vol += v;
+    if (v > big) {
+      big = v;
+      width = mpgm_body_width(&s->bodies[b]);
+    }
+  }
+  const double h3 = s->h * s->h * s->h;
+  z->points = s->ppc * vol / h3;
+  z->nodes = vol / h3;
+  for (int d = 0; d < 3; d++) g *= ceil((s->dom_max[d] - s->dom_min[d]) / s->h) + 1.0;
+  z->grid_nodes = s->frontend->persistent_nodes ? 0.0 : g;
+  const double coupled = 27.0;
+  z->entries = z->points * 8.0;
+  const int implicit = s->analysis != MPGM_ANALYSIS_EXPLICIT;
+  z->nnz = implicit ? 9.0 * z->nodes * coupled : 0.0;
+  const double ndof = 3.0 * z->nodes, k = fmax(2.0, width / s->h + 1.0);
+  z->factor = implicit && !s->solver->iterative ? 0.5 * z->nnz + ndof * FILL_LOG * k * coupled / 27.0 : 0.0;
+  const double steps = s->analysis == MPGM_ANALYSIS_STATIC ? s->load_steps
+                       : s->dt > 0.0                        ? ceil(s->t_end / s->dt)
+                                                            : 0.0;
+  z->history = steps * (17.0 + 2.0 + 2.0 * s->nprobe);
+  return 1;
+}
+#endif
+
 /* The counts: points, nodes, entries, the tangent's and a factor's
  * nonzeros, the rows of the histories. */
 static void size_counts(const mpgm_scene *s, mpgm_size *z) {
+#if MPGM_DIM == 3
+  if (size_counts3(s, z)) return;
+#endif
   const double cells_per_area = (s->cell == MPGM_CELL_Q4 ? 1.0 : 2.0) / (s->h * s->h);
   double area = 0.0, perim = 0.0, big = 0.0, width = 0.0;
   for (int b = 0; b < s->nbody; b++) {

@@ -1,6 +1,6 @@
 /* scene_impl.h -- private to io/: pieces of scene loading that live in
- * their own files (scene_boundaries.c, scene_reference.c, scene_solver.c,
- * scene_time.c). */
+ * their own files (scene_bodies.c, scene_boundaries.c, scene_reference.c,
+ * scene_solver.c, scene_time.c). */
 #ifndef MPGM_SCENE_IMPL_H
 #define MPGM_SCENE_IMPL_H
 
@@ -18,6 +18,16 @@ int mpgm_reference_read(jr_node *root, mpgm_scene *s);
  *  lies where the solution is defined. */
 int mpgm_scene_read_manufactured(jr_node *root, mpgm_scene *s);
 
+/** A name of a material, body or probe, usable in dotted paths: 1 to
+ *  MPGM_NAME_LEN - 1 letters, digits, '_' or '-'. */
+int mpgm_scene_check_name(jr_node *o, const char *name);
+/** An object-valued key whose members are named entries (materials,
+ *  probes); *map NULL when absent. */
+int mpgm_scene_get_map(jr_node *o, const char *key, const cJSON **map);
+/** "bodies" (after the materials and the mesh) and "probes" (after the
+ *  bodies) (scene_bodies.c). */
+int mpgm_scene_read_bodies(jr_node *root, mpgm_scene *s);
+int mpgm_scene_read_probes(jr_node *root, mpgm_scene *s);
 /** The array at key (NULL when absent; an --set override replaces it);
  *  bad input when it is not an array. */
 int mpgm_scene_get_array(jr_node *o, const char *key, const cJSON **arr);
