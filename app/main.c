@@ -159,6 +159,7 @@ static void progress_end(term_log *t) {
 }
 
 static int report_error(const mpgm_ctx *ctx, int code) {
+  if (MPGM_DIM == 2 && code == MPGM_ERR_DIMENSION) return EXIT_HANDOFF; /* a 3-D scene: mpgm-3d's */
   fprintf(stderr, "mpgm: %s\n", ctx->msg[0] ? ctx->msg : mpgm_code_str(code));
   return mpgm_exit_code(code);
 }
@@ -186,9 +187,10 @@ static int cmd_check(const args *a, mpgm_ctx *ctx) {
     snprintf(l + n, 256 - n, "%s%s", n ? ", " : "", c->string);
   }
   printf("effects that will run: %s; absent (cost nothing): %s\n", on[0] ? on : "none", off[0] ? off : "none");
-  printf("scene %s is valid: method %s, shape %s, %d material(s), %d body(ies), %d boundary "
+  printf("scene %s is valid: %s, method %s, shape %s, %d material(s), %d body(ies), %d boundary "
          "condition(s), %d probe(s)\n",
-         a->scene, s->frontend->name, s->shape->name, s->nmat, s->nbody, s->nbc, s->nprobe);
+         a->scene, MPGM_DIM == 2 ? "plane strain" : "3-D", s->frontend->name, s->shape->name, s->nmat,
+         s->nbody, s->nbc, s->nprobe);
   mpgm_size z; /* the loader checked it against what is available */
   mpgm_scene_size(s, &z);
   char est[512];
@@ -597,5 +599,8 @@ int main(int argc, char **argv) {
                                             : cmd_check(&a, &ctx);
   }
   free(a.sets);
+  /* the whole command again, by the program built for the scene's
+   * dimension (nothing was written: the scene is read first) */
+  if (rc == EXIT_HANDOFF) rc = mpgm_handoff(argv, a.scene);
   return rc;
 }

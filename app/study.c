@@ -157,6 +157,8 @@ static int validate(mpgm_ctx *ctx, mpgm_study *st) {
     mpgm_scene *s = NULL;
     const int err = mpgm_scene_load(&c, r->scene, n, (const char *const *)sets, &s);
     free_sets(sets, n);
+    if (MPGM_DIM == 2 && err == MPGM_ERR_DIMENSION) /* a 3-D study: mpgm-3d's (mpgm_handoff) */
+      return mpgm_err_set(ctx, err, __FILE__, __LINE__, "%s", c.msg);
     if (err) {
       if (bad++ < 10) fprintf(stderr, "mpgm study: %s: run %d (%s): %s\n", st->file, i + 1, r->name, c.msg);
       if (err != MPGM_ERR_INPUT && !ctx->code) mpgm_err_set(ctx, err, __FILE__, __LINE__, "%s", c.msg);
@@ -688,6 +690,10 @@ int mpgm_cmd_study(int argc, char **argv) {
   mpgm_study st;
   memset(&st, 0, sizeof st);
   const int err = study_main(&ctx, &o, &st, &rc);
+  if (MPGM_DIM == 2 && err == MPGM_ERR_DIMENSION) {
+    mpgm_study_free(&st);
+    return mpgm_handoff(argv, o.file); /* nothing was run or written */
+  }
   if (err) {
     fprintf(stderr, "mpgm study: %s\n", ctx.msg[0] ? ctx.msg : mpgm_code_str(err));
     rc = mpgm_exit_code(err);
