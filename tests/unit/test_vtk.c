@@ -308,8 +308,8 @@ static void check_grid(const rgrid *g, const mesh *m, int np, int cloud,
 
 static void test_roundtrip(const mesh *m) {
   const mpgm_vtk_field f[3] = {{"mass", MPGM_VTK_SCALAR, m->s},
-                               {"velocity", MPGM_VTK_VECTOR2, m->v},
-                               {"stress", MPGM_VTK_STRESS4, m->t}};
+                               {"velocity", MPGM_VTK_VECTOR, m->v},
+                               {"stress", MPGM_VTK_STRESS, m->t}};
   char longtitle[400];
   memset(longtitle, 'a', sizeof longtitle - 1);
   longtitle[sizeof longtitle - 1] = '\0';

@@ -25,8 +25,8 @@ static void roundtrip(int binary, int with_cells) {
   for (int i = 0; i < NP; i++) s[i] = uniform(&r, -1e-3, 2.385e5);
   for (int i = 0; i < 2 * NP; i++) v[i] = uniform(&r, -1.0, 1.0) / 3.0;
   for (int i = 0; i < 4 * NP; i++) t[i] = uniform(&r, -7.2e6, 3.3e6);
-  const mpgm_vtk_field f[3] = {{"eps_p", MPGM_VTK_SCALAR, s}, {"velocity", MPGM_VTK_VECTOR2, v},
-                               {"stress", MPGM_VTK_STRESS4, t}};
+  const mpgm_vtk_field f[3] = {{"eps_p", MPGM_VTK_SCALAR, s}, {"velocity", MPGM_VTK_VECTOR, v},
+                               {"stress", MPGM_VTK_STRESS, t}};
   const int cp[3] = {0, 3, 7}, cc[7] = {0, 1, 2, 2, 3, 4, 5}, ct[2] = {MPGM_VTK_TRIANGLE, MPGM_VTK_QUAD};
   char p[128];
   path_of(p, sizeof p, binary ? "b.vtk" : "a.vtk");

@@ -73,8 +73,8 @@ static void damaged(const char *p) {
 }
 
 static void roundtrip(int enc, const char *name) {
-  const mpgm_vtk_field f[3] = {{"eps_p", MPGM_VTK_SCALAR, s}, {"velocity", MPGM_VTK_VECTOR2, v},
-                               {"stress", MPGM_VTK_STRESS4, t}};
+  const mpgm_vtk_field f[3] = {{"eps_p", MPGM_VTK_SCALAR, s}, {"velocity", MPGM_VTK_VECTOR, v},
+                               {"stress", MPGM_VTK_STRESS, t}};
   const int cp[3] = {0, 3, 7}, cc[7] = {0, 1, 2, 2, 3, 4, 5}, ct[2] = {MPGM_VTK_TRIANGLE, MPGM_VTK_QUAD};
   const mpgm_vtu_piece piece = {NP, x, 2, cp, cc, ct, 3, f};
   char p[128];
