@@ -126,7 +126,7 @@ typedef struct mpgm_vtk_grid {
 } mpgm_vtk_grid;
 
 /** Read a legacy file written by mpgm_vtk_write (ASCII or binary) into a
- *  new grid; a name ending in ".vtu" is read by mpgm_vtu_read (mpgm_vtu.h)
+ *  new grid (every cell of at least one point, its ids those of points); a name ending in ".vtu" is read by mpgm_vtu_read (mpgm_vtu.h)
  *  into the same kind of grid. Errors: MPGM_ERR_IO (cannot read), MPGM_ERR_INPUT (not our
  *  format; the message names the file and the line found),
  *  MPGM_ERR_NOMEM. */
