@@ -41,9 +41,11 @@ int mpgm_checkpoint_read(mpgm_ctx *ctx, const char *dir, mpgm_checkpoint *ck);
  *  also on failure), read as the file path: an mpgm checkpoint, every
  *  section whole (its length within the file, its CRC-32 that of its
  *  bytes, nothing after the last), of this machine's byte order and sizes,
- *  written by this very mpgm (version and commit), its scene matching its
- *  hash. Errors: MPGM_ERR_INPUT "PATH: section 'TAG' is damaged (CRC ...)",
- *  "PATH: written by mpgm X ...", "PATH: not an mpgm checkpoint", ... */
+ *  written by this very mpgm (version and commit) built for this dimension
+ *  (a checkpoint that records none is plane strain's), its scene matching
+ *  its hash. Errors: MPGM_ERR_INPUT "PATH: section 'TAG' is damaged (CRC
+ *  ...)", "PATH: written by mpgm X ...", "PATH: written by a 3-D run;
+ *  restart it with mpgm-3d", "PATH: not an mpgm checkpoint", ... */
 int mpgm_checkpoint_parse(mpgm_ctx *ctx, const char *path, unsigned char *buf, size_t len,
                           mpgm_checkpoint *ck);
 /** Restore a problem just created from the checkpoint's scene, the output

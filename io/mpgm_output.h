@@ -26,7 +26,9 @@ typedef struct mpgm_output {
                      indices (mpgm_xdmf.h); NULL where the scene writes none */
   int nvtk;       /**< VTK outputs written (index of the next one) */
   int files;      /**< VTK files written (every format)           */
-  int ncol;       /**< probe columns (2 per probe)                */
+  int ncol;       /**< probe columns: MPGM_DIM of u per probe (u of
+                       probe k component c at mpgm_ref_column(k, c)),
+                       dynamic runs MPGM_DIM of v per probe after them */
   int nrow, caprow;
   double *hist;   /**< probe history rows: step, time, columns     */
   int nstep, capstep;
@@ -69,7 +71,9 @@ int mpgm_output_resume(mpgm_ctx *ctx, mpgm_output *o);
 int mpgm_output_observe(mpgm_ctx *ctx, mpgm_output *o, mpgm_problem *pb);
 /** The points (and the mesh) now as the next VTK files of the series. */
 int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
-/** The probes' displacements now, as a row of the probe history. */
+/** The probes' displacements now (and velocities, dynamic runs), as a row
+ *  of the probe history; probes.csv's header names them NAME_ux, NAME_uy
+ *  (3-D NAME_uz), then NAME_vx, ... */
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb);
 /** DIR/probes.csv: the probe history so far. */
 int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o);

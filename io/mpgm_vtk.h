@@ -2,7 +2,9 @@
  * time-series collections, written atomically (temporary name + rename).
  *
  * Binary files follow the legacy format's rule: big-endian numbers.
- * 2-D data are written as 3-D points with z = 0.
+ * Points and vectors hold MPGM_DIM components in memory and 3 in the
+ * files: a plane-strain build writes them with z = 0, a 3-D build (MPGM_DIM
+ * 3) as they are. The stress is written as the full symmetric 3x3 tensor.
  */
 #ifndef MPGM_VTK_H
 #define MPGM_VTK_H
@@ -14,11 +16,15 @@
 extern "C" {
 #endif
 
-/** How a field's per-point data are laid out in memory. */
+/** How a field's per-point data are laid out in memory; the value is the
+ *  doubles per point. */
 typedef enum {
-  MPGM_VTK_SCALAR = 1,  /**< 1 double per point -> SCALARS name double 1   */
-  MPGM_VTK_VECTOR2 = 2, /**< 2 doubles per point -> VECTORS (z = 0)        */
-  MPGM_VTK_STRESS4 = 4  /**< {xx, yy, xy, zz} per point -> TENSORS 3x3 sym. */
+  MPGM_VTK_SCALAR = 1,            /**< 1 double -> SCALARS name double 1     */
+  MPGM_VTK_VECTOR = MPGM_DIM,     /**< MPGM_DIM doubles -> VECTORS (2-D: z =
+                                       0)                                   */
+  MPGM_VTK_STRESS = MPGM_NSTRESS  /**< the stress as mpgm stores it (2-D
+                                       {xx, yy, xy, zz}, 3-D Voigt {xx, yy,
+                                       zz, xy, yz, xz}) -> TENSORS 3x3 sym. */
 } mpgm_vtk_kind;
 
 /** One point-data field (borrowed array). */
@@ -29,24 +35,27 @@ typedef struct mpgm_vtk_field {
 } mpgm_vtk_field;
 
 /** Components per point of a field of kind as VTK files and results.h5
- *  hold it: 1 (scalar), 3 (a 2-D vector, z = 0) or 9 (the stress as a 3x3
- *  tensor). */
+ *  hold it: 1 (scalar), 3 (a vector; z = 0 in 2-D) or 9 (the stress as a
+ *  3x3 tensor). */
 int mpgm_vtk_ncomp(int kind);
 /** Components [k0, k0 + n) of a field of kind with data in memory (of
- *  layout kind) as those files hold them, ncomp per point: a vector's z =
- *  0, the stress {xx, yy, xy, zz} as [[xx,xy,0],[xy,yy,0],[0,0,zz]] row
- *  major; into out (n doubles). The one place the .vtu and the XDMF
- *  writers expand a field (the legacy writer interleaves its text). */
+ *  layout kind) as those files hold them, ncomp per point: a vector's x,
+ *  y, z (2-D: z = 0), the stress as the row-major 3x3 tensor, 2-D {xx, yy,
+ *  xy, zz} as [[xx,xy,0],[xy,yy,0],[0,0,zz]], 3-D entry (i, j) the Voigt
+ *  component mpgm_voigt_of[i][j]; into out (n doubles). The one place the
+ *  writers expand a field. */
 void mpgm_vtk_components(int kind, const double *data, size_t k0, size_t n, double *out);
 
-/** VTK cell type numbers used by mpgm. */
-enum { MPGM_VTK_VERTEX = 1, MPGM_VTK_TRIANGLE = 5, MPGM_VTK_QUAD = 9 };
+/** VTK cell type numbers used by mpgm (the H8 of shapefn/, the 3-D grid's
+ *  and meshes' cells, has VTK_HEXAHEDRON's node order: the bottom face
+ *  counter-clockwise, then the top one above it). */
+enum { MPGM_VTK_VERTEX = 1, MPGM_VTK_TRIANGLE = 5, MPGM_VTK_QUAD = 9, MPGM_VTK_HEXAHEDRON = 12 };
 
 /** Write an unstructured grid in legacy format, atomically.
  *  path      : final file name (written to a temporary name, then renamed)
  *  binary    : 1 binary (big-endian), 0 ASCII
  *  title     : header line (truncated to 255 chars, newlines removed)
- *  npoints, x: point coordinates, 2 doubles per point
+ *  npoints, x: point coordinates, MPGM_DIM doubles per point
  *  ncells    : number of cells; 0 with conn == NULL writes one VTK_VERTEX
  *              cell per point (a particle cloud)
  *  cell_ptr  : ncells + 1 offsets into conn (CSR)
@@ -102,19 +111,22 @@ typedef struct mpgm_vtk_array {
   double *v;      /**< npoints * ncomp values (owned)                  */
 } mpgm_vtk_array;
 
-/** A legacy unstructured grid as mpgm_vtk_write writes it: points and
- *  point data (the cells are counted, not kept). */
+/** An unstructured grid as mpgm_vtk_write (or mpgm_vtu_write) writes it:
+ *  points, cells and point data. */
 typedef struct mpgm_vtk_grid {
   char title[256];         /**< header line                          */
   int npoints;             /**< points                               */
   double *x;               /**< 3 coordinates per point (owned)      */
   int ncells;              /**< cells in the file                    */
+  int *cell_ptr;           /**< ncells + 1 offsets into conn (owned)  */
+  int *conn;               /**< point ids of every cell (owned)      */
+  int *cell_type;          /**< VTK type of every cell (owned)       */
   int narray;              /**< point-data arrays, in file order     */
   mpgm_vtk_array *arrays;  /**< (owned)                              */
 } mpgm_vtk_grid;
 
 /** Read a legacy file written by mpgm_vtk_write (ASCII or binary) into a
- *  new grid; a name ending in ".vtu" is read by mpgm_vtu_read (mpgm_vtu.h)
+ *  new grid (every cell of at least one point, its ids those of points); a name ending in ".vtu" is read by mpgm_vtu_read (mpgm_vtu.h)
  *  into the same kind of grid. Errors: MPGM_ERR_IO (cannot read), MPGM_ERR_INPUT (not our
  *  format; the message names the file and the line found),
  *  MPGM_ERR_NOMEM. */

@@ -9,10 +9,12 @@
  * that only the collection layer learns about ranks, not this writer.
  *
  * The arrays are those of the legacy files, in the same order: points as
- * Float64 with z = 0, 2-D vectors as 3 components (z = 0), the stress
- * {xx, yy, xy, zz} as a 9-component tensor [[xx,xy,0],[xy,yy,0],[0,0,zz]]
- * (mpgm_vtk.h's kinds), and the simulation time (time, or load factor in
- * static runs) as the field data TimeValue (Float64, 1 value).
+ * Float64 x, y, z (z = 0 in plane strain), vectors as 3 components (z = 0
+ * in plane strain), the stress as a 9-component tensor (2-D {xx, yy, xy,
+ * zz} as [[xx,xy,0],[xy,yy,0],[0,0,zz]], 3-D the six Voigt components as
+ * the symmetric 3x3; mpgm_vtk.h's kinds), and the simulation time (time,
+ * or load factor in static runs) as the field data TimeValue (Float64, 1
+ * value).
  */
 #ifndef MPGM_VTU_H
 #define MPGM_VTU_H
@@ -35,7 +37,7 @@ typedef enum {
 /** One piece of an unstructured grid (borrowed arrays). */
 typedef struct mpgm_vtu_piece {
   int npoints;         /**< points                                          */
-  const double *x;     /**< MPGM_DIM (2) coordinates per point [m]          */
+  const double *x;     /**< MPGM_DIM coordinates per point [m]              */
   int ncells;          /**< cells; 0 with conn == NULL: one VTK_VERTEX per
                             point (a particle cloud)                        */
   const int *cell_ptr; /**< ncells + 1 offsets into conn (CSR)               */
@@ -53,7 +55,8 @@ int mpgm_vtu_write(mpgm_ctx *ctx, const char *path, int encoding, double time,
                    const mpgm_vtu_piece *piece);
 
 /** Read a .vtu that mpgm_vtu_write wrote (any encoding) into a new grid as
- *  mpgm_vtk_read gives it (title: "TimeValue = T"). mpgm_vtk_read calls it
+ *  mpgm_vtk_read gives it (title: "TimeValue = T"; the cells from their
+ *  connectivity, offsets and types). mpgm_vtk_read calls it
  *  for a name ending in ".vtu". Errors: MPGM_ERR_IO (cannot read),
  *  MPGM_ERR_INPUT (not our layout: the message names the file and what was
  *  expected), MPGM_ERR_NOMEM. */

@@ -9,16 +9,19 @@
  *   /points/NNNNNN   frame NNNNNN of the points (from 000000); attributes
  *                    time (float64: time, or load factor in static runs)
  *                    and step (int64)
- *     geometry       npoints x 3 float64, z = 0
+ *     geometry       npoints x 3 float64 (z = 0 in plane strain)
  *     FIELD          every point-data array of the VTK frames, same name,
  *                    same numbers: npoints (scalar), npoints x 3 (a vector,
- *                    z = 0) or npoints x 9 (the stress as a 3x3 tensor
- *                    [[xx,xy,0],[xy,yy,0],[0,0,zz]], row major) float64
+ *                    z = 0 in plane strain) or npoints x 9 (the stress as
+ *                    a 3x3 tensor, row major: 2-D [[xx,xy,0],[xy,yy,0],
+ *                    [0,0,zz]], 3-D the symmetric tensor of the six Voigt
+ *                    components) float64
  *   /mesh/NNNNNN     the same for the mesh of fem / gmm (nodes, node
  *                    displacement), with topology (int32: XDMF's mixed
- *                    list, each cell's XDMF type, 4 triangle or 5
- *                    quadrilateral, then its node ids) and the attribute
- *                    cells (int32)
+ *                    list, each cell's XDMF type, 4 triangle, 5
+ *                    quadrilateral or 9 hexahedron, then its node ids in
+ *                    VTK's order, which is XDMF's) and the attribute cells
+ *                    (int32)
  *   /vertices/N      int32 0 .. N-1: the topology of a cloud of N points
  *                    (one vertex per point), written once per count
  * output.compress "zlib": the datasets are chunked and deflated (HDF5's

@@ -23,10 +23,14 @@
 #include "mpgm_vtk.h"
 #include "mpgm_vtu.h"
 #include "mpgm_xdmf.h"
+/* det F of the points' J: core's DIM x DIM determinant (header only) */
+#include "../core/private/mpgm_tensor.h"
 
-/* steps.csv: 9 columns, and 8 of energy and momentum in dynamic runs (all
- * 17 are kept in memory) */
-enum { STEP_BASE = 9, STEP_COLS = 17 };
+/* steps.csv: 9 columns, and in dynamic runs 4 of energy and the MPGM_DIM
+ * components of the points' and the nodes' momentum (2-D 8, 3-D 10; all
+ * are kept in memory) */
+enum { STEP_BASE = 9, STEP_COLS = STEP_BASE + 4 + 2 * MPGM_DIM };
+static const char axis[3] = {'x', 'y', 'z'};
 
 /* The series: o->series[format][kind], format 0 .vtu and 1 legacy .vtk,
  * kind 0 points, 1 mesh and 2 background grid; their collections, and the
@@ -103,7 +107,7 @@ static int grid_geometry(mpgm_ctx *ctx, mpgm_output *o, const mpgm_background *b
   for (int c = 0; c <= g->ncell; c++) o->grid_ptr[c] = nn * c;
   for (int c = 0; c < g->ncell; c++) {
     mpgm_grid_cell(g, c, o->grid_node + (size_t)nn * c, NULL);
-    o->grid_type[c] = nn == 3 ? MPGM_VTK_TRIANGLE : MPGM_VTK_QUAD;
+    o->grid_type[c] = nn == 3 ? MPGM_VTK_TRIANGLE : nn == 4 ? MPGM_VTK_QUAD : MPGM_VTK_HEXAHEDRON;
   }
   o->grid_nnode = g->nnode, o->grid_ncell = g->ncell;
   return 0;
@@ -131,8 +135,9 @@ static int output_init(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, co
     MPGM_CALL(mpgm_xdmf_create(ctx, dir, scene->compress == MPGM_COMPRESS_ZLIB, has_cells, &o->xdmf));
   if (scene->nmatrices > 0) /* output.matrices */
     snprintf(o->matrices_dir, sizeof o->matrices_dir, "%s/matrices", dir);
-  /* ux, uy of every probe; dynamic runs add vx, vy of every probe */
-  o->ncol = (scene->analysis == MPGM_ANALYSIS_STATIC ? 2 : 4) * mpgm_problem_points(pb)->nprobe;
+  /* the MPGM_DIM components of u of every probe (mpgm_ref_column);
+   * dynamic runs add those of v of every probe after them */
+  o->ncol = (scene->analysis == MPGM_ANALYSIS_STATIC ? 1 : 2) * MPGM_DIM * mpgm_problem_points(pb)->nprobe;
   o->scene = scene;
   return 0;
 }
@@ -345,9 +350,10 @@ int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *p
   row[8] = wall;
   mpgm_energy e;
   mpgm_problem_energy(pb, &e);
-  const double en[8] = {e.kinetic, e.work_int, e.work_ext, e.total, e.momentum[0], e.momentum[1],
-                        e.node_momentum[0], e.node_momentum[1]};
+  const double en[4] = {e.kinetic, e.work_int, e.work_ext, e.total};
   memcpy(row + STEP_BASE, en, sizeof en);
+  memcpy(row + STEP_BASE + 4, e.momentum, sizeof(double) * MPGM_DIM);
+  memcpy(row + STEP_BASE + 4 + MPGM_DIM, e.node_momentum, sizeof(double) * MPGM_DIM);
   return 0;
 }
 
@@ -373,12 +379,15 @@ static int write_table(mpgm_ctx *ctx, const mpgm_output *o, const char *name,
 int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o) {
   const int st = o->scene->analysis == MPGM_ANALYSIS_STATIC;
   char header[512];
-  snprintf(header, sizeof header,
-           "step,%s,newton_iterations,residual_initial,residual,residual_relative,"
-           "increment_relative,%s,wall_s%s\n", st ? "load_factor" : "time",
-           st ? "load_increment" : "dt",
-           st ? "" : ",kinetic_energy,internal_work,external_work,energy_total,momentum_x,"
-                     "momentum_y,node_momentum_x,node_momentum_y");
+  int n = snprintf(header, sizeof header,
+                   "step,%s,newton_iterations,residual_initial,residual,residual_relative,"
+                   "increment_relative,%s,wall_s%s", st ? "load_factor" : "time",
+                   st ? "load_increment" : "dt",
+                   st ? "" : ",kinetic_energy,internal_work,external_work,energy_total");
+  for (int m = 0; !st && m < 2; m++) /* momentum_x, _y(, _z), then the nodes' */
+    for (int c = 0; c < MPGM_DIM; c++)
+      n += snprintf(header + n, sizeof header - (size_t)n, ",%smomentum_%c", m ? "node_" : "", axis[c]);
+  snprintf(header + n, sizeof header - (size_t)n, "\n");
   return write_table(ctx, o, "steps.csv", header, o->steps, o->nstep, STEP_COLS,
                      st ? STEP_BASE : STEP_COLS);
 }
@@ -392,32 +401,29 @@ int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem 
   row[0] = (double)r.step;
   row[1] = o->scene->analysis == MPGM_ANALYSIS_STATIC ? r.lambda : r.t;
   mpgm_reference_observe(o->scene, row[1], r.step ? r.dt : 0.0, P, o->ref_acc);
-  const int p0 = P->n;
-  for (int k = 0; k < P->nprobe; k++) {
-    row[2 + 2 * k] = P->u[2 * (p0 + k)];
-    row[3 + 2 * k] = P->u[2 * (p0 + k) + 1];
-  }
-  if (o->ncol > 2 * P->nprobe)
-    for (int k = 0; k < P->nprobe; k++) {
-      row[2 + 2 * P->nprobe + 2 * k] = P->v[2 * (p0 + k)];
-      row[3 + 2 * P->nprobe + 2 * k] = P->v[2 * (p0 + k) + 1];
+  /* u of probe k at mpgm_ref_column(k, c), v after the whole u block */
+  const int p0 = P->n, nu = MPGM_DIM * P->nprobe;
+  for (int k = 0; k < P->nprobe; k++)
+    for (int c = 0; c < MPGM_DIM; c++) {
+      row[mpgm_ref_column(k, c)] = P->u[MPGM_DIM * (p0 + k) + c];
+      if (o->ncol > nu) row[nu + mpgm_ref_column(k, c)] = P->v[MPGM_DIM * (p0 + k) + c];
     }
   return 0;
 }
 
 int mpgm_output_probes_write(mpgm_ctx *ctx, mpgm_output *o) {
   const mpgm_scene *sc = o->scene;
-  const size_t cap = 64 + 4 * (MPGM_NAME_LEN + 8) * (size_t)sc->nprobe;
+  const size_t cap = 64 + 2 * MPGM_DIM * (MPGM_NAME_LEN + 8) * (size_t)sc->nprobe;
   char *header;
   MPGM_ALLOC(ctx, header, cap);
   size_t n = (size_t)snprintf(header, cap, "step,%s",
                               sc->analysis == MPGM_ANALYSIS_STATIC ? "load_factor" : "time");
-  for (int k = 0; k < sc->nprobe && n < cap; k++)
-    n += (size_t)snprintf(header + n, cap - n, ",%s_ux,%s_uy", sc->probes[k].name,
-                          sc->probes[k].name);
-  for (int k = 0; o->ncol > 2 * sc->nprobe && k < sc->nprobe && n < cap; k++)
-    n += (size_t)snprintf(header + n, cap - n, ",%s_vx,%s_vy", sc->probes[k].name,
-                          sc->probes[k].name);
+  /* NAME_ux, NAME_uy(, NAME_uz) of every probe, then NAME_vx, ... */
+  for (int m = 0; m < (o->ncol > MPGM_DIM * sc->nprobe ? 2 : 1); m++)
+    for (int k = 0; k < sc->nprobe; k++)
+      for (int c = 0; c < MPGM_DIM && n < cap; c++)
+        n += (size_t)snprintf(header + n, cap - n, ",%s_%c%c", sc->probes[k].name, m ? 'v' : 'u',
+                              axis[c]);
   if (n < cap - 1) strcat(header, "\n");
   const int err = write_table(ctx, o, "probes.csv", header, o->hist, o->nrow, 2 + o->ncol, 2 + o->ncol);
   free(header);
@@ -447,7 +453,7 @@ static int frame_grid(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem *p
   mpgm_problem_background(pb, &bg);
   const mpgm_nodes *nd = mpgm_problem_nodes(pb);
   const size_t n = (size_t)o->grid_nnode;
-  MPGM_ALLOC(ctx, fr->gscratch, 6 * n);
+  MPGM_ALLOC(ctx, fr->gscratch, (2 + 2 * MPGM_DIM) * n);
   double *act = fr->gscratch, *mass = act + n, *vel = mass + n, *du = vel + MPGM_DIM * n;
   const int nk = bg.n < nd->n ? bg.n : nd->n;
   for (int k = 0; k < nk; k++) {
@@ -462,8 +468,8 @@ static int frame_grid(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem *p
   }
   fr->gf[0] = (mpgm_vtk_field){"active", MPGM_VTK_SCALAR, act};
   fr->gf[1] = (mpgm_vtk_field){"mass", MPGM_VTK_SCALAR, mass};
-  fr->gf[2] = (mpgm_vtk_field){"velocity", MPGM_VTK_VECTOR2, vel};
-  fr->gf[3] = (mpgm_vtk_field){"displacement_increment", MPGM_VTK_VECTOR2, du};
+  fr->gf[2] = (mpgm_vtk_field){"velocity", MPGM_VTK_VECTOR, vel};
+  fr->gf[3] = (mpgm_vtk_field){"displacement_increment", MPGM_VTK_VECTOR, du};
   fr->grid = (mpgm_vtu_piece){o->grid_nnode, o->grid_x, o->grid_ncell, o->grid_ptr,
                               o->grid_node, o->grid_type, 4, fr->gf};
   return 0;
@@ -484,8 +490,7 @@ static int frame_gather(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem 
   /* eps_p: only when a material is plastic (elastic runs keep their files) */
   const int with_epsp = (s->fields & MPGM_FIELD_EPS_P) && mpgm_problem_effects(pb)->plasticity;
   for (size_t p = 0; p < n; p++) {
-    const double *F = P->F + 4 * p;
-    J[p] = F[0] * F[3] - F[1] * F[2];
+    J[p] = mpgm_det(P->F + MPGM_TENSOR * p);
     matid[p] = P->mat[p];
     id[p] = P->id[p];
     body[p] = P->body[p];
@@ -494,10 +499,10 @@ static int frame_gather(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem 
   mpgm_vtk_field *f = fr->pf;
   int nf = 0;
   const unsigned m = s->fields;
-  if (m & MPGM_FIELD_DISPLACEMENT) f[nf++] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR2, P->u};
-  if (m & MPGM_FIELD_VELOCITY) f[nf++] = (mpgm_vtk_field){"velocity", MPGM_VTK_VECTOR2, P->v};
-  if (m & MPGM_FIELD_ACCELERATION) f[nf++] = (mpgm_vtk_field){"acceleration", MPGM_VTK_VECTOR2, P->a};
-  if (m & MPGM_FIELD_STRESS) f[nf++] = (mpgm_vtk_field){"stress", MPGM_VTK_STRESS4, P->sigma};
+  if (m & MPGM_FIELD_DISPLACEMENT) f[nf++] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR, P->u};
+  if (m & MPGM_FIELD_VELOCITY) f[nf++] = (mpgm_vtk_field){"velocity", MPGM_VTK_VECTOR, P->v};
+  if (m & MPGM_FIELD_ACCELERATION) f[nf++] = (mpgm_vtk_field){"acceleration", MPGM_VTK_VECTOR, P->a};
+  if (m & MPGM_FIELD_STRESS) f[nf++] = (mpgm_vtk_field){"stress", MPGM_VTK_STRESS, P->sigma};
   if (m & MPGM_FIELD_MASS) f[nf++] = (mpgm_vtk_field){"mass", MPGM_VTK_SCALAR, P->mass};
   if (m & MPGM_FIELD_VOLUME) f[nf++] = (mpgm_vtk_field){"volume", MPGM_VTK_SCALAR, P->vol};
   if (m & MPGM_FIELD_J) f[nf++] = (mpgm_vtk_field){"J", MPGM_VTK_SCALAR, J};
@@ -510,7 +515,7 @@ static int frame_gather(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem 
   fr->has_mesh = mpgm_problem_cells(pb, &c);
   if (fr->has_mesh) {
     const mpgm_nodes *nd = mpgm_problem_nodes(pb);
-    fr->mf[0] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR2, nd->u};
+    fr->mf[0] = (mpgm_vtk_field){"displacement", MPGM_VTK_VECTOR, nd->u};
     fr->mesh = (mpgm_vtu_piece){nd->n, nd->x, c.n, c.ptr, c.node, c.type, 1, fr->mf};
   }
   return o->grid_x ? frame_grid(ctx, o, pb, fr) : 0;
@@ -559,9 +564,11 @@ int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
 
 void mpgm_output_momentum_gap(const mpgm_output *o, double *gap, double *kmax) {
   *gap = *kmax = 0.0;
-  for (int k = 0; k < o->nstep; k++) { /* kinetic energy; momentum x, y, then the nodes' */
+  for (int k = 0; k < o->nstep; k++) { /* kinetic energy, ...; the points' momentum, the nodes' */
     const double *r = o->steps + (size_t)STEP_COLS * k + STEP_BASE;
-    *gap = fmax(*gap, hypot(r[4] - r[6], r[5] - r[7]));
+    double g = 0.0; /* 2-D: hypot(0, dx) = |dx|, then hypot(dx, dy) as before */
+    for (int c = 0; c < MPGM_DIM; c++) g = hypot(g, r[4 + c] - r[4 + MPGM_DIM + c]);
+    *gap = fmax(*gap, g);
     *kmax = fmax(*kmax, r[0]);
   }
 }

@@ -158,7 +158,7 @@ int mpgm_reference_metrics(const mpgm_scene *s, int nrow, int ncol, const double
                            const double *acc, void *metrics_cjson) {
   const mpgm_reference *ref = &s->reference;
   if (!ref->type) return 0;
-  if (nrow < 1 || !hist || !metrics_cjson || ref->probe < 0 || ncol < 4 + 2 * ref->probe)
+  if (nrow < 1 || !hist || !metrics_cjson || ref->probe < 0 || ncol < mpgm_ref_column(ref->probe + 1, 0))
     return MPGM_ERR_INPUT;
   mpgm_metric m[MPGM_REF_MAXMETRIC];
   const int n = ref->type->metrics(ref, nrow, ncol, hist, acc, m);

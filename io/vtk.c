@@ -109,19 +109,32 @@ static void w_end_block(wstream *w) {
 /* Legacy unstructured grid                                                 */
 /* ------------------------------------------------------------------------ */
 
-int mpgm_vtk_ncomp(int kind) { return kind == MPGM_VTK_SCALAR ? 1 : kind == MPGM_VTK_VECTOR2 ? 3 : 9; }
+int mpgm_vtk_ncomp(int kind) { return kind == MPGM_VTK_SCALAR ? 1 : kind == MPGM_VTK_VECTOR ? 3 : 9; }
+
+/* Entry k of the row-major 3x3 stress tensor: its component in mpgm's
+ * layout (MPGM_NSTRESS per point), or -1 where the tensor is 0 (plane
+ * strain's xz, yz). */
+static int stress_entry(int k) {
+  const int i = k / 3, j = k % 3;
+#if MPGM_DIM == 2
+  if (i == 2 || j == 2) return i == j ? MPGM_NSTRESS - 1 : -1; /* zz last */
+#endif
+  return mpgm_voigt_of[i][j];
+}
 
 void mpgm_vtk_components(int kind, const double *data, size_t k0, size_t n, double *out) {
   if (kind == MPGM_VTK_SCALAR) {
     memcpy(out, data + k0, sizeof(double) * n);
-  } else if (kind == MPGM_VTK_STRESS4) {
-    static const int map[9] = {0, 2, -1, 2, 1, -1, -1, -1, 3};
+  } else if (kind == MPGM_VTK_STRESS) {
+    int map[9];
+    for (int k = 0; k < 9; k++) map[k] = stress_entry(k);
     for (size_t k = k0; k < k0 + n; k++) {
       const int m = map[k % 9];
-      *out++ = m < 0 ? 0.0 : data[4 * (k / 9) + m];
+      *out++ = m < 0 ? 0.0 : data[MPGM_NSTRESS * (k / 9) + m];
     }
   } else {
-    for (size_t k = k0; k < k0 + n; k++) *out++ = k % 3 == 2 ? 0.0 : data[2 * (k / 3) + k % 3];
+    for (size_t k = k0; k < k0 + n; k++)
+      *out++ = k % 3 >= MPGM_DIM ? 0.0 : data[MPGM_DIM * (k / 3) + k % 3];
   }
 }
 
@@ -159,14 +172,19 @@ int mpgm_vtk_check(mpgm_ctx *ctx, const char *path, int npoints,
     const mpgm_vtk_field *fd = &fields[f];
     int ok = fd->name && *fd->name && strlen(fd->name) < 256 &&
              (npoints == 0 || fd->data) &&
-             (fd->kind == MPGM_VTK_SCALAR || fd->kind == MPGM_VTK_VECTOR2 ||
-              fd->kind == MPGM_VTK_STRESS4);
+             (fd->kind == MPGM_VTK_SCALAR || fd->kind == MPGM_VTK_VECTOR ||
+              fd->kind == MPGM_VTK_STRESS);
     for (const char *s = ok ? fd->name : ""; *s; s++)
       if ((unsigned char)*s <= ' ') ok = 0;
     MPGM_CHECK(ctx, ok, MPGM_ERR_INPUT,
                "%s: field %d: bad name, kind or data", path, f);
   }
   return MPGM_OK;
+}
+
+/* A point or vector of MPGM_DIM components as 3 (2-D: z = 0). */
+static void w_vector(wstream *w, const double *v) {
+  for (int c = 0; c < 3; c++) w_double(w, c < MPGM_DIM ? v[c] : 0.0, c == 2 ? '\n' : ' ');
 }
 
 /* Write the header, points, cells and point data to w. */
@@ -183,11 +201,7 @@ static void vtk_body(wstream *w, const char *title, int npoints,
   w_line(w, "# vtk DataFile Version 3.0\n%s\n%s\nDATASET UNSTRUCTURED_GRID\n",
          t, w->binary ? "BINARY" : "ASCII");
   w_line(w, "POINTS %d double\n", npoints);
-  for (int p = 0; p < npoints; p++) {
-    w_double(w, x[2 * p], ' ');
-    w_double(w, x[2 * p + 1], ' ');
-    w_double(w, 0.0, '\n');
-  }
+  for (int p = 0; p < npoints; p++) w_vector(w, x + MPGM_DIM * p);
   w_end_block(w);
 
   if (ncells == 0 && !conn) { /* particle cloud: one vertex per point */
@@ -221,18 +235,14 @@ static void vtk_body(wstream *w, const char *title, int npoints,
     if (fd->kind == MPGM_VTK_SCALAR) {
       w_line(w, "SCALARS %s double 1\nLOOKUP_TABLE default\n", fd->name);
       for (int p = 0; p < npoints; p++) w_double(w, d[p], '\n');
-    } else if (fd->kind == MPGM_VTK_VECTOR2) {
+    } else if (fd->kind == MPGM_VTK_VECTOR) {
       w_line(w, "VECTORS %s double\n", fd->name);
-      for (int p = 0; p < npoints; p++) {
-        w_double(w, d[2 * p], ' ');
-        w_double(w, d[2 * p + 1], ' ');
-        w_double(w, 0.0, '\n');
-      }
-    } else { /* {xx, yy, xy, zz} -> [[xx,xy,0],[xy,yy,0],[0,0,zz]] */
+      for (int p = 0; p < npoints; p++) w_vector(w, d + MPGM_DIM * p);
+    } else { /* the 3x3 tensor, row major (mpgm_vtk_components) */
       w_line(w, "TENSORS %s double\n", fd->name);
+      double row[9];
       for (int p = 0; p < npoints; p++) {
-        const double *s = d + 4 * p;
-        const double row[9] = {s[0], s[2], 0.0, s[2], s[1], 0.0, 0.0, 0.0, s[3]};
+        mpgm_vtk_components(MPGM_VTK_STRESS, d, 9 * (size_t)p, 9, row);
         for (int k = 0; k < 9; k++) w_double(w, row[k], k % 3 == 2 ? '\n' : ' ');
       }
     }

@@ -1,5 +1,5 @@
 /* vtk_read.c -- read back what vtk.c writes: legacy unstructured grids
- * (ASCII or big-endian binary; points and point data, cells skipped) and
+ * (ASCII or big-endian binary; points, cells and point data) and
  * .pvd collections. See mpgm_vtk.h. Only our own output is supported: a
  * file of another writer is reported as malformed, with the offending
  * header line, never read past its end.
@@ -77,21 +77,66 @@ static int read_doubles(rd *r, double *v, size_t n) {
   return 0;
 }
 
-/* Skip n ints (cell data we do not keep). */
-static int skip_ints(rd *r, size_t n) {
+/* n ints into v. */
+static int read_ints(rd *r, int *v, size_t n) {
   if (r->binary) {
     MPGM_CHECK(r->ctx, r->len - r->pos >= 4 * n, MPGM_ERR_INPUT, "%s: binary data ends early", r->path);
+    const unsigned char *p = (const unsigned char *)r->b + r->pos;
+    for (size_t i = 0; i < n; i++, p += 4)
+      v[i] = (int)(int32_t)((uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]);
     r->pos += 4 * n;
     return 0;
   }
   for (size_t i = 0; i < n; i++) {
     char *end;
-    (void)strtol(r->b + r->pos, &end, 10);
-    MPGM_CHECK(r->ctx, end != r->b + r->pos, MPGM_ERR_INPUT, "%s: expected an integer at byte %zu",
-               r->path, r->pos);
+    errno = 0;
+    const long x = strtol(r->b + r->pos, &end, 10);
+    MPGM_CHECK(r->ctx, end != r->b + r->pos && errno == 0 && x >= INT_MIN && x <= INT_MAX,
+               MPGM_ERR_INPUT, "%s: expected an integer at byte %zu", r->path, r->pos);
+    v[i] = (int)x;
     r->pos = (size_t)(end - r->b);
   }
   return 0;
+}
+
+/* CELLS (ncells cells in m ints: each its count, then its point ids) and
+ * CELL_TYPES into g's cells, every count and id checked. */
+static int read_cells(rd *r, mpgm_vtk_grid *g, long m) {
+  char line[512];
+  const int nc = g->ncells;
+  MPGM_CHECK(r->ctx, m >= nc, MPGM_ERR_INPUT, "%s: CELLS %d %ld: fewer values than cells", r->path, nc, m);
+  MPGM_ALLOC(r->ctx, g->cell_ptr, (size_t)nc + 1);
+  MPGM_ALLOC(r->ctx, g->conn, (size_t)(m - nc) + 1);
+  MPGM_ALLOC(r->ctx, g->cell_type, (size_t)nc + 1);
+  int *all;
+  MPGM_ALLOC(r->ctx, all, (size_t)m + 1);
+  int err = read_ints(r, all, (size_t)m);
+  long at = 0, k = 0;
+  for (int c = 0; !err && c < nc; c++) {
+    const long n = all[at++];
+    g->cell_ptr[c] = (int)k;
+    if (n < 1 || n > m - at - (nc - c - 1)) {
+      err = mpgm_err_set(r->ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                         "%s: cell %d of %ld points does not fit CELLS %d %ld", r->path, c, n, nc, m);
+      break;
+    }
+    for (long q = 0; !err && q < n; q++, at++) {
+      if (all[at] < 0 || all[at] >= g->npoints)
+        err = mpgm_err_set(r->ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
+                           "%s: cell %d refers to point %d of %d", r->path, c, all[at], g->npoints);
+      g->conn[k++] = all[at];
+    }
+  }
+  g->cell_ptr[nc] = (int)k;
+  if (!err && at != m)
+    err = mpgm_err_set(r->ctx, MPGM_ERR_INPUT, __FILE__, __LINE__, "%s: CELLS %d %ld holds %ld values "
+                       "after its cells", r->path, nc, m, m - at);
+  free(all);
+  MPGM_CALL(err);
+  long n = -1;
+  if (!next_line(r, line, sizeof line) || sscanf(line, "CELL_TYPES %ld", &n) != 1 || n != nc)
+    return malformed(r, "'CELL_TYPES n' with the count of CELLS", line);
+  return read_ints(r, g->cell_type, (size_t)nc);
 }
 
 /* A count from a header line, bounded by what the file can hold (one byte
@@ -127,10 +172,7 @@ static int read_body(rd *r, mpgm_vtk_grid *g) {
   MPGM_CALL(bounded(r, n, line));
   MPGM_CALL(bounded(r, m, line));
   g->ncells = (int)n;
-  MPGM_CALL(skip_ints(r, (size_t)m));
-  if (!next_line(r, line, sizeof line) || sscanf(line, "CELL_TYPES %ld", &n) != 1 || n != g->ncells)
-    return malformed(r, "'CELL_TYPES n' with the count of CELLS", line);
-  MPGM_CALL(skip_ints(r, (size_t)n));
+  MPGM_CALL(read_cells(r, g, m));
   if (!next_line(r, line, sizeof line)) return 0; /* no point data */
   if (sscanf(line, "POINT_DATA %ld", &n) != 1 || n != g->npoints)
     return malformed(r, "'POINT_DATA n' with the count of POINTS", line);
@@ -186,6 +228,9 @@ void mpgm_vtk_grid_destroy(mpgm_vtk_grid **g) {
   for (int i = 0; i < (*g)->narray; i++) free((*g)->arrays[i].v);
   free((*g)->arrays);
   free((*g)->x);
+  free((*g)->cell_ptr);
+  free((*g)->conn);
+  free((*g)->cell_type);
   free(*g);
   *g = NULL;
 }

@@ -62,8 +62,8 @@ static void values_f(const source *s, int a, size_t k0, size_t n, double *out) {
   }
   const int f = a - A_FIELDS;
   const mpgm_vtk_field *fd = f < p->nfields ? &p->fields[f] : NULL;
-  /* a field, or the points (a 2-D vector) */
-  mpgm_vtk_components(fd ? fd->kind : MPGM_VTK_VECTOR2, fd ? fd->data : p->x, k0, n, out);
+  /* a field, or the points (a vector of MPGM_DIM components) */
+  mpgm_vtk_components(fd ? fd->kind : MPGM_VTK_VECTOR, fd ? fd->data : p->x, k0, n, out);
 }
 
 static long long value_i(const source *s, int a, size_t k) {

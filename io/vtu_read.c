@@ -1,6 +1,6 @@
 /* vtu_read.c -- read back the .vtu files vtu.c writes (inline ascii,
- * appended raw, appended zlib blocks): the points, the point data and the
- * TimeValue, as mpgm_vtk_read gives a legacy file (mpgm_vtk_grid). Only
+ * appended raw, appended zlib blocks): the points, the cells, the point
+ * data and the TimeValue, as mpgm_vtk_read gives a legacy file (mpgm_vtk_grid). Only
  * our own layout is read (UInt64 headers, little-endian, Float64 arrays);
  * every count and offset is checked against the file before it is used,
  * so a damaged or foreign file is an MPGM_ERR_INPUT naming it, never a
@@ -57,10 +57,27 @@ static uint64_t get_u64(const unsigned char *p) {
   return v;
 }
 
-/* The n doubles of an appended array at offset off into v. */
-static int appended(vr *r, uint64_t off, double *v, size_t n) {
+/* Element types of the arrays mpgm writes: the points' and the point
+ * data's, the cells' connectivity and offsets, their types. */
+typedef enum { T_F64 = 0, T_I64 = 1, T_U8 = 2 } etype;
+static const char *const type_names[] = {"Float64", "Int64", "UInt8"};
+static const size_t type_size[] = {8, 8, 1};
+
+/* Value i of little-endian bytes raw of type t, as a double (an Int64
+ * exactly below 2^53: the counts and ids of a file that fits memory). */
+static double element(const unsigned char *raw, etype t, size_t i) {
+  if (t == T_U8) return raw[i];
+  const uint64_t u = get_u64(raw + 8 * i);
+  if (t == T_I64) return (double)(int64_t)u;
+  double d;
+  memcpy(&d, &u, sizeof d);
+  return d;
+}
+
+/* The n values of type t of an appended array at offset off into v. */
+static int appended(vr *r, uint64_t off, etype t, double *v, size_t n) {
   const size_t avail = r->len - (size_t)((const char *)r->app - r->b);
-  const size_t want = 8 * n;
+  const size_t want = type_size[t] * n;
   if (off > avail || avail - off < 8) return bad(r, "array offsets inside the appended data");
   const unsigned char *p = r->app + off;
   const size_t left = avail - (size_t)off;
@@ -88,34 +105,34 @@ static int appended(vr *r, uint64_t off, double *v, size_t n) {
       z += zl, zleft -= zl, at += out;
     }
   }
-  for (size_t i = 0; i < n; i++) {
-    const uint64_t u = get_u64(raw + 8 * i);
-    memcpy(v + i, &u, sizeof u);
-  }
+  for (size_t i = 0; i < n; i++) v[i] = element(raw, t, i);
   if (r->zlib) free(raw);
   return 0;
 }
 
-/* The DataArray element [s, e) (of tuples tuples) into a new array *v of
- * *ncomp components; name into name. */
-static int data_array(vr *r, const char *s, const char *e, size_t tuples, char *name, size_t cap,
-                      int *ncomp, double **v) {
+/* The DataArray element [s, e) of type t (of tuples tuples) into a new
+ * array *v of *ncomp components; name into name. */
+static int data_array(vr *r, const char *s, const char *e, etype t, size_t tuples, char *name,
+                      size_t cap, int *ncomp, double **v) {
   char type[32], format[32], nc[32] = "1", off[32];
-  if (!attr(s, e, "type", type, sizeof type) || strcmp(type, "Float64") != 0)
-    return bad(r, "Float64 point arrays");
+  if (!attr(s, e, "type", type, sizeof type) || strcmp(type, type_names[t]) != 0)
+    return bad(r, t == T_F64 ? "Float64 point arrays" : "Int64 connectivity and offsets, UInt8 types");
   if (!attr(s, e, "Name", name, cap)) snprintf(name, cap, "%s", "");
   attr(s, e, "NumberOfComponents", nc, sizeof nc);
   *ncomp = atoi(nc);
   if (*ncomp != 1 && *ncomp != 3 && *ncomp != 9) return bad(r, "arrays of 1, 3 or 9 components");
   if (!attr(s, e, "format", format, sizeof format)) return bad(r, "a format on every DataArray");
   const size_t n = tuples * (size_t)*ncomp;
+  /* no array larger than its file can hold (zlib inflates at most about
+   * 1032 times): a damaged count cannot ask for huge memory */
+  if (n > (r->len + 64) * 1100 / type_size[t]) return bad(r, "arrays of sizes that fit the file");
   MPGM_ALLOC(r->ctx, *v, n + 1);
   if (strcmp(format, "appended") == 0) {
     char *end;
     if (!r->app || !attr(s, e, "offset", off, sizeof off)) return bad(r, "an offset into appended data");
     const unsigned long long o = strtoull(off, &end, 10);
     if (*end) return bad(r, "numeric offsets");
-    return appended(r, o, *v, n);
+    return appended(r, o, t, *v, n);
   }
   if (strcmp(format, "ascii") != 0) return bad(r, "ascii or appended arrays");
   const char *p = e + 1, *stop = strstr(p, "</DataArray>");
@@ -142,7 +159,7 @@ static int section(vr *r, mpgm_vtk_grid *g, const char *tag, int points) {
     char name[256];
     int nc;
     double *v = NULL;
-    int err = data_array(r, p, end, (size_t)g->npoints, name, sizeof name, &nc, &v);
+    int err = data_array(r, p, end, T_F64, (size_t)g->npoints, name, sizeof name, &nc, &v);
     if (!err && points && nc != 3) err = bad(r, "3 coordinates per point");
     if (err) {
       free(v);
@@ -165,6 +182,59 @@ static int section(vr *r, mpgm_vtk_grid *g, const char *tag, int points) {
     p = end;
   }
   return points ? bad(r, "a DataArray of the points") : 0;
+}
+
+/* The DataArray called name of the <Cells> element [s, e) (n values of
+ * type t) into a new array *v. */
+static int cell_array(vr *r, const char *s, const char *e, const char *name, etype t, size_t n,
+                      double **v) {
+  char key[48], got[32];
+  snprintf(key, sizeof key, "Name=\"%s\"", name);
+  const char *p = s;
+  while ((p = strstr(p, "<DataArray")) && p < e) {
+    const char *end = strchr(p, '>');
+    if (!end || end > e) break;
+    const char *k = strstr(p, key);
+    if (k && k < end) {
+      int nc;
+      MPGM_CALL(data_array(r, p, end, t, n, got, sizeof got, &nc, v));
+      return nc == 1 ? 0 : bad(r, "cell arrays of one component");
+    }
+    p = end;
+  }
+  return bad(r, "the cells' connectivity, offsets and types");
+}
+
+/* The <Cells> of the piece into g: offsets increasing from the first
+ * cell's, every id that of a point. */
+static int cells(vr *r, mpgm_vtk_grid *g) {
+  const char *s = strstr(r->b, "<Cells>"), *e = s ? strstr(s, "</Cells>") : NULL;
+  if (!s || !e || e > r->head_end) return bad(r, "a <Cells> element");
+  const int nc = g->ncells;
+  double *off = NULL, *conn = NULL, *type = NULL;
+  int err = cell_array(r, s, e, "offsets", T_I64, (size_t)nc, &off);
+  const double last = !err && nc ? off[nc - 1] : 0.0;
+  if (!err && !(last >= 0 && last <= INT_MAX)) err = bad(r, "offsets within the connectivity");
+  if (!err) err = cell_array(r, s, e, "connectivity", T_I64, (size_t)last, &conn);
+  if (!err) err = cell_array(r, s, e, "types", T_U8, (size_t)nc, &type);
+  if (!err && (!(g->cell_ptr = malloc(sizeof(int) * ((size_t)nc + 1))) ||
+               !(g->conn = malloc(sizeof(int) * ((size_t)last + 1))) ||
+               !(g->cell_type = malloc(sizeof(int) * ((size_t)nc + 1)))))
+    err = mpgm_err_set(r->ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "%s: out of memory", r->path);
+  for (int c = 0; !err && c < nc; c++) {
+    g->cell_ptr[c] = c ? (int)off[c - 1] : 0;
+    g->cell_type[c] = (int)type[c];
+    if (!(off[c] > (c ? off[c - 1] : 0))) err = bad(r, "offsets that grow from cell to cell");
+  }
+  if (!err) g->cell_ptr[nc] = (int)last;
+  for (int k = 0; !err && k < (int)last; k++) {
+    g->conn[k] = (int)conn[k];
+    if (!(conn[k] >= 0 && conn[k] < g->npoints)) err = bad(r, "cells of the piece's points");
+  }
+  free(off);
+  free(conn);
+  free(type);
+  return err;
 }
 
 static int read_grid(vr *r, mpgm_vtk_grid *g) {
@@ -200,13 +270,14 @@ static int read_grid(vr *r, mpgm_vtk_grid *g) {
   int ncomp;
   double *tval = NULL;
   if (!tv || !te || te > p) return bad(r, "the TimeValue field data");
-  int err = data_array(r, tv, te, 1, name, sizeof name, &ncomp, &tval);
+  int err = data_array(r, tv, te, T_F64, 1, name, sizeof name, &ncomp, &tval);
   if (!err && (strcmp(name, "TimeValue") != 0 || ncomp != 1)) err = bad(r, "a TimeValue of one value");
   if (!err) t = tval[0];
   free(tval);
   MPGM_CALL(err);
   snprintf(g->title, sizeof g->title, "TimeValue = %.17g", t);
   MPGM_CALL(section(r, g, "Points", 1));
+  MPGM_CALL(cells(r, g));
   return section(r, g, "PointData", 0);
 }
 

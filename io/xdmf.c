@@ -217,10 +217,10 @@ static herr_t put_rows(hid_t d, hid_t mt, hsize_t r0, hsize_t b, int cols, const
   return e;
 }
 
-/* Point data of kind (mpgm_vtk_kind; the geometry is a VECTOR2) as dataset
+/* Point data of kind (mpgm_vtk_kind; the geometry is a VECTOR) as dataset
  * name of g, npoints rows of 1, 3 or 9 float64, the values of the VTK
- * frames: vectors with z = 0, the stress {xx, yy, xy, zz} as
- * [[xx,xy,0],[xy,yy,0],[0,0,zz]] (as vtk.c and vtu.c write them). */
+ * frames: vectors of 3 components (z = 0 in plane strain), the stress as
+ * the row-major 3x3 tensor (mpgm_vtk_components, as vtk.c and vtu.c). */
 static herr_t put_field(mpgm_xdmf *x, hid_t g, const char *name, int kind, hsize_t n, const double *v) {
   const int nc = mpgm_vtk_ncomp(kind);
   hid_t d = dataset(x, g, name, H5T_IEEE_F64LE, n, nc == 1 ? 0 : nc);
@@ -272,15 +272,24 @@ static int put_vertices(mpgm_xdmf *x, mpgm_ctx *ctx, int npoints) {
   return e < 0 ? h5_fail(ctx, x->h5, "write /vertices") : 0;
 }
 
+/* The XDMF mixed-topology code of a cell of VTK type t with nn nodes (the
+ * node order is VTK's, XDMF's the same for these), 0 for none written. */
+static int xdmf_type(int t, int nn) {
+  if (t == MPGM_VTK_TRIANGLE && nn == 3) return 4;
+  if (t == MPGM_VTK_QUAD && nn == 4) return 5;
+  if (t == MPGM_VTK_HEXAHEDRON && nn == 8) return 9;
+  return 0;
+}
+
 /* The mesh's cells as XDMF's mixed list (each cell's XDMF type, then its
  * nodes) in a new array *out of *len ints. */
 static int mixed_list(mpgm_ctx *ctx, const mpgm_vtu_piece *p, int **out, long long *len) {
   long long n = 0;
   for (int c = 0; c < p->ncells; c++) {
     const int t = p->cell_type[c], nn = p->cell_ptr[c + 1] - p->cell_ptr[c];
-    MPGM_CHECK(ctx, (t == MPGM_VTK_TRIANGLE && nn == 3) || (t == MPGM_VTK_QUAD && nn == 4),
-               MPGM_ERR_INPUT, "XDMF output: cell %d is of VTK type %d with %d nodes (triangles "
-               "and quadrilaterals are written)", c, t, nn);
+    MPGM_CHECK(ctx, xdmf_type(t, nn), MPGM_ERR_INPUT,
+               "XDMF output: cell %d is of VTK type %d with %d nodes (triangles, "
+               "quadrilaterals and hexahedra are written)", c, t, nn);
     n += 1 + nn;
   }
   MPGM_CHECK(ctx, n <= INT_MAX, MPGM_ERR_INPUT, "XDMF output: %lld entries of cells", n);
@@ -288,7 +297,7 @@ static int mixed_list(mpgm_ctx *ctx, const mpgm_vtu_piece *p, int **out, long lo
   MPGM_CHECK(ctx, v, MPGM_ERR_NOMEM, "out of memory (XDMF topology of %d cells)", p->ncells);
   long long k = 0;
   for (int c = 0; c < p->ncells; c++) {
-    v[k++] = p->cell_type[c] == MPGM_VTK_TRIANGLE ? 4 : 5; /* XDMF's triangle, quadrilateral */
+    v[k++] = xdmf_type(p->cell_type[c], p->cell_ptr[c + 1] - p->cell_ptr[c]);
     for (int j = p->cell_ptr[c]; j < p->cell_ptr[c + 1]; j++) v[k++] = p->conn[j];
   }
   *out = v, *len = n;
@@ -317,7 +326,7 @@ static int frame_kind(mpgm_xdmf *x, mpgm_ctx *ctx, int k, double time, long step
   const long long st = step;
   e = g < 0 ? -1 : put_attr(g, "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &time);
   if (e >= 0) e = put_attr(g, "step", H5T_STD_I64LE, H5T_NATIVE_LLONG, &st);
-  if (e >= 0) e = put_field(x, g, "geometry", MPGM_VTK_VECTOR2, (hsize_t)p->npoints, p->x);
+  if (e >= 0) e = put_field(x, g, "geometry", MPGM_VTK_VECTOR, (hsize_t)p->npoints, p->x);
   if (e >= 0 && k) e = put_ints(x, g, "topology", (hsize_t)d->ntopo, topo);
   if (e >= 0 && k) e = put_attr(g, "cells", H5T_STD_I32LE, H5T_NATIVE_INT, &p->ncells);
   for (int a = 0; e >= 0 && a < p->nfields; a++) {

@@ -1,7 +1,10 @@
 /* test_vtk_read.c -- mpgm_vtk_read / mpgm_pvd_read read back exactly what
  * mpgm_vtk_write / mpgm_pvd_add write (ASCII and binary, points, cells
- * skipped, SCALARS, VECTORS, TENSORS), and reject what is not our format
- * with a message, never reading past the end. */
+ * and their types, SCALARS, VECTORS, TENSORS), and reject what is not our
+ * format with a message, never reading past the end. Built in both
+ * dimensions: plane strain z = 0 and the stress {xx, yy, xy, zz} of a
+ * triangle and a quadrilateral; 3-D the z, the six Voigt stresses as the
+ * 3x3 tensor (written out here) of a triangle and a hexahedron. */
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_test.h"
 #include "mpgm_vtk.h"
@@ -12,7 +15,28 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { NP = 7 };
+enum { NP = 10, D = MPGM_DIM, NS = MPGM_NSTRESS };
+
+/* The cells: a triangle, then a quadrilateral (3-D: a hexahedron). */
+#if MPGM_DIM == 2
+static const int cp[3] = {0, 3, 7}, cc[7] = {0, 1, 2, 2, 3, 4, 5};
+static const int ct[2] = {MPGM_VTK_TRIANGLE, MPGM_VTK_QUAD};
+#else
+static const int cp[3] = {0, 3, 11}, cc[11] = {0, 1, 2, 2, 3, 4, 5, 6, 7, 8, 9};
+static const int ct[2] = {MPGM_VTK_TRIANGLE, MPGM_VTK_HEXAHEDRON};
+#endif
+
+/* |d - the 3x3 tensor of stress e|, summed over its 9 entries. */
+static double tensor_error(const double *d, const double *e) {
+#if MPGM_DIM == 2 /* {xx, yy, xy, zz} */
+  const double w[9] = {e[0], e[2], 0, e[2], e[1], 0, 0, 0, e[3]};
+#else /* {xx, yy, zz, xy, yz, xz} */
+  const double w[9] = {e[0], e[3], e[5], e[3], e[1], e[4], e[5], e[4], e[2]};
+#endif
+  double err = 0.0;
+  for (int k = 0; k < 9; k++) err += fabs(d[k] - w[k]);
+  return err;
+}
 
 static char dir[64];
 
@@ -20,14 +44,13 @@ static void path_of(char *buf, size_t cap, const char *name) { snprintf(buf, cap
 
 static void roundtrip(int binary, int with_cells) {
   rng r = {0x9e3779b97f4a7c15ull};
-  double x[2 * NP], s[NP], v[2 * NP], t[4 * NP];
-  for (int i = 0; i < 2 * NP; i++) x[i] = uniform(&r, -3.7, 5.1);
+  double x[D * NP], s[NP], v[D * NP], t[NS * NP];
+  for (int i = 0; i < D * NP; i++) x[i] = uniform(&r, -3.7, 5.1);
   for (int i = 0; i < NP; i++) s[i] = uniform(&r, -1e-3, 2.385e5);
-  for (int i = 0; i < 2 * NP; i++) v[i] = uniform(&r, -1.0, 1.0) / 3.0;
-  for (int i = 0; i < 4 * NP; i++) t[i] = uniform(&r, -7.2e6, 3.3e6);
-  const mpgm_vtk_field f[3] = {{"eps_p", MPGM_VTK_SCALAR, s}, {"velocity", MPGM_VTK_VECTOR2, v},
-                               {"stress", MPGM_VTK_STRESS4, t}};
-  const int cp[3] = {0, 3, 7}, cc[7] = {0, 1, 2, 2, 3, 4, 5}, ct[2] = {MPGM_VTK_TRIANGLE, MPGM_VTK_QUAD};
+  for (int i = 0; i < D * NP; i++) v[i] = uniform(&r, -1.0, 1.0) / 3.0;
+  for (int i = 0; i < NS * NP; i++) t[i] = uniform(&r, -7.2e6, 3.3e6);
+  const mpgm_vtk_field f[3] = {{"eps_p", MPGM_VTK_SCALAR, s}, {"velocity", MPGM_VTK_VECTOR, v},
+                               {"stress", MPGM_VTK_STRESS, t}};
   char p[128];
   path_of(p, sizeof p, binary ? "b.vtk" : "a.vtk");
   mpgm_ctx ctx;
@@ -42,9 +65,16 @@ static void roundtrip(int binary, int with_cells) {
   mpgm_test(g->npoints == NP && g->ncells == (with_cells ? 2 : NP) && g->narray == 3,
             "%s: %d points, %d cells, %d arrays", p, g->npoints, g->ncells, g->narray);
   mpgm_test(!strcmp(g->title, "round trip"), "%s: title", p);
+  int cells_ok = g->ncells == (with_cells ? 2 : NP) && g->cell_ptr && g->conn && g->cell_type;
+  for (int c = 0; cells_ok && c < g->ncells; c++) /* a cloud: one VTK_VERTEX per point */
+    cells_ok = with_cells ? g->cell_type[c] == ct[c] && g->cell_ptr[c + 1] == cp[c + 1]
+                          : g->cell_type[c] == MPGM_VTK_VERTEX && g->cell_ptr[c + 1] == c + 1 && g->conn[c] == c;
+  if (cells_ok && with_cells) cells_ok = !memcmp(g->conn, cc, sizeof cc);
+  mpgm_test(cells_ok, "%s: the cells and their types read back (%s)", p,
+            with_cells ? (D == 3 ? "a triangle, a hexahedron" : "a triangle, a quadrilateral") : "vertices");
   double worst = 0.0;
   for (int i = 0; i < NP; i++) {
-    worst = fmax(worst, fabs(g->x[3 * i] - x[2 * i]) + fabs(g->x[3 * i + 1] - x[2 * i + 1]) + fabs(g->x[3 * i + 2]));
+    for (int k = 0; k < 3; k++) worst = fmax(worst, fabs(g->x[3 * i + k] - (k < D ? x[D * i + k] : 0.0)));
     const mpgm_vtk_array *a = mpgm_vtk_array_find(g, "eps_p"), *b = mpgm_vtk_array_find(g, "velocity"),
                          *c = mpgm_vtk_array_find(g, "stress");
     if (!a || !b || !c || a->ncomp != 1 || b->ncomp != 3 || c->ncomp != 9) {
@@ -52,10 +82,8 @@ static void roundtrip(int binary, int with_cells) {
       break;
     }
     worst = fmax(worst, fabs(a->v[i] - s[i]));
-    worst = fmax(worst, fabs(b->v[3 * i] - v[2 * i]) + fabs(b->v[3 * i + 1] - v[2 * i + 1]) + fabs(b->v[3 * i + 2]));
-    const double *d = c->v + 9 * i, *e = t + 4 * i; /* {xx, yy, xy, zz} -> 3x3 */
-    worst = fmax(worst, fabs(d[0] - e[0]) + fabs(d[4] - e[1]) + fabs(d[1] - e[2]) + fabs(d[3] - e[2]) +
-                            fabs(d[8] - e[3]) + fabs(d[2]) + fabs(d[5]) + fabs(d[6]) + fabs(d[7]));
+    for (int k = 0; k < 3; k++) worst = fmax(worst, fabs(b->v[3 * i + k] - (k < D ? v[D * i + k] : 0.0)));
+    worst = fmax(worst, tensor_error(c->v + 9 * i, t + NS * i));
   }
   /* %.17g and big-endian bytes both carry every bit */
   mpgm_test_abs(worst, 0.0, 0.0, "%s: every value read back exactly", p);
@@ -97,6 +125,12 @@ static void bad_files(void) {
                                 "POINTS 1 double\n1 2 0\nCELLS 1 2\n1 0\nCELL_TYPES 1\n1\nPOINT_DATA 1\n"
                                 "FIELD f 1\n");
   bad_file("field.vtk", buf, (size_t)n, MPGM_ERR_INPUT, "SCALARS|VECTORS|TENSORS");
+  n = snprintf(buf, sizeof buf, "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                                "POINTS 1 double\n1 2 0\nCELLS 1 2\n1 5\nCELL_TYPES 1\n1\n");
+  bad_file("cellid.vtk", buf, (size_t)n, MPGM_ERR_INPUT, "refers to point 5 of 1");
+  n = snprintf(buf, sizeof buf, "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                                "POINTS 1 double\n1 2 0\nCELLS 1 2\n3 0\nCELL_TYPES 1\n1\n");
+  bad_file("cellsize.vtk", buf, (size_t)n, MPGM_ERR_INPUT, "does not fit CELLS 1 2");
   n = snprintf(buf, sizeof buf, "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
                                 "POINTS 2 double\n1 2 0 x\n");
   bad_file("text.vtk", buf, (size_t)n, MPGM_ERR_INPUT, "expected a number");
@@ -147,7 +181,7 @@ int main(void) {
   bad_files();
   pvd();
   static const char *const names[] = {"a.vtk", "b.vtk", "empty.vtk", "poly.vtk", "short.vtk", "huge.vtk",
-                                      "field.vtk", "text.vtk", "points.pvd", "not.pvd"};
+                                      "field.vtk", "text.vtk", "cellid.vtk", "cellsize.vtk", "points.pvd", "not.pvd"};
   for (size_t i = 0; i < sizeof names / sizeof *names; i++) {
     char p[128];
     path_of(p, sizeof p, names[i]);

@@ -4,7 +4,11 @@
  * vectors with z = 0, the stress as 3x3, TimeValue); every truncation and
  * a damaged byte at every position of the raw and zlib files give an
  * error with a message or a read, never a read past the end (run under
- * the sanitizers). */
+ * the sanitizers). Built in both dimensions: plane strain points and
+ * vectors with z = 0, the stress {xx, yy, xy, zz}, a triangle and a
+ * quadrilateral; 3-D the z as written, the six Voigt stresses as the 3x3
+ * tensor (written out here by hand), a triangle and a hexahedron; the
+ * cells are read back too. */
 #define _POSIX_C_SOURCE 200809L
 #include "mpgm_test.h"
 #include "mpgm_vtu.h"
@@ -16,10 +20,38 @@
 #include <unistd.h>
 
 enum { NP = 5000 }; /* more than one zlib block of 32 KiB per array */
+enum { D = MPGM_DIM, NS = MPGM_NSTRESS };
 
 static char dir[64];
 
-static double x[2 * NP], s[NP], v[2 * NP], t[4 * NP];
+static double x[D * NP], s[NP], v[D * NP], t[NS * NP];
+
+/* The cells: a triangle, then a quadrilateral (3-D: a hexahedron). */
+#if MPGM_DIM == 2
+static const int cp[3] = {0, 3, 7}, cc[7] = {0, 1, 2, 2, 3, 4, 5};
+static const int ct[2] = {MPGM_VTK_TRIANGLE, MPGM_VTK_QUAD};
+#else
+static const int cp[3] = {0, 3, 11}, cc[11] = {0, 1, 2, 2, 3, 4, 5, 6, 7, 8, 9};
+static const int ct[2] = {MPGM_VTK_TRIANGLE, MPGM_VTK_HEXAHEDRON};
+#endif
+
+/* The 3x3 tensor of stress e as the file must hold it, row major. */
+static void tensor9(const double *e, double *w) {
+#if MPGM_DIM == 2 /* {xx, yy, xy, zz} */
+  const double t9[9] = {e[0], e[2], 0, e[2], e[1], 0, 0, 0, e[3]};
+#else /* {xx, yy, zz, xy, yz, xz} */
+  const double t9[9] = {e[0], e[3], e[5], e[3], e[1], e[4], e[5], e[4], e[2]};
+#endif
+  memcpy(w, t9, sizeof t9);
+}
+
+/* 1 when the grid holds the piece's cells. */
+static int same_cells(const mpgm_vtk_grid *g) {
+  if (g->ncells != 2 || !g->cell_ptr || !g->conn || !g->cell_type) return 0;
+  for (int c = 0; c < 2; c++)
+    if (g->cell_type[c] != ct[c] || g->cell_ptr[c + 1] != cp[c + 1]) return 0;
+  return g->cell_ptr[0] == 0 && !memcmp(g->conn, cc, sizeof cc);
+}
 
 /* 1 when the grid holds the piece's numbers to the bit. */
 static int same(const mpgm_vtk_grid *g) {
@@ -29,14 +61,15 @@ static int same(const mpgm_vtk_grid *g) {
       b->ncomp != 3 || c->ncomp != 9 || strcmp(g->title, "TimeValue = 0.123456789"))
     return 0;
   for (int i = 0; i < NP; i++) {
-    const double *d = c->v + 9 * i, *e = t + 4 * i;
-    const double want[9] = {e[0], e[2], 0, e[2], e[1], 0, 0, 0, e[3]};
-    if (memcmp(d, want, sizeof want) || g->x[3 * i] != x[2 * i] || g->x[3 * i + 1] != x[2 * i + 1] ||
-        g->x[3 * i + 2] != 0.0 || a->v[i] != s[i] || b->v[3 * i] != v[2 * i] ||
-        b->v[3 * i + 1] != v[2 * i + 1] || b->v[3 * i + 2] != 0.0)
-      return 0;
+    double want[9];
+    tensor9(t + NS * i, want);
+    if (memcmp(c->v + 9 * i, want, sizeof want) || a->v[i] != s[i]) return 0;
+    for (int k = 0; k < 3; k++)
+      if (g->x[3 * i + k] != (k < D ? x[D * i + k] : 0.0) ||
+          b->v[3 * i + k] != (k < D ? v[D * i + k] : 0.0))
+        return 0;
   }
-  return 1;
+  return same_cells(g);
 }
 
 /* About 300 prefixes and 300 copies with one byte changed, spread over
@@ -73,9 +106,8 @@ static void damaged(const char *p) {
 }
 
 static void roundtrip(int enc, const char *name) {
-  const mpgm_vtk_field f[3] = {{"eps_p", MPGM_VTK_SCALAR, s}, {"velocity", MPGM_VTK_VECTOR2, v},
-                               {"stress", MPGM_VTK_STRESS4, t}};
-  const int cp[3] = {0, 3, 7}, cc[7] = {0, 1, 2, 2, 3, 4, 5}, ct[2] = {MPGM_VTK_TRIANGLE, MPGM_VTK_QUAD};
+  const mpgm_vtk_field f[3] = {{"eps_p", MPGM_VTK_SCALAR, s}, {"velocity", MPGM_VTK_VECTOR, v},
+                               {"stress", MPGM_VTK_STRESS, t}};
   const mpgm_vtu_piece piece = {NP, x, 2, cp, cc, ct, 3, f};
   char p[128];
   snprintf(p, sizeof p, "%s/%s", dir, name);
@@ -98,10 +130,10 @@ int main(void) {
     return EXIT_FAILURE;
   }
   rng r = {0x9e3779b97f4a7c15ull};
-  for (int i = 0; i < 2 * NP; i++) x[i] = uniform(&r, -3.7, 5.1);
+  for (int i = 0; i < D * NP; i++) x[i] = uniform(&r, -3.7, 5.1);
   for (int i = 0; i < NP; i++) s[i] = uniform(&r, -1e-3, 2.385e5);
-  for (int i = 0; i < 2 * NP; i++) v[i] = uniform(&r, -1.0, 1.0) / 3.0;
-  for (int i = 0; i < 4 * NP; i++) t[i] = uniform(&r, -7.2e6, 3.3e6);
+  for (int i = 0; i < D * NP; i++) v[i] = uniform(&r, -1.0, 1.0) / 3.0;
+  for (int i = 0; i < NS * NP; i++) t[i] = uniform(&r, -7.2e6, 3.3e6); /* every component differs */
   roundtrip(MPGM_VTU_ASCII, "a.vtu");
   roundtrip(MPGM_VTU_RAW, "r.vtu");
   roundtrip(MPGM_VTU_ZLIB, "z.vtu");
