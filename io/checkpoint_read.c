@@ -91,7 +91,8 @@ static int check_header(mpgm_ctx *ctx, const char *path, mpgm_checkpoint *ck) {
   const uint32_t dim = h.dim ? h.dim : 2;
   MPGM_CHECK(ctx, dim == 2 || dim == 3, MPGM_ERR_INPUT, "%s: section 'header': dimension %u", path,
              (unsigned)h.dim);
-  MPGM_CHECK(ctx, dim == MPGM_DIM, MPGM_ERR_INPUT, "%s: written by a %u-D run; restart it with %s",
+  /* MPGM_ERR_DIMENSION: mpgm hands a 3-D checkpoint's restart to mpgm-3d */
+  MPGM_CHECK(ctx, dim == MPGM_DIM, MPGM_ERR_DIMENSION, "%s: written by a %u-D run; restart it with %s",
              path, (unsigned)dim, dim == 3 ? "mpgm-3d" : "mpgm (the plane-strain build)");
   MPGM_CHECK(ctx, h.step >= 0, MPGM_ERR_INPUT, "%s: section 'header': step %lld", path,
              (long long)h.step);

@@ -24,7 +24,7 @@
 #include "mpgm_vtu.h"
 #include "mpgm_xdmf.h"
 /* det F of the points' J: core's DIM x DIM determinant (header only) */
-#include "../core/private/mpgm_tensor.h"
+#include "mpgm_tensor.h"
 
 /* steps.csv: 9 columns, and in dynamic runs 4 of energy and the MPGM_DIM
  * components of the points' and the nodes' momentum (2-D 8, 3-D 10; all

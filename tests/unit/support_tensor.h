@@ -1,7 +1,7 @@
 /* support_tensor.h -- DIM x DIM row-major tensors for the material tests
  * (test_materials.c, test_mohr_coulomb.c), in the build's MPGM_DIM: the
  * products and transposes may alias their inputs; det and the inverse are
- * the library's own (core/private/mpgm_tensor.h); symmetric tensors to and
+ * the library's own (base/mpgm_tensor.h); symmetric tensors to and
  * from the Voigt part of the stress layout (mpgm_voigt_pair). */
 #ifndef MPGM_SUPPORT_TENSOR_H
 #define MPGM_SUPPORT_TENSOR_H

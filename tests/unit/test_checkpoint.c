@@ -58,16 +58,16 @@ int main(void) {
   mpgm_test(err == 0 && step == 7, "a checkpoint of this build's dimension (%d) is read (%s)", MPGM_DIM, msg);
 #if MPGM_DIM == 2
   err = parse_dim(3, msg, sizeof msg, &step);
-  mpgm_test(err == MPGM_ERR_INPUT && strstr(msg, path) && strstr(msg, "written by a 3-D run; restart it with mpgm-3d"),
+  mpgm_test(err == MPGM_ERR_DIMENSION && strstr(msg, path) && strstr(msg, "written by a 3-D run; restart it with mpgm-3d"),
             "a 3-D checkpoint is refused: %s", msg);
   err = parse_dim(0, msg, sizeof msg, &step);
   mpgm_test(err == 0 && step == 7, "a checkpoint without a dimension (before it was recorded) is read (%s)", msg);
 #else
   err = parse_dim(2, msg, sizeof msg, &step);
-  mpgm_test(err == MPGM_ERR_INPUT && strstr(msg, path) && strstr(msg, "written by a 2-D run; restart it with mpgm"),
+  mpgm_test(err == MPGM_ERR_DIMENSION && strstr(msg, path) && strstr(msg, "written by a 2-D run; restart it with mpgm"),
             "a 2-D checkpoint is refused: %s", msg);
   err = parse_dim(0, msg, sizeof msg, &step);
-  mpgm_test(err == MPGM_ERR_INPUT && strstr(msg, "written by a 2-D run"),
+  mpgm_test(err == MPGM_ERR_DIMENSION && strstr(msg, "written by a 2-D run"),
             "a checkpoint without a dimension (plane strain's) is refused: %s", msg);
 #endif
   err = parse_dim(7, msg, sizeof msg, &step);

@@ -1,4 +1,4 @@
-/* mpgm_tensor.h -- private to core/: small dense MPGM_DIM x MPGM_DIM
+/* mpgm_tensor.h -- small dense MPGM_DIM x MPGM_DIM
  * matrices, row major (F, dF, H and their inverses). In 2-D each is the
  * expression the plane-strain kernels wrote out by hand, in the same
  * floating-point order, so that moving a kernel onto them changes no bit;
