@@ -114,13 +114,13 @@ static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o,
   for (int k = 0; k < P->nprobe; k++) {
     const int p = P->n + k;
     char key[MPGM_NAME_LEN + 8];
-    snprintf(key, sizeof key, "%s_ux", s->probes[k].name);
-    cJSON_AddNumberToObject(m, key, P->u[2 * p]);
-    snprintf(key, sizeof key, "%s_uy", s->probes[k].name);
-    cJSON_AddNumberToObject(m, key, P->u[2 * p + 1]);
+    for (int c = 0; c < MPGM_DIM; c++) { /* NAME_ux, NAME_uy (, NAME_uz) */
+      snprintf(key, sizeof key, "%s_u%c", s->probes[k].name, "xyz"[c]);
+      cJSON_AddNumberToObject(m, key, P->u[MPGM_DIM * p + c]);
+    }
     cJSON *q = cJSON_AddObjectToObject(pr, s->probes[k].name);
-    cJSON_AddItemToObject(q, "x", cJSON_CreateDoubleArray(s->probes[k].x, 2));
-    cJSON_AddItemToObject(q, "u", cJSON_CreateDoubleArray(P->u + 2 * p, 2));
+    cJSON_AddItemToObject(q, "x", cJSON_CreateDoubleArray(s->probes[k].x, MPGM_DIM));
+    cJSON_AddItemToObject(q, "u", cJSON_CreateDoubleArray(P->u + MPGM_DIM * p, MPGM_DIM));
     if (!complete) {
       cJSON_AddItemToObject(q, "t", cJSON_Duplicate(cJSON_GetObjectItemCaseSensitive(m, "t"), 0));
       cJSON_AddItemToObject(q, "step", cJSON_Duplicate(cJSON_GetObjectItemCaseSensitive(m, "step"), 0));
@@ -201,6 +201,7 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddStringToObject(j, "message", rs->message);
   if (rs->failed_step >= 0) cJSON_AddNumberToObject(j, "failed_step", (double)rs->failed_step);
   cJSON_AddStringToObject(j, "version", mpgm_version()); /* the code that made the results */
+  cJSON_AddNumberToObject(j, "dimension", MPGM_DIM); /* 2: plane strain; 3: mpgm-3d's run */
   cJSON_AddStringToObject(j, "scene_file", s->file);
   cJSON_AddItemToObject(j, "scene", cJSON_Duplicate((const cJSON *)s->resolved, 1));
   cJSON_AddStringToObject(j, "method", s->frontend->name);
@@ -263,8 +264,8 @@ static void outcome_fill(mpgm_run_outcome *oc, const mpgm_problem *pb, const mpg
   const int probes = !oc->nmetric; /* no reference: the probes' final displacement */
   for (int k = 0; probes && k < s->nprobe && k < 2; k++) {
     char key[MPGM_NAME_LEN + 8];
-    for (int c = 0; c < 2; c++) {
-      snprintf(key, sizeof key, "%s_u%c", s->probes[k].name, "xy"[c]);
+    for (int c = 0; c < MPGM_DIM; c++) {
+      snprintf(key, sizeof key, "%s_u%c", s->probes[k].name, "xyz"[c]);
       outcome_metric(oc, m, key);
     }
   }
