@@ -10,10 +10,6 @@
 #include "mpgm_core_impl.h"
 #include "mpgm_tensor.h"
 
-#if MPGM_DIM != 2
-#error "core/assembly.c is written for plane strain only (MPGM_DIM = 2)"
-#endif
-
 /* ---- residual and tangent --------------------------------------------- */
 
 /* Newmark: nodal acceleration and velocity of the iterate from du. */
@@ -57,21 +53,25 @@ static inline int nbr_find(const mpgm_problem *pb, int J, int I) {
 }
 
 /* Block ab of row node I, column node J, at place t of J's neighbours,
- * added into K (its free components). */
+ * added into K (its free components): row i of node I comes after the
+ * rows of I's numbered components before i (held ones are numbered but
+ * get no terms). */
 static inline void add_block(mpgm_problem *pb, int I, int J, int t, const double *ab) {
   const int *dof = pb->nodes.dof;
   const unsigned char *fix = pb->nodes.fix;
   double *val = pb->K.val;
-  /* 2-D only: the rows of x and y apart; y's row comes after x's when
-   * x is numbered (3-D: a loop over the rows, counting those before) */
-  const int rx = dof[MPGM_DIM * I] >= 0 && !fix[MPGM_DIM * I];
-  const int ry = dof[MPGM_DIM * I + 1] >= 0 && !fix[MPGM_DIM * I + 1];
+  int row[MPGM_DIM], before = 0; /* row i's place after pos0; -1: none */
+  for (int i = 0; i < MPGM_DIM; i++) {
+    const int numbered = dof[MPGM_DIM * I + i] >= 0;
+    row[i] = numbered && !fix[MPGM_DIM * I + i] ? before : -1;
+    before += numbered;
+  }
   for (int j = 0; j < MPGM_DIM; j++) {
     const int col = dof[MPGM_DIM * J + j];
     if (col < 0 || fix[MPGM_DIM * J + j]) continue;
     const int pos0 = pb->K.colptr[col] + pb->nbr_off[t];
-    if (rx) val[pos0] += ab[j];
-    if (ry) val[pos0 + (dof[MPGM_DIM * I] >= 0)] += ab[MPGM_DIM + j];
+    for (int i = 0; i < MPGM_DIM; i++)
+      if (row[i] >= 0) val[pos0 + row[i]] += ab[MPGM_DIM * i + j];
   }
 }
 
@@ -91,8 +91,10 @@ static inline void flush_block(mpgm_problem *pb, const int *nodes, double *kb, i
   const int lower = half && a > b;
   double *e = lower ? batch_block(kb, b, a) : batch_block(kb, a, b);
   if (block_zero(e)) return;
-  /* 2-D only: block (a, b) = e, or the transpose of e (3-D: 3x3) */
-  const double ab[MPGM_BLOCK] = {e[0], lower ? e[2] : e[1], lower ? e[1] : e[2], e[3]};
+  double ab[MPGM_BLOCK]; /* block (a, b) = e, or the transpose of e */
+  for (int i = 0; i < MPGM_DIM; i++)
+    for (int c = 0; c < MPGM_DIM; c++)
+      ab[MPGM_DIM * i + c] = lower ? e[MPGM_DIM * c + i] : e[MPGM_DIM * i + c];
   add_block(pb, nodes[a], nodes[b], t, ab);
   if (!lower)
     for (int q = 0; q < MPGM_BLOCK; q++) e[q] = 0.0;
@@ -189,8 +191,7 @@ static inline void point_residual(const asm_job *j, int p) {
   const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
   double s[MPGM_TENSOR];
   stress_on_dN(pb, p, s);
-  /* 2-D only: a_p, sigma grad N and the force written out per component
-   * (3-D: a third component, sigma's xz, yz, zz terms) */
+#if MPGM_DIM == 2 /* written out per component: inlined where it is called */
   double ap[MPGM_DIM] = {0};
   if (j->inertia && !j->lumped)
     for (int k = k0; k < k0 + nk; k++) {
@@ -212,6 +213,28 @@ static inline void point_residual(const asm_job *j, int p) {
     if (dof[MPGM_DIM * I] >= 0) R[dof[MPGM_DIM * I]] -= f0;
     if (dof[MPGM_DIM * I + 1] >= 0) R[dof[MPGM_DIM * I + 1]] -= f1;
   }
+#else /* f_i = v (s_i0 g_0 + s_i1 g_1 + s_i2 g_2) + m N_a a_i */
+  double ap[MPGM_DIM] = {0};
+  if (j->inertia && !j->lumped)
+    for (int k = k0; k < k0 + nk; k++)
+      for (int i = 0; i < MPGM_DIM; i++) ap[i] += C->N[k] * an[MPGM_DIM * C->node[k] + i];
+  for (int a = 0; a < nk; a++) {
+    const int I = C->node[k0 + a];
+    const double *g = C->dN + MPGM_DIM * (k0 + a);
+    double f[MPGM_DIM];
+    for (int i = 0; i < MPGM_DIM; i++) {
+      double si = s[MPGM_DIM * i] * g[0];
+      for (int l = 1; l < MPGM_DIM; l++) si += s[MPGM_DIM * i + l] * g[l];
+      f[i] = v * si;
+    }
+    if (j->lumped) /* m_p N_a a_a: the row sum of the consistent term */
+      for (int i = 0; i < MPGM_DIM; i++) ap[i] = an[MPGM_DIM * I + i];
+    if (j->inertia)
+      for (int i = 0; i < MPGM_DIM; i++) f[i] += m * C->N[k0 + a] * ap[i];
+    for (int i = 0; i < MPGM_DIM; i++)
+      if (dof[MPGM_DIM * I + i] >= 0) R[dof[MPGM_DIM * I + i]] -= f[i];
+  }
+#endif
 }
 
 /* What the blocks of one point need: its stress, tangent, volume and
@@ -230,14 +253,45 @@ static inline pt_blocks point_blocks(const asm_job *j, int p) {
                      P->mass[p], k0, pb->conn.ptr[p + 1] - k0};
 }
 
-/* The column terms of node b of a point: DB = D B_b (3 x 2) and
- * sigma h. 2-D only: B_b = [hx 0; 0 hy; hy hx] written out (3-D: 6 x 3),
- * as are sigma h, the blocks of B_a^T D B_b and the geometric term in
- * point_column */
+/* A point's functions and gradients, copied out once for its columns:
+ * the n entries of its cloud that enter the tangent, ix their places in
+ * the cloud (all of them, in order, unless conn.tan leaves some out:
+ * shape.tangent_radius); g[d] the gradients' component d. */
 typedef struct {
-  double DB[MPGM_NVOIGT][MPGM_DIM], sh0, sh1;
+  double g[MPGM_DIM][MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE];
+  int ix[MPGM_SHAPE_MAXNODE], n;
+} pt_rows;
+
+static inline void point_rows(const mpgm_conn *C, const pt_blocks *q, pt_rows *r) {
+  const unsigned char *tan = C->tan ? C->tan + q->k0 : NULL;
+  int n = 0;
+  for (int a = 0; a < q->nk; a++) {
+    if (tan && !tan[a]) continue;
+    for (int d = 0; d < MPGM_DIM; d++) r->g[d][n] = C->g[MPGM_DIM * (q->k0 + a) + d];
+    r->N[n] = C->N[q->k0 + a];
+    r->ix[n++] = a;
+  }
+  r->n = n;
+}
+
+/* The blocks (a, b) of a point's column b, rows a < na: entry (i, l) of
+ * block a is e[MPGM_DIM i + l][a] (row major DIM x DIM), in arrays over a
+ * that the loops filling them vectorise. */
+typedef struct {
+  double e[MPGM_BLOCK][MPGM_SHAPE_MAXNODE];
+} col_blocks;
+
+/* The column terms of node b of a point with gradient h: DB = D B_b
+ * (NVOIGT x DIM; B_b's column l holds h_m at the Voigt component of (l,
+ * m), engineering shear: 2-D B_b = [hx 0; 0 hy; hy hx], 3-D rows xx, yy,
+ * zz, xy, yz, xz) and sigma h. */
+typedef struct {
+  double DB[MPGM_NVOIGT][MPGM_DIM], sh[MPGM_DIM];
 } col_terms;
 
+#if MPGM_DIM == 2
+/* Plane strain: B_b, sigma h, the blocks of B_a^T D B_b and the geometric
+ * term written out, in the floating-point order of the golden results. */
 static inline col_terms column_terms(const double hx, const double hy, const pt_blocks *q) {
   const double *D = q->D, *s = q->s;
   col_terms c;
@@ -245,80 +299,107 @@ static inline col_terms column_terms(const double hx, const double hy, const pt_
     c.DB[i][0] = D[MPGM_NVOIGT * i] * hx + D[MPGM_NVOIGT * i + 2] * hy;
     c.DB[i][1] = D[MPGM_NVOIGT * i + 1] * hy + D[MPGM_NVOIGT * i + 2] * hx;
   }
-  c.sh0 = s[0] * hx + s[2] * hy;
-  c.sh1 = s[2] * hx + s[1] * hy;
+  c.sh[0] = s[0] * hx + s[2] * hy;
+  c.sh[1] = s[2] * hx + s[1] * hy;
   return c;
 }
 
-/* A point's functions and gradients, copied out once for its columns:
- * the n entries of its cloud that enter the tangent, ix their places in
- * the cloud (all of them, in order, unless conn.tan leaves some out:
- * shape.tangent_radius). */
-typedef struct {
-  double gx[MPGM_SHAPE_MAXNODE], gy[MPGM_SHAPE_MAXNODE], N[MPGM_SHAPE_MAXNODE];
-  int ix[MPGM_SHAPE_MAXNODE], n;
-} pt_rows;
-
-static inline void point_rows(const mpgm_conn *C, const pt_blocks *q, pt_rows *r) {
-  const unsigned char *tan = C->tan ? C->tan + q->k0 : NULL;
-  int n = 0;
-  for (int a = 0; a < q->nk; a++) { /* 2-D only: x and y apart */
-    if (tan && !tan[a]) continue;
-    r->gx[n] = C->g[MPGM_DIM * (q->k0 + a)];
-    r->gy[n] = C->g[MPGM_DIM * (q->k0 + a) + 1];
-    r->N[n] = C->N[q->k0 + a];
-    r->ix[n++] = a;
-  }
-  r->n = n;
-}
-
-/* Column b of a point's blocks (places in r), rows a < na: block (a, b) of the tangent
- * (material + geometric + dynamic, or the mass block with j->mass_only)
- * as its four entries e0..e3 (row major 2 x 2), in loops over a the
- * compiler vectorises; with a lift, the term of a free row of node a and
- * a fixed column of node b subtracted from R. */
-typedef struct {
-  double e0[MPGM_SHAPE_MAXNODE], e1[MPGM_SHAPE_MAXNODE], e2[MPGM_SHAPE_MAXNODE],
-      e3[MPGM_SHAPE_MAXNODE];
-} col_blocks;
-
-static void point_column(const asm_job *j, const mpgm_conn *C, const pt_blocks *q,
-                         const pt_rows *r, int b, int na, col_blocks *k) {
-  const col_terms c = column_terms(r->gx[b], r->gy[b], q);
+/* Material + geometric + dynamic blocks of column b (the lumped mass's
+ * diagonal block after the loop). */
+static inline void column_stiffness(const asm_job *j, const pt_blocks *q, const pt_rows *r,
+                                    int b, int na, col_blocks *k) {
+  const col_terms c = column_terms(r->g[0][b], r->g[1][b], q);
   const double d00 = c.DB[0][0], d20 = c.DB[2][0], d01 = c.DB[0][1], d21 = c.DB[2][1];
-  const double d10 = c.DB[1][0], d11 = c.DB[1][1], sh0 = c.sh0, sh1 = c.sh1;
+  const double d10 = c.DB[1][0], d11 = c.DB[1][1], sh0 = c.sh[0], sh1 = c.sh[1];
   const double v = q->v, km = j->kdyn * q->m, Nb = j->lumped ? 1.0 : r->N[b];
   const int geo = j->geo, inertia = j->inertia, lumped = j->lumped;
-  const double *gx = r->gx, *gy = r->gy, *N = r->N;
+  const double *gx = r->g[0], *gy = r->g[1], *N = r->N;
   const int consistent = inertia && !lumped;
-  for (int a = 0; a < na; a++) { /* the lumped mass's diagonal block below */
+  for (int a = 0; a < na; a++) {
     double diag = geo ? v * (gx[a] * sh0 + gy[a] * sh1) : 0.0;
     if (consistent) diag += km * N[a] * Nb;
-    k->e0[a] = v * (gx[a] * d00 + gy[a] * d20) + diag;
-    k->e1[a] = v * (gx[a] * d01 + gy[a] * d21);
-    k->e2[a] = v * (gy[a] * d10 + gx[a] * d20);
-    k->e3[a] = v * (gy[a] * d11 + gx[a] * d21) + diag;
+    k->e[0][a] = v * (gx[a] * d00 + gy[a] * d20) + diag;
+    k->e[1][a] = v * (gx[a] * d01 + gy[a] * d21);
+    k->e[2][a] = v * (gy[a] * d10 + gx[a] * d20);
+    k->e[3][a] = v * (gy[a] * d11 + gx[a] * d21) + diag;
   }
   if (inertia && lumped && b < na) {
     const double diag = (geo ? v * (gx[b] * sh0 + gy[b] * sh1) : 0.0) + km * N[b] * Nb;
-    k->e0[b] = v * (gx[b] * d00 + gy[b] * d20) + diag;
-    k->e3[b] = v * (gy[b] * d11 + gx[b] * d21) + diag;
+    k->e[0][b] = v * (gx[b] * d00 + gy[b] * d20) + diag;
+    k->e[3][b] = v * (gy[b] * d11 + gx[b] * d21) + diag;
   }
-  if (j->mass_only) /* 2-D only: diag I */
-    for (int a = 0; a < na; a++) {
-      const double diag = (a == b || !lumped) && inertia ? 0.0 + km * N[a] * Nb : 0.0;
-      k->e0[a] = diag; k->e1[a] = 0.0; k->e2[a] = 0.0; k->e3[a] = diag;
+}
+#else
+/* 3-D: row l of B_b^T holds h_m at the Voigt component voigt_of[l][m]. */
+static inline col_terms column_terms(const double h[MPGM_DIM], const pt_blocks *q) {
+  const double *D = q->D, *s = q->s;
+  col_terms c;
+  for (int i = 0; i < MPGM_NVOIGT; i++)
+    for (int l = 0; l < MPGM_DIM; l++) {
+      const int *o = mpgm_voigt_of[l];
+      c.DB[i][l] = D[MPGM_NVOIGT * i + o[0]] * h[0] + D[MPGM_NVOIGT * i + o[1]] * h[1] +
+                   D[MPGM_NVOIGT * i + o[2]] * h[2];
     }
+  for (int i = 0; i < MPGM_DIM; i++) {
+    const int *o = mpgm_voigt_of[i];
+    c.sh[i] = s[o[0]] * h[0] + s[o[1]] * h[1] + s[o[2]] * h[2];
+  }
+  return c;
+}
+
+/* Material + geometric + dynamic blocks of column b: entry (i, l) of
+ * block a is v g_a . w_il + [i = l] (v g_a . sigma h + km N_a N_b), with
+ * w_il[m] = (D B_b)[voigt_of[i][m]][l] (B_a^T's row i); one loop over a
+ * per entry (the lumped mass: the diagonal block b only). */
+static inline void column_stiffness(const asm_job *j, const pt_blocks *q, const pt_rows *r,
+                                    int b, int na, col_blocks *k) {
+  const double h[MPGM_DIM] = {r->g[0][b], r->g[1][b], r->g[2][b]};
+  const col_terms c = column_terms(h, q);
+  const double v = q->v, km = j->kdyn * q->m, Nb = j->lumped ? 1.0 : r->N[b];
+  const double *g0 = r->g[0], *g1 = r->g[1], *g2 = r->g[2], *N = r->N;
+  const int consistent = j->inertia && !j->lumped;
+  double diag[MPGM_SHAPE_MAXNODE];
+  for (int a = 0; a < na; a++) {
+    diag[a] = j->geo ? v * (g0[a] * c.sh[0] + g1[a] * c.sh[1] + g2[a] * c.sh[2]) : 0.0;
+    if (consistent) diag[a] += km * N[a] * Nb;
+  }
+  for (int i = 0; i < MPGM_DIM; i++)
+    for (int l = 0; l < MPGM_DIM; l++) {
+      const int *o = mpgm_voigt_of[i];
+      const double w0 = c.DB[o[0]][l], w1 = c.DB[o[1]][l], w2 = c.DB[o[2]][l];
+      double *e = k->e[MPGM_DIM * i + l];
+      for (int a = 0; a < na; a++) e[a] = v * (g0[a] * w0 + g1[a] * w1 + g2[a] * w2);
+      if (i == l)
+        for (int a = 0; a < na; a++) e[a] += diag[a];
+    }
+  if (j->inertia && j->lumped && b < na)
+    for (int i = 0; i < MPGM_DIM; i++) k->e[(MPGM_DIM + 1) * i][b] += km * N[b] * Nb;
+}
+#endif
+
+/* Column b of a point's blocks (places in r), rows a < na: block (a, b) of
+ * the tangent (material + geometric + dynamic, or the mass block with
+ * j->mass_only); with a lift, the term of a free row of node a and a
+ * fixed column of node b subtracted from R. */
+static void point_column(const asm_job *j, const mpgm_conn *C, const pt_blocks *q,
+                         const pt_rows *r, int b, int na, col_blocks *k) {
+  column_stiffness(j, q, r, b, na, k);
+  if (j->mass_only) { /* diag I */
+    const double km = j->kdyn * q->m, Nb = j->lumped ? 1.0 : r->N[b], *N = r->N;
+    for (int a = 0; a < na; a++) {
+      const double diag = (a == b || !j->lumped) && j->inertia ? 0.0 + km * N[a] * Nb : 0.0;
+      for (int e = 0; e < MPGM_BLOCK; e++) k->e[e][a] = MPGM_DIAG(e) ? diag : 0.0;
+    }
+  }
   if (!j->lift) return;
   const int *dof = j->pb->nodes.dof, Ib = C->node[q->k0 + r->ix[b]];
   double *R = j->pb->R;
   for (int a = 0; a < na; a++) { /* free row of node a, fixed column of node b */
     const int Ia = C->node[q->k0 + r->ix[a]];
-    const double e[MPGM_BLOCK] = {k->e0[a], k->e1[a], k->e2[a], k->e3[a]};
     for (int i = 0; i < MPGM_DIM; i++)
       for (int jj = 0; jj < MPGM_DIM; jj++)
         if (dof[MPGM_DIM * Ia + i] >= 0 && dof[MPGM_DIM * Ib + jj] < 0)
-          R[dof[MPGM_DIM * Ia + i]] -= e[MPGM_DIM * i + jj] * j->lift[MPGM_DIM * Ib + jj];
+          R[dof[MPGM_DIM * Ia + i]] -= k->e[MPGM_DIM * i + jj][a] * j->lift[MPGM_DIM * Ib + jj];
   }
 }
 
@@ -343,16 +424,17 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
       point_column(j, C, &q, &rw, b, na, &k);
       for (int a = 0; a < na; a++) {
         double *e = kl + MPGM_BLOCK * (rw.ix[a] * nkg + rw.ix[b]);
-        e[0] += k.e0[a]; e[1] += k.e1[a]; e[2] += k.e2[a]; e[3] += k.e3[a];
+        for (int c = 0; c < MPGM_BLOCK; c++) e[c] += k.e[c][a];
       }
     }
   }
-  if (half) /* lower blocks: transposes of the upper ones (2-D only: 2x2) */
+  if (half) /* lower blocks: transposes of the upper ones */
     for (int b = 0; b < nkg; b++)
       for (int a = b + 1; a < nkg; a++) {
         double *lo = kl + MPGM_BLOCK * (a * nkg + b);
         const double *up = kl + MPGM_BLOCK * (b * nkg + a);
-        lo[0] = up[0]; lo[1] = up[2]; lo[2] = up[1]; lo[3] = up[3];
+        for (int i = 0; i < MPGM_DIM; i++)
+          for (int c = 0; c < MPGM_DIM; c++) lo[MPGM_DIM * i + c] = up[MPGM_DIM * c + i];
       }
   if (pb->nomap) return; /* summed into the batch by assemble_batch */
   const int *sc = pb->scatter + pb->scatter_ptr[g];
@@ -382,12 +464,13 @@ static void assemble_point_batch(const asm_job *j, int p, const int *loc_all, do
     const int na = half ? b + 1 : rw.n;
     point_column(j, C, &q, &rw, b, na, &k);
     for (int a = 0; a < na; a++) {
-      if (half && loc[a] > loc[b]) { /* kept as block (b, a) = (a, b)^T; 2-D only: 2x2 */
+      if (half && loc[a] > loc[b]) { /* kept as block (b, a) = (a, b)^T */
         double *f = batch_block(kb, loc[b], loc[a]);
-        f[0] += k.e0[a]; f[1] += k.e2[a]; f[2] += k.e1[a]; f[3] += k.e3[a];
+        for (int i = 0; i < MPGM_DIM; i++)
+          for (int c = 0; c < MPGM_DIM; c++) f[MPGM_DIM * i + c] += k.e[MPGM_DIM * c + i][a];
       } else {
         double *e = batch_block(kb, loc[a], loc[b]);
-        e[0] += k.e0[a]; e[1] += k.e1[a]; e[2] += k.e2[a]; e[3] += k.e3[a];
+        for (int c = 0; c < MPGM_BLOCK; c++) e[c] += k.e[c][a];
       }
     }
   }
@@ -508,7 +591,9 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
     MPGM_ERROR(ctx, MPGM_ERR_INTERNAL,
                "step %ld: the sparsity pattern misses a coupling of the node clouds", pb->step + 1);
   }
+#if MPGM_DIM == 2 /* contact at surface points is plane strain (contact_points.c) */
   if (pb->fx.contact_points) mpgm_cpoints_assemble(pb, want_K, mass_only);
+#endif
   /* held contact components: equation delta = 0 (identity row, R = 0) */
   if (pb->fx.contact) {
     const mpgm_nodes *nd = &pb->nodes;
@@ -543,30 +628,29 @@ int mpgm_reactions(mpgm_problem *pb, double *r) {
   const mpgm_nodes *nd = &pb->nodes;
   const int inertia = pb->fx.inertia, lumped = pb->scene->lumped_mass;
   const double f = mpgm_gravity_factor(pb, pb->t + pb->dt);
-  /* 2-D only: gravity, a_p and the forces written out per component, as
-   * in point_residual (3-D: a third component) */
-  const double g[MPGM_DIM] = {pb->fx.gravity ? f * pb->scene->gravity[0] : 0.0,
-                              pb->fx.gravity ? f * pb->scene->gravity[1] : 0.0};
+  double g[MPGM_DIM]; /* per component as in point_residual */
+  for (int i = 0; i < MPGM_DIM; i++) g[i] = pb->fx.gravity ? f * pb->scene->gravity[i] : 0.0;
   memset(r, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   for (int p = 0; p < P->n; p++) {
     const double v = P->vol_t[p], m = P->mass[p];
     double s[MPGM_TENSOR], ap[MPGM_DIM] = {0};
     stress_on_dN(pb, p, s);
     if (inertia && !lumped)
-      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-        ap[0] += C->N[k] * nd->a_new[MPGM_DIM * C->node[k]];
-        ap[1] += C->N[k] * nd->a_new[MPGM_DIM * C->node[k] + 1];
-      }
+      for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++)
+        for (int i = 0; i < MPGM_DIM; i++) ap[i] += C->N[k] * nd->a_new[MPGM_DIM * C->node[k] + i];
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
-      if (!nd->fix[MPGM_DIM * I] && !nd->fix[MPGM_DIM * I + 1]) continue;
-      if (inertia && lumped) {
-        ap[0] = nd->a_new[MPGM_DIM * I];
-        ap[1] = nd->a_new[MPGM_DIM * I + 1];
+      int fixed = 0;
+      for (int i = 0; i < MPGM_DIM; i++) fixed |= nd->fix[MPGM_DIM * I + i];
+      if (!fixed) continue;
+      if (inertia && lumped)
+        for (int i = 0; i < MPGM_DIM; i++) ap[i] = nd->a_new[MPGM_DIM * I + i];
+      const double *dN = C->dN + MPGM_DIM * k, mN = m * C->N[k];
+      for (int i = 0; i < MPGM_DIM; i++) {
+        double si = s[MPGM_DIM * i] * dN[0];
+        for (int l = 1; l < MPGM_DIM; l++) si += s[MPGM_DIM * i + l] * dN[l];
+        r[MPGM_DIM * I + i] += v * si + mN * (ap[i] - g[i]);
       }
-      const double gx = C->dN[MPGM_DIM * k], gy = C->dN[MPGM_DIM * k + 1], mN = m * C->N[k];
-      r[MPGM_DIM * I] += v * (s[0] * gx + s[1] * gy) + mN * (ap[0] - g[0]);
-      r[MPGM_DIM * I + 1] += v * (s[2] * gx + s[3] * gy) + mN * (ap[1] - g[1]);
     }
   }
   for (int i = 0; i < MPGM_DIM * nd->n; i++)
