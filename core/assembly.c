@@ -377,6 +377,26 @@ static inline void column_stiffness(const asm_job *j, const pt_blocks *q, const 
 }
 #endif
 
+/* f += block a of k (f: row major DIM x DIM), or its transpose. In 2-D
+ * written out, so that the compiler pairs the four sums in two vector
+ * additions, as it does not with the loops unrolled. */
+static inline void block_add(double *f, const col_blocks *k, int a) {
+#if MPGM_DIM == 2
+  f[0] += k->e[0][a]; f[1] += k->e[1][a]; f[2] += k->e[2][a]; f[3] += k->e[3][a];
+#else
+  for (int c = 0; c < MPGM_BLOCK; c++) f[c] += k->e[c][a];
+#endif
+}
+
+static inline void block_add_transposed(double *f, const col_blocks *k, int a) {
+#if MPGM_DIM == 2
+  f[0] += k->e[0][a]; f[1] += k->e[2][a]; f[2] += k->e[1][a]; f[3] += k->e[3][a];
+#else
+  for (int i = 0; i < MPGM_DIM; i++)
+    for (int c = 0; c < MPGM_DIM; c++) f[MPGM_DIM * i + c] += k->e[MPGM_DIM * c + i][a];
+#endif
+}
+
 /* Column b of a point's blocks (places in r), rows a < na: block (a, b) of
  * the tangent (material + geometric + dynamic, or the mass block with
  * j->mass_only); with a lift, the term of a free row of node a and a
@@ -422,10 +442,7 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
     for (int b = 0; b < rw.n; b++) {
       const int na = half ? b + 1 : rw.n;
       point_column(j, C, &q, &rw, b, na, &k);
-      for (int a = 0; a < na; a++) {
-        double *e = kl + MPGM_BLOCK * (rw.ix[a] * nkg + rw.ix[b]);
-        for (int c = 0; c < MPGM_BLOCK; c++) e[c] += k.e[c][a];
-      }
+      for (int a = 0; a < na; a++) block_add(kl + MPGM_BLOCK * (rw.ix[a] * nkg + rw.ix[b]), &k, a);
     }
   }
   if (half) /* lower blocks: transposes of the upper ones */
@@ -464,14 +481,10 @@ static void assemble_point_batch(const asm_job *j, int p, const int *loc_all, do
     const int na = half ? b + 1 : rw.n;
     point_column(j, C, &q, &rw, b, na, &k);
     for (int a = 0; a < na; a++) {
-      if (half && loc[a] > loc[b]) { /* kept as block (b, a) = (a, b)^T */
-        double *f = batch_block(kb, loc[b], loc[a]);
-        for (int i = 0; i < MPGM_DIM; i++)
-          for (int c = 0; c < MPGM_DIM; c++) f[MPGM_DIM * i + c] += k.e[MPGM_DIM * c + i][a];
-      } else {
-        double *e = batch_block(kb, loc[a], loc[b]);
-        for (int c = 0; c < MPGM_BLOCK; c++) e[c] += k.e[c][a];
-      }
+      if (half && loc[a] > loc[b]) /* kept as block (b, a) = (a, b)^T */
+        block_add_transposed(batch_block(kb, loc[b], loc[a]), &k, a);
+      else
+        block_add(batch_block(kb, loc[a], loc[b]), &k, a);
     }
   }
 }
