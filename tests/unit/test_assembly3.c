@@ -55,18 +55,6 @@ static const double E_MOD = 7.31e6, NU = 0.2847, RHO = 1851.3;
 /* dynamic: dt such that m / (beta dt^2) is comparable to the stiffness */
 static const double DT = 8.53e-3;
 
-/* The core's 3-D build leaves out contact and the manufactured solutions
- * (still plane strain), which problem.c and points_eval.c name behind
- * effects these problems never have: weak stand-ins that only resolve the
- * names (a real definition, once there is one, takes their place). */
-__attribute__((weak)) int mpgm_mms_setup(mpgm_problem *pb) { return (int)(pb == NULL); }
-__attribute__((weak)) const double *mpgm_mms_forces(mpgm_problem *pb, double t) {
-  (void)pb, (void)t;
-  return NULL;
-}
-__attribute__((weak)) int mpgm_cpoints_setup(mpgm_problem *pb) { return (int)(pb == NULL); }
-__attribute__((weak)) void mpgm_cpoints_free(mpgm_cpoints *cp) { (void)cp; }
-
 /* Steps are never taken here: a tangent-making integrator without a step. */
 static const mpgm_integrator_type no_step = {.name = "test-no-step", .implicit = 1};
 
