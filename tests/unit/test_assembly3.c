@@ -39,6 +39,7 @@
 #include "mpgm_fem.h"
 #include "mpgm_mpm.h"
 #include "mpgm_test.h"
+#include "support_csc.h"
 
 #if MPGM_DIM != 3
 #error "test_assembly3.c checks the 3-D assembly: build it with MPGM_DIM = 3"
@@ -165,31 +166,6 @@ static void dense_tangent(const mpgm_problem *pb, int geo, int dyn, double *K) {
       }
     }
   }
-}
-
-/* The CSC as a dense ndof x ndof matrix (row major) and a mask of its
- * pattern; checks the structure. Returns 0 when the structure is valid. */
-static int csc_dense(const mpgm_csc *A, double *Kd, unsigned char *in, const char *name) {
-  const int n = A->n;
-  int ok = A->colptr[0] == 0 && A->colptr[n] == A->nnz, sorted = 1;
-  for (int j = 0; j < n && ok; j++) {
-    ok &= A->colptr[j + 1] >= A->colptr[j];
-    for (int t = A->colptr[j]; t < A->colptr[j + 1] && ok; t++) {
-      ok &= A->rowind[t] >= 0 && A->rowind[t] < n;
-      if (t > A->colptr[j]) sorted &= A->rowind[t] > A->rowind[t - 1];
-    }
-  }
-  mpgm_test(ok, "%s: CSC column pointers and row indices in range", name);
-  mpgm_test(sorted, "%s: CSC rows sorted and unique in every column", name);
-  if (!ok || !sorted) return 1;
-  memset(Kd, 0, sizeof(double) * (size_t)n * n);
-  memset(in, 0, (size_t)n * n);
-  for (int j = 0; j < n; j++)
-    for (int t = A->colptr[j]; t < A->colptr[j + 1]; t++) {
-      Kd[(size_t)A->rowind[t] * n + j] = A->val[t];
-      in[(size_t)A->rowind[t] * n + j] = 1;
-    }
-  return 0;
 }
 
 typedef struct bufs {
