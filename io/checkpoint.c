@@ -115,9 +115,10 @@ int mpgm_checkpoint_write(mpgm_ctx *ctx, const char *dir, const mpgm_problem *pb
 int mpgm_checkpoint_restore(mpgm_ctx *ctx, mpgm_checkpoint *ck, mpgm_problem *pb, mpgm_output *o,
                             const char *dir, mpgm_run_result *res) {
   int err = mpgm_problem_restore(pb, &ck->blob);
+  if (err) return mpgm_ck_named(ctx, ck->path, err); /* a problem half restored is not reported on */
   mpgm_report r;
   mpgm_problem_report(pb, &r);
-  if (!err && r.step != ck->step)
+  if (r.step != ck->step)
     err = mpgm_err_set(ctx, MPGM_ERR_INPUT, __FILE__, __LINE__,
                        "checkpoint: section 'core': "
                        "step %ld; section 'header' says %ld",

@@ -180,6 +180,10 @@ static int auto_restore(void *data, mpgm_ctx *ctx, mpgm_blob *b) {
              "checkpoint: section 'solver.auto': out of range (LU %d, Cholesky %d, "
              "hold %d of %d, %ld switches, %ld LU steps)",
              st.on_lu, st.has_chol, st.hold, st.hold_len, st.switches, st.lu_steps);
+  /* checked before anything changes: a refused section leaves the solver
+   * as it was (with a part in use, which the run's report reads) */
+  MPGM_CHECK(ctx, st.on_lu || st.has_chol, MPGM_ERR_INPUT,
+             "checkpoint: section 'solver.auto': Cholesky in use but absent");
   if (!st.has_chol) mpgm_solver_destroy(&d->chol); /* a matrix was not symmetric */
   if (st.on_lu && !d->lu) MPGM_CALL(mpgm_solver_create(ctx, &mpgm_solver_umfpack, &d->opts, &d->lu));
   d->active = st.on_lu ? d->lu : d->chol;

@@ -26,6 +26,7 @@
  * "backend:preset"; a preset for symmetric positive definite matrices
  * only (spd_only) skips the unsymmetric system.
  */
+#include "mpgm_blob.h"
 #include "mpgm_solver.h"
 #include "mpgm_test.h"
 
@@ -531,6 +532,37 @@ done:
 }
 
 /* Misuse through the wrappers and NULL destroys. */
+/* A checkpoint of "auto" whose part in use is a Cholesky it says it does
+ * not have (a fuzzed file: scripts/fuzz found it) is refused, and the
+ * solver keeps a part its name can be read from. The section's layout is
+ * auto.c's auto_state. */
+static void check_auto_restore(void) {
+  const struct {
+    int on_lu, has_chol, hold, hold_len;
+    long switches, lu_steps;
+  } st = {0, 0, 0, 0, 0, 0};
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_solver_opts o = mpgm_solver_opts_default();
+  mpgm_solver *s = NULL;
+  mpgm_blob b = {0};
+  const mpgm_solver_type *t = mpgm_solver_type_find("auto");
+  int e = t ? mpgm_solver_create(&ctx, t, &o, &s) : MPGM_ERR_INTERNAL;
+  char name[MPGM_BLOB_TAG] = "auto";
+  if (!e) e = mpgm_blob_put(&ctx, &b, "solver", name, sizeof name);
+  if (!e) e = mpgm_blob_put(&ctx, &b, "solver.auto", &st, sizeof st);
+  mpgm_test(e == 0, "auto: a checkpoint section made (%d)", e);
+  if (!e) {
+    e = mpgm_solver_restore(s, &ctx, &b);
+    mpgm_test(e == MPGM_ERR_INPUT && strstr(ctx.msg, "Cholesky in use but absent"),
+              "auto: Cholesky in use but absent is refused (%s)", ctx.msg);
+    const char *nm = mpgm_solver_name(s);
+    mpgm_test(nm && nm[0], "auto: still named after the refusal (%s)", nm ? nm : "NULL");
+  }
+  mpgm_blob_free(&b);
+  mpgm_solver_destroy(&s);
+}
+
 static void check_misuse(const mpgm_solver_type *t) {
   const char *nm = cur.name;
   mpgm_ctx ctx;
@@ -758,5 +790,6 @@ int main(void) {
       check_misuse(t);
     }
   }
+  check_auto_restore();
   return mpgm_test_summary();
 }
