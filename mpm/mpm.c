@@ -357,10 +357,18 @@ typedef struct {
 static int cell_point(void *arg, int p, mpgm_conn_task *t) {
   const shape_job *j = arg;
   const mpgm_grid *g = &j->d->g;
-  const mpgm_points *P = j->v->pts;
   const int nn = g->nn;
   if (mpgm_conn_task_room(t, nn)) return MPGM_ERR_NOMEM;
   const int k = t->n;
+#if MPGM_DIM == 3
+  /* in 3-D only the fe kind has cells, the grid's cubes: N and grad N
+   * from the local coordinates, no Jacobian */
+  mpgm_grid_cell(g, j->d->pcell[p], t->node + k, NULL); /* grid ids for now */
+  mpgm_fe_cube(j->d->pxi + MPGM_DIM * p, g->h, t->N + k, t->dN + MPGM_DIM * k);
+  t->n = k + nn;
+  return 0;
+#else
+  const mpgm_points *P = j->v->pts;
   double xn[MPGM_DIM * MPGM_FE_MAXNODE];
   mpgm_grid_cell(g, j->d->pcell[p], t->node + k, xn); /* grid ids for now */
   mpgm_shape_query q = {.n = nn, .xn = xn, .cell = g->cell};
@@ -376,6 +384,7 @@ static int cell_point(void *arg, int p, mpgm_conn_task *t) {
   }
   t->n = k + nn;
   return 0;
+#endif
 }
 
 /* A grid kind's functions at point p from the grid nodes that may reach

@@ -177,6 +177,17 @@ void mpgm_fe_ref(int cell, const double xi[3], double *N, double *dNdxi) {
   }
 }
 
+void mpgm_fe_cube(const double xi[3], double h, double *N, double *dN) {
+  const double c = 0.25 / h; /* 1/8 of the reference functions, times d xi / dx = 2 / h */
+  for (int a = 0; a < 8; a++) {
+    const double fs = 1.0 + hs[a] * xi[0], ft = 1.0 + ht[a] * xi[1], fu = 1.0 + hu[a] * xi[2];
+    N[a] = 0.125 * fs * ft * fu;
+    dN[3 * a] = c * hs[a] * ft * fu;
+    dN[3 * a + 1] = c * ht[a] * fs * fu;
+    dN[3 * a + 2] = c * hu[a] * fs * ft;
+  }
+}
+
 /* The n-point Gauss-Legendre rule on [-1, 1] (n = 1, 2, 3). */
 static int gauss_1d(int n, double *g, double *gw) {
   switch (n) {

@@ -270,6 +270,13 @@ int mpgm_fe_centres(int npts, double *xi, double *w);
  *  detJ (may be NULL) receives det(dx/dxi). MPGM_ERR_JACOBIAN if detJ <= 0. */
 int mpgm_fe_eval(int cell, const double *xn, const double xi[MPGM_DIM], double *N,
                  double *dN, double *detJ);
+#if MPGM_DIM == 3
+/** The H8 functions at xi of an axis-aligned cube of side h (a cell of the
+ *  structured grid): the N of mpgm_fe_ref and grad N = (2 / h) dN/dxi,
+ *  what mpgm_fe_eval gives on that cube (to round-off) without forming
+ *  and inverting its Jacobian. */
+void mpgm_fe_cube(const double xi[3], double h, double *N, double *dN);
+#endif
 /** Local coordinates of point x in a cell (Newton for Q4 and H8, exact for
  *  T3). Returns 0, or MPGM_ERR_SHAPE if the inversion does not converge. */
 int mpgm_fe_local(int cell, const double *xn, const double x[MPGM_DIM], double xi[MPGM_DIM]);

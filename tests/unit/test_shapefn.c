@@ -718,11 +718,34 @@ static void check_local_h8(void) {
             "worst %.1e)", fails, worst);
 }
 
+/* mpgm_fe_cube (the MPM grid's H8) against mpgm_fe_eval on the same cube
+ * of side h far from the origin, at random points of the cell. */
+static void check_cube_h8(rng *r) {
+  const double h = 0.02, x0[3] = {-3.5, 12.25, 0.75};
+  double xn[24], worst = 0.0;
+  for (int a = 0; a < 8; a++)
+    for (int d = 0; d < 3; d++) xn[3 * a + d] = x0[d] + 0.5 * h * (1.0 + node_xi(a, d));
+  for (int k = 0; k < 64; k++) {
+    double xi[3], N[8], dN[24], Nc[8], dNc[24];
+    for (int d = 0; d < 3; d++) xi[d] = uniform(r, -1.0, 1.0);
+    mpgm_fe_eval(MPGM_CELL_H8, xn, xi, N, dN, NULL);
+    mpgm_fe_cube(xi, h, Nc, dNc);
+    for (int a = 0; a < 8; a++) {
+      worst = fmax(worst, fabs(Nc[a] - N[a]));
+      for (int d = 0; d < 3; d++) worst = fmax(worst, h * fabs(dNc[3 * a + d] - dN[3 * a + d]));
+    }
+  }
+  mpgm_test(worst < 1e-12, "H8 cube of h = %g: mpgm_fe_cube = mpgm_fe_eval at 64 points "
+            "(worst |N|, h |grad N| difference %.1e)", h, worst);
+}
+
 static void check_h8(void) {
   const mpgm_shapefn_type *const *all = mpgm_shapefn_types();
   int ncell_kinds = 0;
   check_local_h8();
   check_rules_h8();
+  rng rc = {0x2545F4914F6CDD1DULL};
+  check_cube_h8(&rc);
   for (int it = 0; all[it]; it++) {
     const mpgm_shapefn_type *t = all[it];
     mpgm_test(t->name && mpgm_shapefn_type_find(t->name) == t && t->eval,
