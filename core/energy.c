@@ -60,16 +60,22 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
   e->work_int = pb->work_int;
   e->work_ext = pb->work_ext;
   e->kinetic = mpgm_kinetic_energy(P);
+  double mom[MPGM_DIM] = {0}, nmom[MPGM_DIM] = {0}; /* in registers, not through e */
+  const int nodes = pb->step > 0 && C->np == P->n + P->nprobe + P->nsurf;
   for (int p = 0; p < P->n; p++) {
     const double m = P->mass[p];
-    for (int d = 0; d < MPGM_DIM; d++) e->momentum[d] += m * P->v[MPGM_DIM * p + d];
+    for (int d = 0; d < MPGM_DIM; d++) mom[d] += m * P->v[MPGM_DIM * p + d];
     /* the nodes' momentum sum_I m_I v_I with the lumped masses m_I =
      * sum_p N_Ip m_p: summed over the points */
-    if (pb->step == 0 || C->np != P->n + P->nprobe + P->nsurf) continue;
+    if (!nodes) continue;
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
-      for (int d = 0; d < MPGM_DIM; d++) e->node_momentum[d] += m * C->N[k] * nd->v_new[MPGM_DIM * I + d];
+      for (int d = 0; d < MPGM_DIM; d++) nmom[d] += m * C->N[k] * nd->v_new[MPGM_DIM * I + d];
     }
+  }
+  for (int d = 0; d < MPGM_DIM; d++) {
+    e->momentum[d] += mom[d];
+    e->node_momentum[d] += nmom[d];
   }
   if (pb->step == 0) memcpy(e->node_momentum, e->momentum, sizeof e->momentum);
   e->total = e->kinetic + e->work_int - e->work_ext;

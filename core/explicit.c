@@ -81,16 +81,24 @@ static int explicit_create(mpgm_problem *pb, void **self) {
  * density [m/s]. */
 static double max_speed(const explicit_data *d, const mpgm_problem *pb) {
   const mpgm_points *P = &pb->pts;
+  /* maxima by comparisons, which pass over a NaN as fmax does (and are
+   * not library calls); in 3-D the largest |v|^2, whose root is the
+   * largest |v| (sqrt is monotone and correctly rounded) */
   double vmax = 0.0, c2max = 0.0;
   for (int p = 0; p < P->n; p++) {
     const double *v = P->v + MPGM_DIM * p;
 #if MPGM_DIM == 2
-    vmax = fmax(vmax, hypot(v[0], v[1]));
+    const double s = hypot(v[0], v[1]);
 #else
-    vmax = fmax(vmax, sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+    const double s = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
 #endif
-    c2max = fmax(c2max, d->mod[P->mat[p]] * P->vol[p] / P->mass[p]);
+    const double c2 = d->mod[P->mat[p]] * P->vol[p] / P->mass[p];
+    if (s > vmax) vmax = s;
+    if (c2 > c2max) c2max = c2;
   }
+#if MPGM_DIM == 3
+  vmax = sqrt(vmax);
+#endif
   return fmax(vmax, sqrt(c2max));
 }
 

@@ -133,7 +133,8 @@ void mpgm_grid_node(const mpgm_grid *g, int id, double X[MPGM_DIM]) {
 }
 
 void mpgm_grid_cell(const mpgm_grid *g, int c, int *nodes, double *xn) {
-  const int i = c % g->nx, j = (c / g->nx) % g->ny, k = c / (g->nx * g->ny);
+  const int q = c / g->nx, k = q / g->ny; /* two divisions for i, j, k */
+  const int i = c - q * g->nx, j = q - k * g->ny;
   const int w = g->nx + 1, l = w * (g->ny + 1);
   for (int t = 0; t < 2; t++) { /* the bottom face, then the top one */
     const int b = (k + t) * l;
