@@ -184,14 +184,25 @@ static inline void force_of(const node_job *j, const mpgm_points *P, const mpgm_
   }
 }
 
+#if MPGM_DIM == 3
+/* force_of as an entry function of the run sums (mpgm_run_scatter) */
+static void force_entry(const void *job, int p, int k, double *f) {
+  const node_job *j = job;
+  force_of(j, &j->pb->pts, &j->pb->conn, p, k, f);
+}
+#endif
+
 /* f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip) at task t's nodes. */
 static void force_task(void *arg, int t, int tid) {
   (void)tid;
   const node_job *j = arg;
-  const mpgm_points *P = &j->pb->pts;
   const mpgm_conn *C = &j->pb->conn;
   const int n = j->pb->nodes.n;
   const int i0 = mpgm_task_begin(n, j->ntask, t), i1 = mpgm_task_begin(n, j->ntask, t + 1);
+#if MPGM_DIM == 3
+  for (int I = i0; I < i1; I++) mpgm_run_gather(C, I, MPGM_DIM, force_entry, j, j->out + MPGM_DIM * I);
+#else
+  const mpgm_points *P = &j->pb->pts;
   for (int I = i0; I < i1; I++) {
     double sum[MPGM_DIM] = {0}, f[MPGM_DIM];
     for (int e = C->tptr[I]; e < C->tptr[I + 1]; e++) {
@@ -200,6 +211,7 @@ static void force_task(void *arg, int t, int tid) {
     }
     for (int c = 0; c < MPGM_DIM; c++) j->out[MPGM_DIM * I + c] = sum[c];
   }
+#endif
 }
 
 /* The same sums by one loop over the points (mpgm_conn_gathers). */
@@ -207,6 +219,10 @@ static void force_scatter(const node_job *j) {
   const mpgm_points *P = &j->pb->pts;
   const mpgm_conn *C = &j->pb->conn;
   memset(j->out, 0, sizeof(double) * MPGM_DIM * (size_t)j->pb->nodes.n);
+#if MPGM_DIM == 3
+  mpgm_run_scatter(C, P->n, MPGM_DIM, force_entry, j, j->out);
+  return;
+#endif
   for (int p = 0; p < P->n; p++)
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       double f[MPGM_DIM];
@@ -423,6 +439,14 @@ static inline void predictor_at(const node_job *j, int I) {
   }
 }
 
+#if MPGM_DIM == 3
+/* predictor_of as an entry function of the run sums */
+static void predictor_entry(const void *job, int p, int k, double *q) {
+  const node_job *j = job;
+  predictor_of(j, &j->pb->pts, &j->pb->conn, p, k, q);
+}
+#endif
+
 /* npc's predictor at task t's nodes, gathered through the transpose. */
 static void predictor_task(void *arg, int t, int tid) {
   (void)tid;
@@ -432,6 +456,12 @@ static void predictor_task(void *arg, int t, int tid) {
   const int n = j->pb->nodes.n;
   const int i0 = mpgm_task_begin(n, j->ntask, t), i1 = mpgm_task_begin(n, j->ntask, t + 1);
   for (int I = i0; I < i1; I++) {
+#if MPGM_DIM == 3
+    (void)P;
+    mpgm_run_gather(C, I, MPGM_DIM, predictor_entry, j, j->out + MPGM_DIM * I);
+    predictor_at(j, I);
+    continue;
+#endif
     double sum[MPGM_DIM] = {0}, q[MPGM_DIM];
     for (int e = C->tptr[I]; e < C->tptr[I + 1]; e++) {
       predictor_of(j, P, C, C->tp[e], C->tk[e], q);
@@ -448,6 +478,11 @@ static void predictor_scatter(const node_job *j) {
   const mpgm_conn *C = &j->pb->conn;
   const int n = j->pb->nodes.n;
   memset(j->out, 0, sizeof(double) * MPGM_DIM * (size_t)n);
+#if MPGM_DIM == 3
+  mpgm_run_scatter(C, P->n, MPGM_DIM, predictor_entry, j, j->out);
+  for (int I = 0; I < n; I++) predictor_at(j, I);
+  return;
+#endif
   for (int p = 0; p < P->n; p++)
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       double q[MPGM_DIM];

@@ -7,6 +7,8 @@
 #ifndef MPGM_DATA_H
 #define MPGM_DATA_H
 
+#include <string.h>
+
 #include "mpgm_base.h"
 #include "mpgm_material.h"
 #include "mpgm_pool.h"
@@ -263,6 +265,80 @@ int mpgm_conn_transpose(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnode);
  *  longer). Both give the same bits. */
 static inline int mpgm_conn_gathers(const mpgm_pool *pool, const mpgm_conn *c, int np) {
   return mpgm_pool_size(pool) > 1 && c->ptr[np] <= 16L * np;
+}
+/* ---- run sums (3-D): the points of one cell follow one another in
+ * memory (the MPM front end keeps them in cell order) and share its node
+ * list. A nodal sum over such a run of points adds the run's values up
+ * first and reaches each node once per run, not once per point: 8 points
+ * per H8 cell make 8 times fewer read-modify-writes of the nodal arrays.
+ * The scatter (one loop over the points) and the gather (node by node
+ * through the transpose, on the pool's threads) add in the same order and
+ * give the same bits. The plane-strain loops keep their point-by-point
+ * sums, whose bits the 2-D golden records hold. */
+#define MPGM_RUN_NODES 32 /**< longest list a run may have (more: runs of 1)   */
+#define MPGM_RUN_VALUES 8 /**< most values an entry may bring to its node      */
+/* the sums are inlined into each caller, with its entry function */
+#if defined(__GNUC__)
+#define MPGM_RUN_INLINE static inline __attribute__((always_inline))
+#else
+#define MPGM_RUN_INLINE static inline
+#endif
+/** The values (w of them) that entry k of point p brings to its node. */
+typedef void (*mpgm_entry_fn)(const void *job, int p, int k, double *val);
+/** Whether point p (> 0) continues the run of point p - 1: the same nodes
+ *  in the same order, at most MPGM_RUN_NODES of them. */
+MPGM_RUN_INLINE int mpgm_conn_same(const mpgm_conn *c, int p) {
+  const int k = c->ptr[p], n = c->ptr[p + 1] - k;
+  return n <= MPGM_RUN_NODES && n == k - c->ptr[p - 1] &&
+         memcmp(c->node + k, c->node + k - n, sizeof(int) * (size_t)n) == 0;
+}
+/** out[w I + i] += the sums over the points [0, np) of fn's values at
+ *  each node I (out zeroed by the caller), by runs. */
+MPGM_RUN_INLINE void mpgm_run_scatter(const mpgm_conn *c, int np, int w, mpgm_entry_fn fn,
+                                    const void *job, double *out) {
+  double sum[MPGM_RUN_NODES * MPGM_RUN_VALUES], v[MPGM_RUN_VALUES];
+  for (int p = 0; p < np;) {
+    const int k0 = c->ptr[p], n = c->ptr[p + 1] - k0;
+    if (n > MPGM_RUN_NODES) { /* a run of one */
+      for (int k = k0; k < k0 + n; k++) {
+        fn(job, p, k, v);
+        for (int i = 0; i < w; i++) out[w * c->node[k] + i] += v[i];
+      }
+      p++;
+      continue;
+    }
+    memset(sum, 0, sizeof(double) * (size_t)(w * n));
+    int q = p;
+    do {
+      for (int a = 0; a < n; a++) {
+        fn(job, q, c->ptr[q] + a, v);
+        for (int i = 0; i < w; i++) sum[w * a + i] += v[i];
+      }
+      q++;
+    } while (q < np && mpgm_conn_same(c, q));
+    for (int a = 0; a < n; a++)
+      for (int i = 0; i < w; i++) out[w * c->node[k0 + a] + i] += sum[w * a + i];
+    p = q;
+  }
+}
+/** The same sums at node I alone, through the transpose (out: w values). */
+MPGM_RUN_INLINE void mpgm_run_gather(const mpgm_conn *c, int I, int w, mpgm_entry_fn fn,
+                                   const void *job, double *out) {
+  double part[MPGM_RUN_VALUES] = {0}, v[MPGM_RUN_VALUES];
+  int prev = -2;
+  for (int i = 0; i < w; i++) out[i] = 0.0;
+  for (int e = c->tptr[I]; e < c->tptr[I + 1]; e++) {
+    const int p = c->tp[e];
+    if (prev >= 0 && !(p == prev + 1 && mpgm_conn_same(c, p))) /* a new run */
+      for (int i = 0; i < w; i++) {
+        out[i] += part[i];
+        part[i] = 0.0;
+      }
+    fn(job, p, c->tk[e], v);
+    for (int i = 0; i < w; i++) part[i] += v[i];
+    prev = p;
+  }
+  for (int i = 0; i < w; i++) out[i] += part[i];
 }
 /** Tasks for n items in ranges of at least `chunk` (at most
  *  MPGM_CONN_TASKS); task t has [n t / ntask, n (t + 1) / ntask). */

@@ -11,12 +11,30 @@
 #include "mpgm_discretisation.h"
 
 
+#if MPGM_DIM == 3
+typedef struct {
+  const mpgm_conn *c;
+  const double *pmass;
+} light_job;
+
+/* the mass N_Ip m_p that entry k (point p) brings to its node */
+static void light_entry(const void *job, int p, int k, double *m) {
+  const light_job *j = job;
+  m[0] = j->c->N[k] * j->pmass[p];
+}
+#endif
+
 int mpgm_light_nodes(const mpgm_conn *c, int np, const double *pmass, int nnode,
                      const unsigned char *eligible, double min_node_mass, double *mass,
                      unsigned char *light) {
   memset(mass, 0, sizeof(double) * (size_t)nnode);
+#if MPGM_DIM == 3 /* by runs of points (mpgm_run_scatter) */
+  const light_job j = {c, pmass};
+  mpgm_run_scatter(c, np, 1, light_entry, &j, mass);
+#else
   for (int p = 0; p < np; p++)
     for (int k = c->ptr[p]; k < c->ptr[p + 1]; k++) mass[c->node[k]] += c->N[k] * pmass[p];
+#endif
   double mmax = 0.0;
   for (int i = 0; i < nnode; i++) mmax = fmax(mmax, mass[i]);
   const double cut = min_node_mass * mmax;

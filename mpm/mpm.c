@@ -7,53 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mpgm_cpls.h"
-#include "mpgm_discretisation.h"
-#include "mpgm_grid.h"
-#include "mpgm_kdtree.h"
-
-/* Written for both dimensions. The meshfree kinds (clouds of grid nodes
- * over a kd-tree), CPLS and the surface points of contact at points are
- * plane strain only (MPM_PLANE_ONLY: their code is compiled out of a 3-D
- * build, whose scenes cannot ask for them). */
-#define MPM_PLANE_ONLY (MPGM_DIM == 2)
-
-typedef struct mpm_data {
-  mpgm_grid g;
-  int *pcell;          /**< cell of every point (material, then probes)    */
-  double *pxi;         /**< local coordinates in that cell, MPGM_DIM per point */
-  int *gmap;           /**< grid node -> node of the step, or -1           */
-  unsigned char *cact; /**< 1 when the cell holds a material point         */
-  unsigned char *gfix; /**< MPGM_DIM per grid node: fixed by a boundary    */
-  signed char *gcontact; /**< per grid node: contact code (mpgm_nodes.contact) */
-  unsigned char *gfree;  /**< per grid node: a contact node the last step
-                              ended with released                        */
-  int *lglob;            /**< node of the step -> grid node               */
-  /* the last step's final node set, fixity and active cells: when a step
-   * has the same, the matrix pattern is the same (only the maps change) */
-  int pn;
-  int *plglob;
-  mpgm_conn plists;    /**< clouds: the lists of the last begin_step         */
-  mpgm_conn carry;     /**< scratch of mpgm_tracers_carry                    */
-  unsigned char *pfix, *pact;
-  double *gm;          /**< per grid node: mass (the light-node rule)       */
-  unsigned char *light;/**< per grid node: light (no equation this step)    */
-  /* meshfree shape functions (shape.kind mls / lme): clouds of grid nodes;
-   * grid kinds (ugimp) take the 4 x 4 grid nodes around a point directly */
-  int meshfree;
-  int gridfn;          /**< a grid kind: no clouds, no kd-tree              */
-  mpgm_shape_params gpar; /**< its parameters (h, the particle half-width)  */
-  double *gx;          /**< the grid nodes' positions, MPGM_DIM each [m]    */
-  mpgm_kdtree *tree;   /**< over gx: the candidates of the clouds           */
-  mpgm_clouds *clouds; /**< the clouds and their shape functions            */
-  int *perm;           /**< reorder of the particles (mpgm_points_sort)      */
-  double *pscr;        /**< scratch, MPGM_DIM per point                     */
-  long step;           /**< steps begun (for messages)                     */
-  mpgm_cpls *cpls;     /**< CPLS (shape.kind cpls): the nodal velocities by
-                            least squares, its workspace                  */
-  mpgm_conn_par par_build; /**< staging of the functions built in parallel */
-  mpgm_conn_task tail; /**< staging of a tracer's functions                 */
-} mpm_data;
+#include "mpm_private.h"
 
 static void mpm_destroy(void *self) {
   mpm_data *d = self;
@@ -81,6 +35,7 @@ static void mpm_destroy(void *self) {
 #endif
   free(d->perm);
   free(d->pscr);
+  free(d->sum);
   mpgm_conn_par_free(&d->par_build);
   mpgm_conn_task_free(&d->tail);
   free(d);
@@ -538,98 +493,6 @@ static void step_nodes(const mpgm_fe_view *v, mpm_data *d) {
   for (int k = 0; k < C->ptr[C->np]; k++) C->node[k] = d->gmap[C->node[k]];
 }
 
-typedef struct {
-  const mpgm_fe_view *v;
-  mpm_data *d;
-  int ntask;
-} project_job;
-
-/* The projection at the nodes of task t's range, gathered through the
- * transpose (the same sums as a loop over the points). */
-static void project_task(void *arg, int t, int tid) {
-  (void)tid;
-  const project_job *j = arg;
-  const mpgm_points *P = j->v->pts;
-  mpgm_nodes *nd = j->v->nodes;
-  const mpgm_conn *C = j->v->conn;
-  const int n = nd->n, inertia = j->v->fx->inertia;
-  const int i0 = mpgm_task_begin(n, j->ntask, t), i1 = mpgm_task_begin(n, j->ntask, t + 1);
-  for (int I = i0; I < i1; I++) {
-    double m = 0.0, q[MPGM_DIM] = {0}, f[MPGM_DIM] = {0};
-    for (int e = C->tptr[I]; e < C->tptr[I + 1]; e++) {
-      const int p = C->tp[e];
-      const double wm = C->N[C->tk[e]] * P->mass[p];
-      m += wm;
-      if (inertia) /* momentum and inertia force */
-        for (int c = 0; c < MPGM_DIM; c++) {
-          q[c] += wm * P->v[MPGM_DIM * p + c];
-          f[c] += wm * P->a[MPGM_DIM * p + c];
-        }
-    }
-    nd->mass[I] = m;
-    for (int c = 0; c < MPGM_DIM; c++) {
-      nd->v[MPGM_DIM * I + c] = inertia ? q[c] / m : 0.0;
-      nd->a[MPGM_DIM * I + c] = inertia ? f[c] / m : 0.0;
-    }
-  }
-}
-
-/* The projection by one loop over the points (the sums of project_task). */
-static void project_scatter(const mpgm_fe_view *v) {
-  const mpgm_points *P = v->pts;
-  mpgm_nodes *nd = v->nodes;
-  const mpgm_conn *C = v->conn;
-  const int n = nd->n, inertia = v->fx->inertia;
-  memset(nd->mass, 0, sizeof(double) * (size_t)n);
-  memset(nd->v, 0, sizeof(double) * MPGM_DIM * (size_t)n);
-  memset(nd->a, 0, sizeof(double) * MPGM_DIM * (size_t)n);
-  for (int p = 0; p < P->n; p++)
-    for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
-      const int I = C->node[k];
-      const double wm = C->N[k] * P->mass[p];
-      nd->mass[I] += wm;
-      if (inertia) /* momentum and inertia force */
-        for (int c = 0; c < MPGM_DIM; c++) {
-          nd->v[MPGM_DIM * I + c] += wm * P->v[MPGM_DIM * p + c];
-          nd->a[MPGM_DIM * I + c] += wm * P->a[MPGM_DIM * p + c];
-        }
-    }
-  for (int i = 0; i < MPGM_DIM * n && inertia; i++) {
-    nd->v[i] /= nd->mass[i / MPGM_DIM];
-    nd->a[i] /= nd->mass[i / MPGM_DIM];
-  }
-}
-
-/* Projection (38)-(41) with the final shape functions: mass, momentum and
- * inertia force of the particles onto the nodes (to round-off), the nodal
- * velocity and acceleration (node by node on the pool's threads, or one
- * loop over the points: mpgm_conn_gathers); CPLS replaces the velocity by
- * its least-squares reconstruction (cpls.c). */
-static int project(const mpgm_fe_view *v, mpm_data *d) {
-  const mpgm_points *P = v->pts;
-  mpgm_nodes *nd = v->nodes;
-  const int n = nd->n;
-  if (mpgm_conn_gathers(v->pool, v->conn, P->n)) {
-    MPGM_CALL(mpgm_conn_transpose(v->ctx, v->conn, P->n, n));
-    project_job j = {v, d, mpgm_ntask(n, 256)};
-    mpgm_pool_run(v->pool, j.ntask, project_task, &j);
-  } else {
-    project_scatter(v);
-  }
-  if (!v->fx->inertia || !v->scene->shape->velocity_ls) return 0;
-#if MPM_PLANE_ONLY
-  /* CPLS: the velocities by least squares from centres and corners */
-  long lower = 0, kept = 0;
-  MPGM_CALL(mpgm_cpls_velocities(v->ctx, &d->cpls, &d->g, P, v->scene->shape_par.order, n,
-                                 d->lglob, nd->v, &lower, &kept));
-  mpgm_count(v->ctx, MPGM_C_CPLS_LINEAR, lower);
-  mpgm_count(v->ctx, MPGM_C_CPLS_PROJECTED, kept);
-  return 0;
-#else
-  (void)d;
-  MPGM_ERROR(v->ctx, MPGM_ERR_INTERNAL, "CPLS in a 3-D build");
-#endif
-}
 
 /* FE: the same active cells, nodes and fixity give the same pattern (new
  * maps only); clouds change with every particle move. */
@@ -692,7 +555,7 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   step_nodes(v, d);
   /* probes and surface points without functions move with the material */
   MPGM_CALL(mpgm_tracers_carry(v, v->conn, &d->carry));
-  MPGM_CALL(project(v, d));
+  MPGM_CALL(mpgm_mpm_project(v, d));
   return pattern_version(v, d);
 }
 

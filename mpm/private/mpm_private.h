@@ -1,0 +1,60 @@
+/* mpm_private.h -- the MPM front end's state, shared by its files
+ * (mpm.c: the front end; project.c: the projection to the nodes). */
+#ifndef MPGM_MPM_PRIVATE_H
+#define MPGM_MPM_PRIVATE_H
+
+#include "mpgm_mpm.h"
+#include "mpgm_cpls.h"
+#include "mpgm_discretisation.h"
+#include "mpgm_grid.h"
+#include "mpgm_kdtree.h"
+
+/* Written for both dimensions. The meshfree kinds (clouds of grid nodes
+ * over a kd-tree), CPLS and the surface points of contact at points are
+ * plane strain only (MPM_PLANE_ONLY: their code is compiled out of a 3-D
+ * build, whose scenes cannot ask for them). */
+#define MPM_PLANE_ONLY (MPGM_DIM == 2)
+
+typedef struct mpm_data {
+  mpgm_grid g;
+  int *pcell;          /**< cell of every point (material, then probes)    */
+  double *pxi;         /**< local coordinates in that cell, MPGM_DIM per point */
+  int *gmap;           /**< grid node -> node of the step, or -1           */
+  unsigned char *cact; /**< 1 when the cell holds a material point         */
+  unsigned char *gfix; /**< MPGM_DIM per grid node: fixed by a boundary    */
+  signed char *gcontact; /**< per grid node: contact code (mpgm_nodes.contact) */
+  unsigned char *gfree;  /**< per grid node: a contact node the last step
+                              ended with released                        */
+  int *lglob;            /**< node of the step -> grid node               */
+  /* the last step's final node set, fixity and active cells: when a step
+   * has the same, the matrix pattern is the same (only the maps change) */
+  int pn;
+  int *plglob;
+  mpgm_conn plists;    /**< clouds: the lists of the last begin_step         */
+  mpgm_conn carry;     /**< scratch of mpgm_tracers_carry                    */
+  unsigned char *pfix, *pact;
+  double *gm;          /**< per grid node: mass (the light-node rule)       */
+  unsigned char *light;/**< per grid node: light (no equation this step)    */
+  /* meshfree shape functions (shape.kind mls / lme): clouds of grid nodes;
+   * grid kinds (ugimp) take the 4 x 4 grid nodes around a point directly */
+  int meshfree;
+  int gridfn;          /**< a grid kind: no clouds, no kd-tree              */
+  mpgm_shape_params gpar; /**< its parameters (h, the particle half-width)  */
+  double *gx;          /**< the grid nodes' positions, MPGM_DIM each [m]    */
+  mpgm_kdtree *tree;   /**< over gx: the candidates of the clouds           */
+  mpgm_clouds *clouds; /**< the clouds and their shape functions            */
+  int *perm;           /**< reorder of the particles (mpgm_points_sort)      */
+  double *pscr;        /**< scratch, MPGM_DIM per point                     */
+  long step;           /**< steps begun (for messages)                     */
+  mpgm_cpls *cpls;     /**< CPLS (shape.kind cpls): the nodal velocities by
+                            least squares, its workspace                  */
+  mpgm_conn_par par_build; /**< staging of the functions built in parallel */
+  mpgm_conn_task tail; /**< staging of a tracer's functions                 */
+  double *sum;         /**< 3-D: scratch of the projection's run sums        */
+  int nsum;            /**< nodes sum has room for                           */
+} mpm_data;
+
+/* Projection (38)-(41) with the final shape functions (project.c). */
+int mpgm_mpm_project(const mpgm_fe_view *v, mpm_data *d);
+
+#endif
