@@ -162,7 +162,7 @@ static int initial_acceleration(mpgm_problem *pb) {
   MPGM_CALL(mpgm_body_force(pb, 0.0)); /* the first step starts at t = 0 */
   MPGM_CALL(mpgm_eval_points(pb, 1));
   MPGM_CALL(mpgm_assemble_mass(pb));
-  if (!pb->solver->analysed) MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));
+  MPGM_CALL(mpgm_problem_analyse(pb));
   pb->factor_valid = 0; /* the factorisation is M's, not the tangent's */
   /* a composite's part in use, without its fallback: Cholesky refusing M
    * means M is singular, and the lumped mass is used */

@@ -335,6 +335,14 @@ static int keep_factor(const mpgm_problem *pb, const mpgm_newton *nt) {
   return 0;
 }
 
+int mpgm_problem_analyse(mpgm_problem *pb) {
+  if (pb->solver->analysed) return 0;
+  const mpgm_nodes *nd = &pb->nodes;
+  pb->K_layout = (mpgm_dof_layout){MPGM_DIM, nd->n, nd->dof, nd->x};
+  pb->K.layout = &pb->K_layout;
+  return mpgm_solver_analyse(pb->solver, pb->ctx, &pb->K, pb->perm);
+}
+
 int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *sc = pb->scene;
@@ -346,7 +354,7 @@ int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
     MPGM_CALL(mpgm_eval_points(pb, 1));
     MPGM_CALL(mpgm_assemble(pb, 1));
   }
-  if (!pb->solver->analysed) MPGM_CALL(mpgm_solver_analyse(pb->solver, ctx, &pb->K, pb->perm));
+  MPGM_CALL(mpgm_problem_analyse(pb));
   /* observers (output.matrices): the system this iteration solves
    * (modified Newton reusing a factorisation: K holds the factorised
    * values still, as K is assembled only to be factorised) */

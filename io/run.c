@@ -86,6 +86,8 @@ static void counts_json(cJSON *c, const mpgm_problem *pb, const mpgm_report *r, 
     if (r->solver_stats.flops > 0) cJSON_AddNumberToObject(c, "factor_flops", r->solver_stats.flops);
     if (r->solver_stats.mem_peak > 0)
       cJSON_AddNumberToObject(c, "solver_memory_peak", r->solver_stats.mem_peak);
+    if (r->solver_stats.block_size > 0)
+      cJSON_AddNumberToObject(c, "solver_block_size", r->solver_stats.block_size);
   }
   if (r->solver_iterative)
     cJSON_AddNumberToObject(c, "linear_iterations", (double)ctx->count[MPGM_C_LINEAR_ITERATIONS]);

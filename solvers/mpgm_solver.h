@@ -18,6 +18,18 @@
 extern "C" {
 #endif
 
+/** Where the equations of a matrix are (optional, with mpgm_csc.layout):
+ *  the node and component of each, the nodes' positions. Backends whose
+ *  preconditioners use it read it at analyse: PETSc's GAMG takes the
+ *  block size (dim) and the rigid-body modes as its near-null space. */
+typedef struct mpgm_dof_layout {
+  int dim;          /**< components per node: the block size (2 or 3)   */
+  int nnode;        /**< nodes                                          */
+  const int *dof;   /**< dim per node: the equation of each component,
+                         -1 when it is fixed (no equation)              */
+  const double *x;  /**< dim per node: the nodes' positions [m]         */
+} mpgm_dof_layout;
+
 /** Compressed sparse column matrix (0-based), borrowed by the backends. */
 typedef struct mpgm_csc {
   int n;          /**< rows = columns                          */
@@ -26,6 +38,8 @@ typedef struct mpgm_csc {
   int *rowind;    /**< nnz row indices, sorted in each column  */
   double *val;    /**< nnz values                              */
   int symmetric;  /**< 1 when the values are symmetric         */
+  const mpgm_dof_layout *layout; /**< NULL, or the equations' nodes and
+                     components (the core's tangents and masses)  */
 } mpgm_csc;
 
 /** Statistics a backend reports after factor (and solve). */
@@ -40,6 +54,10 @@ typedef struct mpgm_solver_stats {
                           solve (0 for direct backends)                  */
   long switches;     /**< composite "auto": falls from Cholesky to LU    */
   long fallback_steps; /**< composite "auto": steps solved with LU       */
+  int block_size;    /**< the block size the preconditioner was given
+                          (PETSc's GAMG with the matrix's layout: its
+                          components per node, with the rigid-body near-
+                          null space); 0: none                          */
 } mpgm_solver_stats;
 
 /** Options of the backends (the scene's solver block). A backend reads

@@ -146,6 +146,8 @@ struct mpgm_problem {
                           the run continues its step control and result */
   /* linear system */
   mpgm_csc K;
+  mpgm_dof_layout K_layout; /**< K's equations: nodes.dof and nodes.x, set
+                          before each analyse (mpgm_problem_analyse)    */
   int pattern_version; /**< conn.version the pattern was built for      */
   int graph_version; /**< conn.version the groups and node graph are of */
   int map_version;   /**< conn.map_version the scatter maps were built for */
@@ -406,6 +408,10 @@ int mpgm_newton_test(mpgm_problem *pb, const mpgm_newton *nt, int *done);
 /** One correction: the observers see K delta = R; factorise (or reuse the
  *  factorisation, modified Newton), solve, du += delta. */
 int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt);
+/** Analyse K's pattern in the solver unless it is analysed, with its
+ *  layout (the nodes' equations and positions: block size and near-null
+ *  space for the backends that use them). */
+int mpgm_problem_analyse(mpgm_problem *pb);
 
 /** Active-set update of unilateral contact at the current increments
  *  (contact_nodes.c). Returns a mask of what changed: 1 contact nodes,

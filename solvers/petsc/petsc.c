@@ -65,6 +65,7 @@
  */
 #include "mpgm_petsc_options.h"
 #include "mpgm_solver.h"
+#include "pt_blocks.h"
 
 #include <ctype.h>
 #include <math.h>
@@ -81,12 +82,15 @@ typedef struct pt_data {
   int nopt;              /**< options of solver.petsc in the database       */
   char **optname;        /**< their names, with the prefix (nopt)           */
   int n, nnz;            /**< order and entries of the analysed pattern     */
+  int nf;                /**< order of PETSc's matrix: n, or the block form's */
+  pt_blocks blk;         /**< GAMG with a layout: the block form (bs > 0)   */
+  double *xw;            /**< the block form's solution (nf)                 */
   PetscInt *ia, *ja;     /**< AIJ pattern (n + 1, nnz), sorted per row       */
   PetscScalar *a;        /**< AIJ values (nnz)                               */
   int *map;              /**< column entry k -> its AIJ slot (nnz)           */
   int *diag;             /**< column entry of A_jj, -1 if absent (n)         */
   PetscInt *fill;        /**< scratch of analyse (n)                         */
-  double *bw;            /**< copy of b (b and x may alias)                  */
+  double *bw;            /**< copy of b (b and x may alias; nf)              */
   Mat A;                 /**< AIJ on ia, ja, a                               */
   Vec b, x;              /**< vectors without arrays of their own            */
   Vec r;                 /**< the true residual b - A x                      */
@@ -246,11 +250,13 @@ static void release(pt_data *d) {
   if (d->r) VecDestroy(&d->r);
   free(d->ia); free(d->ja); free(d->a); free(d->map); free(d->diag); free(d->fill);
   free(d->bw);
+  free(d->xw);
+  pt_blocks_free(&d->blk);
   d->ia = d->ja = d->fill = NULL;
   d->a = NULL;
   d->map = d->diag = NULL;
-  d->bw = NULL;
-  d->n = d->nnz = 0;
+  d->bw = d->xw = NULL;
+  d->n = d->nnz = d->nf = 0;
   d->ready = 0;
 }
 
@@ -319,32 +325,76 @@ static int make_ksp(mpgm_ctx *ctx, pt_data *d, int symmetric) {
   return MPGM_OK;
 }
 
-/* The AIJ pattern and the KSP of A's pattern (perm is not used: PETSc's
- * preconditioners order for themselves). */
+/* 1 when the options choose GAMG as the preconditioner (then a matrix
+ * with a layout goes to PETSc in its block form, pt_blocks.h). */
+static int wants_blocks(mpgm_ctx *ctx, const pt_data *d, int *yes) {
+  char pc[64] = "";
+  PetscBool set = PETSC_FALSE;
+  PT_TRY(ctx, PetscOptionsGetString(NULL, d->prefix, "-pc_type", pc, sizeof pc, &set),
+         MPGM_ERR_SOLVER, "PetscOptionsGetString");
+  *yes = set && strcasecmp(pc, PCGAMG) == 0;
+  return MPGM_OK;
+}
+
+/* The block form's block size and near-null space: the rigid-body modes
+ * of the rows' node positions (3 in 2-D, 6 in 3-D). */
+static int block_setup(mpgm_ctx *ctx, pt_data *d) {
+  Vec xy;
+  MatNullSpace nsp;
+  PT_TRY(ctx, MatSetBlockSize(d->A, d->blk.bs), MPGM_ERR_SOLVER, "MatSetBlockSize");
+  PT_TRY(ctx, VecCreateSeqWithArray(PETSC_COMM_SELF, d->blk.bs, d->nf, d->blk.coords, &xy),
+         MPGM_ERR_SOLVER, "VecCreateSeqWithArray (coordinates)");
+  PetscErrorCode e = MatNullSpaceCreateRigidBody(xy, &nsp);
+  VecDestroy(&xy);
+  if (e) return fail(ctx, e, MPGM_ERR_SOLVER, "MatNullSpaceCreateRigidBody");
+  e = MatSetNearNullSpace(d->A, nsp);
+  MatNullSpaceDestroy(&nsp);
+  if (e) return fail(ctx, e, MPGM_ERR_SOLVER, "MatSetNearNullSpace");
+  return MPGM_OK;
+}
+
+/* The AIJ pattern of A (or of its block form: GAMG chosen and A's layout
+ * given) and its KSP (perm is not used: PETSc's preconditioners order for
+ * themselves). */
 static int pt_analyse(void *data, mpgm_ctx *ctx, const mpgm_csc *A, const int *perm) {
   (void)perm;
   pt_data *d = data;
   const int n = A->n, nnz = A->nnz;
   release(d);
-  MPGM_ALLOC(ctx, d->ia, n + 1);
-  MPGM_ALLOC(ctx, d->ja, nnz > 0 ? nnz : 1);
-  MPGM_ALLOC(ctx, d->a, nnz > 0 ? nnz : 1);
+  int blocks = 0;
+  if (A->layout && A->layout->dim > 1) MPGM_CALL(wants_blocks(ctx, d, &blocks));
+  if (blocks) {
+    char why[160];
+    const int err = pt_blocks_build(&d->blk, A->layout, n, why, sizeof why);
+    if (err) MPGM_ERROR(ctx, err, "petsc: %s", why);
+  }
+  const int nf = blocks ? d->blk.nf : n, nfix = blocks ? d->blk.nfix : 0;
+  MPGM_ALLOC(ctx, d->ia, nf + 1);
+  MPGM_ALLOC(ctx, d->ja, nnz + nfix > 0 ? nnz + nfix : 1);
+  MPGM_ALLOC(ctx, d->a, nnz + nfix > 0 ? nnz + nfix : 1);
   MPGM_ALLOC(ctx, d->map, nnz > 0 ? nnz : 1);
   MPGM_ALLOC(ctx, d->diag, n);
-  MPGM_ALLOC(ctx, d->fill, n);
-  MPGM_ALLOC(ctx, d->bw, n);
-  to_rows(d, A);
+  MPGM_ALLOC(ctx, d->fill, nf);
+  MPGM_ALLOC(ctx, d->bw, nf);
+  if (blocks) {
+    MPGM_ALLOC(ctx, d->xw, nf);
+    pt_blocks_rows(&d->blk, A, d->ia, d->ja, d->map, d->diag, d->fill);
+  } else {
+    to_rows(d, A);
+  }
   d->n = n;
+  d->nf = nf;
   d->nnz = nnz;
-  PT_TRY(ctx, MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, n, n, d->ia, d->ja, d->a, &d->A),
+  PT_TRY(ctx, MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, nf, nf, d->ia, d->ja, d->a, &d->A),
          MPGM_ERR_SOLVER, "MatCreateSeqAIJWithArrays");
+  if (blocks) MPGM_CALL(block_setup(ctx, d));
   if (A->symmetric)
     PT_TRY(ctx, MatSetOption(d->A, MAT_SYMMETRIC, PETSC_TRUE), MPGM_ERR_SOLVER, "MatSetOption");
-  PT_TRY(ctx, VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, NULL, &d->b), MPGM_ERR_SOLVER,
+  PT_TRY(ctx, VecCreateSeqWithArray(PETSC_COMM_SELF, 1, nf, NULL, &d->b), MPGM_ERR_SOLVER,
          "VecCreateSeqWithArray");
-  PT_TRY(ctx, VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, NULL, &d->x), MPGM_ERR_SOLVER,
+  PT_TRY(ctx, VecCreateSeqWithArray(PETSC_COMM_SELF, 1, nf, NULL, &d->x), MPGM_ERR_SOLVER,
          "VecCreateSeqWithArray");
-  PT_TRY(ctx, VecCreateSeq(PETSC_COMM_SELF, n, &d->r), MPGM_ERR_SOLVER, "VecCreateSeq");
+  PT_TRY(ctx, VecCreateSeq(PETSC_COMM_SELF, nf, &d->r), MPGM_ERR_SOLVER, "VecCreateSeq");
   return make_ksp(ctx, d, A->symmetric);
 }
 
@@ -475,6 +525,10 @@ static int pt_factor(void *data, mpgm_ctx *ctx, const mpgm_csc *A) {
   PetscScalar *a; /* d->a itself; the restore tells PETSc the values changed */
   PT_TRY(ctx, MatSeqAIJGetArray(d->A, &a), MPGM_ERR_SOLVER, "MatSeqAIJGetArray");
   for (int k = 0; k < d->nnz; k++) a[d->map[k]] = A->val[k];
+  if (d->blk.bs) { /* the fixed components' rows */
+    const double s = pt_blocks_scale(A, d->diag);
+    for (int f = 0; f < d->blk.nfix; f++) a[d->blk.fixslot[f]] = s;
+  }
   PT_TRY(ctx, MatSeqAIJRestoreArray(d->A, &a), MPGM_ERR_SOLVER, "MatSeqAIJRestoreArray");
   PetscReal an = 0.0;
   PT_TRY(ctx, MatNorm(d->A, NORM_INFINITY, &an), MPGM_ERR_SOLVER, "MatNorm");
@@ -552,15 +606,23 @@ static PetscErrorCode krylov(pt_data *d, int *its, KSPConvergedReason *why, doub
 static int pt_solve(void *data, mpgm_ctx *ctx, const double *b, double *x) {
   pt_data *d = data;
   MPGM_CHECK(ctx, d->ready, MPGM_ERR_INTERNAL, "petsc: solve without a preconditioner");
-  memcpy(d->bw, b, (size_t)d->n * sizeof(double));
+  const pt_blocks *B = &d->blk;
+  if (B->bs) { /* the block form: zero at the fixed components */
+    memset(d->bw, 0, (size_t)d->nf * sizeof(double));
+    for (int e = 0; e < d->n; e++) d->bw[B->row[e]] = b[e];
+  } else {
+    memcpy(d->bw, b, (size_t)d->n * sizeof(double));
+  }
   PT_TRY(ctx, VecPlaceArray(d->b, d->bw), MPGM_ERR_SOLVER, "VecPlaceArray");
   int its = 0, ok = 0;
   KSPConvergedReason why = KSP_CONVERGED_ITERATING;
   double rel = 0.0;
-  PetscErrorCode ierr = VecPlaceArray(d->x, x);
+  PetscErrorCode ierr = VecPlaceArray(d->x, B->bs ? d->xw : x);
   if (!ierr) ierr = krylov(d, &its, &why, &rel, &ok);
   VecResetArray(d->x);
   VecResetArray(d->b);
+  if (B->bs)
+    for (int e = 0; e < d->n; e++) x[e] = d->xw[B->row[e]];
   d->iterations = its;
   if (ierr) return fail(ctx, ierr, MPGM_ERR_SOLVER, "KSPSolve");
   if (why == KSP_DIVERGED_PC_FAILED)
@@ -596,9 +658,11 @@ static int pt_stats(void *data, mpgm_solver_stats *st) {
   pt_data *d = data;
   st->iterations = d->iterations;
   st->nnz_factor = d->nnz_factor;
-  const double n = d->n, nnz = d->nnz;
-  st->mem_peak = d->mem_peak + (n + 1 + 2 * nnz) * sizeof(PetscInt) +
-                 (nnz + n) * sizeof(double) + 2 * n * sizeof(int);
+  st->block_size = d->blk.bs;
+  const double n = d->n, nf = d->nf, nnz = d->nnz, nfix = d->blk.nfix;
+  st->mem_peak = d->mem_peak + (2 * nf + 1 + nnz + nfix + nfix) * sizeof(PetscInt) +
+                 (nnz + nfix + nf + (d->blk.bs ? 2 * nf : 0)) * sizeof(double) +
+                 (nnz + n + (d->blk.bs ? n + nf : 0)) * sizeof(int);
   return MPGM_OK;
 }
 

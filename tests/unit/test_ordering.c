@@ -186,7 +186,7 @@ static void check_graph(const char *name, graph *g, double max_ratio, double max
     free(perm);
     return;
   }
-  mpgm_csc A;
+  mpgm_csc A = {0};
   build_matrix(g, &A);
   int *dperm = malloc((size_t)A.n * sizeof(int)), *natural = malloc((size_t)A.n * sizeof(int));
   for (int k = 0; k < g->n; k++) {

@@ -108,7 +108,7 @@ static void check_solves(void) {
   mpgm_ctx ctx;
   mpgm_ctx_init(&ctx);
   mpgm_ctx_set_logger(&ctx, logger, NULL, MPGM_LOG_WARNING);
-  mpgm_csc A;
+  mpgm_csc A = {0};
   mpgm_solver *s = NULL;
   const mpgm_solver_opts o = opts_with(&test_solver_ilu_gmres, &mpgm_solver_umfpack);
   double *b = NULL, *x = NULL, *ref = NULL;
@@ -193,7 +193,7 @@ static void check_factor(void) {
   static double v3[] = {1, 2, 1, 2, 1, 1, 1};
   static int cp2[] = {0, 2, 4}, ri2[] = {0, 1, 0, 1};
   static double v2[] = {1, 1, 1, 1};
-  const mpgm_csc A = {3, 7, cp3, ri3, v3, 0}, S = {2, 4, cp2, ri2, v2, 0};
+  const mpgm_csc A = {3, 7, cp3, ri3, v3, 0, NULL}, S = {2, 4, cp2, ri2, v2, 0, NULL};
   mpgm_ctx ctx;
   mpgm_ctx_init(&ctx);
   mpgm_solver *s = NULL;
