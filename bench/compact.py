@@ -291,7 +291,11 @@ def plot(part, text, png):
                           for i, l in enumerate(labels))
         gp.append("plot " + ", ".join(f"'-' using {k + 2}:xtic(1) title {q(n)}" for k, n in enumerate(names)))
         data = [block] * len(cols)
-    script = "\n".join(gp) + "\n" + "".join(d + "\ne\n" for d in data)
+    return gnuplot("\n".join(gp) + "\n" + "".join(d + "\ne\n" for d in data), part)
+
+
+def gnuplot(script, what):
+    """Run a gnuplot SCRIPT (from a temporary file); False, with gnuplot's message, if it failed."""
     with tempfile.NamedTemporaryFile("w", suffix=".gp", delete=False) as f:
         f.write(script)
     try:
@@ -299,7 +303,7 @@ def plot(part, text, png):
     finally:
         os.unlink(f.name)
     if r.returncode != 0:
-        sys.stderr.write(f"bench/compact.py: gnuplot failed for {part}:\n{r.stderr}")
+        sys.stderr.write(f"bench/compact.py: gnuplot failed for {what}:\n{r.stderr}")
         return False
     return True
 

@@ -7,6 +7,8 @@ import os
 import sys
 
 W = sys.argv[1]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import compact  # noqa: E402 (bench/compact.py: its gnuplot runner)
 
 
 def summary(d):
@@ -190,8 +192,6 @@ def fit(xs, ys):
 def scaling_plot(rows, phases):
     """docs/img/three_d_scaling.png: time per iteration of each phase against equations, log-log, with
     the line n^1 through the first mesh's whole iteration; False if gnuplot failed."""
-    import subprocess
-    import tempfile
     png = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "img", "three_d_scaling.png")
     gp = ["set terminal pngcairo size 900,560 enhanced font ',11'", f"set output '{png}'", "set grid",
           "set key top left", "set logscale xy", "set autoscale xfix", "set offsets graph 0.05, graph 0.05", "set xlabel 'equations'", "set ylabel 'time per Newton iteration [s]'",
@@ -203,14 +203,8 @@ def scaling_plot(rows, phases):
         data.append("\n".join(f"{r[1]} {max(r[7][p], 1e-6):.6g}" for r in rows))
     series.append("'-' using 1:2 with lines dt 2 lc rgb 'black' title 'n^1'")
     data.append("\n".join(f"{r[1]} {t0 * r[1] / n0:.6g}" for r in rows))
-    script = "\n".join(gp) + "\nplot " + ", ".join(series) + "\n" + "".join(d + "\ne\n" for d in data)
-    with tempfile.NamedTemporaryFile("w", suffix=".gp", delete=False) as f:
-        f.write(script)
-    try:
-        r = subprocess.run(["gnuplot", f.name], capture_output=True, text=True)
-    finally:
-        os.unlink(f.name)
-    return r.returncode == 0
+    return compact.gnuplot("\n".join(gp) + "\nplot " + ", ".join(series) + "\n" +
+                           "".join(d + "\ne\n" for d in data), "three_d scaling")
 
 
 def scaling():
