@@ -223,11 +223,14 @@ int mpgm_conn_transpose(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnode) {
   if (nnz > c->tkcap) {
     free(c->tk);
     free(c->tp);
+    free(c->tc);
     c->tp = NULL;
+    c->tc = NULL;
     c->tkcap = 0;
     const int cap = nnz + nnz / 2 + 16;
     MPGM_ALLOC(ctx, c->tk, cap);
     MPGM_ALLOC(ctx, c->tp, cap);
+    MPGM_ALLOC(ctx, c->tc, cap);
     c->tkcap = cap;
   }
   int *ptr = c->tptr;
@@ -236,12 +239,15 @@ int mpgm_conn_transpose(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnode) {
   for (int i = 0; i < nnode; i++) ptr[i + 1] += ptr[i];
   /* fill in entry order, each node's next free place in ptr[I] (shifted
    * back afterwards) */
-  for (int p = 0; p < np; p++)
+  for (int p = 0; p < np; p++) {
+    const unsigned char cont = p > 0 && mpgm_conn_same(c, p);
     for (int k = c->ptr[p]; k < c->ptr[p + 1]; k++) {
       const int e = ptr[c->node[k]]++;
       c->tk[e] = k;
       c->tp[e] = p;
+      c->tc[e] = cont;
     }
+  }
   for (int i = nnode; i > 0; i--) ptr[i] = ptr[i - 1];
   ptr[0] = 0;
   c->tn = nnode;

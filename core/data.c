@@ -266,6 +266,7 @@ void mpgm_conn_release(mpgm_conn *c) {
   free(c->tptr);
   free(c->tk);
   free(c->tp);
+  free(c->tc);
   memset(c, 0, sizeof *c);
 }
 

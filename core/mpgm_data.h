@@ -132,7 +132,10 @@ typedef struct mpgm_conn {
    * them adds in the order of a loop over the points */
   int tn;         /**< nodes of the transpose (0: none built)            */
   int *tptr, *tk, *tp;
-  int tncap, tkcap; /**< room of tptr (nodes), of tk and tp (entries)    */
+  unsigned char *tc; /**< per transpose entry: 1 when its point continues
+                        the run of the point before (mpgm_conn_same),
+                        decided once per point for mpgm_run_gather     */
+  int tncap, tkcap; /**< room of tptr (nodes), of tk, tp, tc (entries)  */
 } mpgm_conn;
 
 /** The effects a scene calls for, decided when it loads. */
@@ -325,18 +328,17 @@ MPGM_RUN_INLINE void mpgm_run_scatter(const mpgm_conn *c, int np, int w, mpgm_en
 MPGM_RUN_INLINE void mpgm_run_gather(const mpgm_conn *c, int I, int w, mpgm_entry_fn fn,
                                    const void *job, double *out) {
   double part[MPGM_RUN_VALUES] = {0}, v[MPGM_RUN_VALUES];
-  int prev = -2;
   for (int i = 0; i < w; i++) out[i] = 0.0;
   for (int e = c->tptr[I]; e < c->tptr[I + 1]; e++) {
-    const int p = c->tp[e];
-    if (prev >= 0 && !(p == prev + 1 && mpgm_conn_same(c, p))) /* a new run */
+    /* a point that continues a run has its predecessor, with the same
+     * nodes, just before it here */
+    if (e > c->tptr[I] && !c->tc[e]) /* a new run */
       for (int i = 0; i < w; i++) {
         out[i] += part[i];
         part[i] = 0.0;
       }
-    fn(job, p, c->tk[e], v);
+    fn(job, c->tp[e], c->tk[e], v);
     for (int i = 0; i < w; i++) part[i] += v[i];
-    prev = p;
   }
   for (int i = 0; i < w; i++) out[i] += part[i];
 }
