@@ -3,6 +3,9 @@
 #   ok DESCRIPTION / ko DESCRIPTION     count a check (npass, nfail)
 #   summary_metric DIR NAME            print metrics.NAME of DIR/summary.json
 #                                      (nan when the run left none)
+#   sanitized EXE                      true when EXE is built with AddressSanitizer
+#                                      (scripts/test --sanitize): tests then run
+#                                      their coarser levels only
 #   expect CODE NEEDLE DESCRIPTION CMD...
 #     runs CMD with stdout in out.txt and stderr in err.txt (current folder);
 #     passes when it exits with CODE and stderr contains NEEDLE.
@@ -19,3 +22,5 @@ summary_metric() {
   python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["metrics"][sys.argv[2]])' \
     "$1/summary.json" "$2" 2> /dev/null || echo nan
 }
+# grep -c reads all of nm's output (with pipefail, grep -q may not)
+sanitized() { nm -an "$1" 2> /dev/null | grep -c __asan_init > /dev/null; }
