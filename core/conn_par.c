@@ -166,6 +166,7 @@ static int build_serial(mpgm_ctx *ctx, mpgm_conn_par *cp, mpgm_conn *C, par_job 
 int mpgm_conn_par_build(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_conn_par *cp, int np, mpgm_conn *C,
                         mpgm_conn_point_fn fn, void *arg, const mpgm_conn_task **failed) {
   *failed = NULL;
+  C->rn = 0; /* the lists change */
   const int serial = mpgm_pool_size(pool) == 1;
   MPGM_CALL(plan(ctx, cp, np, serial));
   par_job j = {cp, C, fn, arg};
@@ -212,6 +213,20 @@ int mpgm_conn_par_build(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_conn_par *cp, int n
   return 0;
 }
 
+int mpgm_conn_runs(mpgm_ctx *ctx, mpgm_conn *c, int np) {
+  if (c->rn == np) return 0;
+  if (np > c->rcap) {
+    free(c->rc);
+    c->rcap = 0;
+    MPGM_ALLOC(ctx, c->rc, np + np / 2 + 16);
+    c->rcap = np + np / 2 + 16;
+  }
+  if (np > 0) c->rc[0] = 0;
+  for (int p = 1; p < np; p++) c->rc[p] = (unsigned char)mpgm_conn_same(c, p);
+  c->rn = np;
+  return 0;
+}
+
 int mpgm_conn_transpose(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnode) {
   const int nnz = c->ptr[np];
   if (nnode + 1 > c->tncap) {
@@ -240,7 +255,7 @@ int mpgm_conn_transpose(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnode) {
   /* fill in entry order, each node's next free place in ptr[I] (shifted
    * back afterwards) */
   for (int p = 0; p < np; p++) {
-    const unsigned char cont = p > 0 && mpgm_conn_same(c, p);
+    const unsigned char cont = p > 0 && (c->rn >= np ? c->rc[p] : mpgm_conn_same(c, p));
     for (int k = c->ptr[p]; k < c->ptr[p + 1]; k++) {
       const int e = ptr[c->node[k]]++;
       c->tk[e] = k;

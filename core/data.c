@@ -267,6 +267,7 @@ void mpgm_conn_release(mpgm_conn *c) {
   free(c->tk);
   free(c->tp);
   free(c->tc);
+  free(c->rc);
   memset(c, 0, sizeof *c);
 }
 

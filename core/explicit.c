@@ -234,6 +234,9 @@ static void force_scatter(const node_job *j) {
 /* Whether the nodal sums are gathered (mpgm_conn_gathers); then the
  * transpose of the step's lists (built by the front end, or here). */
 static int gathers(mpgm_problem *pb, int *yes) {
+#if MPGM_DIM == 3 /* the runs of the run sums (known after the projection) */
+  MPGM_CALL(mpgm_conn_runs(pb->ctx, &pb->conn, pb->pts.n));
+#endif
   *yes = mpgm_conn_gathers(pb->pool, &pb->conn, pb->pts.n);
   if (!*yes || (pb->conn.tn == pb->nodes.n && pb->conn.tn > 0)) return 0;
   return mpgm_conn_transpose(pb->ctx, &pb->conn, pb->pts.n, pb->nodes.n);
@@ -246,21 +249,37 @@ static int gathers(mpgm_problem *pb, int *yes) {
  * sign(vel) per component, vel the nodal velocity the scheme has at this
  * point of the step; the nodal acceleration A = f / m (0 at fixed
  * components and massless nodes). */
+static node_job force_job(mpgm_problem *pb, explicit_data *d, const double *sigma,
+                          const double *vol, double t) {
+  const double gf = mpgm_gravity_factor(pb, t);
+  node_job j = {.pb = pb, .ntask = mpgm_ntask(pb->nodes.n, 256), .sigma = sigma, .vol = vol,
+                .b = MPGM_MMS_FORCES(pb, t),
+                .out = d->f};
+  for (int c = 0; c < MPGM_DIM; c++) j.grav[c] = gf * pb->scene->gravity[c];
+  return j;
+}
+
+static int forces_finish(mpgm_problem *pb, const double *f, const double *vel, double *A);
+
 static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma, const double *vol,
                         double t, const double *vel, double *A) {
   mpgm_ctx *ctx = pb->ctx;
-  const mpgm_nodes *nd = &pb->nodes;
   int gather;
   MPGM_CALL(gathers(pb, &gather));
   mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
-  double *f = d->f;
-  const double gf = mpgm_gravity_factor(pb, t);
-  node_job j = {.pb = pb, .ntask = mpgm_ntask(nd->n, 256), .sigma = sigma, .vol = vol,
-                .b = MPGM_MMS_FORCES(pb, t),
-                .out = f};
-  for (int c = 0; c < MPGM_DIM; c++) j.grav[c] = gf * pb->scene->gravity[c];
+  node_job j = force_job(pb, d, sigma, vol, t);
   if (gather) mpgm_pool_run(pb->pool, j.ntask, force_task, &j);
   else force_scatter(&j);
+  mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+  return forces_finish(pb, d->f, vel, A);
+}
+
+/* Damping and A = f / m of the nodal sums f (nodal_forces). */
+static int forces_finish(mpgm_problem *pb, const double *fsum, const double *vel, double *A) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_nodes *nd = &pb->nodes;
+  double *f = (double *)fsum;
+  mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
   const double alpha = pb->scene->local_damping;
   if (alpha > 0.0)
     for (int i = 0; i < MPGM_DIM * nd->n; i++)
@@ -277,6 +296,50 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
   }
   mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
   return 0;
+}
+
+/* The stress from the nodal velocity vel and its nodal force at time t
+ * (stress, then nodal_forces of the trial arrays). 3-D on one thread: in
+ * one pass over the points, each point's force added to the nodes' run
+ * sums right after its update, while its lists are in cache (the same
+ * sums, the same bits; the time of the sums counts as the material's). */
+#if MPGM_DIM == 3
+typedef struct {
+  node_job j;
+  mpgm_run_acc r;
+} fused_job;
+
+static void stress_force_point(void *arg, int p) {
+  fused_job *fj = arg;
+  mpgm_problem *pb = fj->j.pb;
+  mpgm_points *P = &pb->pts;
+  if (!pb->fx.geometric) { /* V (1 + tr(dF - I)), as stress() */
+    const double *dF = P->dF_t + MPGM_TENSOR * p;
+    double tr = dF[0];
+    for (int d = 1; d < MPGM_DIM; d++) tr += dF[(MPGM_DIM + 1) * d];
+    P->vol_t[p] = P->vol[p] * (tr - (MPGM_DIM - 1.0));
+  }
+  mpgm_run_add(&pb->conn, &fj->r, P->n, p, MPGM_DIM, force_entry, &fj->j, fj->j.out);
+}
+#endif
+
+static int stress_forces(mpgm_problem *pb, explicit_data *d, const double *vel, double t,
+                         const double *damp_vel, double *A) {
+#if MPGM_DIM == 3
+  int gather;
+  MPGM_CALL(gathers(pb, &gather));
+  if (!gather && mpgm_pool_size(pb->pool) == 1) {
+    mpgm_nodes *nd = &pb->nodes;
+    for (int i = 0; i < MPGM_DIM * nd->n; i++) nd->du[i] = pb->dt * vel[i];
+    fused_job fj = {.j = force_job(pb, d, pb->pts.sigma_t, pb->pts.vol_t, t)};
+    memset(d->f, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
+    MPGM_CALL(mpgm_eval_points_each(pb, stress_force_point, &fj));
+    mpgm_run_end(&pb->conn, &fj.r, MPGM_DIM, d->f);
+    return forces_finish(pb, d->f, damp_vel, A);
+  }
+#endif
+  MPGM_CALL(stress(pb, vel));
+  return nodal_forces(pb, d, pb->pts.sigma_t, pb->pts.vol_t, t, damp_vel, A);
 }
 
 /* Commit the stress update of the step (trial -> committed arrays); CPLS
@@ -397,8 +460,7 @@ static int fe_step(void *self, mpgm_problem *pb) {
   mpgm_nodes *nd = &pb->nodes;
   double *V = nd->v_new, *A = nd->a_new;
   zero_fixed(nd, nd->v);
-  MPGM_CALL(stress(pb, nd->v));
-  MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma_t, pb->pts.vol_t, pb->t + pb->dt, nd->v, A));
+  MPGM_CALL(stress_forces(pb, self, nd->v, pb->t + pb->dt, nd->v, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
   commit_stress(pb);
   MPGM_CALL(move_points(pb, self, V, A, 0.0));
@@ -499,7 +561,6 @@ static void predictor_scatter(const node_job *j) {
 static int npc_step(void *self, mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   mpgm_nodes *nd = &pb->nodes;
-  const mpgm_points *P = &pb->pts;
   const double g = pb->scene->npc_gamma, dt = pb->dt;
   double *V = nd->v_new, *A = nd->a_new;
   int gather;
@@ -509,8 +570,7 @@ static int npc_step(void *self, mpgm_problem *pb) {
   if (gather) mpgm_pool_run(pb->pool, j.ntask, predictor_task, &j);
   else predictor_scatter(&j);
   mpgm_timer_stop(ctx, MPGM_T_MASS);
-  MPGM_CALL(stress(pb, V));
-  MPGM_CALL(nodal_forces(pb, self, P->sigma_t, P->vol_t, pb->t + pb->dt, V, A));
+  MPGM_CALL(stress_forces(pb, self, V, pb->t + pb->dt, V, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] += g * dt * A[i];
   commit_stress(pb);
   /* newmark: the points move by what their strain used, dt v_pred =

@@ -136,6 +136,13 @@ typedef struct mpgm_conn {
                         the run of the point before (mpgm_conn_same),
                         decided once per point for mpgm_run_gather     */
   int tncap, tkcap; /**< room of tptr (nodes), of tk, tp, tc (entries)  */
+  /* the runs of the points (mpgm_conn_runs), for the run sums: rc[p] 1
+   * when point p continues the run of point p - 1 (mpgm_conn_same), for
+   * p < rn; rn 0 when none are known. Whoever changes a material point's
+   * list sets rn to 0 (mpgm_conn_par_build, mpgm_light_drop; every step
+   * begins with none known) */
+  unsigned char *rc;
+  int rn, rcap;
 } mpgm_conn;
 
 /** The effects a scene calls for, decided when it loads. */
@@ -260,6 +267,10 @@ void mpgm_conn_task_free(mpgm_conn_task *t);
  *  own, by the node ranges of mpgm_node_ranges, to the same bits as a
  *  scatter loop over the points. */
 int mpgm_conn_transpose(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnode);
+/** The runs of points [0, np) into c->rc (nothing to do when c->rn is np
+ *  already): one comparison of lists per point for every run sum of the
+ *  step. */
+int mpgm_conn_runs(mpgm_ctx *ctx, mpgm_conn *c, int np);
 /** Whether the nodal sums over the lists of the points [0, np) of c are
  *  best gathered node by node through the transpose on the pool's threads
  *  (more than one thread and compact lists: at most 16 nodes per point on
@@ -318,10 +329,45 @@ MPGM_RUN_INLINE void mpgm_run_scatter(const mpgm_conn *c, int np, int w, mpgm_en
         for (int i = 0; i < w; i++) sum[w * a + i] += v[i];
       }
       q++;
-    } while (q < np && mpgm_conn_same(c, q));
+    } while (q < np && (c->rn >= np ? c->rc[q] : mpgm_conn_same(c, q)));
     for (int a = 0; a < n; a++)
       for (int i = 0; i < w; i++) out[w * c->node[k0 + a] + i] += sum[w * a + i];
     p = q;
+  }
+}
+/** The run sums of mpgm_run_scatter one point at a time, in point order
+ *  (a caller that computes each point's values just before, in the same
+ *  loop): mpgm_run_add for p = 0, 1, ... np - 1, then mpgm_run_end; the
+ *  same additions in the same order, so the same bits. */
+typedef struct mpgm_run_acc {
+  double sum[MPGM_RUN_NODES * MPGM_RUN_VALUES];
+  int k0, n; /**< the open run's first point's list; n 0: none open */
+} mpgm_run_acc;
+MPGM_RUN_INLINE void mpgm_run_end(const mpgm_conn *c, mpgm_run_acc *r, int w, double *out) {
+  for (int a = 0; a < r->n; a++)
+    for (int i = 0; i < w; i++) out[w * c->node[r->k0 + a] + i] += r->sum[w * a + i];
+  r->n = 0;
+}
+MPGM_RUN_INLINE void mpgm_run_add(const mpgm_conn *c, mpgm_run_acc *r, int np, int p, int w,
+                                  mpgm_entry_fn fn, const void *job, double *out) {
+  double v[MPGM_RUN_VALUES];
+  const int k0 = c->ptr[p], n = c->ptr[p + 1] - k0;
+  if (!(r->n > 0 && (c->rn >= np ? c->rc[p] : mpgm_conn_same(c, p)))) { /* a new run */
+    mpgm_run_end(c, r, w, out);
+    if (n > MPGM_RUN_NODES) { /* a run of one */
+      for (int k = k0; k < k0 + n; k++) {
+        fn(job, p, k, v);
+        for (int i = 0; i < w; i++) out[w * c->node[k] + i] += v[i];
+      }
+      return;
+    }
+    memset(r->sum, 0, sizeof(double) * (size_t)(w * n));
+    r->k0 = k0;
+    r->n = n;
+  }
+  for (int a = 0; a < n; a++) {
+    fn(job, p, k0 + a, v);
+    for (int i = 0; i < w; i++) r->sum[w * a + i] += v[i];
   }
 }
 /** The same sums at node I alone, through the transpose (out: w values). */

@@ -40,7 +40,8 @@ static void push_prestress(const double *F, const double *S, double *sg) {
  * tangents D when want_D. Returns 0 or the first failure's code with its
  * point in *fail and, for det(dF) <= 0, the determinant in *fail_J; no
  * message here (tasks run on worker threads). */
-static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, double *fail_J) {
+static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, double *fail_J,
+                      void (*each)(void *job, int p), void *job) {
   mpgm_points *P = &pb->pts;
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
@@ -116,6 +117,7 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
         push_prestress(F, S, sg);
       }
     }
+    if (each) each(job, p);
   }
   return 0;
 }
@@ -138,7 +140,18 @@ static void eval_task(void *arg, int t, int tid) {
   eval_job *j = arg;
   const int np = j->pb->pts.n;
   const int p0 = (int)((long)np * t / j->ntask), p1 = (int)((long)np * (t + 1) / j->ntask);
-  j->err[t] = eval_range(j->pb, j->want_D, p0, p1, &j->fail[t], &j->fail_J[t]);
+  j->err[t] = eval_range(j->pb, j->want_D, p0, p1, &j->fail[t], &j->fail_J[t], NULL, NULL);
+}
+
+/* The error of a failed evaluation at point p (code err, det J). */
+static int eval_error(const mpgm_problem *pb, int err, int p, double J) {
+  const mpgm_points *P = &pb->pts;
+  char at[MPGM_POINT_STR];
+  mpgm_point_str(P->x + MPGM_DIM * p, at);
+  if (err == MPGM_ERR_JACOBIAN && !(J > 0.0))
+    MPGM_ERROR(pb->ctx, MPGM_ERR_JACOBIAN, "point %d at %s: det(dF) = %g <= 0", P->id[p], at, J);
+  MPGM_ERROR(pb->ctx, err, "point %d at %s, material \"%s\": %s", P->id[p], at,
+             pb->scene->mats[P->mat[p]].name, mpgm_code_str(err));
 }
 
 int mpgm_eval_points(mpgm_problem *pb, int want_D) {
@@ -155,18 +168,20 @@ int mpgm_eval_points(mpgm_problem *pb, int want_D) {
   mpgm_count(ctx, MPGM_C_MATERIAL_CALLS, P->n);
   mpgm_timer_stop(ctx, MPGM_T_MATERIAL);
   /* the failure of the lowest point: the one a serial loop stops at */
-  for (int t = 0; t < j.ntask; t++) {
-    if (!j.err[t]) continue;
-    const int p = j.fail[t];
-    char at[MPGM_POINT_STR];
-    mpgm_point_str(P->x + MPGM_DIM * p, at);
-    if (j.err[t] == MPGM_ERR_JACOBIAN && !(j.fail_J[t] > 0.0))
-      MPGM_ERROR(ctx, MPGM_ERR_JACOBIAN, "point %d at %s: det(dF) = %g <= 0", P->id[p], at,
-                 j.fail_J[t]);
-    MPGM_ERROR(ctx, j.err[t], "point %d at %s, material \"%s\": %s", P->id[p], at,
-               pb->scene->mats[P->mat[p]].name, mpgm_code_str(j.err[t]));
-  }
+  for (int t = 0; t < j.ntask; t++)
+    if (j.err[t]) return eval_error(pb, j.err[t], j.fail[t], j.fail_J[t]);
   return 0;
+}
+
+int mpgm_eval_points_each(mpgm_problem *pb, void (*each)(void *job, int p), void *job) {
+  mpgm_ctx *ctx = pb->ctx;
+  mpgm_timer_start(ctx, MPGM_T_MATERIAL);
+  int fail = 0;
+  double fail_J = 1.0;
+  const int err = eval_range(pb, 0, 0, pb->pts.n, &fail, &fail_J, each, job);
+  mpgm_count(ctx, MPGM_C_MATERIAL_CALLS, pb->pts.n);
+  mpgm_timer_stop(ctx, MPGM_T_MATERIAL);
+  return err ? eval_error(pb, err, fail, fail_J) : 0;
 }
 
 /* ---- external force --------------------------------------------------- */

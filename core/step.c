@@ -7,7 +7,8 @@ int mpgm_begin_step(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   mpgm_fe_view v;
   mpgm_problem_view(pb, &v);
-  pb->conn.tn = 0; /* the transpose of the last step's lists is stale */
+  pb->conn.tn = 0; /* the transpose and the runs of the last step's */
+  pb->conn.rn = 0; /* lists are stale                                 */
   mpgm_timer_start(ctx, MPGM_T_SHAPE);
   const int err = pb->fe->begin_step(pb->fe_data, &v);
   mpgm_timer_stop(ctx, MPGM_T_SHAPE);

@@ -155,7 +155,8 @@ int mpgm_grid_locate(const mpgm_grid *g, const double x[MPGM_DIM], int *cell,
   for (int d = 0; d < 3; d++) {
     const double s = (x[d] - g->min[d]) / g->h;
     if (!(s >= -tol && s <= n[d] + tol)) return MPGM_ERR_DOMAIN;
-    int i = (int)floor(s);
+    /* truncation is floor for s >= 0; below 0 (within tol) both clamp to 0 */
+    int i = (int)s;
     i = i < 0 ? 0 : i >= n[d] ? n[d] - 1 : i;
     ijk[d] = i;
     xi[d] = 2.0 * (s - i) - 1.0;

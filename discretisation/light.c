@@ -62,9 +62,13 @@ int mpgm_light_drop(mpgm_ctx *ctx, mpgm_conn *c, int m, const unsigned char *lig
    * and no list holds one) when no surface point may lose its lists */
   if (m <= first_surface) {
     int any = 0;
-    for (int k = 0; k < c->ptr[m] && !any; k++) any = light[c->node[k]];
+    for (int p = 0; p < m && !any; p++) {
+      if (p < c->rn && c->rc[p]) continue; /* the list of p - 1 again */
+      for (int k = c->ptr[p]; k < c->ptr[p + 1] && !any; k++) any = light[c->node[k]];
+    }
     if (!any) return 0;
   }
+  c->rn = 0; /* the lists change */
   int w = 0;
   for (int p = 0; p < m; p++) {
     const int k0 = c->ptr[p], k1 = c->ptr[p + 1];

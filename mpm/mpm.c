@@ -318,7 +318,15 @@ static int cell_point(void *arg, int p, mpgm_conn_task *t) {
 #if MPGM_DIM == 3
   /* in 3-D only the fe kind has cells, the grid's cubes: N and grad N
    * from the local coordinates, no Jacobian */
-  mpgm_grid_cell(g, j->d->pcell[p], t->node + k, NULL); /* grid ids for now */
+  const int *pc = j->d->pcell;
+  /* the node ids of p - 1 again when it was staged just before in the
+   * same cell (the material points' tasks; not the tracers' tail task) */
+  const int again = p > t->p0 && p < t->p1 && k >= nn && pc[p] == pc[p - 1] &&
+                    t->len[p - 1 - t->p0] == nn;
+  if (again)
+    memcpy(t->node + k, t->node + k - nn, sizeof(int) * (size_t)nn);
+  else
+    mpgm_grid_cell(g, pc[p], t->node + k, NULL); /* grid ids for now */
   mpgm_fe_cube(j->d->pxi + MPGM_DIM * p, g->h, t->N + k, t->dN + MPGM_DIM * k);
   t->n = k + nn;
   return 0;
@@ -550,6 +558,9 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(point_shape(v, d));
 #endif
   memset(d->light, 0, (size_t)d->g.nnode);
+#if MPGM_DIM == 3 /* the runs of the run sums (mpgm_data.h) */
+  MPGM_CALL(mpgm_conn_runs(v->ctx, v->conn, P->n));
+#endif
   mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->min_node_mass, d->gm, d->light);
   MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));
   step_nodes(v, d);

@@ -87,6 +87,7 @@ static int project_scatter(const mpgm_fe_view *v, mpm_data *d) {
     d->nsum = n;
   }
   memset(d->sum, 0, sizeof(double) * (size_t)w * n);
+  MPGM_CALL(mpgm_conn_runs(v->ctx, v->conn, P->n)); /* anew if nodes were dropped */
   mpgm_run_scatter(C, P->n, w, project_entry, v, d->sum);
   for (int I = 0; I < n; I++) project_at(nd, I, d->sum + w * I, inertia);
   return 0;

@@ -249,6 +249,11 @@ void mpgm_nodes_number(mpgm_nodes *nd);
  *  kept factorisation needs none; the residual reads the start-of-step
  *  gradients). Exposed for tests. */
 int mpgm_eval_points(mpgm_problem *pb, int want_D);
+/** mpgm_eval_points without tangents on this thread, point by point in
+ *  order, calling each(job, p) as soon as point p's trial state is known
+ *  (explicit schemes: its force added to the nodes while its lists are in
+ *  cache). */
+int mpgm_eval_points_each(mpgm_problem *pb, void (*each)(void *job, int p), void *job);
 /** Assemble R = f_ext - f_int (- f_inertia) and, if want_K, the tangent
  *  into pb->K (pattern must exist). Exposed for tests. */
 int mpgm_assemble(mpgm_problem *pb, int want_K);
