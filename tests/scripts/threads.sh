@@ -12,6 +12,12 @@
 #    time) and probes.csv, and the same counts.
 # 2. Implicit: MPM with LME (clouds of grid nodes) on the cantilever, and GMM
 #    (MLS clouds of its own nodes) on the rolling disk, 2 steps each: the same.
+# 3. 3-D explicit MPM (the run sums of core/mpgm_data.h: on one thread the
+#    force added right after each point's update, on two gathered through
+#    the transpose) on a block of 8 x 4 x 4 H8 cells, 8 points each, with
+#    fe and npc, fe, usl, uGIMP and CPDI; and with mesh.min_node_mass 0.2,
+#    which drops the body's corner and edge nodes (fewer nodes than with
+#    the default) and renormalises their points' lists every step.
 #
 # usage: threads.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
@@ -80,6 +86,36 @@ check_pair cpls block.json --set shape.kind=cpls --set time.scheme=usl
 check_pair mpm_lme "$src/cases/cantilever.json" --set method=mpm --set shape.kind=lme \
   --set time.load_steps=2 --set output.vtk=none
 check_pair gmm "$src/cases/rolling_disk_gmm.json" --set time.end=0.005 --set output.vtk=none
+
+# ---- 3: explicit MPM in 3-D ------------------------------------------------------
+cat > block3.json <<'EOF'
+{"description": "tests/scripts/threads.sh: an elastic block of 8 x 4 x 4 H8 cells, 8 points per cell",
+ "method": "mpm", "mesh": {"h": 0.05, "domain": {"min": [-0.1, -0.1, -0.1], "max": [0.55, 0.35, 0.35]}},
+ "kinematics": "small",
+ "time": {"analysis": "explicit", "end": 0.005, "dt": 2.5e-4},
+ "materials": {"soil": {"type": "linear_elastic", "density": 2000, "E": 1e6, "nu": 0.3}},
+ "bodies": [{"material": "soil", "box": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.2]}, "velocity": [0.5, 0.2, -0.3]}],
+ "boundaries": [{"y": 0, "condition": "slip"}],
+ "gravity": [0, -9.81, 0], "probes": {"corner": [0.39, 0.19, 0.19]},
+ "output": {"vtk": "none", "every": 1}}
+EOF
+if [ -x "${exe}-3d" ]; then
+  check_pair fe_3d block3.json
+  check_pair fe_scheme_3d block3.json --set time.scheme=fe
+  check_pair usl_3d block3.json --set time.scheme=usl
+  check_pair ugimp_3d block3.json --set shape.kind=ugimp --set mesh.layout=centres
+  check_pair cpdi_3d block3.json --set shape.kind=cpdi
+  check_pair light_3d block3.json --set mesh.min_node_mass=0.2
+  nodes='import json, sys; print(json.load(open(sys.argv[1] + "/summary.json"))["counts"]["nodes"])'
+  n0=$(python3 -c "$nodes" "$work/fe_3d_1" 2> /dev/null); n1=$(python3 -c "$nodes" "$work/light_3d_1" 2> /dev/null)
+  if [ -n "$n0" ] && [ -n "$n1" ] && [ "$n1" -lt "$n0" ]; then
+    ok "min_node_mass 0.2 drops nodes in 3-D: $n1 nodes against $n0"
+  else
+    ko "min_node_mass 0.2 in 3-D: nodes '$n1' against '$n0'"
+  fi
+else
+  ko "no 3-D build beside $exe"
+fi
 
 echo "threads: $npass passed, $nfail failed"
 [ $nfail -eq 0 ]
