@@ -61,7 +61,16 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
   e->work_ext = pb->work_ext;
   e->kinetic = mpgm_kinetic_energy(P);
   double mom[MPGM_DIM] = {0}, nmom[MPGM_DIM] = {0}; /* in registers, not through e */
-  const int nodes = pb->step > 0 && C->np == P->n + P->nprobe + P->nsurf;
+  int nodes = pb->step > 0 && C->np == P->n + P->nprobe + P->nsurf;
+#if MPGM_DIM == 3
+  /* a grid reset (MPM): the step projected m_I = sum_p N_Ip m_p over the
+   * same lists, so the nodes' momentum is a loop over the nodes */
+  if (nodes && !pb->fe->persistent_nodes) {
+    nodes = 0;
+    for (int I = 0; I < nd->n; I++)
+      for (int d = 0; d < MPGM_DIM; d++) nmom[d] += nd->mass[I] * nd->v_new[MPGM_DIM * I + d];
+  }
+#endif
   for (int p = 0; p < P->n; p++) {
     const double m = P->mass[p];
     for (int d = 0; d < MPGM_DIM; d++) mom[d] += m * P->v[MPGM_DIM * p + d];

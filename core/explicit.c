@@ -554,6 +554,25 @@ static void predictor_scatter(const node_job *j) {
   for (int I = 0; I < n; I++) predictor_at(j, I);
 }
 
+#if MPGM_DIM == 3
+/* 3-D: the predictor from the step's projection (only the MPM front end
+ * takes explicit schemes; its begin_step projected m_I, v_I = q_I / m_I
+ * and a_I = f_I / m_I over the same lists): v_pred = v_I + (1 - gamma)
+ * dt a_I is the sum of predictor_of over m_I, without a pass over the
+ * points. CPLS (its own velocities) keeps the sums. */
+static int predictor_projected(const mpgm_problem *pb, double g, double *V) {
+  const mpgm_nodes *nd = &pb->nodes;
+  if (pb->scene->shape->velocity_ls) return 0;
+  const double c = (1.0 - g) * pb->dt;
+  for (int I = 0; I < nd->n; I++)
+    for (int d = 0; d < MPGM_DIM; d++) {
+      const int i = MPGM_DIM * I + d;
+      V[i] = nd->fix[i] || !(nd->mass[I] > 0.0) ? 0.0 : nd->v[i] + c * nd->a[i];
+    }
+  return 1;
+}
+#endif
+
 /* npc: the predictor of eq 30, projected from the points, v_pred =
  * sum_p N m_p (v_p + (1 - gamma) dt a_p) / m_I; the stress from it; the
  * corrector V = v_pred + gamma dt A (eq 31); the points' velocity and
@@ -567,8 +586,17 @@ static int npc_step(void *self, mpgm_problem *pb) {
   MPGM_CALL(gathers(pb, &gather));
   mpgm_timer_start(ctx, MPGM_T_MASS);
   node_job j = {.pb = pb, .ntask = mpgm_ntask(nd->n, 256), .g = g, .out = V};
-  if (gather) mpgm_pool_run(pb->pool, j.ntask, predictor_task, &j);
-  else predictor_scatter(&j);
+#if MPGM_DIM == 3
+  const int projected = predictor_projected(pb, g, V);
+#else
+  const int projected = 0;
+#endif
+  if (projected) { /* V holds it */
+  } else if (gather) {
+    mpgm_pool_run(pb->pool, j.ntask, predictor_task, &j);
+  } else {
+    predictor_scatter(&j);
+  }
   mpgm_timer_stop(ctx, MPGM_T_MASS);
   MPGM_CALL(stress_forces(pb, self, V, pb->t + pb->dt, V, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] += g * dt * A[i];
