@@ -253,8 +253,16 @@ def scaling():
               f"bytes per added point or {dm / (big[1] - small[1]):.0f} per added equation.\n")
 
 
+def geomech():
+    """The table bench/geomechanics_mpm/run wrote, as it is."""
+    p = os.path.join(W, "geomech.md")
+    if os.path.exists(p):
+        print(open(p).read().rstrip() + "\n")
+
+
 slab()
 beam()
 free()
 speed()
 scaling()
+geomech()
