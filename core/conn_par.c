@@ -255,7 +255,7 @@ int mpgm_conn_transpose(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnode) {
   /* fill in entry order, each node's next free place in ptr[I] (shifted
    * back afterwards) */
   for (int p = 0; p < np; p++) {
-    const unsigned char cont = p > 0 && (c->rn >= np ? c->rc[p] : mpgm_conn_same(c, p));
+    const unsigned char cont = p > 0 && mpgm_conn_continues(c, np, p);
     for (int k = c->ptr[p]; k < c->ptr[p + 1]; k++) {
       const int e = ptr[c->node[k]]++;
       c->tk[e] = k;

@@ -139,6 +139,14 @@ static void zero_fixed(const mpgm_nodes *nd, double *w) {
     if (nd->fix[i]) w[i] = 0.0;
 }
 
+/* Kinematics "small": point p's trial volume V (1 + tr(dF - I)). */
+static inline void small_volume(mpgm_points *P, int p) {
+  const double *dF = P->dF_t + MPGM_TENSOR * p;
+  double tr = dF[0];
+  for (int d = 1; d < MPGM_DIM; d++) tr += dF[(MPGM_DIM + 1) * d];
+  P->vol_t[p] = P->vol[p] * (tr - (MPGM_DIM - 1.0));
+}
+
 /* The stress of the points after the nodes moved by dt vel: F = (I + dt
  * grad v) F_n (kinematics "small": the strain increment dt sym grad v
  * added to the point's strain, the volume scaled by 1 + tr), the
@@ -148,13 +156,8 @@ static int stress(mpgm_problem *pb, const double *vel) {
   mpgm_points *P = &pb->pts;
   for (int i = 0; i < MPGM_DIM * nd->n; i++) nd->du[i] = pb->dt * vel[i];
   MPGM_CALL(mpgm_eval_points(pb, 0)); /* no tangent: nothing is assembled */
-  if (!pb->fx.geometric) /* V (1 + tr(dF - I)) */
-    for (int p = 0; p < P->n; p++) {
-      const double *dF = P->dF_t + MPGM_TENSOR * p;
-      double tr = dF[0];
-      for (int d = 1; d < MPGM_DIM; d++) tr += dF[(MPGM_DIM + 1) * d];
-      P->vol_t[p] = P->vol[p] * (tr - (MPGM_DIM - 1.0));
-    }
+  if (!pb->fx.geometric)
+    for (int p = 0; p < P->n; p++) small_volume(P, p);
   return 0;
 }
 
@@ -242,13 +245,8 @@ static int gathers(mpgm_problem *pb, int *yes) {
   return mpgm_conn_transpose(pb->ctx, &pb->conn, pb->pts.n, pb->nodes.n);
 }
 
-/* Nodal force f = f_ext - f_int of the stress sigma on the volumes vol
- * (either the committed or the trial arrays of the points) with gravity
- * at time t (its ramp): f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip);
- * with time.local_damping alpha, Cundall's local damping f -= alpha |f|
- * sign(vel) per component, vel the nodal velocity the scheme has at this
- * point of the step; the nodal acceleration A = f / m (0 at fixed
- * components and massless nodes). */
+/* The job of the nodal force sums (force_task, force_scatter, the fused
+ * pass) of the stress sigma on the volumes vol at time t. */
 static node_job force_job(mpgm_problem *pb, explicit_data *d, const double *sigma,
                           const double *vol, double t) {
   const double gf = mpgm_gravity_factor(pb, t);
@@ -259,8 +257,37 @@ static node_job force_job(mpgm_problem *pb, explicit_data *d, const double *sigm
   return j;
 }
 
-static int forces_finish(mpgm_problem *pb, const double *f, const double *vel, double *A);
+/* Damping and A = f / m of the nodal sums f (f takes the damping). */
+static int forces_finish(mpgm_problem *pb, double *f, const double *vel, double *A) {
+  mpgm_ctx *ctx = pb->ctx;
+  const mpgm_nodes *nd = &pb->nodes;
+  mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
+  const double alpha = pb->scene->local_damping;
+  if (alpha > 0.0)
+    for (int i = 0; i < MPGM_DIM * nd->n; i++)
+      if (vel[i] != 0.0) f[i] -= alpha * fabs(f[i]) * (vel[i] > 0.0 ? 1.0 : -1.0);
+  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
+    const double m = nd->mass[i / MPGM_DIM];
+    A[i] = nd->fix[i] || !(m > 0.0) ? 0.0 : f[i] / m;
+    if (!isfinite(A[i])) {
+      mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+      char at[MPGM_POINT_STR];
+      MPGM_ERROR(ctx, MPGM_ERR_NAN, "step %ld: the acceleration of node %d at %s is not finite "
+                 "(nodal mass %g kg)", pb->step + 1, i / MPGM_DIM,
+                 mpgm_point_str(nd->x + MPGM_DIM * (i / MPGM_DIM), at), m);
+    }
+  }
+  mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+  return 0;
+}
 
+/* Nodal force f = f_ext - f_int of the stress sigma on the volumes vol
+ * (either the committed or the trial arrays of the points) with gravity
+ * at time t (its ramp): f_I = sum_p (m_p N_Ip g - vol_p sigma_p grad N_Ip);
+ * with time.local_damping alpha, Cundall's local damping f -= alpha |f|
+ * sign(vel) per component, vel the nodal velocity the scheme has at this
+ * point of the step; the nodal acceleration A = f / m (0 at fixed
+ * components and massless nodes). */
 static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma, const double *vol,
                         double t, const double *vel, double *A) {
   mpgm_ctx *ctx = pb->ctx;
@@ -274,29 +301,6 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
   return forces_finish(pb, d->f, vel, A);
 }
 
-/* Damping and A = f / m of the nodal sums f (nodal_forces). */
-static int forces_finish(mpgm_problem *pb, const double *fsum, const double *vel, double *A) {
-  mpgm_ctx *ctx = pb->ctx;
-  const mpgm_nodes *nd = &pb->nodes;
-  double *f = (double *)fsum;
-  mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
-  const double alpha = pb->scene->local_damping;
-  if (alpha > 0.0)
-    for (int i = 0; i < MPGM_DIM * nd->n; i++)
-      if (vel[i] != 0.0) f[i] -= alpha * fabs(f[i]) * (vel[i] > 0.0 ? 1.0 : -1.0);
-  for (int i = 0; i < MPGM_DIM * nd->n; i++) {
-    const double m = nd->mass[i / MPGM_DIM];
-    A[i] = nd->fix[i] || !(m > 0.0) ? 0.0 : f[i] / m;
-    if (!isfinite(A[i])) {
-      mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
-      MPGM_ERROR(ctx, MPGM_ERR_NAN, "step %ld: the acceleration of node %d at (%g, %g) is not "
-                 "finite (nodal mass %g kg)", pb->step + 1, i / MPGM_DIM,
-                 nd->x[MPGM_DIM * (i / MPGM_DIM)], nd->x[MPGM_DIM * (i / MPGM_DIM) + 1], m);
-    }
-  }
-  mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
-  return 0;
-}
 
 /* The stress from the nodal velocity vel and its nodal force at time t
  * (stress, then nodal_forces of the trial arrays). 3-D on one thread: in
@@ -313,12 +317,7 @@ static void stress_force_point(void *arg, int p) {
   fused_job *fj = arg;
   mpgm_problem *pb = fj->j.pb;
   mpgm_points *P = &pb->pts;
-  if (!pb->fx.geometric) { /* V (1 + tr(dF - I)), as stress() */
-    const double *dF = P->dF_t + MPGM_TENSOR * p;
-    double tr = dF[0];
-    for (int d = 1; d < MPGM_DIM; d++) tr += dF[(MPGM_DIM + 1) * d];
-    P->vol_t[p] = P->vol[p] * (tr - (MPGM_DIM - 1.0));
-  }
+  if (!pb->fx.geometric) small_volume(P, p);
   mpgm_run_add(&pb->conn, &fj->r, P->n, p, MPGM_DIM, force_entry, &fj->j, fj->j.out);
 }
 #endif

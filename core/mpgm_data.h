@@ -306,6 +306,11 @@ MPGM_RUN_INLINE int mpgm_conn_same(const mpgm_conn *c, int p) {
   return n <= MPGM_RUN_NODES && n == k - c->ptr[p - 1] &&
          memcmp(c->node + k, c->node + k - n, sizeof(int) * (size_t)n) == 0;
 }
+/** Whether point p (> 0) continues the run of p - 1, from the runs of
+ *  mpgm_conn_runs when they are known for [0, np), else by comparison. */
+MPGM_RUN_INLINE int mpgm_conn_continues(const mpgm_conn *c, int np, int p) {
+  return c->rn >= np ? c->rc[p] : mpgm_conn_same(c, p);
+}
 /** out[w I + i] += the sums over the points [0, np) of fn's values at
  *  each node I (out zeroed by the caller), by runs. */
 MPGM_RUN_INLINE void mpgm_run_scatter(const mpgm_conn *c, int np, int w, mpgm_entry_fn fn,
@@ -329,7 +334,7 @@ MPGM_RUN_INLINE void mpgm_run_scatter(const mpgm_conn *c, int np, int w, mpgm_en
         for (int i = 0; i < w; i++) sum[w * a + i] += v[i];
       }
       q++;
-    } while (q < np && (c->rn >= np ? c->rc[q] : mpgm_conn_same(c, q)));
+    } while (q < np && mpgm_conn_continues(c, np, q));
     for (int a = 0; a < n; a++)
       for (int i = 0; i < w; i++) out[w * c->node[k0 + a] + i] += sum[w * a + i];
     p = q;
@@ -352,7 +357,7 @@ MPGM_RUN_INLINE void mpgm_run_add(const mpgm_conn *c, mpgm_run_acc *r, int np, i
                                   mpgm_entry_fn fn, const void *job, double *out) {
   double v[MPGM_RUN_VALUES];
   const int k0 = c->ptr[p], n = c->ptr[p + 1] - k0;
-  if (!(r->n > 0 && (c->rn >= np ? c->rc[p] : mpgm_conn_same(c, p)))) { /* a new run */
+  if (!(r->n > 0 && mpgm_conn_continues(c, np, p))) { /* a new run */
     mpgm_run_end(c, r, w, out);
     if (n > MPGM_RUN_NODES) { /* a run of one */
       for (int k = k0; k < k0 + n; k++) {
