@@ -117,6 +117,36 @@ typedef struct mpgm_param_spec {
   const char *doc;  /**< one line for docs/scene-format.md               */
 } mpgm_param_spec;
 
+/** What a key of a plug-in's own part of the scene holds
+ *  (mpgm_key_spec.type). */
+typedef enum {
+  MPGM_KEY_REAL = 0, /**< a number, into a double                       */
+  MPGM_KEY_INT,      /**< an integer in [lo, hi], into an int            */
+  MPGM_KEY_CHOICE    /**< one of `choices`, into an int: lo + the index
+                          of the name (so a field may count from 1)      */
+} mpgm_key_type;
+
+/** One key a plug-in declares in its part of the scene, read into a field
+ *  of the plug-in's parameter struct (a shape kind's mpgm_shape_params, a
+ *  front end's keys of "shape"). The plug-in lists its keys; the scene
+ *  reader (io/scene_keys.c) reads, checks, resolves and documents them,
+ *  so a new parameter is one line in the plug-in's own file. Written
+ *  with designated initialisers. */
+typedef struct mpgm_key_spec {
+  const char *name;           /**< JSON key, e.g. "gamma"                */
+  int type;                   /**< mpgm_key_type                         */
+  size_t offset;              /**< offsetof the field in the struct      */
+  double def;                 /**< default value (CHOICE: lo + index);
+                                   NAN (REAL) or below lo (INT, CHOICE):
+                                   required                              */
+  double lo, hi;              /**< admissible range (CHOICE: lo is the
+                                   value of the first name)              */
+  int lo_open, hi_open;       /**< REAL: 1 for > lo, < hi                */
+  const char *const *choices; /**< CHOICE: the names, NULL-terminated    */
+  const char *unit;           /**< for docs, e.g. "m" or "-"             */
+  const char *doc;            /**< one line for docs/scene-format.md     */
+} mpgm_key_spec;
+
 /** Short fixed description of a code ("bad input", "det F <= 0", ...). */
 const char *mpgm_code_str(int code);
 

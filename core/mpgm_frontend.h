@@ -112,6 +112,11 @@ typedef struct mpgm_frontend_type {
   int node_motion;        /**< 1: takes mesh.node_motion "interpolated"   */
   int explicit_schemes;   /**< 1: takes time.analysis "explicit" (lumped
                                mass on nodes it projects every step)     */
+  /** Optional: its own keys of the scene's "shape" section (beside the
+   *  kind's), read into mpgm_scene.pattern (nshape_keys of them); another
+   *  method's scene refuses them by this front end's name. */
+  const mpgm_key_spec *shape_keys;
+  int nshape_keys;
   /** Optional: rules of this front end beyond its traits, as
    *  MPGM_ERR_INPUT with "FILE: json.path: expected ..., found ...". */
   int (*check)(mpgm_ctx *ctx, const mpgm_scene *s);

@@ -190,6 +190,21 @@ typedef struct mpgm_scene_probe {
  *  field at their position, sum_J N_J(x_I) du_J (GMM, finite strain). */
 typedef enum { MPGM_NODES_COEFFICIENT = 0, MPGM_NODES_INTERPOLATED } mpgm_node_motion;
 
+/** The keys of "shape" a front end declares (mpgm_frontend_type.
+ *  shape_keys): method gmm's sparsity pattern and tangent over node
+ *  clouds (docs/scene-format.md, "shape"); zero for the other methods. */
+typedef struct mpgm_pattern_opts {
+  double skin;           /**< the pattern's skin, a multiple of mesh.h (0:
+                              a pattern per change of the clouds;
+                              discretisation/skin.c)                    */
+  double tangent_radius; /**< the tangent couples the nodes within this
+                              radius (a multiple of mesh.h; and the skin)
+                              of each point only; 0: the clouds'        */
+  double tangent_tol;    /**< the tangent's radius where the kind's weight
+                              falls to this value (0: tangent_radius or
+                              none; gmm/gmm.c makes it a radius)       */
+} mpgm_pattern_opts;
+
 typedef struct mpgm_scene {
   char file[MPGM_PATH_LEN]; /**< scene file as given                  */
   char stem[MPGM_NAME_LEN]; /**< file name without folder and .json    */
@@ -197,24 +212,12 @@ typedef struct mpgm_scene {
                                  (frontends/, resolved by name)         */
   const mpgm_shapefn_type *shape;
   mpgm_shape_params shape_par; /**< meshfree kinds: shape.gamma, radius,
-                                 dilation, tol_support, max_cond, order;
-                                 h = mesh.h (all zero for "fe")        */
-  int min_nodes;            /**< meshfree: smallest cloud; the search
-                                 radius grows x1.25 until it holds this
-                                 many nodes (0: 6, or 12 for quadratic
-                                 MLS)                                  */
-  int max_enlarge;          /**< meshfree: cloud enlargements per point
-                                 and step before the step fails (16)   */
-  double skin;              /**< gmm: the pattern's skin, a multiple of
-                                 mesh.h (0: a pattern per change of the
-                                 clouds; discretisation/skin.c)        */
-  double tangent_radius;    /**< gmm: the tangent couples the nodes
-                                 within this radius (a multiple of
-                                 mesh.h; and the skin) of each point
-                                 only; 0: the clouds'                  */
-  double tangent_tol;       /**< gmm, lme: the weight at which the
-                                 tangent's radius is set (0: given by
-                                 tangent_radius or none)               */
+                                 dilation, tol_support, max_cond, order,
+                                 grid_order, min_nodes, max_enlarge:
+                                 the kind's keys (mpgm_shapefn_type.
+                                 keys); h = mesh.h (all zero for "fe") */
+  mpgm_pattern_opts pattern; /**< the front end's keys of "shape" (gmm:
+                                 the pattern skin, the tangent radius)  */
   /* mesh */
   double h;                 /**< cell size [m]                         */
   int cell;                 /**< mpgm_cell_kind                        */

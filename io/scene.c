@@ -253,76 +253,6 @@ static int read_output(jr_node *root, mpgm_scene *s) {
   return jr_end(&o);
 }
 
-/* shape.tangent_tol: the tangent's radius (in h) where the kind's weight
- * falls to tol (the kind's weight_radius; LME: sqrt(-ln tol / gamma)), so
- * that one setting leaves out weights of the same size at every gamma (a
- * radius in h suits one gamma only). Sets tangent_radius; the two exclude
- * each other. */
-static int read_tangent_tol(jr_node *sh, mpgm_scene *s) {
-  MPGM_CALL(jr_num(sh, "tangent_tol", 0.0, 0.0, 1.0, 0, 1, &s->tangent_tol));
-  if (!(s->tangent_tol > 0.0)) return 0;
-  if (!s->shape->weight_radius)
-    return jr_fail(sh, "tangent_tol", "a tangent cut where the weight falls to tol: expected a "
-                   "kind with such a weight (\"lme\"), found \"%s\" (use shape.tangent_radius)",
-                   s->shape->name);
-  if (s->tangent_radius > 0.0)
-    return jr_fail(sh, "tangent_tol", "expected shape.tangent_radius or shape.tangent_tol, found "
-                   "both (radius %g h, tol %g)", s->tangent_radius, s->tangent_tol);
-  mpgm_shape_params unit = s->shape_par; /* mesh.h is not read yet: in units of h */
-  unit.h = 1.0;
-  if (s->shape->weight_radius(&unit, s->tangent_tol, &s->tangent_radius))
-    return jr_fail(sh, "tangent_tol", "no radius for tol %g with gamma %g", s->tangent_tol,
-                   s->shape_par.gamma);
-  return 0;
-}
-
-/* Parameters of the meshfree kinds (shape.*; docs/scene-format.md, "shape").
- * The cell-based kind "fe" takes none, so its only key is "kind". The length
- * scale h = mesh.h is set once the mesh is read. */
-static int read_shape_params(jr_node *sh, mpgm_scene *s) {
-  mpgm_shape_params *p = &s->shape_par;
-  memset(p, 0, sizeof *p);
-  s->min_nodes = 0;
-  s->max_enlarge = 0;
-  s->skin = 0.0;
-  s->tangent_radius = 0.0;
-  s->tangent_tol = 0.0;
-  if (s->shape->needs_cell) return 0;
-  MPGM_CALL(jr_num(sh, "gamma", 1.8, 0.0, INFINITY, 1, 0, &p->gamma));
-  MPGM_CALL(jr_num(sh, "tol_support", 1e-6, 0.0, 1.0, 1, 1, &p->tol_support));
-  MPGM_CALL(jr_num(sh, "radius", 0.0, 0.0, INFINITY, 0, 0, &p->radius));
-  MPGM_CALL(jr_num(sh, "dilation", 2.0, 0.0, INFINITY, 1, 0, &p->dilation));
-  /* CPLS reconstructs velocities at second order with the quadratic basis */
-  MPGM_CALL(jr_int(sh, "order", s->shape->velocity_ls ? 2 : 1, 1, 2, &p->order));
-  MPGM_CALL(jr_num(sh, "max_cond", 0.0, 0.0, INFINITY, 0, 0, &p->max_cond));
-  MPGM_CALL(jr_int(sh, "min_nodes", 0, 0, MPGM_SHAPE_MAXNODE, &s->min_nodes));
-  MPGM_CALL(jr_int(sh, "max_enlarge", 16, 0, MPGM_SHAPE_MAXNODE, &s->max_enlarge));
-  /* the grid functions a particle domain averages (CPDI, CPLS) */
-  static const char *const grid_fn_names[] = {"bilinear", "quadratic_bspline", NULL};
-  int gf;
-  MPGM_CALL(jr_enum(sh, "grid_functions", grid_fn_names, 0, &gf));
-  if (gf && !s->shape->domain)
-    return jr_fail(sh, "grid_functions", "the grid functions of particle domains: expected "
-                   "shape.kind \"cpdi\" or \"cpls\", found \"%s\"", s->shape->name);
-  p->grid_order = gf + 1;
-  /* GMM keeps its pattern while the clouds stay within a tenth of h more
-   * than their radius (docs/benchmarks.md: the rolling disk's GMM-LME
-   * 1.45x faster, the column collapse unchanged) */
-  const int gmm = strcmp(s->frontend->name, "gmm") == 0;
-  MPGM_CALL(jr_num(sh, "skin", gmm ? 0.1 : 0.0, 0.0, 10.0, 0, 0, &s->skin));
-  if (s->skin > 0.0 && !gmm)
-    return jr_fail(sh, "skin", "the pattern skin of persistent nodes' clouds: expected method "
-                   "\"gmm\", found \"%s\"", s->frontend->name);
-  MPGM_CALL(jr_num(sh, "tangent_radius", 0.0, 0.0, 1000.0, 0, 0, &s->tangent_radius));
-  MPGM_CALL(read_tangent_tol(sh, s));
-  const char *key = s->tangent_tol > 0.0 ? "tangent_tol" : "tangent_radius";
-  if (s->tangent_radius > 0.0 && !(s->skin > 0.0))
-    return jr_fail(sh, key, "a tangent of smaller clouds is built on the pattern "
-                   "skin's lists: expected method \"gmm\" with shape.skin > 0, found method "
-                   "\"%s\" and skin %g", s->frontend->name, s->skin);
-  return 0;
-}
-
 /* "mesh": cell size, cell kind, points per cell, the light-node and
  * close-node rules, the domain. */
 static int read_mesh(jr_node *root, mpgm_scene *s) {
@@ -448,7 +378,7 @@ static int read_scene(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(refuse_plane_only(&sh, "kind", plane_kinds, "shape function"));
   MPGM_CALL(jr_enum(&sh, "kind", snames, 0, &sk));
   s->shape = st[sk];
-  MPGM_CALL(read_shape_params(&sh, s));
+  MPGM_CALL(mpgm_scene_read_shape_keys(&sh, s));
   MPGM_CALL(jr_end(&sh));
 
   MPGM_CALL(read_mesh(root, s));

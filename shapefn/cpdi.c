@@ -330,7 +330,27 @@ static int cpdi_eval(const mpgm_shape_query *q, double *N, double *dN) {
 }
 #endif
 
+/* shape.grid_functions of the kinds with particle domains: the grid
+ * functions a domain's corners carry, into grid_order 1 or 2 */
+static const char *const grid_fn_names[] = {"bilinear", "quadratic_bspline", NULL};
+#define GRID_FUNCTIONS_KEY                                                                        \
+  {.name = "grid_functions", .type = MPGM_KEY_CHOICE,                                             \
+   .offset = offsetof(mpgm_shape_params, grid_order), .def = 1, .lo = 1, .hi = 2,                \
+   .choices = grid_fn_names, .unit = "-",                                                         \
+   .doc = "the grid functions of the domains' corners: the hats or the quadratic B-splines"}
+
+static const mpgm_key_spec cpdi_keys[] = {GRID_FUNCTIONS_KEY};
+
 #if MPGM_DIM == 2
+/* CPLS's keys: the grid functions, and the basis of its velocity
+ * reconstruction (second order by default: kept at large deformation) */
+static const mpgm_key_spec cpls_keys[] = {
+    GRID_FUNCTIONS_KEY,
+    {.name = "order", .type = MPGM_KEY_INT, .offset = offsetof(mpgm_shape_params, order),
+     .def = 2, .lo = 1, .hi = 2, .unit = "-",
+     .doc = "basis of the velocity reconstruction: 1 linear, 2 quadratic"},
+};
+
 /* CPLS (Tran et al. 2019): CPDI's N and grad N, the nodal velocities by
  * least squares from the points' centres and corners (mpm/cpls.c). */
 const mpgm_shapefn_type mpgm_shapefn_cpls = {
@@ -344,6 +364,8 @@ const mpgm_shapefn_type mpgm_shapefn_cpls = {
     .velocity_ls = 1,
     .eval = cpdi_eval,
     .support_radius = cpdi_radius,
+    .keys = cpls_keys,
+    .nkeys = sizeof cpls_keys / sizeof *cpls_keys,
 };
 #endif
 
@@ -363,4 +385,6 @@ const mpgm_shapefn_type mpgm_shapefn_cpdi = {
     .domain = 1,
     .eval = cpdi_eval,
     .support_radius = cpdi_radius,
+    .keys = cpdi_keys,
+    .nkeys = sizeof cpdi_keys / sizeof *cpdi_keys,
 };

@@ -324,6 +324,22 @@ static int lme_eval(const mpgm_shape_query *q, double *N, double *dN) {
   return 0;
 }
 
+/* shape.* of "lme" (docs/scene-format.md, "shape") */
+static const mpgm_key_spec lme_keys[] = {
+    {.name = "gamma", .type = MPGM_KEY_REAL, .offset = offsetof(mpgm_shape_params, gamma),
+     .def = MPGM_LME_GAMMA, .lo = 0.0, .hi = INFINITY, .lo_open = 1, .unit = "-",
+     .doc = "locality gamma = beta h^2 (0.8 spread out ... 4 nearly FE)"},
+    {.name = "tol_support", .type = MPGM_KEY_REAL,
+     .offset = offsetof(mpgm_shape_params, tol_support), .def = MPGM_LME_TOL_SUPPORT, .lo = 0.0,
+     .hi = 1.0, .lo_open = 1, .hi_open = 1, .unit = "-",
+     .doc = "nodes where exp(-gamma r^2 / h^2) < tol_support get N = 0"},
+    {.name = "radius", .type = MPGM_KEY_REAL, .offset = offsetof(mpgm_shape_params, radius),
+     .def = 0.0, .lo = 0.0, .hi = INFINITY, .unit = "m",
+     .doc = "a fixed search radius (replaces tol_support); 0: from tol_support"},
+    MPGM_MAX_COND_KEY,
+    MPGM_CLOUD_KEYS,
+};
+
 const mpgm_shapefn_type mpgm_shapefn_lme = {
     .name = "lme",
     .doc = "local maximum-entropy (Arroyo-Ortiz), beta = gamma / h^2, support cut where "
@@ -332,4 +348,6 @@ const mpgm_shapefn_type mpgm_shapefn_lme = {
     .eval = lme_eval,
     .support_radius = lme_radius,
     .weight_radius = lme_weight_radius,
+    .keys = lme_keys,
+    .nkeys = sizeof lme_keys / sizeof *lme_keys,
 };

@@ -180,6 +180,20 @@ static int mls_eval(const mpgm_shape_query *q, double *N, double *dN) {
   return 0;
 }
 
+/* shape.* of "mls" (docs/scene-format.md, "shape") */
+static const mpgm_key_spec mls_keys[] = {
+    {.name = "radius", .type = MPGM_KEY_REAL, .offset = offsetof(mpgm_shape_params, radius),
+     .def = 0.0, .lo = 0.0, .hi = INFINITY, .unit = "m",
+     .doc = "support radius R of the weight; 0: dilation h"},
+    {.name = "dilation", .type = MPGM_KEY_REAL, .offset = offsetof(mpgm_shape_params, dilation),
+     .def = MPGM_MLS_DILATION, .lo = 0.0, .hi = INFINITY, .lo_open = 1, .unit = "-",
+     .doc = "R / h when radius is 0"},
+    {.name = "order", .type = MPGM_KEY_INT, .offset = offsetof(mpgm_shape_params, order),
+     .def = 1, .lo = 1, .hi = 2, .unit = "-", .doc = "basis: 1 linear (3 terms), 2 quadratic (6)"},
+    MPGM_MAX_COND_KEY,
+    MPGM_CLOUD_KEYS,
+};
+
 const mpgm_shapefn_type mpgm_shapefn_mls = {
     .name = "mls",
     .doc = "moving least squares, linear or quadratic basis, cubic-spline weight of radius "
@@ -187,4 +201,6 @@ const mpgm_shapefn_type mpgm_shapefn_mls = {
     .needs_cell = 0,
     .eval = mls_eval,
     .support_radius = mls_radius,
+    .keys = mls_keys,
+    .nkeys = sizeof mls_keys / sizeof *mls_keys,
 };

@@ -86,6 +86,13 @@ typedef struct mpgm_shape_params {
                            beyond it is pulled back onto its edge (the
                            point itself must lie inside); no box when
                            grid_hi <= grid_lo                               */
+  /* cloud control of the kinds over node clouds (MLS, LME), read by the
+   * front ends (discretisation/clouds.c), not by eval */
+  int min_nodes;      /**< smallest cloud: the search radius grows x1.25
+                           until it holds this many nodes (0: 6, or 12 for
+                           quadratic MLS)                                   */
+  int max_enlarge;    /**< cloud enlargements per point and step before the
+                           step fails (the scene's default 16; 0: none)     */
 } mpgm_shape_params;
 
 /** Why an evaluation failed (mpgm_shape_info.reason). */
@@ -203,6 +210,12 @@ typedef struct mpgm_shapefn_type {
    *  its value at the point; LME h sqrt(-ln w / gamma). Returns 0 or
    *  MPGM_ERR_INPUT. shape.tangent_tol sets the tangent's radius by it. */
   int (*weight_radius)(const mpgm_shape_params *par, double w, double *radius);
+  /** The kind's keys of the scene's "shape" section besides "kind", read
+   *  into mpgm_shape_params (nkeys of them; none for "fe" and "ugimp"): a
+   *  key another kind declares is refused with a message naming that
+   *  kind (io/scene_keys.c). */
+  const mpgm_key_spec *keys;
+  int nkeys;
 } mpgm_shapefn_type;
 
 /** Radius [m] within which a meshfree kind needs the nodes of a point (the

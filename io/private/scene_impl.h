@@ -1,6 +1,6 @@
 /* scene_impl.h -- private to io/: pieces of scene loading that live in
  * their own files (scene_bodies.c, scene_boundaries.c, scene_reference.c,
- * scene_solver.c, scene_time.c). */
+ * scene_solver.c, scene_time.c, scene_keys.c). */
 #ifndef MPGM_SCENE_IMPL_H
 #define MPGM_SCENE_IMPL_H
 
@@ -56,6 +56,15 @@ int mpgm_scene_read_dt(jr_node *tm, mpgm_scene *s, double def, int lo_open);
 /** "time": time.max_steps and the fixed steps against it (scene_time.c;
  *  after dt, end and load_steps). */
 int mpgm_scene_read_max_steps(jr_node *tm, mpgm_scene *s);
+
+/** The keys of table keys (n of them) into the struct at base, each with
+ *  its type, default and range (scene_keys.c). */
+int mpgm_scene_read_keys(jr_node *o, const mpgm_key_spec *keys, int n, void *base);
+/** "shape" sh beyond "kind" (after the method and the kind): the kind's
+ *  keys into s->shape_par, the front end's into s->pattern; a key of
+ *  another kind or front end, in the file or in --set shape.KEY, is
+ *  refused naming its owners (scene_keys.c). */
+int mpgm_scene_read_shape_keys(jr_node *sh, mpgm_scene *s);
 
 /** "solver": the linear backend, its options and Newton's settings
  *  (scene_solver.c; after "time", whose analysis decides whether PETSc is

@@ -53,6 +53,12 @@ SCENES = {
                     "obstacles": [{"x": 3.5, "side": "right"}],
                     "probes": {"c": [1.0, 0.5]},
                     "reference": {"kind": "rolling_disk", "probe": "c"}},
+    # GMM-LME and MPM-CPDI: the keys those kinds alone take (gamma,
+    # tol_support; grid_functions)
+    "gmm_lme": {"method": "gmm", "shape": {"kind": "lme"}, "mesh": MESH, "materials": {"nh": MATERIALS["nh"]},
+                "bodies": [BLOCK], "boundaries": [{"x": 0.0, "fix": ["x", "y"]}]},
+    "mpm_cpdi": {"method": "mpm", "shape": {"kind": "cpdi"}, "mesh": MESH, "materials": {"nh": MATERIALS["nh"]},
+                 "bodies": [BLOCK], "boundaries": [{"y": 0.0, "fix": ["x", "y"]}]},
     # the PETSc backend: its options' default (the string is read only then)
     "fem_petsc": {"mesh": MESH, "materials": {"nh": MATERIALS["nh"]}, "bodies": [BLOCK],
                   "boundaries": [{"x": 0.0, "fix": ["x", "y"]}], "solver": {"linear": "petsc"}},
@@ -176,9 +182,6 @@ def expected(text, resolved):
     if m:  # a default that follows the shape kind
         cpdi = resolved.get("shape", {}).get("kind") == "cpdi" and cell == "quad"
         t = m.group(2 if cpdi else 1)
-    m = re.fullmatch(r"`gmm`: (\S+); (\S+)", t)
-    if m:  # a default of the GMM front end
-        t = m.group(1 if resolved.get("method") == "gmm" else 2)
     m = re.fullmatch(r"(\S+); `cpls`: (\S+)", t)
     if m:  # a default that CPLS sets otherwise
         t = m.group(2 if resolved.get("shape", {}).get("kind") == "cpls" else 1)

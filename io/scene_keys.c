@@ -1,0 +1,107 @@
+/* scene_keys.c -- the keys plug-ins declare for their own part of the scene
+ * (mpgm_key_spec): read into their parameter structs, and "shape", where
+ * the shape kind and the front end each read their own keys and a key of
+ * another kind or front end is refused by the name of its owner. */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "mpgm_frontends.h"
+#include "scene_impl.h"
+
+int mpgm_scene_read_keys(jr_node *o, const mpgm_key_spec *keys, int n, void *base) {
+  for (int i = 0; i < n; i++) {
+    const mpgm_key_spec *k = &keys[i];
+    char *f = (char *)base + k->offset;
+    int c;
+    switch (k->type) {
+    case MPGM_KEY_REAL:
+      MPGM_CALL(jr_num(o, k->name, k->def, k->lo, k->hi, k->lo_open, k->hi_open, (double *)f));
+      break;
+    case MPGM_KEY_INT:
+      MPGM_CALL(jr_int(o, k->name, (int)k->def, (int)k->lo, (int)k->hi, (int *)f));
+      break;
+    case MPGM_KEY_CHOICE:
+      MPGM_CALL(jr_enum(o, k->name, k->choices, (int)(k->def - k->lo), &c));
+      *(int *)f = (int)k->lo + c;
+      break;
+    default:
+      return jr_fail(o, k->name, "internal error: key type %d", k->type);
+    }
+  }
+  return 0;
+}
+
+static int declares(const mpgm_key_spec *keys, int n, const char *key) {
+  for (int i = 0; i < n; i++)
+    if (strcmp(keys[i].name, key) == 0) return 1;
+  return 0;
+}
+
+static void append(char *buf, size_t len, const char *fmt, ...) {
+  const size_t at = strlen(buf);
+  if (at + 1 >= len) return;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(buf + at, len - at, fmt, ap);
+  va_end(ap);
+}
+
+/* The kinds and front ends other than the scene's that declare key:
+ * "shape.kind \"cpdi\" or \"cpls\"", "method \"gmm\"", both joined by
+ * " or " ("": none). */
+static void key_owners(const mpgm_scene *s, const char *key, char *who, size_t len) {
+  who[0] = '\0';
+  int nk = 0;
+  for (const mpgm_shapefn_type *const *t = mpgm_shapefn_types(); *t; t++)
+    if (*t != s->shape && declares((*t)->keys, (*t)->nkeys, key))
+      append(who, len, "%s\"%s\"", nk++ ? " or " : "shape.kind ", (*t)->name);
+  int nf = 0;
+  for (const mpgm_frontend_type *const *f = mpgm_frontend_types(); *f; f++)
+    if (*f != s->frontend && declares((*f)->shape_keys, (*f)->nshape_keys, key))
+      append(who, len, "%s\"%s\"", nf++ ? " or " : nk ? " or method " : "method ", (*f)->name);
+}
+
+static int seen(const jr_node *o, const char *key) {
+  for (int i = 0; i < o->nseen; i++)
+    if (strcmp(o->seen[i], key) == 0) return 1;
+  return 0;
+}
+
+/* Key, not read from sh, of another kind or front end: refused, naming
+ * its owners and the keys this kind and method take. In a run's own
+ * record (a resolved scene an earlier mpgm wrote, which resolved every
+ * meshfree key for every meshfree kind) such a key is passed over (known,
+ * not resolved): it changed nothing in that run. */
+static int foreign_key(jr_node *sh, const mpgm_scene *s, const char *key, int from_override) {
+  char who[256];
+  key_owners(s, key, who, sizeof who);
+  if (!who[0]) return 0; /* nobody's: jr_end or the overrides' check says so */
+  if (!s->from_file && !from_override) {
+    jr_raw(sh, key);
+    return 0;
+  }
+  char list[512] = "";
+  for (int i = 0; i < sh->nseen; i++) append(list, sizeof list, "%s%s", i ? ", " : "", sh->seen[i]);
+  /* a kind or method changed by --set over a scene written for another */
+  const char *hint = from_override ? "" : "; to change the kind, give the whole section, --set "
+                                          "'shape={\"kind\": ...}'";
+  return jr_fail(sh, key, "a key of %s, not of shape.kind \"%s\" with method \"%s\" (expected "
+                 "one of: %s)%s", who, s->shape->name, s->frontend->name, list, hint);
+}
+
+int mpgm_scene_read_shape_keys(jr_node *sh, mpgm_scene *s) {
+  memset(&s->shape_par, 0, sizeof s->shape_par);
+  memset(&s->pattern, 0, sizeof s->pattern);
+  MPGM_CALL(mpgm_scene_read_keys(sh, s->shape->keys, s->shape->nkeys, &s->shape_par));
+  MPGM_CALL(mpgm_scene_read_keys(sh, s->frontend->shape_keys, s->frontend->nshape_keys, &s->pattern));
+  for (const cJSON *c = sh->j ? sh->j->child : NULL; c; c = c->next)
+    if (!seen(sh, c->string)) MPGM_CALL(foreign_key(sh, s, c->string, 0));
+  const size_t n = strlen(sh->path);
+  for (int i = 0; i < sh->r->nov; i++) {
+    const char *p = sh->r->ov[i].path;
+    if (!sh->r->ov[i].used && strncmp(p, sh->path, n) == 0 && p[n] == '.' && !strchr(p + n + 1, '.'))
+      MPGM_CALL(foreign_key(sh, s, p + n + 1, 1));
+  }
+  return 0;
+}

@@ -1,0 +1,211 @@
+/* test_scene_keys.c -- every shape kind and every front end reads its own
+ * keys of "shape" from the table it declares (mpgm_key_spec), and a key of
+ * another is refused by its owner's name (io/scene_keys.c). Runs over the
+ * lists (mpgm_shapefn_types, mpgm_frontend_types) of the build, 2-D and
+ * 3-D: a kind or front end added to a list is tested here unchanged.
+ *
+ *   1. each table: names unique, not "kind", no name both a kind's and a
+ *      front end's; the field inside its struct; the default inside the
+ *      range (a name of the choices);
+ *   2. for each front end and kind it takes: the resolved "shape" holds
+ *      exactly "kind", the kind's keys and the front end's, each at its
+ *      default;
+ *   3. every key of another kind or front end that this pair does not
+ *      take: refused in a scene file and in --set, with a message naming
+ *      the key's owner; passed over (not resolved) in a run's own record
+ *      (mpgm_scene_load_json), which earlier mpgm wrote with every
+ *      meshfree key for every meshfree kind. */
+#include "mpgm_frontends.h"
+#include "mpgm_scene_io.h"
+#include "mpgm_test.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define FILE_NAME "test_scene_keys.json"
+
+static int declares(const mpgm_key_spec *k, int n, const char *name) {
+  for (int i = 0; i < n; i++)
+    if (strcmp(k[i].name, name) == 0) return 1;
+  return 0;
+}
+
+/* 1: one table (of a struct of size size). */
+static void check_table(const char *who, const mpgm_key_spec *k, int n, size_t size) {
+  int bad = 0;
+  for (int i = 0; i < n; i++) {
+    const size_t width = k[i].type == MPGM_KEY_REAL ? sizeof(double) : sizeof(int);
+    int nch = 0;
+    while (k[i].type == MPGM_KEY_CHOICE && k[i].choices && k[i].choices[nch]) nch++;
+    const double d = k[i].def;
+    const int in = k[i].type == MPGM_KEY_CHOICE ? d == floor(d) && d >= k[i].lo && d < k[i].lo + nch
+                   : (k[i].lo_open ? d > k[i].lo : d >= k[i].lo) &&
+                         (k[i].hi_open ? d < k[i].hi : d <= k[i].hi) &&
+                         (k[i].type == MPGM_KEY_REAL || d == floor(d));
+    const int ok = k[i].name && strcmp(k[i].name, "kind") != 0 && k[i].offset + width <= size &&
+                   k[i].offset % width == 0 && in && k[i].doc && k[i].unit &&
+                   !declares(k, i, k[i].name) && (k[i].type != MPGM_KEY_CHOICE || nch >= 1);
+    if (!ok) mpgm_test(0, "%s: key %d (%s): a name, not kind, once; its field inside the struct; "
+                       "its default %g inside its range", who, i, k[i].name ? k[i].name : "?", d);
+    bad += !ok;
+  }
+  mpgm_test(bad == 0, "%s: %d keys declared well", who, n);
+}
+
+/* The scene of a front end and a kind, with extra members of "shape". */
+static void scene_text(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh, const char *extra,
+                       char *text, size_t len) {
+#if MPGM_DIM == 2
+  const char *dom = "\"min\": [0, 0], \"max\": [2.4, 1.6]";
+  const char *body = "\"rectangle\": {\"min\": [0.0, 0.0], \"max\": [1.6, 0.8]}";
+  const char *fix = "[\"x\", \"y\"]";
+#else
+  const char *dom = "\"min\": [0, 0, 0], \"max\": [2.4, 1.6, 0.8]";
+  const char *body = "\"box\": {\"min\": [0.0, 0.0, 0.0], \"max\": [1.6, 0.8, 0.4]}";
+  const char *fix = "[\"x\", \"y\", \"z\"]";
+#endif
+  snprintf(text, len,
+           "{\"method\": \"%s\", \"shape\": {\"kind\": \"%s\"%s},"
+           " \"mesh\": {\"h\": 0.2, \"layout\": \"%s\", \"domain\": {%s}},"
+           " \"time\": %s,"
+           " \"materials\": {\"m\": {\"type\": \"neo_hookean\", \"density\": 1000, \"E\": 1e6, "
+           "\"nu\": 0.3}},"
+           " \"bodies\": [{\"material\": \"m\", %s}],"
+           " \"boundaries\": [{\"x\": 0.0, \"fix\": %s}], \"output\": {\"vtk\": \"none\"}}",
+           fe->name, sh->name, extra, sh->grid_only ? "centres" : "gauss", dom,
+           sh->velocity_ls ? "{\"analysis\": \"explicit\", \"scheme\": \"usl\", \"end\": 0.01}"
+                           : "{\"analysis\": \"static\"}",
+           body, fix);
+}
+
+/* Load text from a scene file (as a user's scene), with one --set. */
+static int load_file(mpgm_ctx *ctx, const char *text, const char *set, mpgm_scene **s) {
+  FILE *f = fopen(FILE_NAME, "w");
+  if (!f || fputs(text, f) < 0 || fclose(f) != 0)
+    return mpgm_err_set(ctx, MPGM_ERR_IO, __FILE__, __LINE__, "cannot write %s", FILE_NAME);
+  const char *sets[1] = {set};
+  const int err = mpgm_scene_load(ctx, FILE_NAME, set ? 1 : 0, sets, s);
+  remove(FILE_NAME);
+  return err;
+}
+
+/* 2: the resolved "shape" of a pair holds its keys at their defaults, and
+ * nothing else. */
+static void check_resolved(const char *what, const mpgm_frontend_type *fe,
+                           const mpgm_shapefn_type *sh, const mpgm_scene *s) {
+  const cJSON *o = cJSON_GetObjectItemCaseSensitive((const cJSON *)s->resolved, "shape");
+  const int n = cJSON_GetArraySize(o);
+  int bad = 0;
+  for (int w = 0; w < 2; w++) {
+    const mpgm_key_spec *k = w ? fe->shape_keys : sh->keys;
+    for (int i = 0; i < (w ? fe->nshape_keys : sh->nkeys); i++) {
+      const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, k[i].name);
+      const int ok = k[i].type == MPGM_KEY_CHOICE
+                         ? cJSON_IsString(v) &&
+                               strcmp(v->valuestring, k[i].choices[(int)(k[i].def - k[i].lo)]) == 0
+                         : cJSON_IsNumber(v) && v->valuedouble == k[i].def;
+      if (!ok) mpgm_test(0, "%s: shape.%s resolved at its default %g", what, k[i].name, k[i].def);
+      bad += !ok;
+    }
+  }
+  mpgm_test(bad == 0 && n == 1 + sh->nkeys + fe->nshape_keys,
+            "%s: resolved shape holds kind and its %d + %d keys at their defaults (%d members)", what,
+            sh->nkeys, fe->nshape_keys, n);
+}
+
+/* 3: key, of owner (another kind or front end), refused in the file and in
+ * --set naming owner, passed over in a record. */
+static void check_foreign(const char *what, const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh,
+                          const mpgm_key_spec *key, const char *owner) {
+  char extra[128], text[2048], set[128];
+  const char *value = key->type == MPGM_KEY_CHOICE ? key->choices[0] : "1";
+  snprintf(extra, sizeof extra, ", \"%s\": %s%s%s", key->name, key->type == MPGM_KEY_CHOICE ? "\"" : "",
+           value, key->type == MPGM_KEY_CHOICE ? "\"" : "");
+  mpgm_ctx ctx;
+  mpgm_scene *s = NULL;
+  for (int by_set = 0; by_set < 2; by_set++) {
+    mpgm_ctx_init(&ctx);
+    scene_text(fe, sh, by_set ? "" : extra, text, sizeof text);
+    snprintf(set, sizeof set, "shape.%s=%s", key->name, value);
+    const int err = load_file(&ctx, text, by_set ? set : NULL, &s);
+    char want[160];
+    snprintf(want, sizeof want, "shape.%s: a key of ", key->name);
+    mpgm_test(err == MPGM_ERR_INPUT && strstr(ctx.msg, want) && strstr(ctx.msg, owner),
+              "%s: shape.%s (%s's) refused %s: %s", what, key->name, owner,
+              by_set ? "in --set" : "in the file", ctx.msg);
+    mpgm_scene_destroy(&s);
+  }
+  mpgm_ctx_init(&ctx);
+  scene_text(fe, sh, extra, text, sizeof text);
+  cJSON *j = cJSON_Parse(text);
+  const int err = j ? mpgm_scene_load_json(&ctx, "record", j, &s) : MPGM_ERR_INTERNAL;
+  cJSON_Delete(j);
+  const cJSON *o = s ? cJSON_GetObjectItemCaseSensitive((const cJSON *)s->resolved, "shape") : NULL;
+  mpgm_test(err == 0 && o && !cJSON_GetObjectItemCaseSensitive(o, key->name),
+            "%s: shape.%s in a run's record passed over, not resolved (%s)", what, key->name,
+            err ? ctx.msg : "loaded");
+  mpgm_scene_destroy(&s);
+}
+
+/* 3 for every key of the other kinds and front ends this pair lacks. */
+static int check_foreign_all(const char *what, const mpgm_frontend_type *fe,
+                             const mpgm_shapefn_type *sh) {
+  const mpgm_shapefn_type *const *st = mpgm_shapefn_types();
+  const mpgm_frontend_type *const *ft = mpgm_frontend_types();
+  int n = 0;
+  for (int i = 0; st[i]; i++) {
+    for (int k = 0; k < st[i]->nkeys; k++) {
+      const mpgm_key_spec *key = &st[i]->keys[k];
+      if (declares(sh->keys, sh->nkeys, key->name) || declares(fe->shape_keys, fe->nshape_keys, key->name))
+        continue;
+      check_foreign(what, fe, sh, key, st[i]->name);
+      n++;
+    }
+  }
+  for (int i = 0; ft[i]; i++)
+    for (int k = 0; k < ft[i]->nshape_keys; k++) {
+      const mpgm_key_spec *key = &ft[i]->shape_keys[k];
+      if (declares(sh->keys, sh->nkeys, key->name) || declares(fe->shape_keys, fe->nshape_keys, key->name))
+        continue;
+      check_foreign(what, fe, sh, key, ft[i]->name);
+      n++;
+    }
+  return n;
+}
+
+int main(void) {
+  const mpgm_frontend_type *const *ft = mpgm_frontend_types();
+  const mpgm_shapefn_type *const *st = mpgm_shapefn_types();
+  for (int k = 0; st[k]; k++) check_table(st[k]->name, st[k]->keys, st[k]->nkeys, sizeof(mpgm_shape_params));
+  for (int f = 0; ft[f]; f++) {
+    check_table(ft[f]->name, ft[f]->shape_keys, ft[f]->nshape_keys, sizeof(mpgm_pattern_opts));
+    for (int k = 0; st[k]; k++) /* a name both read would be read twice */
+      for (int i = 0; i < ft[f]->nshape_keys; i++)
+        mpgm_test(!declares(st[k]->keys, st[k]->nkeys, ft[f]->shape_keys[i].name),
+                  "%s's shape.%s is not also a key of kind %s", ft[f]->name,
+                  ft[f]->shape_keys[i].name, st[k]->name);
+  }
+  int npair = 0, nforeign = 0;
+  for (int f = 0; ft[f]; f++)
+    for (int k = 0; st[k]; k++) {
+      const unsigned need = st[k]->needs_cell ? MPGM_FE_SHAPE_CELL : MPGM_FE_SHAPE_CLOUD;
+      if (!(ft[f]->shapes & need) || (st[k]->grid_only && ft[f]->persistent_nodes)) continue;
+      char what[64], text[2048];
+      snprintf(what, sizeof what, "%s-%s", ft[f]->name, st[k]->name);
+      scene_text(ft[f], st[k], "", text, sizeof text);
+      mpgm_ctx ctx;
+      mpgm_ctx_init(&ctx);
+      mpgm_scene *s = NULL;
+      const int err = load_file(&ctx, text, NULL, &s);
+      mpgm_test(err == 0, "%s: the scene loads (%s)", what, err ? ctx.msg : "ok");
+      if (!err) check_resolved(what, ft[f], st[k], s);
+      mpgm_scene_destroy(&s);
+      if (!err) nforeign += check_foreign_all(what, ft[f], st[k]);
+      npair++;
+    }
+  mpgm_test(npair >= (MPGM_DIM == 2 ? 6 : 3) && nforeign >= (MPGM_DIM == 2 ? 20 : 1),
+            "%d pairs of front end and kind, %d foreign keys refused", npair, nforeign);
+  return mpgm_test_summary();
+}
