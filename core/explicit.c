@@ -579,7 +579,7 @@ static int predictor_projected(const mpgm_problem *pb, double g, double *V) {
 static int npc_step(void *self, mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   mpgm_nodes *nd = &pb->nodes;
-  const double g = pb->scene->npc_gamma, dt = pb->dt;
+  const double g = pb->scene->scheme.npc_gamma, dt = pb->dt;
   double *V = nd->v_new, *A = nd->a_new;
   int gather;
   MPGM_CALL(gathers(pb, &gather));
@@ -602,9 +602,20 @@ static int npc_step(void *self, mpgm_problem *pb) {
   commit_stress(pb);
   /* newmark: the points move by what their strain used, dt v_pred =
    * dt V - gamma dt^2 A; eq34: dt V + dt^2 A / 2 (003's eq 34 and code) */
-  MPGM_CALL(move_points(pb, self, V, A, pb->scene->npc_eq34 ? 0.5 : -g));
+  MPGM_CALL(move_points(pb, self, V, A, pb->scene->scheme.npc_eq34 ? 0.5 : -g));
   return 0;
 }
+
+/* npc's keys of "time" (docs/scene-format.md, "Explicit schemes") */
+static const char *const position_names[] = {"newmark", "eq34", NULL};
+static const mpgm_key_spec npc_keys[] = {
+    {.name = "npc_gamma", .type = MPGM_KEY_REAL, .offset = offsetof(mpgm_scheme_params, npc_gamma),
+     .def = 0.5, .lo = 0.0, .hi = 1.0, .unit = "-",
+     .doc = "gamma of the predictor v + (1 - gamma) dt a and the corrector + gamma dt f / m"},
+    {.name = "npc_position", .type = MPGM_KEY_CHOICE, .offset = offsetof(mpgm_scheme_params, npc_eq34),
+     .def = 0, .lo = 0, .hi = 1, .choices = position_names, .unit = "-",
+     .doc = "how the points move: by dt v_pred (newmark) or by 003's eq 34 (eq34)"},
+};
 
 const mpgm_integrator_type mpgm_integrator_npc = {
     .name = "npc",
@@ -615,6 +626,8 @@ const mpgm_integrator_type mpgm_integrator_npc = {
     .destroy = explicit_destroy,
     .step = npc_step,
     .dt_limit = explicit_dt_limit,
+    .keys = npc_keys,
+    .nkeys = sizeof npc_keys / sizeof *npc_keys,
 };
 
 const mpgm_integrator_type mpgm_integrator_fe = {

@@ -33,6 +33,11 @@ typedef struct mpgm_integrator_type {
    *  be taken from this state (an explicit time.dt above the stability
    *  limit): the run fails at that step, without a cut. */
   double (*dt_limit)(void *self, const struct mpgm_problem *pb);
+  /** Its own keys of the scene's "time" block (nkeys of them), read into
+   *  mpgm_scene.scheme; another scheme's scene refuses them by this
+   *  scheme's name. */
+  const mpgm_key_spec *keys;
+  int nkeys;
 } mpgm_integrator_type;
 
 /** The integrator named `name`; NULL if none. */

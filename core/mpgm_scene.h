@@ -205,6 +205,17 @@ typedef struct mpgm_pattern_opts {
                               none; gmm/gmm.c makes it a radius)       */
 } mpgm_pattern_opts;
 
+/** The keys of "time" a time scheme declares (mpgm_integrator_type.
+ *  keys): the explicit npc's (docs/scene-format.md, "Explicit schemes");
+ *  zero for the other schemes. */
+typedef struct mpgm_scheme_params {
+  double npc_gamma; /**< gamma of the predictor and corrector (003 eqs
+                         30-31)                                          */
+  int npc_eq34;     /**< 1: the points move by 003's eq 34, dt V + dt^2 A
+                         / 2 with the corrected V; 0 ("newmark"): by dt
+                         v_pred, the displacement their strain used     */
+} mpgm_scheme_params;
+
 typedef struct mpgm_scene {
   char file[MPGM_PATH_LEN]; /**< scene file as given                  */
   char stem[MPGM_NAME_LEN]; /**< file name without folder and .json    */
@@ -280,8 +291,6 @@ typedef struct mpgm_scene {
                                  fixed steps beyond it are refused at
                                  load, a run that reaches it before its
                                  end fails (core/run.c)                 */
-  double npc_gamma;         /**< explicit npc: gamma of the predictor
-                                 and corrector (003 eqs 30-31)          */
   double local_damping;     /**< explicit: Cundall's local damping factor
                                  alpha in [0, 1): each free nodal force
                                  component loses alpha |f| against the
@@ -290,10 +299,8 @@ typedef struct mpgm_scene {
                                  acceleration are set to zero when the
                                  kinetic energy has passed a peak (a
                                  dynamic relaxation to rest)            */
-  int npc_eq34;             /**< explicit npc: 1: the points move by 003's
-                                 eq 34, dt V + dt^2 A / 2 with the
-                                 corrected V; 0 ("newmark"): by dt v_pred,
-                                 the displacement their strain used     */
+  mpgm_scheme_params scheme; /**< the time scheme's own keys of "time"
+                                 (mpgm_integrator_type.keys)            */
   /* solver */
   const mpgm_solver_type *solver; /**< solver.linear ("auto": the composite
                                  Cholesky / LU backend)               */

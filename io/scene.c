@@ -331,6 +331,7 @@ static int read_time(jr_node *root, mpgm_scene *s) {
   MPGM_CALL(jr_enum(&tm, "initial_acceleration", accel_names, 1, &s->initial_accel));
   MPGM_CALL(mpgm_scene_read_explicit(&tm, s, analysis_names[s->analysis]));
   MPGM_CALL(mpgm_scene_read_max_steps(&tm, s));
+  MPGM_CALL(mpgm_scene_scheme_keys_end(&tm, s));
   MPGM_CALL(jr_end(&tm));
   if (dyn && s->dt > s->t_end)
     return jr_fail(&tm, "dt", "expected dt <= end (%g s), found %g s", s->t_end, s->dt);

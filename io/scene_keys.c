@@ -47,19 +47,18 @@ static void append(char *buf, size_t len, const char *fmt, ...) {
   va_end(ap);
 }
 
-/* The kinds and front ends other than the scene's that declare key:
- * "shape.kind \"cpdi\" or \"cpls\"", "method \"gmm\"", both joined by
- * " or " ("": none). */
-static void key_owners(const mpgm_scene *s, const char *key, char *who, size_t len) {
+/* The owners of others (n) that declare key, grouped by what selects
+ * them: "shape.kind \"cpdi\" or \"cpls\" or method \"gmm\"" ("": none). */
+static void key_owners(const mpgm_key_owner *others, int n, const char *key, char *who, size_t len) {
   who[0] = '\0';
-  int nk = 0;
-  for (const mpgm_shapefn_type *const *t = mpgm_shapefn_types(); *t; t++)
-    if (*t != s->shape && declares((*t)->keys, (*t)->nkeys, key))
-      append(who, len, "%s\"%s\"", nk++ ? " or " : "shape.kind ", (*t)->name);
-  int nf = 0;
-  for (const mpgm_frontend_type *const *f = mpgm_frontend_types(); *f; f++)
-    if (*f != s->frontend && declares((*f)->shape_keys, (*f)->nshape_keys, key))
-      append(who, len, "%s\"%s\"", nf++ ? " or " : nk ? " or method " : "method ", (*f)->name);
+  const char *last = NULL;
+  for (int i = 0; i < n; i++) {
+    if (!declares(others[i].keys, others[i].nkeys, key)) continue;
+    const int same = last && strcmp(last, others[i].what) == 0;
+    append(who, len, "%s%s%s\"%s\"", who[0] ? " or " : "", same ? "" : others[i].what, same ? "" : " ",
+           others[i].name);
+    last = others[i].what;
+  }
 }
 
 static int seen(const jr_node *o, const char *key) {
@@ -68,26 +67,37 @@ static int seen(const jr_node *o, const char *key) {
   return 0;
 }
 
-/* Key, not read from sh, of another kind or front end: refused, naming
- * its owners and the keys this kind and method take. In a run's own
- * record (a resolved scene an earlier mpgm wrote, which resolved every
- * meshfree key for every meshfree kind) such a key is passed over (known,
- * not resolved): it changed nothing in that run. */
-static int foreign_key(jr_node *sh, const mpgm_scene *s, const char *key, int from_override) {
+/* Key, not read from o, of one of others: refused, naming its owners and
+ * the keys o's readers took. In a run's own record (a resolved scene an
+ * earlier mpgm wrote, which resolved every meshfree key for every
+ * meshfree kind) such a key is passed over (known, not resolved): it
+ * changed nothing in that run. */
+static int foreign_key(jr_node *o, const mpgm_scene *s, const mpgm_key_owner *others, int n,
+                       const char *mine, const char *hint, const char *key, int from_override) {
   char who[256];
-  key_owners(s, key, who, sizeof who);
+  key_owners(others, n, key, who, sizeof who);
   if (!who[0]) return 0; /* nobody's: jr_end or the overrides' check says so */
   if (!s->from_file && !from_override) {
-    jr_raw(sh, key);
+    jr_raw(o, key);
     return 0;
   }
   char list[512] = "";
-  for (int i = 0; i < sh->nseen; i++) append(list, sizeof list, "%s%s", i ? ", " : "", sh->seen[i]);
-  /* a kind or method changed by --set over a scene written for another */
-  const char *hint = from_override ? "" : "; to change the kind, give the whole section, --set "
-                                          "'shape={\"kind\": ...}'";
-  return jr_fail(sh, key, "a key of %s, not of shape.kind \"%s\" with method \"%s\" (expected "
-                 "one of: %s)%s", who, s->shape->name, s->frontend->name, list, hint);
+  for (int i = 0; i < o->nseen; i++) append(list, sizeof list, "%s%s", i ? ", " : "", o->seen[i]);
+  return jr_fail(o, key, "a key of %s, not of %s (expected one of: %s)%s", who, mine, list,
+                 from_override ? "" : hint);
+}
+
+int mpgm_scene_foreign_keys(jr_node *o, const mpgm_scene *s, const mpgm_key_owner *others, int n,
+                            const char *mine, const char *hint) {
+  for (const cJSON *c = o->j ? o->j->child : NULL; c; c = c->next)
+    if (!seen(o, c->string)) MPGM_CALL(foreign_key(o, s, others, n, mine, hint, c->string, 0));
+  const size_t len = strlen(o->path);
+  for (int i = 0; i < o->r->nov; i++) {
+    const char *p = o->r->ov[i].path;
+    if (!o->r->ov[i].used && strncmp(p, o->path, len) == 0 && p[len] == '.' && !strchr(p + len + 1, '.'))
+      MPGM_CALL(foreign_key(o, s, others, n, mine, hint, p + len + 1, 1));
+  }
+  return 0;
 }
 
 int mpgm_scene_read_shape_keys(jr_node *sh, mpgm_scene *s) {
@@ -95,13 +105,16 @@ int mpgm_scene_read_shape_keys(jr_node *sh, mpgm_scene *s) {
   memset(&s->pattern, 0, sizeof s->pattern);
   MPGM_CALL(mpgm_scene_read_keys(sh, s->shape->keys, s->shape->nkeys, &s->shape_par));
   MPGM_CALL(mpgm_scene_read_keys(sh, s->frontend->shape_keys, s->frontend->nshape_keys, &s->pattern));
-  for (const cJSON *c = sh->j ? sh->j->child : NULL; c; c = c->next)
-    if (!seen(sh, c->string)) MPGM_CALL(foreign_key(sh, s, c->string, 0));
-  const size_t n = strlen(sh->path);
-  for (int i = 0; i < sh->r->nov; i++) {
-    const char *p = sh->r->ov[i].path;
-    if (!sh->r->ov[i].used && strncmp(p, sh->path, n) == 0 && p[n] == '.' && !strchr(p + n + 1, '.'))
-      MPGM_CALL(foreign_key(sh, s, p + n + 1, 1));
-  }
-  return 0;
+  mpgm_key_owner others[32];
+  int n = 0;
+  for (const mpgm_shapefn_type *const *t = mpgm_shapefn_types(); *t && n < 16; t++)
+    if (*t != s->shape) others[n++] = (mpgm_key_owner){"shape.kind", (*t)->name, (*t)->keys, (*t)->nkeys};
+  for (const mpgm_frontend_type *const *f = mpgm_frontend_types(); *f && n < 32; f++)
+    if (*f != s->frontend)
+      others[n++] = (mpgm_key_owner){"method", (*f)->name, (*f)->shape_keys, (*f)->nshape_keys};
+  char mine[128];
+  snprintf(mine, sizeof mine, "shape.kind \"%s\" with method \"%s\"", s->shape->name, s->frontend->name);
+  /* a kind or method changed by --set over a scene written for another */
+  return mpgm_scene_foreign_keys(sh, s, others, n, mine, "; to change the kind, give the whole "
+                                 "section, --set 'shape={\"kind\": ...}'");
 }

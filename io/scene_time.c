@@ -4,6 +4,7 @@
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "mpgm_integrator.h"
 #include "mpgm_json_reader.h"
@@ -17,17 +18,30 @@ static int refuse_keys(jr_node *tm, const char *const *keys, int n, const char *
   return 0;
 }
 
+/* With an implicit analysis: the keys of the explicit schemes, theirs in
+ * common and each scheme's own, refused. */
+static int refuse_explicit(jr_node *tm, const char *analysis) {
+  static const char *const keys[] = {"scheme", "cfl", "local_damping", "kinetic_damping",
+                                     "allow_unstable_dt"};
+  char why[96];
+  snprintf(why, sizeof why, "only with time.analysis \"explicit\", found \"%s\"", analysis);
+  MPGM_CALL(refuse_keys(tm, keys, 5, why));
+  for (const mpgm_integrator_type *const *it = mpgm_integrator_types(); *it; it++)
+    for (int k = 0; !(*it)->implicit && k < (*it)->nkeys; k++) {
+      const char *key = (*it)->keys[k].name;
+      if (jr_raw(tm, key) || jr_override_json(tm, key))
+        return jr_fail(tm, key, "%s (a key of time.scheme \"%s\")", why, (*it)->name);
+    }
+  return 0;
+}
+
 /* "time", explicit analysis: the scheme (an explicit member of the
- * integrator family), the CFL number, the predictor's gamma. The keys are
- * refused with the other analyses, whose integrator ignores them. */
+ * integrator family), the CFL number, the damping, and the scheme's own
+ * keys (its table: npc's gamma and position). The keys are refused with
+ * the other analyses, whose integrator ignores them. */
 int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis) {
-  static const char *const keys[] = {"scheme", "cfl", "npc_gamma", "npc_position",
-                                     "local_damping", "kinetic_damping", "allow_unstable_dt"};
-  if (s->analysis != MPGM_ANALYSIS_EXPLICIT) {
-    char why[96];
-    snprintf(why, sizeof why, "only with time.analysis \"explicit\", found \"%s\"", analysis);
-    return refuse_keys(tm, keys, 7, why);
-  }
+  memset(&s->scheme, 0, sizeof s->scheme);
+  if (s->analysis != MPGM_ANALYSIS_EXPLICIT) return refuse_explicit(tm, analysis);
   const mpgm_integrator_type *const *it = mpgm_integrator_types();
   const mpgm_integrator_type *ex[16];
   const char *names[16];
@@ -45,9 +59,7 @@ int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis) {
   /* below MPGM_CFL_MIN a step only multiplies the run's steps (a cfl of
    * 1e-300 made steps of 1e-150 s, a run that never ends) */
   MPGM_CALL(jr_num(tm, "cfl", 0.1, MPGM_CFL_MIN, 1.0, 0, 0, &s->cfl));
-  MPGM_CALL(jr_num(tm, "npc_gamma", 0.5, 0.0, 1.0, 0, 0, &s->npc_gamma));
-  static const char *const position_names[] = {"newmark", "eq34", NULL};
-  MPGM_CALL(jr_enum(tm, "npc_position", position_names, 0, &s->npc_eq34));
+  MPGM_CALL(mpgm_scene_read_keys(tm, s->integrator->keys, s->integrator->nkeys, &s->scheme));
   MPGM_CALL(jr_num(tm, "local_damping", 0.0, 0.0, 1.0, 0, 1, &s->local_damping));
   MPGM_CALL(jr_bool(tm, "kinetic_damping", 0, &s->kinetic_damping));
   /* a fixed step above the stability limit fails the run (core/explicit.c)
@@ -57,6 +69,20 @@ int mpgm_scene_read_explicit(jr_node *tm, mpgm_scene *s, const char *analysis) {
   MPGM_CALL(refuse_keys(tm, fixed, 1, "only with a fixed time.dt (steps from time.cfl are "
                         "within the stability limit), found none"));
   return 0;
+}
+
+/* "time", explicit analysis, after its readers: a key of another explicit
+ * scheme refused by that scheme's name. */
+int mpgm_scene_scheme_keys_end(jr_node *tm, const mpgm_scene *s) {
+  if (s->analysis != MPGM_ANALYSIS_EXPLICIT) return 0;
+  mpgm_key_owner others[16];
+  int n = 0;
+  for (const mpgm_integrator_type *const *it = mpgm_integrator_types(); *it && n < 16; it++)
+    if (*it != s->integrator && !(*it)->implicit)
+      others[n++] = (mpgm_key_owner){"time.scheme", (*it)->name, (*it)->keys, (*it)->nkeys};
+  char mine[64];
+  snprintf(mine, sizeof mine, "time.scheme \"%s\"", s->integrator->name);
+  return mpgm_scene_foreign_keys(tm, s, others, n, mine, "");
 }
 
 /* "time": time.max_steps, the most steps of the run, and the fixed steps

@@ -53,6 +53,9 @@ int mpgm_scene_read_newmark(jr_node *tm, mpgm_scene *s, const char *analysis);
  *  wave of c m/s takes to cross k cells, k (h / c) (scene_time.c; after
  *  mesh.h). def and lo_open as jr_num takes them. */
 int mpgm_scene_read_dt(jr_node *tm, mpgm_scene *s, double def, int lo_open);
+/** "time", explicit analysis, after every reader of the block: a key of
+ *  another explicit scheme refused by its name (scene_time.c). */
+int mpgm_scene_scheme_keys_end(jr_node *tm, const mpgm_scene *s);
 /** "time": time.max_steps and the fixed steps against it (scene_time.c;
  *  after dt, end and load_steps). */
 int mpgm_scene_read_max_steps(jr_node *tm, mpgm_scene *s);
@@ -60,6 +63,22 @@ int mpgm_scene_read_max_steps(jr_node *tm, mpgm_scene *s);
 /** The keys of table keys (n of them) into the struct at base, each with
  *  its type, default and range (scene_keys.c). */
 int mpgm_scene_read_keys(jr_node *o, const mpgm_key_spec *keys, int n, void *base);
+/** A plug-in that declares keys of a section (shape kinds, front ends,
+ *  time schemes), for the refusal of its keys in another's scene: what
+ *  selects it ("shape.kind", "method", "time.scheme"), its name, its
+ *  table. */
+typedef struct mpgm_key_owner {
+  const char *what, *name;
+  const mpgm_key_spec *keys;
+  int nkeys;
+} mpgm_key_owner;
+/** After o's readers: each key of o (in the file, or --set o.KEY) they did
+ *  not take that one of others declares is refused, "a key of OWNERS, not
+ *  of MINE (expected one of: ...)" and, for a key of the file, hint; in a
+ *  run's own record (!s->from_file) it is passed over. A key nobody
+ *  declares is left to jr_end and the overrides' check (scene_keys.c). */
+int mpgm_scene_foreign_keys(jr_node *o, const mpgm_scene *s, const mpgm_key_owner *others, int n,
+                            const char *mine, const char *hint);
 /** "shape" sh beyond "kind" (after the method and the kind): the kind's
  *  keys into s->shape_par, the front end's into s->pattern; a key of
  *  another kind or front end, in the file or in --set shape.KEY, is

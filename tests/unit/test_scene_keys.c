@@ -1,4 +1,4 @@
-/* test_scene_keys.c -- every shape kind and every front end reads its own
+/* test_scene_keys.c -- every shape kind, front end and time scheme reads its own
  * keys of "shape" from the table it declares (mpgm_key_spec), and a key of
  * another is refused by its owner's name (io/scene_keys.c). Runs over the
  * lists (mpgm_shapefn_types, mpgm_frontend_types) of the build, 2-D and
@@ -14,8 +14,10 @@
  *      take: refused in a scene file and in --set, with a message naming
  *      the key's owner; passed over (not resolved) in a run's own record
  *      (mpgm_scene_load_json), which earlier mpgm wrote with every
- *      meshfree key for every meshfree kind. */
+ *      meshfree key for every meshfree kind;
+ *   4. the same for the explicit time schemes' own keys of "time". */
 #include "mpgm_frontends.h"
+#include "mpgm_integrator.h"
 #include "mpgm_scene_io.h"
 #include "mpgm_test.h"
 
@@ -54,9 +56,17 @@ static void check_table(const char *who, const mpgm_key_spec *k, int n, size_t s
   mpgm_test(bad == 0, "%s: %d keys declared well", who, n);
 }
 
-/* The scene of a front end and a kind, with extra members of "shape". */
-static void scene_text(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh, const char *extra,
-                       char *text, size_t len) {
+/* The scene of a front end, a kind and a time scheme (NULL: the kind's
+ * analysis), with extra members of section ("shape" or "time"). */
+static void scene_text(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh, const char *scheme,
+                       const char *section, const char *extra, char *text, size_t len) {
+  char tm[256];
+  const int in_time = strcmp(section, "time") == 0;
+  if (scheme || sh->velocity_ls)
+    snprintf(tm, sizeof tm, "{\"analysis\": \"explicit\", \"scheme\": \"%s\", \"end\": 0.01%s}",
+             scheme ? scheme : "usl", in_time ? extra : "");
+  else
+    snprintf(tm, sizeof tm, "{\"analysis\": \"static\"%s}", in_time ? extra : "");
 #if MPGM_DIM == 2
   const char *dom = "\"min\": [0, 0], \"max\": [2.4, 1.6]";
   const char *body = "\"rectangle\": {\"min\": [0.0, 0.0], \"max\": [1.6, 0.8]}";
@@ -74,10 +84,8 @@ static void scene_text(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh
            "\"nu\": 0.3}},"
            " \"bodies\": [{\"material\": \"m\", %s}],"
            " \"boundaries\": [{\"x\": 0.0, \"fix\": %s}], \"output\": {\"vtk\": \"none\"}}",
-           fe->name, sh->name, extra, sh->grid_only ? "centres" : "gauss", dom,
-           sh->velocity_ls ? "{\"analysis\": \"explicit\", \"scheme\": \"usl\", \"end\": 0.01}"
-                           : "{\"analysis\": \"static\"}",
-           body, fix);
+           fe->name, sh->name, in_time ? "" : extra, sh->grid_only ? "centres" : "gauss", dom, tm, body,
+           fix);
 }
 
 /* Load text from a scene file (as a user's scene), with one --set. */
@@ -115,10 +123,12 @@ static void check_resolved(const char *what, const mpgm_frontend_type *fe,
             sh->nkeys, fe->nshape_keys, n);
 }
 
-/* 3: key, of owner (another kind or front end), refused in the file and in
- * --set naming owner, passed over in a record. */
+/* 3: key of section, of owner (another kind, front end or scheme),
+ * refused in the file and in --set naming owner, passed over in a
+ * record. */
 static void check_foreign(const char *what, const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh,
-                          const mpgm_key_spec *key, const char *owner) {
+                          const char *scheme, const char *section, const mpgm_key_spec *key,
+                          const char *owner) {
   char extra[128], text[2048], set[128];
   const char *value = key->type == MPGM_KEY_CHOICE ? key->choices[0] : "1";
   snprintf(extra, sizeof extra, ", \"%s\": %s%s%s", key->name, key->type == MPGM_KEY_CHOICE ? "\"" : "",
@@ -127,24 +137,24 @@ static void check_foreign(const char *what, const mpgm_frontend_type *fe, const 
   mpgm_scene *s = NULL;
   for (int by_set = 0; by_set < 2; by_set++) {
     mpgm_ctx_init(&ctx);
-    scene_text(fe, sh, by_set ? "" : extra, text, sizeof text);
-    snprintf(set, sizeof set, "shape.%s=%s", key->name, value);
+    scene_text(fe, sh, scheme, section, by_set ? "" : extra, text, sizeof text);
+    snprintf(set, sizeof set, "%s.%s=%s", section, key->name, value);
     const int err = load_file(&ctx, text, by_set ? set : NULL, &s);
     char want[160];
-    snprintf(want, sizeof want, "shape.%s: a key of ", key->name);
+    snprintf(want, sizeof want, "%s.%s: a key of ", section, key->name);
     mpgm_test(err == MPGM_ERR_INPUT && strstr(ctx.msg, want) && strstr(ctx.msg, owner),
-              "%s: shape.%s (%s's) refused %s: %s", what, key->name, owner,
+              "%s: %s.%s (%s's) refused %s: %s", what, section, key->name, owner,
               by_set ? "in --set" : "in the file", ctx.msg);
     mpgm_scene_destroy(&s);
   }
   mpgm_ctx_init(&ctx);
-  scene_text(fe, sh, extra, text, sizeof text);
+  scene_text(fe, sh, scheme, section, extra, text, sizeof text);
   cJSON *j = cJSON_Parse(text);
   const int err = j ? mpgm_scene_load_json(&ctx, "record", j, &s) : MPGM_ERR_INTERNAL;
   cJSON_Delete(j);
-  const cJSON *o = s ? cJSON_GetObjectItemCaseSensitive((const cJSON *)s->resolved, "shape") : NULL;
+  const cJSON *o = s ? cJSON_GetObjectItemCaseSensitive((const cJSON *)s->resolved, section) : NULL;
   mpgm_test(err == 0 && o && !cJSON_GetObjectItemCaseSensitive(o, key->name),
-            "%s: shape.%s in a run's record passed over, not resolved (%s)", what, key->name,
+            "%s: %s.%s in a run's record passed over, not resolved (%s)", what, section, key->name,
             err ? ctx.msg : "loaded");
   mpgm_scene_destroy(&s);
 }
@@ -160,7 +170,7 @@ static int check_foreign_all(const char *what, const mpgm_frontend_type *fe,
       const mpgm_key_spec *key = &st[i]->keys[k];
       if (declares(sh->keys, sh->nkeys, key->name) || declares(fe->shape_keys, fe->nshape_keys, key->name))
         continue;
-      check_foreign(what, fe, sh, key, st[i]->name);
+      check_foreign(what, fe, sh, NULL, "shape", key, st[i]->name);
       n++;
     }
   }
@@ -169,9 +179,40 @@ static int check_foreign_all(const char *what, const mpgm_frontend_type *fe,
       const mpgm_key_spec *key = &ft[i]->shape_keys[k];
       if (declares(sh->keys, sh->nkeys, key->name) || declares(fe->shape_keys, fe->nshape_keys, key->name))
         continue;
-      check_foreign(what, fe, sh, key, ft[i]->name);
+      check_foreign(what, fe, sh, NULL, "shape", key, ft[i]->name);
       n++;
     }
+  return n;
+}
+
+/* 1-3 for the explicit schemes' own keys of "time" (MPM, fe): each
+ * resolves its keys at their defaults; a key of another is refused. */
+static int check_schemes(void) {
+  const mpgm_frontend_type *mpm = mpgm_frontend_type_find("mpm");
+  const mpgm_shapefn_type *fe = mpgm_shapefn_type_find("fe");
+  const mpgm_integrator_type *const *it = mpgm_integrator_types();
+  int n = 0;
+  for (int i = 0; it[i]; i++) {
+    check_table(it[i]->name, it[i]->keys, it[i]->nkeys, sizeof(mpgm_scheme_params));
+    if (it[i]->implicit || !mpm || !fe) continue;
+    char what[64], text[2048];
+    snprintf(what, sizeof what, "time.scheme %s", it[i]->name);
+    scene_text(mpm, fe, it[i]->name, "time", "", text, sizeof text);
+    mpgm_ctx ctx;
+    mpgm_ctx_init(&ctx);
+    mpgm_scene *s = NULL;
+    int err = load_file(&ctx, text, NULL, &s);
+    const cJSON *o = s ? cJSON_GetObjectItemCaseSensitive((const cJSON *)s->resolved, "time") : NULL;
+    int bad = err != 0;
+    for (int k = 0; !err && k < it[i]->nkeys; k++) bad += !cJSON_GetObjectItemCaseSensitive(o, it[i]->keys[k].name);
+    mpgm_test(!bad && s->integrator == it[i], "%s: loads, its %d keys resolved (%s)", what, it[i]->nkeys,
+              err ? ctx.msg : "ok");
+    mpgm_scene_destroy(&s);
+    for (int j = 0; it[j]; j++)
+      for (int k = 0; j != i && !it[j]->implicit && k < it[j]->nkeys; k++, n++)
+        if (!declares(it[i]->keys, it[i]->nkeys, it[j]->keys[k].name))
+          check_foreign(what, mpm, fe, it[i]->name, "time", &it[j]->keys[k], it[j]->name);
+  }
   return n;
 }
 
@@ -194,7 +235,7 @@ int main(void) {
       if (!(ft[f]->shapes & need) || (st[k]->grid_only && ft[f]->persistent_nodes)) continue;
       char what[64], text[2048];
       snprintf(what, sizeof what, "%s-%s", ft[f]->name, st[k]->name);
-      scene_text(ft[f], st[k], "", text, sizeof text);
+      scene_text(ft[f], st[k], NULL, "shape", "", text, sizeof text);
       mpgm_ctx ctx;
       mpgm_ctx_init(&ctx);
       mpgm_scene *s = NULL;
@@ -207,5 +248,7 @@ int main(void) {
     }
   mpgm_test(npair >= (MPGM_DIM == 2 ? 6 : 3) && nforeign >= (MPGM_DIM == 2 ? 20 : 1),
             "%d pairs of front end and kind, %d foreign keys refused", npair, nforeign);
+  const int nscheme = check_schemes();
+  mpgm_test(nscheme >= 2, "%d keys of other time schemes refused", nscheme);
   return mpgm_test_summary();
 }
