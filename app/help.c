@@ -78,10 +78,10 @@ static const help_text TEXTS[] = {
     {"render",
      "usage: mpgm render RUN_DIR [--field NAME] [--time T,...|last] [--out DIR] [--sheet FILE.png]\n"
      "                   [--layout RxC] [--size WxH] [--range MIN:MAX] [--xrange A:B] [--yrange A:B]\n"
-     "                   [--radius R] [--title TEXT]\n"
+     "                   [--radius R] [--title TEXT] [--view AB]\n"
      "\n"
      "Draw a run's material points coloured by a field at given times\n"
-     "(docs/studies.md).\n"
+     "(docs/studies.md); a 3-D run projected, seen along the third axis.\n"
      "\n"
      "  --field NAME     the field (default displacement)\n"
      "  --time T,...     the times drawn, or last (the default)\n"
@@ -93,7 +93,9 @@ static const help_text TEXTS[] = {
      "  --xrange A:B     the x range drawn\n"
      "  --yrange A:B     the y range drawn\n"
      "  --radius R       the points' radius\n"
-     "  --title TEXT     the picture's title\n"},
+     "  --title TEXT     the picture's title\n"
+     "  --view AB        3-D: axis A across, B up, seen from +the third (default:\n"
+     "                   x across, gravity's axis up)\n"},
     {"bench-solvers",
      "usage: mpgm bench-solvers DIR [--repeat N] [--out FILE.csv] [--only NAME,...]\n"
      "                          [--tol X] [--restart M] [--max-iterations N]\n"

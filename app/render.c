@@ -35,6 +35,7 @@ typedef struct ropts {
   int w, h, rows, cols;
   double range[2], xr[2], yr[2]; /* NAN: automatic */
   double radius;                 /* <= 0: automatic */
+  int ax[3];                     /* --view: the axes across, up and toward the viewer; ax[0] < 0: automatic */
 } ropts;
 
 typedef struct frame {
@@ -43,6 +44,7 @@ typedef struct frame {
   char token[32];     /**< the requested time as written     */
   mpgm_vtk_grid *g;   /**< the frame (shared by equal index) */
   double *v, *r;      /**< field value and disc radius per point */
+  int *order;         /**< the points from far to near (3-D), or NULL */
   int owner;          /**< 1: g, v and r are this frame's (freed with it) */
 } frame;
 
@@ -63,16 +65,30 @@ static int parse_range(const char *s, double v[2]) {
   return isnan(v[0]) || isnan(v[1]) || v[1] > v[0] ? 0 : -1;
 }
 
+/* "AB", two different axes of x, y, z: ax = A, B and the third (the
+ * depth); 0 on success. */
+static int parse_view(const char *s, int ax[3]) {
+  if (strlen(s) != 2) return -1;
+  for (int k = 0; k < 2; k++) {
+    const char *c = strchr("xyz", s[k]);
+    if (!s[k] || !c) return -1;
+    ax[k] = (int)(c - "xyz");
+  }
+  ax[2] = 3 - ax[0] - ax[1];
+  return ax[0] == ax[1] ? -1 : 0;
+}
+
 static void usage_render(FILE *f) {
   fprintf(f, "usage: mpgm render RUN_DIR [--field NAME] [--time T,...|last] [--out DIR] [--sheet FILE.png]\n"
              "                   [--layout RxC] [--size WxH] [--range MIN:MAX] [--xrange A:B] [--yrange A:B]\n"
-             "                   [--radius R] [--title TEXT]\n"
+             "                   [--radius R] [--title TEXT] [--view AB]\n"
              "  draws RUN_DIR's material points coloured by NAME (default displacement) at each time\n"
              "  (default: the last frame) into DIR/NAME_tT.png (default DIR: RUN_DIR/render), or all\n"
              "  of them as panels of one picture with --sheet. The colour bar runs from the 1st to the\n"
              "  99th percentile of the field over the frames drawn (--range MIN:MAX, in the field's unit,\n"
              "  overrides a side) and names the unit (stresses in Pa, kPa or MPa); material and body\n"
-             "  get one named colour each\n");
+             "  get one named colour each. A 3-D run is drawn projected, seen from the positive side of\n"
+             "  the third axis of --view AB (A across, B up; default x across, gravity's axis up)\n");
 }
 
 static int parse(int argc, char **argv, ropts *o) {
@@ -80,11 +96,12 @@ static int parse(int argc, char **argv, ropts *o) {
   o->field = "displacement";
   o->times = "last";
   for (int k = 0; k < 2; k++) o->range[k] = o->xr[k] = o->yr[k] = NAN;
+  o->ax[0] = -1;
   static const char *const flags[] = {"--field", "--time", "--out", "--sheet", "--title", "--size",
-                                      "--layout", "--range", "--xrange", "--yrange", "--radius"};
+                                      "--layout", "--range", "--xrange", "--yrange", "--radius", "--view"};
   for (int i = 2; i < argc; i++) {
     int f = -1;
-    for (int k = 0; k < 11; k++)
+    for (int k = 0; k < 12; k++)
       if (!strcmp(argv[i], flags[k])) f = k;
     if (f < 0 && argv[i][0] == '-' && argv[i][1] == '-') {
       fprintf(stderr, "mpgm render: unknown option %s\n", argv[i]);
@@ -113,11 +130,13 @@ static int parse(int argc, char **argv, ropts *o) {
     else if (f == 7) bad = parse_range(v, o->range) != 0;
     else if (f == 8) bad = parse_range(v, o->xr) != 0 || isnan(o->xr[0]) || isnan(o->xr[1]);
     else if (f == 9) bad = parse_range(v, o->yr) != 0 || isnan(o->yr[0]) || isnan(o->yr[1]);
-    else bad = (o->radius = strtod(v, &end), *end || !(o->radius > 0) || !isfinite(o->radius));
+    else if (f == 10) bad = (o->radius = strtod(v, &end), *end || !(o->radius > 0) || !isfinite(o->radius));
+    else bad = parse_view(v, o->ax) != 0;
     if (bad) {
       static const char *const want[] = {"", "", "", "", "", "WxH in pixels (100 to 10000)",
                                          "RxC (rows x columns)", "MIN:MAX with MIN < MAX (a side may be empty)",
-                                         "A:B with A < B", "A:B with A < B", "a positive length [m]"};
+                                         "A:B with A < B", "A:B with A < B", "a positive length [m]",
+                                         "two different axes of x, y, z (across, up), e.g. xz"};
       fprintf(stderr, "mpgm render: %s: expected %s, found '%s'\n", flags[f], want[f], v);
       return 2;
     }
@@ -170,8 +189,9 @@ static int pick_frames(mpgm_ctx *ctx, const ropts *o, const mpgm_pvd_list *pvd, 
 }
 
 /* Value of field name at point p of g; names: a SCALARS field; a VECTORS
- * field (its length) or NAME_x, NAME_y; a TENSORS field's NAME_xx, _yy,
- * _xy, _zz, _p (mean pressure, -tr/3) and _q (von Mises). 0 if unknown. */
+ * field (its length) or NAME_x, NAME_y, NAME_z; a TENSORS field's NAME_xx,
+ * _yy, _xy, _zz, _yz, _xz, _p (mean pressure, -tr/3) and _q (von Mises).
+ * 0 if unknown. */
 static int field_values(const mpgm_vtk_grid *g, const char *name, double *v) {
   char base[256];
   snprintf(base, sizeof base, "%s", name);
@@ -185,24 +205,25 @@ static int field_values(const mpgm_vtk_grid *g, const char *name, double *v) {
     suffix = "";
   }
   if (!a) return 0;
-  static const char *const vec[] = {"x", "y"};
-  static const char *const ten[] = {"xx", "yy", "xy", "zz", "p", "q"};
+  static const char *const vec[] = {"x", "y", "z"};
+  static const char *const ten[] = {"xx", "yy", "xy", "zz", "p", "q", "yz", "xz"};
   int comp = -1;
   if (a->ncomp == 3)
-    for (int k = 0; k < 2; k++)
+    for (int k = 0; k < 3; k++)
       if (!strcmp(suffix, vec[k])) comp = k;
   if (a->ncomp == 9)
-    for (int k = 0; k < 6; k++)
+    for (int k = 0; k < 8; k++)
       if (!strcmp(suffix, ten[k])) comp = k;
   if ((a->ncomp == 1 && *suffix) || (a->ncomp == 9 && comp < 0) || (a->ncomp == 3 && *suffix && comp < 0)) return 0;
   for (int p = 0; p < g->npoints; p++) {
     const double *d = a->v + (size_t)a->ncomp * p;
     if (a->ncomp == 1) v[p] = d[0];
-    else if (a->ncomp == 3) v[p] = comp < 0 ? hypot(d[0], d[1]) : d[comp];
-    else {
-      const double xx = d[0], yy = d[4], zz = d[8], xy = d[1], m = (xx + yy + zz) / 3.0;
-      const double q = sqrt(1.5 * ((xx - m) * (xx - m) + (yy - m) * (yy - m) + (zz - m) * (zz - m) + 2 * xy * xy));
-      const double tv[6] = {xx, yy, xy, zz, -m, q};
+    else if (a->ncomp == 3) v[p] = comp < 0 ? hypot(hypot(d[0], d[1]), d[2]) : d[comp];
+    else { /* (plane strain: yz = xz = 0) */
+      const double xx = d[0], yy = d[4], zz = d[8], xy = d[1], yz = d[5], xz = d[2], m = (xx + yy + zz) / 3.0;
+      const double q = sqrt(1.5 * ((xx - m) * (xx - m) + (yy - m) * (yy - m) + (zz - m) * (zz - m) +
+                                   2 * (xy * xy + yz * yz + xz * xz)));
+      const double tv[8] = {xx, yy, xy, zz, -m, q, yz, xz};
       v[p] = tv[comp];
     }
   }
@@ -217,18 +238,22 @@ static void field_list(const mpgm_vtk_grid *g, char *buf, size_t cap) {
     const mpgm_vtk_array *a = &g->arrays[i];
     if (a->ncomp == 1) n += (size_t)snprintf(buf + n, cap - n, "%s%s", n ? ", " : "", a->name);
     else if (a->ncomp == 3)
-      n += (size_t)snprintf(buf + n, cap - n, "%s%s (length), %s_x, %s_y", n ? ", " : "", a->name, a->name, a->name);
+      n += (size_t)snprintf(buf + n, cap - n, "%s%s (length), %s_x, %s_y, %s_z", n ? ", " : "", a->name, a->name,
+                            a->name, a->name);
     else
-      n += (size_t)snprintf(buf + n, cap - n, "%s%s_xx, %s_yy, %s_xy, %s_zz, %s_p, %s_q", n ? ", " : "", a->name,
-                            a->name, a->name, a->name, a->name, a->name);
+      n += (size_t)snprintf(buf + n, cap - n, "%s%s_xx, %s_yy, %s_xy, %s_zz, %s_yz, %s_xz, %s_p, %s_q",
+                            n ? ", " : "", a->name, a->name, a->name, a->name, a->name, a->name, a->name, a->name);
   }
 }
 
 /* What RUN_DIR/summary.json tells about the picture (absent: zeros). */
 typedef struct run_info {
   int have_domain, is_static;
-  double dom[4];   /**< xmin, xmax, ymin, ymax [m]       */
-  double area0;    /**< area of a point at the start [m^2]: h^2 / ppc (quad), h^2 / (2 ppc) (tri) */
+  int dim;         /**< 2, or 3 for a 3-D scene (three coordinates in mesh.domain) */
+  double dom[6];   /**< xmin, xmax, ymin, ymax (, zmin, zmax) [m] */
+  double g[3];     /**< gravity [m/s^2]                   */
+  double area0;    /**< area (3-D: volume) of a point at the start: h^2 / ppc (quad), h^2 / (2 ppc)
+                        (tri), h^3 / ppc (hex) */
   int nmat, nbody;                /**< names of the scene's materials (in order) and bodies */
   char mat[MAX_CATS][64], body[MAX_CATS][64];
 } run_info;
@@ -245,18 +270,24 @@ static void read_info(const char *run, run_info *ri) {
   const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(sc, "mesh");
   const cJSON *dom = cJSON_GetObjectItemCaseSensitive(mesh, "domain");
   const cJSON *mn = cJSON_GetObjectItemCaseSensitive(dom, "min"), *mx = cJSON_GetObjectItemCaseSensitive(dom, "max");
-  if (cJSON_GetArraySize(mn) == 2 && cJSON_GetArraySize(mx) == 2) {
-    ri->have_domain = 1;
-    ri->dom[0] = cJSON_GetNumberValue(cJSON_GetArrayItem(mn, 0));
-    ri->dom[1] = cJSON_GetNumberValue(cJSON_GetArrayItem(mx, 0));
-    ri->dom[2] = cJSON_GetNumberValue(cJSON_GetArrayItem(mn, 1));
-    ri->dom[3] = cJSON_GetNumberValue(cJSON_GetArrayItem(mx, 1));
-    ri->have_domain = isfinite(ri->dom[0] + ri->dom[1] + ri->dom[2] + ri->dom[3]);
+  const int nd = cJSON_GetArraySize(mn);
+  ri->dim = nd == 3 ? 3 : 2;
+  if ((nd == 2 || nd == 3) && cJSON_GetArraySize(mx) == nd) {
+    double sum = 0.0;
+    for (int k = 0; k < nd; k++) {
+      ri->dom[2 * k] = cJSON_GetNumberValue(cJSON_GetArrayItem(mn, k));
+      ri->dom[2 * k + 1] = cJSON_GetNumberValue(cJSON_GetArrayItem(mx, k));
+      sum += ri->dom[2 * k] + ri->dom[2 * k + 1];
+    }
+    ri->have_domain = isfinite(sum);
   }
+  const cJSON *g = cJSON_GetObjectItemCaseSensitive(sc, "gravity");
+  for (int k = 0; k < 3 && k < cJSON_GetArraySize(g); k++) ri->g[k] = cJSON_GetNumberValue(cJSON_GetArrayItem(g, k));
   const double h = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(mesh, "h"));
   const double ppc = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(mesh, "ppc"));
   const char *cell = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(mesh, "cell"));
-  if (h > 0 && ppc > 0) ri->area0 = h * h / ppc / (cell && !strcmp(cell, "tri") ? 2.0 : 1.0);
+  if (h > 0 && ppc > 0)
+    ri->area0 = ri->dim == 3 ? h * h * h / ppc : h * h / ppc / (cell && !strcmp(cell, "tri") ? 2.0 : 1.0);
   const char *an = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(sc, "time"),
                                                                          "analysis"));
   ri->is_static = an && !strcmp(an, "static");
@@ -274,8 +305,8 @@ static void read_info(const char *run, run_info *ri) {
   cJSON_Delete(doc);
 }
 
-/* Disc radius of every point of f: half the side of its area, a little
- * more so that neighbours touch. */
+/* Disc radius of every point of f: half the side of its area (3-D: of
+ * its volume's cube), a little more so that neighbours touch. */
 static void radii(const ropts *o, const run_info *ri, frame *f, const double *bbox) {
   const mpgm_vtk_grid *g = f->g;
   const mpgm_vtk_array *vol = mpgm_vtk_array_find(g, "volume"), *J = mpgm_vtk_array_find(g, "J");
@@ -283,25 +314,30 @@ static void radii(const ropts *o, const run_info *ri, frame *f, const double *bb
   if (J && J->ncomp != 1) J = NULL;
   const double box = (bbox[1] - bbox[0]) * (bbox[3] - bbox[2]) / (g->npoints ? g->npoints : 1);
   for (int p = 0; p < g->npoints; p++) {
-    double a = box;
+    double a = 0.0;
     if (vol && vol->v[p] > 0) a = vol->v[p];
     else if (ri->area0 > 0) a = ri->area0 * (J && J->v[p] > 0 ? J->v[p] : 1.0);
-    f->r[p] = o->radius > 0 ? o->radius : 0.6 * sqrt(a);
+    const double side = a > 0 ? (ri->dim == 3 ? cbrt(a) : sqrt(a)) : sqrt(box);
+    f->r[p] = o->radius > 0 ? o->radius : 0.6 * side;
   }
 }
 
 /* One panel: the points of f as discs coloured by the field. */
-static void panel(FILE *gp, const run_info *ri, const frame *f, const char *title, double scale) {
+static void panel(FILE *gp, const run_info *ri, const frame *f, const int ax[3], const char *title, double scale) {
   fprintf(gp, "set title ");
   mpgm_gnuplot_quote(gp, title);
   fprintf(gp, " noenhanced\nset label 1 ");
   char lab[96];
   snprintf(lab, sizeof lab, ri->is_static ? "load factor %.4g" : "t = %.4g s", f->t);
+  if (ri->dim == 3) /* a projection: say along which axis */
+    snprintf(lab + strlen(lab), sizeof lab - strlen(lab), ", seen from +%c", "xyz"[ax[2]]);
   mpgm_gnuplot_quote(gp, lab);
   fprintf(gp, " at graph 0.02, graph 0.95 left front font ',13' noenhanced\n");
   fprintf(gp, "$p << EOD\n");
-  for (int p = 0; p < f->g->npoints; p++)
-    fprintf(gp, "%.9g %.9g %.6g %.9g\n", f->g->x[3 * p], f->g->x[3 * p + 1], f->r[p], f->v[p] / scale);
+  for (int i = 0; i < f->g->npoints; i++) { /* far points first: the near ones cover them */
+    const int p = f->order ? f->order[i] : i;
+    fprintf(gp, "%.9g %.9g %.6g %.9g\n", f->g->x[3 * p + ax[0]], f->g->x[3 * p + ax[1]], f->r[p], f->v[p] / scale);
+  }
   fprintf(gp, "EOD\nplot $p using 1:2:3:4 with circles lc palette fs solid noborder notitle\n");
 }
 
@@ -383,12 +419,12 @@ static int colour_scale(mpgm_ctx *ctx, const ropts *o, const run_info *ri, const
 }
 
 /* The gnuplot preamble: terminal, view, palette, colour scale. */
-static void preamble(FILE *gp, const colour *c, const double *view, int w, int h) {
+static void preamble(FILE *gp, const colour *c, const double *view, const int ax[3], int w, int h) {
   fprintf(gp, "set terminal pngcairo size %d,%d enhanced font ',11'\n", w, h);
   fprintf(gp, "set size ratio -1\nset xrange [%.9g:%.9g]\nset yrange [%.9g:%.9g]\n", view[0], view[1], view[2],
           view[3]);
-  fprintf(gp, "set xlabel 'x [m]'\nset ylabel 'y [m]'\nunset key\nset cbrange [%.9g:%.9g]\n", c->cr[0] / c->scale,
-          c->cr[1] / c->scale);
+  fprintf(gp, "set xlabel '%c [m]'\nset ylabel '%c [m]'\nunset key\nset cbrange [%.9g:%.9g]\n", "xyz"[ax[0]],
+          "xyz"[ax[1]], c->cr[0] / c->scale, c->cr[1] / c->scale);
   if (c->ncat) { /* steps of the Okabe-Ito colours, a tic with its name at each index */
     static const char *const cat[] = {"#0072b2", "#e69f00", "#009e73", "#cc79a7",
                                       "#56b4e9", "#d55e00", "#f0e442", "#000000"};
@@ -462,6 +498,43 @@ static int refuse_overwrite(mpgm_ctx *ctx, const ropts *o, const char *outdir, c
   return err;
 }
 
+/* The view's axes: --view, else x across and y up (3-D: up along
+ * gravity's largest component, across x, or y when gravity is along x). */
+static void view_axes(const ropts *o, const run_info *ri, int ax[3]) {
+  if (o->ax[0] >= 0) {
+    memcpy(ax, o->ax, sizeof o->ax);
+    return;
+  }
+  int up = 1;
+  for (int k = 0; ri->dim == 3 && k < 3; k++)
+    if (fabs(ri->g[k]) > fabs(ri->g[up])) up = k;
+  ax[0] = up == 0 ? 1 : 0;
+  ax[1] = up;
+  ax[2] = 3 - ax[0] - ax[1];
+}
+
+/* 3-D: f's points from far to near along axis (seen from its positive
+ * side), so that gnuplot draws the near ones over the far ones. */
+typedef struct depth_pt {
+  double z;
+  int p;
+} depth_pt;
+static int by_depth(const void *a, const void *b) {
+  const depth_pt *u = a, *v = b;
+  return u->z < v->z ? -1 : u->z > v->z ? 1 : u->p - v->p;
+}
+static int depth_order(mpgm_ctx *ctx, frame *f, int axis) {
+  const int n = f->g->npoints;
+  depth_pt *d;
+  MPGM_ALLOC(ctx, f->order, n);
+  MPGM_ALLOC(ctx, d, n);
+  for (int p = 0; p < n; p++) d[p] = (depth_pt){f->g->x[3 * p + axis], p};
+  qsort(d, (size_t)n, sizeof *d, by_depth);
+  for (int i = 0; i < n; i++) f->order[i] = d[i].p;
+  free(d);
+  return 0;
+}
+
 static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame *fr, int *nfr) {
   char path[STUDY_PATH + 64], outdir[STUDY_PATH];
   MPGM_CALL(mpgm_gnuplot_check(ctx));
@@ -476,6 +549,10 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
   MPGM_CALL(pick_frames(ctx, o, pvd, fr, nfr));
   run_info ri;
   read_info(o->run, &ri);
+  int ax[3];
+  view_axes(o, &ri, ax);
+  MPGM_CHECK(ctx, ri.dim == 3 || (ax[0] < 2 && ax[1] < 2), MPGM_ERR_INPUT,
+             "--view: a plane-strain run is drawn in x and y, found --view %c%c", "xyz"[ax[0]], "xyz"[ax[1]]);
   double bbox[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY}, lohi[2] = {NAN, NAN};
   for (int i = 0; i < *nfr; i++) {
     frame *f = &fr[i];
@@ -484,6 +561,7 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
         f->g = fr[j].g;
         f->v = fr[j].v;
         f->r = fr[j].r;
+        f->order = fr[j].order;
       }
     if (f->g) continue;
     snprintf(path, sizeof path, "%s/%s", o->run, pvd->file[f->index]);
@@ -497,11 +575,12 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
       MPGM_ERROR(ctx, MPGM_ERR_INPUT, "%s: no field \"%s\"; fields: %s", path, o->field, list[0] ? list : "none");
     }
     for (int p = 0; p < f->g->npoints; p++) {
-      bbox[0] = fmin(bbox[0], f->g->x[3 * p]);
-      bbox[1] = fmax(bbox[1], f->g->x[3 * p]);
-      bbox[2] = fmin(bbox[2], f->g->x[3 * p + 1]);
-      bbox[3] = fmax(bbox[3], f->g->x[3 * p + 1]);
+      bbox[0] = fmin(bbox[0], f->g->x[3 * p + ax[0]]);
+      bbox[1] = fmax(bbox[1], f->g->x[3 * p + ax[0]]);
+      bbox[2] = fmin(bbox[2], f->g->x[3 * p + ax[1]]);
+      bbox[3] = fmax(bbox[3], f->g->x[3 * p + ax[1]]);
     }
+    if (ri.dim == 3) MPGM_CALL(depth_order(ctx, f, ax[2]));
   }
   MPGM_CHECK(ctx, bbox[0] <= bbox[1], MPGM_ERR_INPUT, "%s: the frames hold no points", o->run);
   for (int i = 0; i < *nfr; i++)
@@ -510,8 +589,10 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
   MPGM_CALL(colour_scale(ctx, o, &ri, fr, *nfr, lohi, &col));
   /* view: the domain, grown to hold every point and its disc */
   double view[4] = {bbox[0], bbox[1], bbox[2], bbox[3]};
-  if (ri.have_domain)
-    for (int k = 0; k < 4; k++) view[k] = k % 2 ? fmax(view[k], ri.dom[k]) : fmin(view[k], ri.dom[k]);
+  for (int k = 0; ri.have_domain && k < 4; k++) { /* the domain's extent along the view's axes */
+    const double dk = ri.dom[2 * ax[k / 2] + k % 2];
+    view[k] = k % 2 ? fmax(view[k], dk) : fmin(view[k], dk);
+  }
   const double pad = 0.02 * fmax(view[1] - view[0], view[3] - view[2]) + 1e-12;
   for (int k = 0; k < 4; k++) view[k] += k % 2 ? pad : -pad;
   if (!isnan(o->xr[0])) view[0] = o->xr[0], view[1] = o->xr[1];
@@ -532,24 +613,24 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
   if (o->sheet) {
     const int cols = o->cols ? o->cols : (int)ceil(sqrt((double)*nfr));
     const int rows = o->rows ? o->rows : (*nfr + cols - 1) / cols;
-    preamble(gp.in, &col, view, o->w ? o->w : 700 * cols, o->h ? o->h : hp * rows + 40);
+    preamble(gp.in, &col, view, ax, o->w ? o->w : 700 * cols, o->h ? o->h : hp * rows + 40);
     fprintf(gp.in, "set output ");
     mpgm_gnuplot_quote(gp.in, o->sheet);
     snprintf(title, sizeof title, "%s: material points coloured by %s", name, o->field);
     fprintf(gp.in, "\nset multiplot layout %d,%d title ", rows, cols);
     mpgm_gnuplot_quote(gp.in, title);
     fprintf(gp.in, " noenhanced\n");
-    for (int i = 0; i < *nfr && i < rows * cols; i++) panel(gp.in, &ri, &fr[i], "", col.scale);
+    for (int i = 0; i < *nfr && i < rows * cols; i++) panel(gp.in, &ri, &fr[i], ax, "", col.scale);
     fprintf(gp.in, "unset multiplot\nunset output\n");
   } else {
-    preamble(gp.in, &col, view, o->w ? o->w : 1000, o->h ? o->h : h1);
+    preamble(gp.in, &col, view, ax, o->w ? o->w : 1000, o->h ? o->h : h1);
     for (int i = 0; i < *nfr; i++) {
       snprintf(path, sizeof path, "%s/%s_t%s.png", outdir, o->field, fr[i].token);
       fprintf(gp.in, "set output ");
       mpgm_gnuplot_quote(gp.in, path);
       snprintf(title, sizeof title, "%s: %s", name, o->field);
       fprintf(gp.in, "\n");
-      panel(gp.in, &ri, &fr[i], title, col.scale);
+      panel(gp.in, &ri, &fr[i], ax, title, col.scale);
       fprintf(gp.in, "unset output\n");
     }
   }
@@ -563,6 +644,9 @@ static int render_main(mpgm_ctx *ctx, const ropts *o, mpgm_pvd_list *pvd, frame 
   }
   printf("render: %s from %.6g to %.6g; colour bar from %.6g to %.6g (%s)\n", o->field, lohi[0], lohi[1], col.cr[0],
          col.cr[1], col.how);
+  if (ri.dim == 3)
+    printf("render: a 3-D run, projected: %c across, %c up, seen from +%c\n", "xyz"[ax[0]], "xyz"[ax[1]],
+           "xyz"[ax[2]]);
   return 0;
 }
 
@@ -583,6 +667,7 @@ int mpgm_cmd_render(int argc, char **argv) {
     mpgm_vtk_grid_destroy(&fr[i].g);
     free(fr[i].v);
     free(fr[i].r);
+    free(fr[i].order);
   }
   free(fr);
   mpgm_pvd_list_free(&pvd);

@@ -4,7 +4,9 @@
 # panels), the nearest frame taken with a note or a warning, the common
 # colour range equal to the field's range as VTK's own reader sees it (binary
 # and ASCII .vtu files), legacy frames drawn from points.vtk.series,
-# --size obeyed; an unknown field lists the fields, a
+# --size obeyed; a 3-D run projected along the third axis of --view (by
+# default seen from +z), with |v| and v_z of all three components; an
+# unknown field lists the fields, a
 # folder without points.pvd is an I/O error, bad options are bad input.
 # usage: render.sh MPGM_EXE SOURCE_DIR WORK_DIR
 set -uo pipefail
@@ -63,6 +65,20 @@ json.dump(d, open('two.json', 'w'))" "$src"
   && ok "material: two indexed colours" || ko "material (exit $rc): $(cat r6.out r6.err)"
 expect 2 "no field \"body\"; fields: velocity (length)" "body on frames without it: the fields listed" \
   "$exe" render two --field body
+# a 3-D run: projected (x across, gravity's y up, seen from +z by
+# default; --view), the lengths and components of all three axes
+"$exe" run "$src/cases/column_collapse_3d_free.json" --quiet --set mesh.h=0.5 --set time.dt=0.01 \
+  --set time.end=0.02 --set 'solver={"linear": "auto"}' --out c3 > c3.log 2>&1 \
+  || { ko "3-D column run"; cat c3.log; }
+"$exe" render c3 --field velocity > r7.out 2> r7.err; rc=$?
+[ $rc -eq 0 ] && [ -s c3/render/velocity_t0.02.png ] && grep -q "a 3-D run, projected: x across, y up, seen from +z" r7.out \
+  && ok "3-D: projected by default x across, y (gravity's) up, seen from +z" || ko "3-D render (exit $rc): $(cat r7.out r7.err)"
+"$exe" render c3 --field velocity_z --view xz --out top > r8.out 2> r8.err; rc=$?
+[ $rc -eq 0 ] && [ -s top/velocity_z_t0.02.png ] && grep -q "x across, z up, seen from +y" r8.out \
+  && ok "3-D: --view xz, seen from +y" || ko "3-D --view xz (exit $rc): $(cat r8.out r8.err)"
+expect 2 "--view: expected two different axes" "bad --view" "$exe" render c3 --view xx
+expect 2 "--view: a plane-strain run is drawn in x and y" "--view with z on a plane-strain run" \
+  "$exe" render cc --view xz
 
 /usr/bin/python3 - "$work" "$src" <<'PY'
 import re, struct, sys
@@ -92,6 +108,19 @@ check(m and abs(float(m.group(1)) - lo) <= 1e-5 * abs(lo) and abs(float(m.group(
 m = re.search(r"stress_q from (\S+) to (\S+); colour bar from (\S+) to (\S+)", open(f"{w}/r5.out").read())
 check(m and float(m.group(1)) <= float(m.group(3)) < float(m.group(4)) <= float(m.group(2)),
       "the 1-99 % colour range lies within the values' range")
+# 3-D: |v| of all three components, and v_z, as VTK reads the last frame
+last = sorted(__import__("glob").glob(f"{w}/c3/vtk/points_*.vtu"))[-1]
+rd = vtk.vtkXMLUnstructuredGridReader(); rd.SetFileName(last); rd.Update()
+a = rd.GetOutput().GetPointData().GetArray("velocity")
+vs = [[a.GetComponent(i, c) for c in range(3)] for i in range(a.GetNumberOfTuples())]
+speed = [sum(c * c for c in v) ** 0.5 for v in vs]
+m = re.search(r"velocity from (\S+) to (\S+);", open(f"{w}/r7.out").read())
+check(m and abs(float(m.group(2)) - max(speed)) <= 1e-5 * max(speed) and max(abs(v[2]) for v in vs) > 0,
+      f"3-D: |v| over x, y and z, max {max(speed):.6g} as VTK reads it")
+lo, hi = min(v[2] for v in vs), max(v[2] for v in vs)
+m = re.search(r"velocity_z from (\S+) to (\S+);", open(f"{w}/r8.out").read())
+check(m and abs(float(m.group(1)) - lo) <= 1e-5 * (hi - lo) and abs(float(m.group(2)) - hi) <= 1e-5 * (hi - lo),
+      f"3-D: velocity_z from {lo:.6g} to {hi:.6g}, as VTK reads it")
 done()
 PY
 pyrc=$?
