@@ -32,12 +32,14 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsur
   MPGM_ALLOC(ctx, p->body, m);
   MPGM_ALLOC(ctx, p->id, m);
   for (int i = 0; i < m; i++) p->id[i] = i;
-  MPGM_ALLOC(ctx, p->F_t, MPGM_TENSOR * n);
+  /* F_t, sigma_t and vol_t as long as F, sigma and vol: an explicit step
+   * commits by swapping them (core/explicit.c, commit_stress) */
+  MPGM_ALLOC(ctx, p->F_t, MPGM_TENSOR * m);
   MPGM_ALLOC(ctx, p->dF_t, MPGM_TENSOR * n);
-  MPGM_ALLOC(ctx, p->sigma_t, MPGM_NSTRESS * n);
+  MPGM_ALLOC(ctx, p->sigma_t, MPGM_NSTRESS * m);
   MPGM_ALLOC(ctx, p->D_t, MPGM_NTANGENT * n);
   MPGM_ALLOC(ctx, p->state_t, (size_t)nstate * n);
-  MPGM_ALLOC(ctx, p->vol_t, n);
+  MPGM_ALLOC(ctx, p->vol_t, m);
   for (int i = 0; i < m; i++) /* F = I */
     for (int d = 0; d < MPGM_DIM; d++) p->F[MPGM_TENSOR * i + (MPGM_DIM + 1) * d] = 1.0;
   return 0;

@@ -341,8 +341,22 @@ static int stress_forces(mpgm_problem *pb, explicit_data *d, const double *vel, 
   return nodal_forces(pb, d, pb->pts.sigma_t, pb->pts.vol_t, t, damp_vel, A);
 }
 
+/* The trial array (w per point) becomes the committed one and the
+ * committed the next step's trial: every material point's F, sigma and vol
+ * were written by this step's update (mpgm_eval_points, small_volume),
+ * and the points past n (probes, surface points), which have no trial,
+ * keep theirs. No copy of the n material points. */
+static void commit_swap(double **committed, double **trial, int w, size_t n, size_t m) {
+  memcpy(*trial + (size_t)w * n, *committed + (size_t)w * n, sizeof(double) * (size_t)w * (m - n));
+  double *old = *committed;
+  *committed = *trial;
+  *trial = old;
+}
+
 /* Commit the stress update of the step (trial -> committed arrays); CPLS
- * keeps the step's velocity gradient L = (dF - I) / dt for its corners. */
+ * keeps the step's velocity gradient L = (dF - I) / dt for its corners.
+ * The state is copied: a material may leave slots of the trial state
+ * untouched. */
 static void commit_stress(mpgm_problem *pb) {
   mpgm_points *P = &pb->pts;
   mpgm_work_internal(pb);
@@ -350,9 +364,10 @@ static void commit_stress(mpgm_problem *pb) {
     for (int p = 0; p < P->n; p++)
       for (int i = 0; i < MPGM_TENSOR; i++)
         P->L[MPGM_TENSOR * p + i] = (P->dF_t[MPGM_TENSOR * p + i] - MPGM_DIAG(i)) / pb->dt;
-  memcpy(P->F, P->F_t, sizeof(double) * MPGM_TENSOR * (size_t)P->n);
-  memcpy(P->sigma, P->sigma_t, sizeof(double) * MPGM_NSTRESS * (size_t)P->n);
-  memcpy(P->vol, P->vol_t, sizeof(double) * (size_t)P->n);
+  const size_t n = (size_t)P->n, m = n + (size_t)P->nprobe + (size_t)P->nsurf;
+  commit_swap(&P->F, &P->F_t, MPGM_TENSOR, n, m);
+  commit_swap(&P->sigma, &P->sigma_t, MPGM_NSTRESS, n, m);
+  commit_swap(&P->vol, &P->vol_t, 1, n, m);
   if (P->nstate) memcpy(P->state, P->state_t, sizeof(double) * (size_t)P->nstate * P->n);
 }
 

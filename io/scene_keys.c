@@ -1,7 +1,8 @@
 /* scene_keys.c -- the keys plug-ins declare for their own part of the scene
- * (mpgm_key_spec): read into their parameter structs, and "shape", where
- * the shape kind and the front end each read their own keys and a key of
- * another kind or front end is refused by the name of its owner. */
+ * (mpgm_key_spec): read into their parameter structs; a key that another
+ * plug-in declares is refused by the name of its owner (in "shape" the
+ * kinds and the front ends, in "time" the explicit schemes,
+ * mpgm_scene_scheme_keys_end); and the "shape" section itself. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
