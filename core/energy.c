@@ -16,28 +16,30 @@
  * sym((dF - I) ((I + dF) / 2)^-1) per unit time, and the work is
  * (V_n sigma_n + V sigma) / 2 : that (plane strain: zz does no work).
  * Kinematics "small": the increment sym(dF - I) itself. */
+double mpgm_point_work(const mpgm_points *P, int p, int small) {
+  const double *dF = P->dF_t + MPGM_TENSOR * p;
+  double H[MPGM_TENSOR], h[MPGM_TENSOR];
+  for (int c = 0; c < MPGM_TENSOR; c++) H[c] = dF[c] - (MPGM_DIAG(c) ? 1.0 : 0.0);
+  if (small) {
+    memcpy(h, H, sizeof h);
+  } else { /* H M^-1, M = (I + dF) / 2 */
+    double M[MPGM_TENSOR], iM[MPGM_TENSOR];
+    for (int c = 0; c < MPGM_TENSOR; c++) M[c] = 0.5 * ((MPGM_DIAG(c) ? 1.0 : 0.0) + dF[c]);
+    mpgm_inv(M, mpgm_det(M), iM);
+    mpgm_mul(H, iM, h);
+  }
+  const double *s0 = P->sigma + MPGM_NSTRESS * p, *s1 = P->sigma_t + MPGM_NSTRESS * p;
+  const double v0 = P->vol[p], v1 = P->vol_t[p];
+  double s[MPGM_NVOIGT];
+  for (int c = 0; c < MPGM_NVOIGT; c++) s[c] = 0.5 * (v0 * s0[c] + v1 * s1[c]);
+  return mpgm_stress_work(s, h);
+}
+
 void mpgm_work_internal(mpgm_problem *pb) {
   const mpgm_points *P = &pb->pts;
   const int small = !pb->fx.geometric;
   double w = 0.0;
-  for (int p = 0; p < P->n; p++) {
-    const double *dF = P->dF_t + MPGM_TENSOR * p;
-    double H[MPGM_TENSOR], h[MPGM_TENSOR];
-    for (int c = 0; c < MPGM_TENSOR; c++) H[c] = dF[c] - (MPGM_DIAG(c) ? 1.0 : 0.0);
-    if (small) {
-      memcpy(h, H, sizeof h);
-    } else { /* H M^-1, M = (I + dF) / 2 */
-      double M[MPGM_TENSOR], iM[MPGM_TENSOR];
-      for (int c = 0; c < MPGM_TENSOR; c++) M[c] = 0.5 * ((MPGM_DIAG(c) ? 1.0 : 0.0) + dF[c]);
-      mpgm_inv(M, mpgm_det(M), iM);
-      mpgm_mul(H, iM, h);
-    }
-    const double *s0 = P->sigma + MPGM_NSTRESS * p, *s1 = P->sigma_t + MPGM_NSTRESS * p;
-    const double v0 = P->vol[p], v1 = P->vol_t[p];
-    double s[MPGM_NVOIGT];
-    for (int c = 0; c < MPGM_NVOIGT; c++) s[c] = 0.5 * (v0 * s0[c] + v1 * s1[c]);
-    w += mpgm_stress_work(s, h);
-  }
+  for (int p = 0; p < P->n; p++) w += mpgm_point_work(P, p, small);
   pb->work_int += w;
 }
 

@@ -31,6 +31,8 @@ typedef struct explicit_data {
                     reported (time.allow_unstable_dt)                   */
   double *wp;  /**< 2 per point: the work of gravity, of a body force    */
   int nwp;     /**< points wp has room for                               */
+  int work_done; /**< the step's stress work was summed in the fused pass */
+  double work;   /**< that sum, added to pb->work_int at the commit        */
 } explicit_data;
 
 static void explicit_destroy(void *self) {
@@ -311,6 +313,7 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
 typedef struct {
   node_job j;
   mpgm_run_acc r;
+  double w; /* the stress work of the points so far (mpgm_work_internal's sum) */
 } fused_job;
 
 static void stress_force_point(void *arg, int p) {
@@ -318,6 +321,7 @@ static void stress_force_point(void *arg, int p) {
   mpgm_problem *pb = fj->j.pb;
   mpgm_points *P = &pb->pts;
   if (!pb->fx.geometric) small_volume(P, p);
+  fj->w += mpgm_point_work(P, p, !pb->fx.geometric);
   mpgm_run_add(&pb->conn, &fj->r, P->n, p, MPGM_DIM, force_entry, &fj->j, fj->j.out);
 }
 #endif
@@ -334,6 +338,8 @@ static int stress_forces(mpgm_problem *pb, explicit_data *d, const double *vel, 
     memset(d->f, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
     MPGM_CALL(mpgm_eval_points_each(pb, stress_force_point, &fj));
     mpgm_run_end(&pb->conn, &fj.r, MPGM_DIM, d->f);
+    d->work = fj.w; /* commit_stress need not sum it again */
+    d->work_done = 1;
     return forces_finish(pb, d->f, damp_vel, A);
   }
 #endif
@@ -357,9 +363,11 @@ static void commit_swap(double **committed, double **trial, int w, size_t n, siz
  * keeps the step's velocity gradient L = (dF - I) / dt for its corners.
  * The state is copied: a material may leave slots of the trial state
  * untouched. */
-static void commit_stress(mpgm_problem *pb) {
+static void commit_stress(mpgm_problem *pb, explicit_data *d) {
   mpgm_points *P = &pb->pts;
-  mpgm_work_internal(pb);
+  if (d->work_done) pb->work_int += d->work;
+  else mpgm_work_internal(pb);
+  d->work_done = 0;
   if (pb->scene->shape->velocity_ls)
     for (int p = 0; p < P->n; p++)
       for (int i = 0; i < MPGM_TENSOR; i++)
@@ -476,7 +484,7 @@ static int fe_step(void *self, mpgm_problem *pb) {
   zero_fixed(nd, nd->v);
   MPGM_CALL(stress_forces(pb, self, nd->v, pb->t + pb->dt, nd->v, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
-  commit_stress(pb);
+  commit_stress(pb, self);
   MPGM_CALL(move_points(pb, self, V, A, 0.0));
   return 0;
 }
@@ -490,7 +498,7 @@ static int usl_step(void *self, mpgm_problem *pb) {
   zero_fixed(nd, nd->v);
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
   MPGM_CALL(stress(pb, V));
-  commit_stress(pb);
+  commit_stress(pb, self);
   MPGM_CALL(move_points(pb, self, V, A, 0.0));
   return 0;
 }
@@ -614,7 +622,7 @@ static int npc_step(void *self, mpgm_problem *pb) {
   mpgm_timer_stop(ctx, MPGM_T_MASS);
   MPGM_CALL(stress_forces(pb, self, V, pb->t + pb->dt, V, A));
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] += g * dt * A[i];
-  commit_stress(pb);
+  commit_stress(pb, self);
   /* newmark: the points move by what their strain used, dt v_pred =
    * dt V - gamma dt^2 A; eq34: dt V + dt^2 A / 2 (003's eq 34 and code) */
   MPGM_CALL(move_points(pb, self, V, A, pb->scene->scheme.npc_eq34 ? 0.5 : -g));

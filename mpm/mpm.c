@@ -321,10 +321,10 @@ static int cell_point(void *arg, int p, mpgm_conn_task *t) {
   const int *pc = j->d->pcell;
   /* the node ids of p - 1 again when it was staged just before in the
    * same cell (the material points' tasks; not the tracers' tail task) */
-  const int again = p > t->p0 && p < t->p1 && k >= nn && pc[p] == pc[p - 1] &&
+  const int again = nn == MPGM_FE_MAXNODE && p > t->p0 && p < t->p1 && k >= nn && pc[p] == pc[p - 1] &&
                     t->len[p - 1 - t->p0] == nn;
-  if (again)
-    memcpy(t->node + k, t->node + k - nn, sizeof(int) * (size_t)nn);
+  if (again) /* a copy of fixed length, inlined (not a library call a point) */
+    memcpy(t->node + k, t->node + k - MPGM_FE_MAXNODE, sizeof(int) * MPGM_FE_MAXNODE);
   else
     mpgm_grid_cell(g, pc[p], t->node + k, NULL); /* grid ids for now */
   mpgm_fe_cube(j->d->pxi + MPGM_DIM * p, g->h, t->N + k, t->dN + MPGM_DIM * k);

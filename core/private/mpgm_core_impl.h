@@ -342,6 +342,10 @@ static inline void mpgm_argsort_nodes(const int *nodes, int nk, int *srt) {
  *  points' trial arrays against the committed ones) to pb->work_int
  *  (energy.c). */
 void mpgm_work_internal(mpgm_problem *pb);
+/** The term of material point p in it (small: kinematics "small"), for a
+ *  pass that has the point's trial arrays at hand (the explicit step's
+ *  fused stress and force pass): summed over p in order, the same sum. */
+double mpgm_point_work(const mpgm_points *P, int p, int small);
 /** Kinetic energy of the material points, sum_p m_p |v_p|^2 / 2 [J]
  *  (per unit thickness; energy.c). */
 double mpgm_kinetic_energy(const mpgm_points *P);
