@@ -159,29 +159,30 @@ static void check_foreign(const char *what, const mpgm_frontend_type *fe, const 
   mpgm_scene_destroy(&s);
 }
 
+/* 3 for every key of owner's table (name, n keys) that the pair lacks. */
+static int check_table_foreign(const char *what, const mpgm_frontend_type *fe,
+                               const mpgm_shapefn_type *sh, const char *owner,
+                               const mpgm_key_spec *keys, int nkeys) {
+  int n = 0;
+  for (int k = 0; k < nkeys; k++) {
+    if (declares(sh->keys, sh->nkeys, keys[k].name) ||
+        declares(fe->shape_keys, fe->nshape_keys, keys[k].name))
+      continue;
+    check_foreign(what, fe, sh, NULL, "shape", &keys[k], owner);
+    n++;
+  }
+  return n;
+}
+
 /* 3 for every key of the other kinds and front ends this pair lacks. */
 static int check_foreign_all(const char *what, const mpgm_frontend_type *fe,
                              const mpgm_shapefn_type *sh) {
   const mpgm_shapefn_type *const *st = mpgm_shapefn_types();
   const mpgm_frontend_type *const *ft = mpgm_frontend_types();
   int n = 0;
-  for (int i = 0; st[i]; i++) {
-    for (int k = 0; k < st[i]->nkeys; k++) {
-      const mpgm_key_spec *key = &st[i]->keys[k];
-      if (declares(sh->keys, sh->nkeys, key->name) || declares(fe->shape_keys, fe->nshape_keys, key->name))
-        continue;
-      check_foreign(what, fe, sh, NULL, "shape", key, st[i]->name);
-      n++;
-    }
-  }
+  for (int i = 0; st[i]; i++) n += check_table_foreign(what, fe, sh, st[i]->name, st[i]->keys, st[i]->nkeys);
   for (int i = 0; ft[i]; i++)
-    for (int k = 0; k < ft[i]->nshape_keys; k++) {
-      const mpgm_key_spec *key = &ft[i]->shape_keys[k];
-      if (declares(sh->keys, sh->nkeys, key->name) || declares(fe->shape_keys, fe->nshape_keys, key->name))
-        continue;
-      check_foreign(what, fe, sh, NULL, "shape", key, ft[i]->name);
-      n++;
-    }
+    n += check_table_foreign(what, fe, sh, ft[i]->name, ft[i]->shape_keys, ft[i]->nshape_keys);
   return n;
 }
 
