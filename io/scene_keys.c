@@ -115,7 +115,10 @@ int mpgm_scene_read_shape_keys(jr_node *sh, mpgm_scene *s) {
       others[n++] = (mpgm_key_owner){"method", (*f)->name, (*f)->shape_keys, (*f)->nshape_keys};
   char mine[128];
   snprintf(mine, sizeof mine, "shape.kind \"%s\" with method \"%s\"", s->shape->name, s->frontend->name);
-  /* a kind or method changed by --set over a scene written for another */
-  return mpgm_scene_foreign_keys(sh, s, others, n, mine, "; to change the kind, give the whole "
-                                 "section, --set 'shape={\"kind\": ...}'");
+  /* a kind or method changed by --set over a scene written for another
+   * (no hint when --set gave the whole section) */
+  int whole = 0;
+  for (int i = 0; i < sh->r->nov; i++) whole |= strcmp(sh->r->ov[i].path, sh->path) == 0;
+  return mpgm_scene_foreign_keys(sh, s, others, n, mine, whole ? "" : "; to change the kind, give "
+                                 "the whole section, --set 'shape={\"kind\": ...}'");
 }
