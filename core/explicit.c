@@ -303,7 +303,6 @@ static int nodal_forces(mpgm_problem *pb, explicit_data *d, const double *sigma,
   return forces_finish(pb, d->f, vel, A);
 }
 
-
 /* The stress from the nodal velocity vel and its nodal force at time t
  * (stress, then nodal_forces of the trial arrays). 3-D on one thread: in
  * one pass over the points, each point's force added to the nodes' run

@@ -79,7 +79,7 @@ int mpgm_clouds_create(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_clouds **out) {
   MPGM_CHECK(ctx, mpgm_shape_support_radius(s->shape, &c->par, &c->r0) == 0 && c->r0 > 0.0,
              MPGM_ERR_INPUT, "%s: shape: no support radius for kind \"%s\" (h = %g)", s->file,
              s->shape->name, s->h);
-  c->min_nodes = c->par.min_nodes > 0 ? c->par.min_nodes : c->par.order == 2 ? 12 : 6;
+  c->min_nodes = mpgm_shape_min_nodes(&c->par);
   c->max_enlarge = c->par.max_enlarge;
   return 0;
 }

@@ -356,6 +356,7 @@ static int gmm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
 /* The pattern's keys against each other and the kind. */
 static int gmm_check(mpgm_ctx *ctx, const mpgm_scene *s) {
   const mpgm_pattern_opts *o = &s->pattern;
+  const double rt = tangent_radius(s);
   if (o->tangent_tol > 0.0) {
     MPGM_CHECK(ctx, s->shape->weight_radius, MPGM_ERR_INPUT, "%s: shape.tangent_tol: a tangent cut "
                "where the weight falls to tol: expected a kind with such a weight (\"lme\"), found "
@@ -363,10 +364,10 @@ static int gmm_check(mpgm_ctx *ctx, const mpgm_scene *s) {
     MPGM_CHECK(ctx, !(o->tangent_radius > 0.0), MPGM_ERR_INPUT, "%s: shape.tangent_tol: expected "
                "shape.tangent_radius or shape.tangent_tol, found both (radius %g h, tol %g)",
                s->file, o->tangent_radius, o->tangent_tol);
-    MPGM_CHECK(ctx, tangent_radius(s) > 0.0, MPGM_ERR_INPUT, "%s: shape.tangent_tol: no radius "
+    MPGM_CHECK(ctx, rt > 0.0, MPGM_ERR_INPUT, "%s: shape.tangent_tol: no radius "
                "for tol %g with gamma %g", s->file, o->tangent_tol, s->shape_par.gamma);
   }
-  MPGM_CHECK(ctx, !(tangent_radius(s) > 0.0) || o->skin > 0.0, MPGM_ERR_INPUT, "%s: shape.%s: a "
+  MPGM_CHECK(ctx, !(rt > 0.0) || o->skin > 0.0, MPGM_ERR_INPUT, "%s: shape.%s: a "
              "tangent of smaller clouds is built on the pattern skin's lists: expected shape.skin "
              "> 0, found %g", s->file, o->tangent_tol > 0.0 ? "tangent_tol" : "tangent_radius", o->skin);
   return 0;

@@ -73,7 +73,7 @@ static int cloud(const mpgm_scene *s, double area, double perim, double *e, doub
       mpgm_shape_support_radius(s->shape, &s->shape_par, &r) != 0 || !(r > 0.0))
     return 0;
   const double share = fmax(0.25, 1.0 - perim * r / (2.0 * area)), q = r / s->h;
-  const double least = s->shape_par.min_nodes > 0 ? s->shape_par.min_nodes : s->shape_par.order == 2 ? 12.0 : 6.0;
+  const double least = mpgm_shape_min_nodes(&s->shape_par);
   *e = fmax(least, share * 3.14159265358979323846 * q * q);
   *coupled = fmax(*e, share * 3.14159265358979323846 * 2.25 * q * q);
   return 1;

@@ -95,6 +95,12 @@ typedef struct mpgm_shape_params {
                            step fails (the scene's default 16; 0: none)     */
 } mpgm_shape_params;
 
+/** The smallest cloud of par: min_nodes, or by default twice the basis
+ *  (12 for a quadratic basis, else 6). */
+static inline int mpgm_shape_min_nodes(const mpgm_shape_params *par) {
+  return par->min_nodes > 0 ? par->min_nodes : par->order == 2 ? 12 : 6;
+}
+
 /** Why an evaluation failed (mpgm_shape_info.reason). */
 typedef enum {
   MPGM_SHAPE_OK = 0,
