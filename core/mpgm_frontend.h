@@ -109,7 +109,6 @@ typedef struct mpgm_frontend_type {
   unsigned geometries;    /**< bit 1 << g for each mpgm_geometry g        */
   unsigned conditions;    /**< MPGM_FE_COND_* bits                       */
   int obstacles;          /**< 1: takes rigid obstacles (node layers)     */
-  int node_motion;        /**< 1: takes mesh.node_motion "interpolated"   */
   int explicit_schemes;   /**< 1: takes time.analysis "explicit" (lumped
                                mass on nodes it projects every step)     */
   /** Optional: its own keys of the scene's "shape" section (beside the
@@ -117,6 +116,11 @@ typedef struct mpgm_frontend_type {
    *  method's scene refuses them by this front end's name. */
   const mpgm_key_spec *shape_keys;
   int nshape_keys;
+  /** Optional: its keys of the scene's "mesh" (the rules for its nodes),
+   *  read into mpgm_scene.mesh_par (nmesh_keys of them); another method's
+   *  scene refuses them by this front end's name. */
+  const mpgm_key_spec *mesh_keys;
+  int nmesh_keys;
   /** Optional: rules of this front end beyond its traits, as
    *  MPGM_ERR_INPUT with "FILE: json.path: expected ..., found ...". */
   int (*check)(mpgm_ctx *ctx, const mpgm_scene *s);

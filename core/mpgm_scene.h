@@ -205,6 +205,19 @@ typedef struct mpgm_pattern_opts {
                               none; gmm/gmm.c makes it a radius)       */
 } mpgm_pattern_opts;
 
+/** The keys of "mesh" a front end declares (mpgm_frontend_type.
+ *  mesh_keys): the rules for its nodes (docs/scene-format.md, "mesh");
+ *  zero for a key the scene's method does not declare. */
+typedef struct mpgm_mesh_params {
+  double min_node_mass;     /**< mpm, gmm on the grid: nodes lighter than
+                                 this fraction of the step's heaviest node
+                                 get no equations                        */
+  double min_node_distance; /**< gmm on the grid: a free node closer than
+                                 this times h to a lower-numbered free
+                                 node is left out of the step (0: off)  */
+  int node_motion;          /**< mpgm_node_motion (gmm, finite strain)  */
+} mpgm_mesh_params;
+
 /** The keys of "time" a time scheme declares (mpgm_integrator_type.
  *  keys): the explicit npc's (docs/scene-format.md, "Explicit schemes");
  *  zero for the other schemes. */
@@ -233,13 +246,9 @@ typedef struct mpgm_scene {
   double h;                 /**< cell size [m]                         */
   int cell;                 /**< mpgm_cell_kind                        */
   int ppc;                  /**< points per cell                       */
-  double min_node_mass;     /**< MPM: grid nodes lighter than this fraction
-                                 of the step's heaviest node get no
-                                 equations (default 1e-2)               */
-  double min_node_distance; /**< GMM on the grid: a free node closer than
-                                 this times h to a lower-numbered free
-                                 node is left out of the step (0: off)  */
-  int node_motion;          /**< mpgm_node_motion (GMM, finite strain)  */
+  mpgm_mesh_params mesh_par; /**< the front end's keys of "mesh" (the
+                                 light-node and close-node rules, the
+                                 nodes' motion)                         */
   int layout_centres;       /**< mesh.layout: 1 "centres" (points at the
                                  centres of ppc equal sub-cells of a quad,
                                  as uGIMP wants), 0 "gauss" (the Gauss

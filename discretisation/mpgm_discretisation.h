@@ -103,6 +103,15 @@ int mpgm_scene_nstate(const mpgm_scene *s);
  *  nprobe - 1), with the initial velocity of the first body holding each. */
 void mpgm_probes_place(mpgm_points *P, const mpgm_scene *s);
 
+/** The light-node rule's key of "mesh" (mpgm_frontend_type.mesh_keys), for
+ *  the front ends that apply it (mpm; gmm on the grid): the fraction of the
+ *  step's heaviest node at or below which a node gets no equation. */
+#define MPGM_LIGHT_NODE_KEY                                                                       \
+  {.name = "min_node_mass", .type = MPGM_KEY_REAL,                                                \
+   .offset = offsetof(mpgm_mesh_params, min_node_mass), .def = 1e-2, .lo = 0.0, .hi = 0.5,        \
+   .hi_open = 1, .unit = "-",                                                                     \
+   .doc = "a node of at most this fraction of the heaviest node's mass gets no equation"}
+
 /** The light-node rule, 1: the mass m_I = sum_p N_Ip m_p of each of the
  *  nnode nodes from the functions c of the np material points (masses
  *  pmass) into mass; among the nodes eligible (NULL: all) a node is light

@@ -21,7 +21,7 @@ static int fail(mpgm_ctx *ctx, const mpgm_scene *s, const char *path, const char
 
 /* The names of the methods whose trait `field` has every bit of `bits`
  * ("fem, mpm"; "none"). */
-enum { SHAPES, GEOMETRIES, CONDITIONS, OBSTACLES, NODE_MOTION, EXPLICIT };
+enum { SHAPES, GEOMETRIES, CONDITIONS, OBSTACLES, EXPLICIT };
 static const char *takers(int field, unsigned bits, char *buf, size_t len) {
   const mpgm_frontend_type *const *t = mpgm_frontend_types();
   buf[0] = '\0';
@@ -30,8 +30,7 @@ static const char *takers(int field, unsigned bits, char *buf, size_t len) {
                           : field == GEOMETRIES ? t[i]->geometries
                           : field == CONDITIONS ? t[i]->conditions
                           : field == OBSTACLES  ? (unsigned)t[i]->obstacles
-                          : field == NODE_MOTION ? (unsigned)t[i]->node_motion
-                                                 : (unsigned)t[i]->explicit_schemes;
+                                                : (unsigned)t[i]->explicit_schemes;
     if ((have & bits) != bits) continue;
     const size_t n = strlen(buf);
     snprintf(buf + n, len - n, "%s%s", n ? ", " : "", t[i]->name);
@@ -176,14 +175,6 @@ int mpgm_frontend_check(mpgm_ctx *ctx, const mpgm_scene *s) {
   if (s->nobstacle > 0 && !fe->obstacles)
     return fail(ctx, s, "obstacles", "method %s takes no obstacles (methods that take them: %s)",
                 fe->name, takers(OBSTACLES, 1, m, sizeof m));
-  if (s->node_motion == MPGM_NODES_INTERPOLATED && !fe->node_motion)
-    return fail(ctx, s, "mesh.node_motion",
-                "method %s has no nodes to move by the interpolated field (methods that take "
-                "\"interpolated\": %s)", fe->name, takers(NODE_MOTION, 1, m, sizeof m));
-  if (s->node_motion == MPGM_NODES_INTERPOLATED && s->kinematics == MPGM_KIN_SMALL)
-    return fail(ctx, s, "mesh.node_motion",
-                "\"interpolated\" moves the nodes, and under kinematics \"small\" nodes do not "
-                "move: remove the key or use kinematics \"finite\"");
   if (s->grid && !fe->background)
     return fail(ctx, s, "output.grid", "expected false, found true: method %s has no "
                 "background grid (its nodes and cells are its own, written as mesh.pvd; method "

@@ -119,8 +119,8 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
     /* rectangles: nodes, points, probes, boundaries exactly those of UL-FEM */
     MPGM_CALL(mpgm_fem_rectangles(v, &d->fem));
   }
-  if (d->grid && s->min_node_distance > 0.0) {
-    d->dmin = s->min_node_distance * s->h;
+  if (d->grid && s->mesh_par.min_node_distance > 0.0) {
+    d->dmin = s->mesh_par.min_node_distance * s->h;
     MPGM_ALLOC(ctx, d->merged, v->nodes->n);
   }
   MPGM_CALL(mpgm_kdtree_create(ctx, v->nodes->x, v->nodes->n, 0, &d->tree));
@@ -130,7 +130,7 @@ static int gmm_create(const mpgm_fe_view *v, void **self) {
     MPGM_ALLOC(ctx, d->fix, MPGM_DIM * (size_t)v->nodes->n);
     d->nfix = v->nodes->n;
   }
-  if (s->node_motion == MPGM_NODES_INTERPOLATED && v->fx->geometric) {
+  if (s->mesh_par.node_motion == MPGM_NODES_INTERPOLATED && v->fx->geometric) {
     MPGM_ALLOC(ctx, d->xs, MPGM_DIM * (size_t)v->nodes->n);
     MPGM_ALLOC(ctx, d->skip, v->nodes->n);
     memcpy(d->xs, v->nodes->x, sizeof(double) * MPGM_DIM * (size_t)v->nodes->n);
@@ -353,10 +353,15 @@ static int gmm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
   return 0;
 }
 
-/* The pattern's keys against each other and the kind. */
+/* The pattern's keys against each other and the kind; the nodes' motion
+ * against the kinematics. */
 static int gmm_check(mpgm_ctx *ctx, const mpgm_scene *s) {
   const mpgm_pattern_opts *o = &s->pattern;
   const double rt = tangent_radius(s);
+  MPGM_CHECK(ctx, !(s->mesh_par.node_motion == MPGM_NODES_INTERPOLATED && s->kinematics == MPGM_KIN_SMALL),
+             MPGM_ERR_INPUT, "%s: mesh.node_motion: \"interpolated\" moves the nodes, and under "
+             "kinematics \"small\" nodes do not move: remove the key or use kinematics \"finite\"",
+             s->file);
   if (o->tangent_tol > 0.0) {
     MPGM_CHECK(ctx, s->shape->weight_radius, MPGM_ERR_INPUT, "%s: shape.tangent_tol: a tangent cut "
                "where the weight falls to tol: expected a kind with such a weight (\"lme\"), found "
@@ -389,6 +394,21 @@ static const mpgm_key_spec gmm_shape_keys[] = {
      .doc = "the tangent's radius where the kind's weight falls to this value; 0: off"},
 };
 
+/* GMM's keys of "mesh" (docs/scene-format.md, "mesh"): the light-node
+ * and close-node rules of bodies filled on the grid, and how the nodes
+ * move (docs/theory.md section 13) */
+static const char *const node_motion_names[] = {"coefficient", "interpolated", NULL}; /* = mpgm_node_motion */
+static const mpgm_key_spec gmm_mesh_keys[] = {
+    MPGM_LIGHT_NODE_KEY,
+    {.name = "min_node_distance", .type = MPGM_KEY_REAL,
+     .offset = offsetof(mpgm_mesh_params, min_node_distance), .def = 0.0, .lo = 0.0, .hi = 1.0,
+     .hi_open = 1, .unit = "-",
+     .doc = "a free node closer than this times h to a lower-numbered one leaves the step; 0: off"},
+    {.name = "node_motion", .type = MPGM_KEY_CHOICE, .offset = offsetof(mpgm_mesh_params, node_motion),
+     .def = MPGM_NODES_COEFFICIENT, .lo = MPGM_NODES_COEFFICIENT, .choices = node_motion_names,
+     .unit = "-", .doc = "the nodes move by their coefficients' increments or by the interpolated field"},
+};
+
 const mpgm_frontend_type mpgm_frontend_gmm = {
     .name = "gmm",
     .doc = "Galerkin Meshfree Method: the nodes of UL-FEM (or of bodies filled on a grid) "
@@ -399,9 +419,10 @@ const mpgm_frontend_type mpgm_frontend_gmm = {
     .geometries = 1u << MPGM_GEOM_RECTANGLE | 1u << MPGM_GEOM_DISK | 1u << MPGM_GEOM_POLYGON,
     .conditions = MPGM_FE_COND_FIX | MPGM_FE_COND_DISPLACEMENT | MPGM_FE_COND_CONTACT_POINTS,
     .obstacles = 1,
-    .node_motion = 1,
     .shape_keys = gmm_shape_keys,
     .nshape_keys = sizeof gmm_shape_keys / sizeof *gmm_shape_keys,
+    .mesh_keys = gmm_mesh_keys,
+    .nmesh_keys = sizeof gmm_mesh_keys / sizeof *gmm_mesh_keys,
     .check = gmm_check,
     .create = gmm_create,
     .destroy = gmm_destroy,

@@ -349,7 +349,7 @@ int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tr
       g->parked[i] |= ob->side * (nd->x[MPGM_DIM * i + ob->axis] - ob->value) > -on;
     }
   }
-  g->nparked = mpgm_light_nodes(c, P->n, P->mass, n, g->eligible, s->min_node_mass, g->mass, g->parked);
+  g->nparked = mpgm_light_nodes(c, P->n, P->mass, n, g->eligible, s->mesh_par.min_node_mass, g->mass, g->parked);
   /* a parked node is held where it is: lambda ubar = u at the step's load
    * factor */
   const double lam = v->lambda;
@@ -365,7 +365,7 @@ int mpgm_gmm_grid_park(const mpgm_fe_view *v, gmm_grid *g, const mpgm_kdtree *tr
   if (!g->nparked) return 0;
   MPGM_CALL(follow_weights(v->ctx, s, nd, g, tree, r0));
   return mpgm_light_drop(v->ctx, c, P->n + P->nprobe + P->nsurf, g->parked, P, v->cp, v->step,
-                         s->min_node_mass);
+                         s->mesh_par.min_node_mass);
 }
 
 void mpgm_gmm_grid_unpark(const mpgm_fe_view *v, gmm_grid *g) {

@@ -13,7 +13,6 @@
 #include "scene_impl.h"
 
 static const char *const cell_names[] = {"tri", "quad", "hex", NULL}; /* = mpgm_cell_kind */
-static const char *const node_motion_names[] = {"coefficient", "interpolated", NULL}; /* = mpgm_node_motion */
 static const char *const kin_names[] = {"finite", "small", NULL};
 static const char *const analysis_names[] = {"static", "dynamic", "explicit", NULL};
 static const char *const vtk_names[] = {"none", "ascii", "binary", NULL};
@@ -269,9 +268,8 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
                    cell_names[s->cell]);
   const int ppc0 = s->cell == MPGM_CELL_H8 ? 8 : s->cell == MPGM_CELL_Q4 ? 4 : 3;
   MPGM_CALL(jr_int(&mesh, "ppc", ppc0, 1, MPGM_MAXRULE, &s->ppc));
-  MPGM_CALL(jr_num(&mesh, "min_node_mass", 1e-2, 0.0, 0.5, 0, 1, &s->min_node_mass));
-  MPGM_CALL(jr_num(&mesh, "min_node_distance", 0.0, 0.0, 1.0, 0, 1, &s->min_node_distance));
-  MPGM_CALL(jr_enum(&mesh, "node_motion", node_motion_names, MPGM_NODES_COEFFICIENT, &s->node_motion));
+  memset(&s->mesh_par, 0, sizeof s->mesh_par); /* the method's rules for its nodes */
+  MPGM_CALL(mpgm_scene_read_keys(&mesh, s->frontend->mesh_keys, s->frontend->nmesh_keys, &s->mesh_par));
   static const char *const layout_names[] = {"gauss", "centres", NULL};
   /* a kind with particle domains (CPDI) tiles the body with them: the
    * sub-cell squares of quads (cubes of hexahedra) */
@@ -298,6 +296,7 @@ static int read_mesh(jr_node *root, mpgm_scene *s) {
     if (!(s->dom_max[d] > s->dom_min[d]))
       return jr_fail(&dom, NULL, "expected max > min in %s, found an empty domain",
                      MPGM_DIM == 2 ? "x and y" : "x, y and z");
+  MPGM_CALL(mpgm_scene_mesh_keys_end(&mesh, s));
   MPGM_CALL(jr_end(&mesh));
 
   return 0;

@@ -1,8 +1,9 @@
 /* scene_keys.c -- the keys plug-ins declare for their own part of the scene
  * (mpgm_key_spec): read into their parameter structs; a key that another
  * plug-in declares is refused by the name of its owner (in "shape" the
- * kinds and the front ends, in "time" the explicit schemes,
- * mpgm_scene_scheme_keys_end); and the "shape" section itself. */
+ * kinds and the front ends, in "mesh" the front ends, in "time" the
+ * explicit schemes, mpgm_scene_scheme_keys_end); and the "shape" section
+ * itself. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -121,4 +122,14 @@ int mpgm_scene_read_shape_keys(jr_node *sh, mpgm_scene *s) {
   for (int i = 0; i < sh->r->nov; i++) whole |= strcmp(sh->r->ov[i].path, sh->path) == 0;
   return mpgm_scene_foreign_keys(sh, s, others, n, mine, whole ? "" : "; to change the kind, give "
                                  "the whole section, --set 'shape={\"kind\": ...}'");
+}
+
+int mpgm_scene_mesh_keys_end(jr_node *mesh, const mpgm_scene *s) {
+  mpgm_key_owner others[16];
+  int n = 0;
+  for (const mpgm_frontend_type *const *f = mpgm_frontend_types(); *f && n < 16; f++)
+    if (*f != s->frontend) others[n++] = (mpgm_key_owner){"method", (*f)->name, (*f)->mesh_keys, (*f)->nmesh_keys};
+  char mine[64];
+  snprintf(mine, sizeof mine, "method \"%s\"", s->frontend->name);
+  return mpgm_scene_foreign_keys(mesh, s, others, n, mine, "");
 }

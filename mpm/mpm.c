@@ -561,8 +561,8 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
 #if MPGM_DIM == 3 /* the runs of the run sums (mpgm_data.h) */
   MPGM_CALL(mpgm_conn_runs(v->ctx, v->conn, P->n));
 #endif
-  mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->min_node_mass, d->gm, d->light);
-  MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->min_node_mass));
+  mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->mesh_par.min_node_mass, d->gm, d->light);
+  MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->mesh_par.min_node_mass));
   step_nodes(v, d);
   /* probes and surface points without functions move with the material */
   MPGM_CALL(mpgm_tracers_carry(v, v->conn, &d->carry));
@@ -633,6 +633,10 @@ static int mpm_restore(void *self, const mpgm_fe_view *v, mpgm_blob *b) {
 #endif
 }
 
+/* MPM's key of "mesh": the light-node rule (docs/theory.md, "tiny-mass
+ * nodes") */
+static const mpgm_key_spec mpm_mesh_keys[] = {MPGM_LIGHT_NODE_KEY};
+
 const mpgm_frontend_type mpgm_frontend_mpm = {
     .name = "mpm",
     .doc = "Material Point Method: a background grid emptied and projected on every step, "
@@ -652,6 +656,8 @@ const mpgm_frontend_type mpgm_frontend_mpm = {
 #endif
     .obstacles = 0,
     .explicit_schemes = 1,
+    .mesh_keys = mpm_mesh_keys,
+    .nmesh_keys = sizeof mpm_mesh_keys / sizeof *mpm_mesh_keys,
     .create = mpm_create,
     .destroy = mpm_destroy,
     .begin_step = mpm_begin_step,

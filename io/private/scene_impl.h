@@ -85,6 +85,11 @@ int mpgm_scene_foreign_keys(jr_node *o, const mpgm_scene *s, const mpgm_key_owne
  *  refused naming its owners (scene_keys.c). */
 int mpgm_scene_read_shape_keys(jr_node *sh, mpgm_scene *s);
 
+/** "mesh", after every reader of the block: a key of another front end's
+ *  rules for its nodes (mpgm_frontend_type.mesh_keys), in the file or in
+ *  --set mesh.KEY, refused by its name (scene_keys.c). */
+int mpgm_scene_mesh_keys_end(jr_node *mesh, const mpgm_scene *s);
+
 /** "solver": the linear backend, its options and Newton's settings
  *  (scene_solver.c; after "time", whose analysis decides whether PETSc is
  *  loaded, and after "boundaries", on which contact_check's default

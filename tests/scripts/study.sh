@@ -132,7 +132,7 @@ sum="results/stale/runs/mesh.h=0.5/summary.json"
 python3 - "$sum" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
-del s["scene"]["mesh"]["min_node_distance"]
+del s["scene"]["time"]["max_cuts"]
 s["scene"]["bodies"][0]["geostatic"] = {}
 json.dump(s, open(sys.argv[1], "w"))
 PY
@@ -142,7 +142,7 @@ PY
 python3 - "$sum" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
-s["scene"]["mesh"]["min_node_distance"] = 0.3
+s["scene"]["time"]["max_cuts"] = 3
 json.dump(s, open(sys.argv[1], "w"))
 PY
 "$exe" study stale.json --no-plot > /dev/null 2> old2.err; rc=$?

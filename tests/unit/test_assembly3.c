@@ -82,7 +82,7 @@ static void world_init(world *w, const asm_case *ac) {
   s->cell = MPGM_CELL_H8;
   s->h = fem ? 0.6 : 0.3;
   s->ppc = 8;
-  s->min_node_mass = fem ? 0.0 : 1e-2;
+  s->mesh_par.min_node_mass = fem ? 0.0 : 1e-2;
   if (s->shape->grid_only) s->shape_par.half_width = s->h / (2.0 * cbrt((double)s->ppc));
   s->shape_par.h = s->h;
   const double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {1.8, 1.2, 1.1};

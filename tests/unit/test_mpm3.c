@@ -53,7 +53,7 @@ static void world_init(world *w, const char *kind, double min_node_mass) {
   s->cell = MPGM_CELL_H8;
   s->h = 0.25;
   s->ppc = 8;
-  s->min_node_mass = min_node_mass;
+  s->mesh_par.min_node_mass = min_node_mass;
   if (s->shape->grid_only) s->shape_par.half_width = s->h / (2.0 * cbrt((double)s->ppc));
   const double lo[3] = {-0.5, -0.5, -0.5}, hi[3] = {2.5, 1.5, 1.5};
   memcpy(s->dom_min, lo, sizeof lo);

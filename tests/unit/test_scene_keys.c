@@ -1,6 +1,7 @@
 /* test_scene_keys.c -- every shape kind, front end and time scheme reads its own
- * keys of "shape" from the table it declares (mpgm_key_spec), and a key of
- * another is refused by its owner's name (io/scene_keys.c). Runs over the
+ * keys of "shape", "mesh" and "time" from the table it declares
+ * (mpgm_key_spec), and a key of another is refused by its owner's name
+ * (io/scene_keys.c). Runs over the
  * lists (mpgm_shapefn_types, mpgm_frontend_types) of the build, 2-D and
  * 3-D: a kind or front end added to a list is tested here unchanged.
  *
@@ -15,7 +16,9 @@
  *      the key's owner; passed over (not resolved) in a run's own record
  *      (mpgm_scene_load_json), which earlier mpgm wrote with every
  *      meshfree key for every meshfree kind;
- *   4. the same for the explicit time schemes' own keys of "time". */
+ *   4. the same for the explicit time schemes' own keys of "time";
+ *   5. and for the front ends' keys of "mesh" (the rules for their nodes):
+ *      each method resolves exactly its own, at their defaults. */
 #include "mpgm_frontends.h"
 #include "mpgm_integrator.h"
 #include "mpgm_scene_io.h"
@@ -26,7 +29,12 @@
 #include <stdio.h>
 #include <string.h>
 
+/* one per build: the 2-D and 3-D tests run side by side in one folder */
+#if MPGM_DIM == 2
 #define FILE_NAME "test_scene_keys.json"
+#else
+#define FILE_NAME "test_scene_keys_3d.json"
+#endif
 
 static int declares(const mpgm_key_spec *k, int n, const char *name) {
   for (int i = 0; i < n; i++)
@@ -57,11 +65,11 @@ static void check_table(const char *who, const mpgm_key_spec *k, int n, size_t s
 }
 
 /* The scene of a front end, a kind and a time scheme (NULL: the kind's
- * analysis), with extra members of section ("shape" or "time"). */
+ * analysis), with extra members of section ("shape", "mesh" or "time"). */
 static void scene_text(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh, const char *scheme,
                        const char *section, const char *extra, char *text, size_t len) {
   char tm[256];
-  const int in_time = strcmp(section, "time") == 0;
+  const int in_time = strcmp(section, "time") == 0, in_mesh = strcmp(section, "mesh") == 0;
   if (scheme || sh->velocity_ls)
     snprintf(tm, sizeof tm, "{\"analysis\": \"explicit\", \"scheme\": \"%s\", \"end\": 0.01%s}",
              scheme ? scheme : "usl", in_time ? extra : "");
@@ -78,14 +86,14 @@ static void scene_text(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh
 #endif
   snprintf(text, len,
            "{\"method\": \"%s\", \"shape\": {\"kind\": \"%s\"%s},"
-           " \"mesh\": {\"h\": 0.2, \"layout\": \"%s\", \"domain\": {%s}},"
+           " \"mesh\": {\"h\": 0.2, \"layout\": \"%s\", \"domain\": {%s}%s},"
            " \"time\": %s,"
            " \"materials\": {\"m\": {\"type\": \"neo_hookean\", \"density\": 1000, \"E\": 1e6, "
            "\"nu\": 0.3}},"
            " \"bodies\": [{\"material\": \"m\", %s}],"
            " \"boundaries\": [{\"x\": 0.0, \"fix\": %s}], \"output\": {\"vtk\": \"none\"}}",
-           fe->name, sh->name, in_time ? "" : extra, sh->grid_only ? "centres" : "gauss", dom, tm, body,
-           fix);
+           fe->name, sh->name, in_time || in_mesh ? "" : extra, sh->grid_only ? "centres" : "gauss", dom,
+           in_mesh ? extra : "", tm, body, fix);
 }
 
 /* Load text from a scene file (as a user's scene), with one --set. */
@@ -99,6 +107,14 @@ static int load_file(mpgm_ctx *ctx, const char *text, const char *set, mpgm_scen
   return err;
 }
 
+/* Key k of the resolved object o at its default. */
+static int at_default(const cJSON *o, const mpgm_key_spec *k) {
+  const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, k->name);
+  return k->type == MPGM_KEY_CHOICE
+             ? cJSON_IsString(v) && strcmp(v->valuestring, k->choices[(int)(k->def - k->lo)]) == 0
+             : cJSON_IsNumber(v) && v->valuedouble == k->def;
+}
+
 /* 2: the resolved "shape" of a pair holds its keys at their defaults, and
  * nothing else. */
 static void check_resolved(const char *what, const mpgm_frontend_type *fe,
@@ -109,11 +125,7 @@ static void check_resolved(const char *what, const mpgm_frontend_type *fe,
   for (int w = 0; w < 2; w++) {
     const mpgm_key_spec *k = w ? fe->shape_keys : sh->keys;
     for (int i = 0; i < (w ? fe->nshape_keys : sh->nkeys); i++) {
-      const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, k[i].name);
-      const int ok = k[i].type == MPGM_KEY_CHOICE
-                         ? cJSON_IsString(v) &&
-                               strcmp(v->valuestring, k[i].choices[(int)(k[i].def - k[i].lo)]) == 0
-                         : cJSON_IsNumber(v) && v->valuedouble == k[i].def;
+      const int ok = at_default(o, &k[i]);
       if (!ok) mpgm_test(0, "%s: shape.%s resolved at its default %g", what, k[i].name, k[i].def);
       bad += !ok;
     }
@@ -217,6 +229,45 @@ static int check_schemes(void) {
   return n;
 }
 
+/* 5: each front end (with a kind it takes) resolves "mesh" as h, cell,
+ * ppc, layout, domain and exactly its own keys at their defaults; a key of
+ * another front end's is refused. */
+static int check_mesh(void) {
+  const mpgm_frontend_type *const *ft = mpgm_frontend_types();
+  const mpgm_shapefn_type *const *st = mpgm_shapefn_types();
+  int n = 0;
+  for (int f = 0; ft[f]; f++) {
+    check_table(ft[f]->name, ft[f]->mesh_keys, ft[f]->nmesh_keys, sizeof(mpgm_mesh_params));
+    const mpgm_shapefn_type *sh = NULL;
+    for (int k = 0; st[k] && !sh; k++)
+      if (ft[f]->shapes & (st[k]->needs_cell ? MPGM_FE_SHAPE_CELL : MPGM_FE_SHAPE_CLOUD) &&
+          !(st[k]->grid_only && ft[f]->persistent_nodes) && !st[k]->velocity_ls)
+        sh = st[k];
+    if (!sh) continue;
+    char what[64], text[2048];
+    snprintf(what, sizeof what, "%s-%s mesh", ft[f]->name, sh->name);
+    scene_text(ft[f], sh, NULL, "mesh", "", text, sizeof text);
+    mpgm_ctx ctx;
+    mpgm_ctx_init(&ctx);
+    mpgm_scene *s = NULL;
+    const int err = load_file(&ctx, text, NULL, &s);
+    const cJSON *o = s ? cJSON_GetObjectItemCaseSensitive((const cJSON *)s->resolved, "mesh") : NULL;
+    int bad = err != 0;
+    for (int i = 0; !err && i < ft[f]->nmesh_keys; i++) bad += !at_default(o, &ft[f]->mesh_keys[i]);
+    mpgm_test(!bad && cJSON_GetArraySize(o) == 5 + ft[f]->nmesh_keys,
+              "%s: resolved mesh holds its %d keys at their defaults and 5 others (%s)", what,
+              ft[f]->nmesh_keys, err ? ctx.msg : "ok");
+    mpgm_scene_destroy(&s);
+    for (int g = 0; !err && ft[g]; g++)
+      for (int k = 0; g != f && k < ft[g]->nmesh_keys; k++)
+        if (!declares(ft[f]->mesh_keys, ft[f]->nmesh_keys, ft[g]->mesh_keys[k].name)) {
+          check_foreign(what, ft[f], sh, NULL, "mesh", &ft[g]->mesh_keys[k], ft[g]->name);
+          n++;
+        }
+  }
+  return n;
+}
+
 int main(void) {
   const mpgm_frontend_type *const *ft = mpgm_frontend_types();
   const mpgm_shapefn_type *const *st = mpgm_shapefn_types();
@@ -251,5 +302,7 @@ int main(void) {
             "%d pairs of front end and kind, %d foreign keys refused", npair, nforeign);
   const int nscheme = check_schemes();
   mpgm_test(nscheme >= 2, "%d keys of other time schemes refused", nscheme);
+  const int nmesh = check_mesh();
+  mpgm_test(nmesh >= (MPGM_DIM == 2 ? 4 : 1), "%d keys of other front ends' mesh refused", nmesh);
   return mpgm_test_summary();
 }
