@@ -122,8 +122,10 @@ typedef struct mpgm_param_spec {
 typedef enum {
   MPGM_KEY_REAL = 0, /**< a number, into a double                       */
   MPGM_KEY_INT,      /**< an integer in [lo, hi], into an int            */
-  MPGM_KEY_CHOICE    /**< one of `choices`, into an int: lo + the index
+  MPGM_KEY_CHOICE,   /**< one of `choices`, into an int: lo + the index
                           of the name (so a field may count from 1)      */
+  MPGM_KEY_STRING    /**< a string, into a char array of `size` bytes
+                          (default ""); its rule is `valid`'s            */
 } mpgm_key_type;
 
 /** One key a plug-in declares in its part of the scene, read into a field
@@ -145,6 +147,10 @@ typedef struct mpgm_key_spec {
   const char *const *choices; /**< CHOICE: the names, NULL-terminated    */
   const char *unit;           /**< for docs, e.g. "m" or "-"             */
   const char *doc;            /**< one line for docs/scene-format.md     */
+  size_t size;                /**< STRING: the bytes of the field        */
+  /** Optional: the value's own rule beyond its type and range (the field
+   *  as read); 0, or nonzero with the reason in why (len bytes). */
+  int (*valid)(const void *field, char *why, size_t len);
 } mpgm_key_spec;
 
 /** Short fixed description of a code ("bad input", "det F <= 0", ...). */

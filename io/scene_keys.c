@@ -27,9 +27,14 @@ int mpgm_scene_read_keys(jr_node *o, const mpgm_key_spec *keys, int n, void *bas
       MPGM_CALL(jr_enum(o, k->name, k->choices, (int)(k->def - k->lo), &c));
       *(int *)f = (int)k->lo + c;
       break;
+    case MPGM_KEY_STRING:
+      MPGM_CALL(jr_str(o, k->name, "", f, k->size));
+      break;
     default:
       return jr_fail(o, k->name, "internal error: key type %d", k->type);
     }
+    char why[400];
+    if (k->valid && k->valid(f, why, sizeof why)) return jr_fail(o, k->name, "%s", why);
   }
   return 0;
 }

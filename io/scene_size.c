@@ -45,10 +45,6 @@
 #define GRID_NODE_BYTES 6
 /* Per nonzero of the tangent (CSC: value and row) and of a factor. */
 #define NONZERO_BYTES (8 + 4)
-/* PETSc (solver.linear "petsc"), loaded with MPI as a module on first
- * use: 36 MiB resident on the column collapse at h = 0.2 against UMFPACK
- * (bench/notes/memory.md). */
-#define PETSC_BYTES (32.0 * 1048576.0)
 /* Per point while VTK fields are written (J, material, id, eps_p). */
 #define VTK_POINT_BYTES (4 * 8)
 /* The fill of a direct factorisation per equation beyond the tangent's
@@ -170,7 +166,7 @@ void mpgm_scene_size(const mpgm_scene *s, mpgm_size *z) {
   z->bytes[MPGM_SIZE_MATRIX] = z->nnz * NONZERO_BYTES * (implicit && s->solver->iterative ? 2 : 1);
   z->bytes[MPGM_SIZE_FACTOR] = z->factor * NONZERO_BYTES;
   z->bytes[MPGM_SIZE_HISTORY] = z->history * 8.0;
-  z->bytes[MPGM_SIZE_LIBRARY] = implicit && strcmp(s->solver->name, "petsc") == 0 ? PETSC_BYTES : 0.0;
+  z->bytes[MPGM_SIZE_LIBRARY] = implicit ? s->solver->library_bytes : 0.0; /* a library loaded */
   for (int i = 0; i < MPGM_SIZE_PARTS; i++) z->total += z->bytes[i];
 }
 

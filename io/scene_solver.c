@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include "mpgm_json_reader.h"
-#include "mpgm_petsc_options.h"
 #include "mpgm_scene_io.h"
 #include "mpgm_solver.h"
 #include "scene_impl.h"
@@ -28,6 +27,17 @@ static int read_fallback(jr_node *so, mpgm_scene *s) {
   MPGM_CALL(jr_enum(so, "linear_fallback", names, 0, &k));
   s->solver_opts.fallback = k && s->solver->iterative ? mpgm_solver_type_find(names[k]) : NULL;
   return 0;
+}
+
+/* After the readers of "solver": a key of another backend refused. */
+static int backend_keys_end(jr_node *so, const mpgm_scene *s) {
+  mpgm_key_owner others[16];
+  int n = 0;
+  for (const mpgm_solver_type *const *t = mpgm_solver_types(); *t && n < 16; t++)
+    if (*t != s->solver) others[n++] = (mpgm_key_owner){"solver.linear", (*t)->name, (*t)->keys, (*t)->nkeys};
+  char mine[64];
+  snprintf(mine, sizeof mine, "solver.linear \"%s\"", s->solver->name);
+  return mpgm_scene_foreign_keys(so, s, others, n, mine, "");
 }
 
 int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {
@@ -94,19 +104,12 @@ int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {
   static const char *const forcing_names[] = {"fixed", "eisenstat_walker", NULL};
   MPGM_CALL(jr_enum(&so, "forcing", forcing_names, 0, &s->forcing_ew));
   MPGM_CALL(read_fallback(&so, s));
-  const int petsc = strcmp(svn[si], "petsc") == 0;
-  if (!petsc && (jr_raw(&so, "petsc") || jr_override_json(&so, "petsc")))
-    return jr_fail(&so, "petsc", "PETSc's options: only with solver.linear \"petsc\", found "
-                   "\"%s\"", svn[si]);
-  if (petsc) {
-    MPGM_CALL(jr_str(&so, "petsc", "", s->solver_opts.petsc, sizeof s->solver_opts.petsc));
-    /* mpgm's policy, without PETSc: what PETSc itself makes of the options
-     * is mpgm_scene_check_solver's */
-    char why[400];
-    if (mpgm_petsc_options_parse(s->solver_opts.petsc, NULL, why, sizeof why))
-      return jr_fail(&so, "petsc", "%s (docs/scene-format.md, \"PETSc options are confined\")", why);
-  }
+  /* the backend's own keys (petsc: its options, held to mpgm's policy
+   * here, without PETSc; what PETSc makes of them is
+   * mpgm_scene_check_solver's); another backend's refused by its name */
+  MPGM_CALL(mpgm_scene_read_keys(&so, s->solver->keys, s->solver->nkeys, &s->solver_opts));
   s->solver_opts.file = s->file; /* the backend's messages of bad options name it */
+  MPGM_CALL(backend_keys_end(&so, s));
   MPGM_CALL(jr_end(&so));
 
   return 0;

@@ -123,6 +123,14 @@ typedef struct mpgm_solver_type {
   /** Optional: configurations worth comparing, ended by a {NULL} entry
    *  (the default options are the backend's own row). */
   const mpgm_solver_preset *presets;
+  /** Optional: its own keys of the scene's "solver" section (petsc: its
+   *  options string), read into mpgm_solver_opts (nkeys of them); a scene
+   *  with another backend refuses them by this backend's name. */
+  const mpgm_key_spec *keys;
+  int nkeys;
+  /** Resident bytes of the library the backend loads on first use (the
+   *  scene's memory estimate, io/scene_size.c); 0: none beyond mpgm's. */
+  double library_bytes;
   /** Allocate the instance with options opts (never NULL; copied). */
   int (*create)(mpgm_ctx *ctx, const mpgm_solver_opts *opts, void **data);
   void (*destroy)(void *data); /**< accepts NULL and half-built data       */

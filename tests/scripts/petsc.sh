@@ -167,7 +167,7 @@ def bad(name, *words):
     check(rc(f"bad_{name}") == 2 and all(x in err for x in words) and "Sanitizer" not in err,
           f"refused ({name}): exit {rc('bad_' + name)}, {err.strip()[:200]}")
 bad("typo", "solver.petsc", "did not use -pc_typo")
-bad("other", "solver.petsc", "only with solver.linear \"petsc\"")
+bad("other", "solver.petsc", "a key of solver.linear \"petsc\", not of solver.linear \"cholmod\"")
 bad("chol", "materials.soil.type", "solver.linear_fallback \"cholmod\" needs a symmetric matrix")
 
 check(rc("bench") == 0, f"bench-solvers exits 0 ({rc('bench')}): " + open(f"{w}/bench.err").read()[-300:])

@@ -18,10 +18,13 @@
  *      meshfree key for every meshfree kind;
  *   4. the same for the explicit time schemes' own keys of "time";
  *   5. and for the front ends' keys of "mesh" (the rules for their nodes):
- *      each method resolves exactly its own, at their defaults. */
+ *      each method resolves exactly its own, at their defaults;
+ *   6. and for the solver backends' own keys of "solver" (petsc's
+ *      options): refused with every other backend. */
 #include "mpgm_frontends.h"
 #include "mpgm_integrator.h"
 #include "mpgm_scene_io.h"
+#include "mpgm_solver.h"
 #include "mpgm_test.h"
 
 #include <cjson/cJSON.h>
@@ -46,16 +49,19 @@ static int declares(const mpgm_key_spec *k, int n, const char *name) {
 static void check_table(const char *who, const mpgm_key_spec *k, int n, size_t size) {
   int bad = 0;
   for (int i = 0; i < n; i++) {
-    const size_t width = k[i].type == MPGM_KEY_REAL ? sizeof(double) : sizeof(int);
+    const size_t width = k[i].type == MPGM_KEY_REAL     ? sizeof(double)
+                         : k[i].type == MPGM_KEY_STRING ? k[i].size
+                                                        : sizeof(int);
     int nch = 0;
     while (k[i].type == MPGM_KEY_CHOICE && k[i].choices && k[i].choices[nch]) nch++;
     const double d = k[i].def;
-    const int in = k[i].type == MPGM_KEY_CHOICE ? d == floor(d) && d >= k[i].lo && d < k[i].lo + nch
+    const int in = k[i].type == MPGM_KEY_STRING   ? k[i].size > 0 && d == 0.0
+                   : k[i].type == MPGM_KEY_CHOICE ? d == floor(d) && d >= k[i].lo && d < k[i].lo + nch
                    : (k[i].lo_open ? d > k[i].lo : d >= k[i].lo) &&
                          (k[i].hi_open ? d < k[i].hi : d <= k[i].hi) &&
                          (k[i].type == MPGM_KEY_REAL || d == floor(d));
     const int ok = k[i].name && strcmp(k[i].name, "kind") != 0 && k[i].offset + width <= size &&
-                   k[i].offset % width == 0 && in && k[i].doc && k[i].unit &&
+                   (k[i].type == MPGM_KEY_STRING || k[i].offset % width == 0) && in && k[i].doc && k[i].unit &&
                    !declares(k, i, k[i].name) && (k[i].type != MPGM_KEY_CHOICE || nch >= 1);
     if (!ok) mpgm_test(0, "%s: key %d (%s): a name, not kind, once; its field inside the struct; "
                        "its default %g inside its range", who, i, k[i].name ? k[i].name : "?", d);
@@ -64,12 +70,17 @@ static void check_table(const char *who, const mpgm_key_spec *k, int n, size_t s
   mpgm_test(bad == 0, "%s: %d keys declared well", who, n);
 }
 
+/* The solver backend of the scenes scene_text writes (check_backends). */
+static const char *linear = "auto";
+
 /* The scene of a front end, a kind and a time scheme (NULL: the kind's
- * analysis), with extra members of section ("shape", "mesh" or "time"). */
+ * analysis), with extra members of section ("shape", "mesh", "time" or
+ * "solver"). */
 static void scene_text(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh, const char *scheme,
                        const char *section, const char *extra, char *text, size_t len) {
   char tm[256];
   const int in_time = strcmp(section, "time") == 0, in_mesh = strcmp(section, "mesh") == 0;
+  const int in_solver = strcmp(section, "solver") == 0;
   if (scheme || sh->velocity_ls)
     snprintf(tm, sizeof tm, "{\"analysis\": \"explicit\", \"scheme\": \"%s\", \"end\": 0.01%s}",
              scheme ? scheme : "usl", in_time ? extra : "");
@@ -91,9 +102,11 @@ static void scene_text(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh
            " \"materials\": {\"m\": {\"type\": \"neo_hookean\", \"density\": 1000, \"E\": 1e6, "
            "\"nu\": 0.3}},"
            " \"bodies\": [{\"material\": \"m\", %s}],"
-           " \"boundaries\": [{\"x\": 0.0, \"fix\": %s}], \"output\": {\"vtk\": \"none\"}}",
-           fe->name, sh->name, in_time || in_mesh ? "" : extra, sh->grid_only ? "centres" : "gauss", dom,
-           in_mesh ? extra : "", tm, body, fix);
+           " \"boundaries\": [{\"x\": 0.0, \"fix\": %s}], \"solver\": {\"linear\": \"%s\"%s},"
+           " \"output\": {\"vtk\": \"none\"}}",
+           fe->name, sh->name, in_time || in_mesh || in_solver ? "" : extra,
+           sh->grid_only ? "centres" : "gauss", dom, in_mesh ? extra : "", tm, body, fix, linear,
+           in_solver ? extra : "");
 }
 
 /* Load text from a scene file (as a user's scene), with one --set. */
@@ -268,6 +281,28 @@ static int check_mesh(void) {
   return n;
 }
 
+/* 6: each backend's keys refused in the scene of every other backend
+ * (MPM, fe, static). */
+static int check_backends(void) {
+  const mpgm_frontend_type *mpm = mpgm_frontend_type_find("mpm");
+  const mpgm_shapefn_type *fe = mpgm_shapefn_type_find("fe");
+  const mpgm_solver_type *const *bt = mpgm_solver_types();
+  int n = 0;
+  for (int b = 0; bt[b]; b++) check_table(bt[b]->name, bt[b]->keys, bt[b]->nkeys, sizeof(mpgm_solver_opts));
+  for (int b = 0; bt[b] && mpm && fe; b++)
+    for (int a = 0; bt[a]; a++)
+      for (int k = 0; a != b && k < bt[a]->nkeys; k++)
+        if (!declares(bt[b]->keys, bt[b]->nkeys, bt[a]->keys[k].name)) {
+          char what[64];
+          snprintf(what, sizeof what, "solver.linear %s", bt[b]->name);
+          linear = bt[b]->name;
+          check_foreign(what, mpm, fe, NULL, "solver", &bt[a]->keys[k], bt[a]->name);
+          linear = "auto";
+          n++;
+        }
+  return n;
+}
+
 int main(void) {
   const mpgm_frontend_type *const *ft = mpgm_frontend_types();
   const mpgm_shapefn_type *const *st = mpgm_shapefn_types();
@@ -304,5 +339,7 @@ int main(void) {
   mpgm_test(nscheme >= 2, "%d keys of other time schemes refused", nscheme);
   const int nmesh = check_mesh();
   mpgm_test(nmesh >= (MPGM_DIM == 2 ? 4 : 1), "%d keys of other front ends' mesh refused", nmesh);
+  const int nbackend = check_backends();
+  mpgm_test(nbackend >= 4, "%d keys of other solver backends refused", nbackend);
   return mpgm_test_summary();
 }
