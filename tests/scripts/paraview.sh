@@ -3,7 +3,8 @@
 # collapse (MPM, h = 0.2, 0.1 s = 20 steps; the probe set on the material
 # point nearest the case's top-right probe) and the rolling disk (MPM and
 # GMM with rim contact, h = 0.05, dt = 0.004, 0.02 s: the disk starts
-# rolling; the probe on the point next to its centre), written as .vtu and
+# rolling; the probe on the point next to its centre) and the 3-D free
+# column (MPM, H8, 5 steps), written as .vtu and
 # legacy .vtk at every step, are checked under pvbatch by
 # tests/tools/pv_check.py (times, point counts, arrays, values against
 # probes.csv and steps.csv). Without pvbatch3.11 (Debian's paraview) the
@@ -35,6 +36,13 @@ disk=(--set mesh.h=0.05 --set time.dt=0.004 --set time.end=0.02
       --set 'probes={"centre":[0.6083333333333334,0.49666666666666665]}')
 run rolling_disk rolling_disk.json "${disk[@]}" --set output.grid=true
 run rolling_disk_gmm rolling_disk.json "${disk[@]}" --set method=gmm --set shape.kind=mls --set output.compress=zlib
+# 3-D: the free column (MPM, H8, h = 0.5: 128 points), 5 steps; the probe
+# on the material point of the top corner's cell nearest (1.95, 1.95, 1.95)
+# (a Gauss point: 1.75 + 0.25 / sqrt(3) in each axis)
+g3=1.8943375672974065
+run column_3d column_collapse_3d_free.json --set mesh.h=0.5 --set time.dt=0.01 --set time.end=0.05 \
+  --set 'solver={"linear": "auto"}' --set "probes={\"corner\":[$g3,$g3,$g3]}" --set output.grid=true \
+  --set 'output.fields=["displacement","velocity","stress","eps_p","J","id","mass"]'
 (cd "$work" && "$pv" --force-offscreen-rendering "$src/tests/tools/pv_check.py" "${runs[@]##*/}") \
   > "$work/pv_check.log" 2>&1 || fail=1
 cat "$work/pv_check.log"

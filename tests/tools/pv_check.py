@@ -75,22 +75,23 @@ def numbers(row):
 def check_values(run, reader, last, probes, steps):
     """The points at the last time against probes.csv and steps.csv."""
     d0 = frame(reader, reader.TimestepValues[0])
-    x0 = json.load(open(os.path.join(run, "summary.json")))["scene"]["probes"]
+    scene = json.load(open(os.path.join(run, "summary.json")))["scene"]
+    x0, dim = scene["probes"], len(scene["mesh"]["domain"]["min"])  # 2, or 3 in a 3-D run
     row = probes[-1]
     disp = last.GetPointData().GetArray("displacement")
+    vec = lambda a: "(" + ", ".join("%.10g" % x for x in a) + ")"
     for pname, pos in x0.items():
-        best = min(range(d0.GetNumberOfPoints()), key=lambda i: math.dist(d0.GetPoint(i)[:2], pos))
-        dist = math.dist(d0.GetPoint(best)[:2], pos)
-        u = disp.GetTuple3(best)[:2]
-        want = (row[pname + "_ux"], row[pname + "_uy"])
+        best = min(range(d0.GetNumberOfPoints()), key=lambda i: math.dist(d0.GetPoint(i)[:dim], pos))
+        dist = math.dist(d0.GetPoint(best)[:dim], pos)
+        u = disp.GetTuple3(best)[:dim]
+        want = [row[pname + "_u" + c] for c in "xyz"[:dim]]
         err = math.dist(u, want)
         check(dist <= 1e-12 and err <= 1e-9 * math.hypot(*want) + 1e-15,
-              "%s: probe %s on point %d (%.1e m away at t = 0): displacement at t = %.6g (%.10g, %.10g) "
-              "= probes.csv (%.10g, %.10g), |diff| %.2e" % (run, pname, best, dist, row["time"], u[0], u[1],
-                                                         want[0], want[1], err))
+              "%s: probe %s on point %d (%.1e m away at t = 0): displacement at t = %.6g %s "
+              "= probes.csv %s, |diff| %.2e" % (run, pname, best, dist, row["time"], vec(u), vec(want), err))
     if "kinetic_energy" in steps[-1]:
         m, v = last.GetPointData().GetArray("mass"), last.GetPointData().GetArray("velocity")
-        ke = sum(0.5 * m.GetValue(i) * (v.GetComponent(i, 0) ** 2 + v.GetComponent(i, 1) ** 2)
+        ke = sum(0.5 * m.GetValue(i) * sum(v.GetComponent(i, c) ** 2 for c in range(dim))
                  for i in range(last.GetNumberOfPoints()))
         want = steps[-1]["kinetic_energy"]
         check(abs(ke - want) <= 1e-10 * abs(want), "%s: kinetic energy of the points' mass and velocity "
