@@ -549,6 +549,45 @@ static int test_fault(mpgm_ctx *ctx) {
   return EXIT_INPUT;
 }
 
+/* One of several processes an MPI launcher started (mpiexec -n 2, srun
+ * with PMI): mpgm runs on one process, and copies of one command would
+ * write the same results folder (issue 54 brings runs on many). Known by
+ * the launcher's environment, without MPI: Open MPI's OMPI_COMM_WORLD_SIZE,
+ * MPICH's and Intel MPI's (Hydra, Slurm's PMI) PMI_SIZE, MVAPICH's
+ * MV2_COMM_WORLD_SIZE. Returns the size (1 when none says more) and this
+ * process's rank, with the variable that told. */
+static int launched_processes(int *rank, const char **var) {
+  static const char *const sizes[][2] = {{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
+                                         {"PMI_SIZE", "PMI_RANK"},
+                                         {"MV2_COMM_WORLD_SIZE", "MV2_COMM_WORLD_RANK"}};
+  *rank = 0;
+  *var = NULL;
+  for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++) {
+    const char *s = getenv(sizes[i][0]), *r = getenv(sizes[i][1]);
+    const long n = s ? strtol(s, NULL, 10) : 0;
+    if (n > 1) {
+      *rank = r ? (int)strtol(r, NULL, 10) : 0;
+      *var = sizes[i][0];
+      return n > 1000000 ? 1000000 : (int)n;
+    }
+  }
+  return 1;
+}
+
+/* Refused before a command reads anything (rank 0 says why; the others
+ * exit quietly): nothing is written. */
+static int one_process_only(const char *cmd) {
+  int rank;
+  const char *var;
+  const int n = launched_processes(&rank, &var);
+  if (n == 1) return EXIT_OK;
+  if (rank == 0)
+    fprintf(stderr, "mpgm %s: started as one of %d processes (%s=%d): mpgm runs on one process, and "
+            "the copies would write the same results; run it without mpiexec (or with -n 1)\n",
+            cmd, n, var, n);
+  return EXIT_INPUT;
+}
+
 int main(int argc, char **argv) {
 #if defined(__GLIBC__)
   /* MPM rebuilds its pattern, maps and factor every step: keep freed memory
@@ -577,6 +616,8 @@ int main(int argc, char **argv) {
     printf("mpgm %s\n", mpgm_version()); /* what a checkpoint records */
     return EXIT_OK;
   }
+  const int launched = one_process_only(argv[1]);
+  if (launched != EXIT_OK) return launched;
   if (strcmp(argv[1], "study") == 0) return mpgm_cmd_study(argc, argv);
   if (strcmp(argv[1], "plot") == 0) return mpgm_cmd_plot(argc, argv);
   if (strcmp(argv[1], "render") == 0) return mpgm_cmd_render(argc, argv);
