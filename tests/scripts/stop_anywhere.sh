@@ -71,16 +71,19 @@ mid_step mpm_column 6 "$src/cases/column_collapse.json" --set mesh.h=0.2 --set t
 
 # --- a signal in the set-up ends the process at once -------------------------
 # a finished run in the folder, then a large one into the same folder,
-# stopped while it makes its 1.28e6 points: 0.1 s after its start, when its
-# handler is installed (once the scene is read, within milliseconds) and
-# the set-up is under way. (It was 0.3 s, for a set-up of 1.3 s in Release;
-# on a machine where the set-up takes 0.25 s the signal came after it.)
+# stopped while it makes its 1.28e6 points: 0.05 s after it says it
+# replaces the finished run (--force), which it says just before it
+# installs its handler and starts the set-up (0.25 s in Release, longer
+# under the sanitizers). A fixed delay from the start did not hold on a
+# loaded machine: under ASan the scene's reading took more than 0.1 s, and
+# the signal came before the handler.
 "$exe" run "$src/cases/cantilever.json" --set mesh.h=0.5 --quiet --out setup > /dev/null 2>&1
 before=$(cd setup && find . -type f | sort | xargs sha256sum | sha256sum)
 "$exe" run "$src/cases/cantilever.json" --set method=mpm --set mesh.h=0.005 \
   --set output.vtk=none --quiet --force --out setup > /dev/null 2> setup.err &
 pid=$!
-sleep 0.1
+for _ in $(seq 200); do grep -q "replacing it" setup.err 2> /dev/null && break; sleep 0.05; done
+sleep 0.05
 t0=$(date +%s%N)
 kill -TERM $pid
 wait $pid; rc=$?
