@@ -16,8 +16,7 @@
  * sym((dF - I) ((I + dF) / 2)^-1) per unit time, and the work is
  * (V_n sigma_n + V sigma) / 2 : that (plane strain: zz does no work).
  * Kinematics "small": the increment sym(dF - I) itself. */
-double mpgm_point_work(const mpgm_points *P, int p, int small) {
-  const double *dF = P->dF_t + MPGM_TENSOR * p;
+double mpgm_point_work(const mpgm_points *P, int p, const double *dF, int small) {
   double H[MPGM_TENSOR], h[MPGM_TENSOR];
   for (int c = 0; c < MPGM_TENSOR; c++) H[c] = dF[c] - (MPGM_DIAG(c) ? 1.0 : 0.0);
   if (small) {
@@ -39,7 +38,7 @@ void mpgm_work_internal(mpgm_problem *pb) {
   const mpgm_points *P = &pb->pts;
   const int small = !pb->fx.geometric;
   double w = 0.0;
-  for (int p = 0; p < P->n; p++) w += mpgm_point_work(P, p, small);
+  for (int p = 0; p < P->n; p++) w += mpgm_point_work(P, p, P->dF_t + MPGM_TENSOR * p, small);
   pb->work_int += w;
 }
 

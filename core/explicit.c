@@ -141,9 +141,9 @@ static void zero_fixed(const mpgm_nodes *nd, double *w) {
     if (nd->fix[i]) w[i] = 0.0;
 }
 
-/* Kinematics "small": point p's trial volume V (1 + tr(dF - I)). */
-static inline void small_volume(mpgm_points *P, int p) {
-  const double *dF = P->dF_t + MPGM_TENSOR * p;
+/* Kinematics "small": point p's trial volume V (1 + tr(dF - I)), dF its
+ * increment. */
+static inline void small_volume(mpgm_points *P, int p, const double *dF) {
   double tr = dF[0];
   for (int d = 1; d < MPGM_DIM; d++) tr += dF[(MPGM_DIM + 1) * d];
   P->vol_t[p] = P->vol[p] * (tr - (MPGM_DIM - 1.0));
@@ -159,7 +159,7 @@ static int stress(mpgm_problem *pb, const double *vel) {
   for (int i = 0; i < MPGM_DIM * nd->n; i++) nd->du[i] = pb->dt * vel[i];
   MPGM_CALL(mpgm_eval_points(pb, 0)); /* no tangent: nothing is assembled */
   if (!pb->fx.geometric)
-    for (int p = 0; p < P->n; p++) small_volume(P, p);
+    for (int p = 0; p < P->n; p++) small_volume(P, p, P->dF_t + MPGM_TENSOR * p);
   return 0;
 }
 
@@ -315,12 +315,12 @@ typedef struct {
   double w; /* the stress work of the points so far (mpgm_work_internal's sum) */
 } fused_job;
 
-static void stress_force_point(void *arg, int p) {
+static void stress_force_point(void *arg, int p, const double *dF) {
   fused_job *fj = arg;
   mpgm_problem *pb = fj->j.pb;
   mpgm_points *P = &pb->pts;
-  if (!pb->fx.geometric) small_volume(P, p);
-  fj->w += mpgm_point_work(P, p, !pb->fx.geometric);
+  if (!pb->fx.geometric) small_volume(P, p, dF);
+  fj->w += mpgm_point_work(P, p, dF, !pb->fx.geometric);
   mpgm_run_add(&pb->conn, &fj->r, P->n, p, MPGM_DIM, force_entry, &fj->j, fj->j.out);
 }
 #endif
@@ -330,7 +330,8 @@ static int stress_forces(mpgm_problem *pb, explicit_data *d, const double *vel, 
 #if MPGM_DIM == 3
   int gather;
   MPGM_CALL(gathers(pb, &gather));
-  if (!gather && mpgm_pool_size(pb->pool) == 1) {
+  /* (CPLS keeps the step's dF_t for its velocity gradient: not fused) */
+  if (!gather && mpgm_pool_size(pb->pool) == 1 && !pb->scene->shape->velocity_ls) {
     mpgm_nodes *nd = &pb->nodes;
     for (int i = 0; i < MPGM_DIM * nd->n; i++) nd->du[i] = pb->dt * vel[i];
     fused_job fj = {.j = force_job(pb, d, pb->pts.sigma_t, pb->pts.vol_t, t)};

@@ -41,7 +41,7 @@ static void push_prestress(const double *F, const double *S, double *sg) {
  * point in *fail and, for det(dF) <= 0, the determinant in *fail_J; no
  * message here (tasks run on worker threads). */
 static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, double *fail_J,
-                      void (*each)(void *job, int p), void *job) {
+                      void (*each)(void *job, int p, const double *dF), void *job) {
   mpgm_points *P = &pb->pts;
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
@@ -59,7 +59,10 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
       for (int i = 0; i < MPGM_DIM; i++)
         for (int j = 0; j < MPGM_DIM; j++) H[MPGM_DIM * i + j] += u[i] * g[j];
     }
-    double *dF = P->dF_t + MPGM_TENSOR * p, *F = P->F_t + MPGM_TENSOR * p;
+    /* with each (explicit, one pass): the increment stays on the stack,
+     * handed to each, and is not stored (a pass less over the memory) */
+    double dF_here[MPGM_TENSOR];
+    double *dF = each ? dF_here : P->dF_t + MPGM_TENSOR * p, *F = P->F_t + MPGM_TENSOR * p;
     for (int c = 0; c < MPGM_TENSOR; c++) dF[c] = MPGM_DIAG(c) ? 1.0 + H[c] : H[c];
     const mpgm_material *m = &mats[P->mat[p]];
     double *st_n = ns ? P->state + (size_t)ns * p : NULL;
@@ -117,7 +120,7 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
         push_prestress(F, S, sg);
       }
     }
-    if (each) each(job, p);
+    if (each) each(job, p, dF);
   }
   return 0;
 }
@@ -173,7 +176,8 @@ int mpgm_eval_points(mpgm_problem *pb, int want_D) {
   return 0;
 }
 
-int mpgm_eval_points_each(mpgm_problem *pb, void (*each)(void *job, int p), void *job) {
+int mpgm_eval_points_each(mpgm_problem *pb, void (*each)(void *job, int p, const double *dF),
+                          void *job) {
   mpgm_ctx *ctx = pb->ctx;
   mpgm_timer_start(ctx, MPGM_T_MATERIAL);
   int fail = 0;

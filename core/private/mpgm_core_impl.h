@@ -250,10 +250,12 @@ void mpgm_nodes_number(mpgm_nodes *nd);
  *  gradients). Exposed for tests. */
 int mpgm_eval_points(mpgm_problem *pb, int want_D);
 /** mpgm_eval_points without tangents on this thread, point by point in
- *  order, calling each(job, p) as soon as point p's trial state is known
- *  (explicit schemes: its force added to the nodes while its lists are in
- *  cache). */
-int mpgm_eval_points_each(mpgm_problem *pb, void (*each)(void *job, int p), void *job);
+ *  order, calling each(job, p, dF) as soon as point p's trial state is
+ *  known (explicit schemes: its force added to the nodes while its lists
+ *  are in cache), with its increment dF, which is not stored in
+ *  pts.dF_t. */
+int mpgm_eval_points_each(mpgm_problem *pb, void (*each)(void *job, int p, const double *dF),
+                          void *job);
 /** Assemble R = f_ext - f_int (- f_inertia) and, if want_K, the tangent
  *  into pb->K (pattern must exist). Exposed for tests. */
 int mpgm_assemble(mpgm_problem *pb, int want_K);
@@ -345,7 +347,7 @@ void mpgm_work_internal(mpgm_problem *pb);
 /** The term of material point p in it (small: kinematics "small"), for a
  *  pass that has the point's trial arrays at hand (the explicit step's
  *  fused stress and force pass): summed over p in order, the same sum. */
-double mpgm_point_work(const mpgm_points *P, int p, int small);
+double mpgm_point_work(const mpgm_points *P, int p, const double *dF, int small);
 /** Kinetic energy of the material points, sum_p m_p |v_p|^2 / 2 [J]
  *  (per unit thickness; energy.c). */
 double mpgm_kinetic_energy(const mpgm_points *P);
