@@ -59,10 +59,15 @@ static int eval_range(mpgm_problem *pb, int want_D, int p0, int p1, int *fail, d
       for (int i = 0; i < MPGM_DIM; i++)
         for (int j = 0; j < MPGM_DIM; j++) H[MPGM_DIM * i + j] += u[i] * g[j];
     }
-    /* with each (explicit, one pass): the increment stays on the stack,
-     * handed to each, and is not stored (a pass less over the memory) */
+#if MPGM_DIM == 3
+    /* with each (the explicit fused pass): the increment stays on the
+     * stack, handed to each, and is not stored (a pass less over the
+     * memory) */
     double dF_here[MPGM_TENSOR];
     double *dF = each ? dF_here : P->dF_t + MPGM_TENSOR * p, *F = P->F_t + MPGM_TENSOR * p;
+#else /* the plane code as it was (the choice cost its loop 4 % of instructions) */
+    double *dF = P->dF_t + MPGM_TENSOR * p, *F = P->F_t + MPGM_TENSOR * p;
+#endif
     for (int c = 0; c < MPGM_TENSOR; c++) dF[c] = MPGM_DIAG(c) ? 1.0 + H[c] : H[c];
     const mpgm_material *m = &mats[P->mat[p]];
     double *st_n = ns ? P->state + (size_t)ns * p : NULL;

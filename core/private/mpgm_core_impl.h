@@ -252,8 +252,8 @@ int mpgm_eval_points(mpgm_problem *pb, int want_D);
 /** mpgm_eval_points without tangents on this thread, point by point in
  *  order, calling each(job, p, dF) as soon as point p's trial state is
  *  known (explicit schemes: its force added to the nodes while its lists
- *  are in cache), with its increment dF, which is not stored in
- *  pts.dF_t. */
+ *  are in cache), with its increment dF, which a 3-D build does not
+ *  store in pts.dF_t. */
 int mpgm_eval_points_each(mpgm_problem *pb, void (*each)(void *job, int p, const double *dF),
                           void *job);
 /** Assemble R = f_ext - f_int (- f_inertia) and, if want_K, the tangent
