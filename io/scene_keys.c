@@ -129,12 +129,17 @@ int mpgm_scene_read_shape_keys(jr_node *sh, mpgm_scene *s) {
                                  "the whole section, --set 'shape={\"kind\": ...}'");
 }
 
+int mpgm_scene_member_keys_end(jr_node *o, const mpgm_scene *s, const char *what, const char *name,
+                               const mpgm_key_owner *others, int n) {
+  char mine[160];
+  snprintf(mine, sizeof mine, "%s \"%s\"", what, name);
+  return mpgm_scene_foreign_keys(o, s, others, n, mine, "");
+}
+
 int mpgm_scene_mesh_keys_end(jr_node *mesh, const mpgm_scene *s) {
   mpgm_key_owner others[16];
   int n = 0;
   for (const mpgm_frontend_type *const *f = mpgm_frontend_types(); *f && n < 16; f++)
     if (*f != s->frontend) others[n++] = (mpgm_key_owner){"method", (*f)->name, (*f)->mesh_keys, (*f)->nmesh_keys};
-  char mine[64];
-  snprintf(mine, sizeof mine, "method \"%s\"", s->frontend->name);
-  return mpgm_scene_foreign_keys(mesh, s, others, n, mine, "");
+  return mpgm_scene_member_keys_end(mesh, s, "method", s->frontend->name, others, n);
 }

@@ -35,9 +35,7 @@ static int backend_keys_end(jr_node *so, const mpgm_scene *s) {
   int n = 0;
   for (const mpgm_solver_type *const *t = mpgm_solver_types(); *t && n < 16; t++)
     if (*t != s->solver) others[n++] = (mpgm_key_owner){"solver.linear", (*t)->name, (*t)->keys, (*t)->nkeys};
-  char mine[64];
-  snprintf(mine, sizeof mine, "solver.linear \"%s\"", s->solver->name);
-  return mpgm_scene_foreign_keys(so, s, others, n, mine, "");
+  return mpgm_scene_member_keys_end(so, s, "solver.linear", s->solver->name, others, n);
 }
 
 int mpgm_scene_read_solver(jr_node *root, mpgm_scene *s) {

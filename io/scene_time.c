@@ -80,9 +80,7 @@ int mpgm_scene_scheme_keys_end(jr_node *tm, const mpgm_scene *s) {
   for (const mpgm_integrator_type *const *it = mpgm_integrator_types(); *it && n < 16; it++)
     if (*it != s->integrator && !(*it)->implicit)
       others[n++] = (mpgm_key_owner){"time.scheme", (*it)->name, (*it)->keys, (*it)->nkeys};
-  char mine[64];
-  snprintf(mine, sizeof mine, "time.scheme \"%s\"", s->integrator->name);
-  return mpgm_scene_foreign_keys(tm, s, others, n, mine, "");
+  return mpgm_scene_member_keys_end(tm, s, "time.scheme", s->integrator->name, others, n);
 }
 
 /* "time": time.max_steps, the most steps of the run, and the fixed steps

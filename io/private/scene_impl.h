@@ -79,6 +79,11 @@ typedef struct mpgm_key_owner {
  *  declares is left to jr_end and the overrides' check (scene_keys.c). */
 int mpgm_scene_foreign_keys(jr_node *o, const mpgm_scene *s, const mpgm_key_owner *others, int n,
                             const char *mine, const char *hint);
+/** mpgm_scene_foreign_keys for the member NAME of a family selected by
+ *  WHAT ("method", "solver.linear", "time.scheme"): "not of WHAT
+ *  \"NAME\"", no hint (scene_keys.c). */
+int mpgm_scene_member_keys_end(jr_node *o, const mpgm_scene *s, const char *what, const char *name,
+                               const mpgm_key_owner *others, int n);
 /** "shape" sh beyond "kind" (after the method and the kind): the kind's
  *  keys into s->shape_par, the front end's into s->pattern; a key of
  *  another kind or front end, in the file or in --set shape.KEY, is
