@@ -42,9 +42,10 @@ static inline void mark_cloud(uint64_t *mk, const int *loc, int nk) {
 
 /* The place of node I in node J's sorted neighbour list, -1 if absent. */
 static inline int nbr_find(const mpgm_problem *pb, int J, int I) {
-  int lo = pb->nbr_ptr[J], hi = pb->nbr_ptr[J + 1] - 1;
+  mpgm_linsys *ls = pb->ls;
+  int lo = ls->nbr_ptr[J], hi = ls->nbr_ptr[J + 1] - 1;
   while (lo <= hi) {
-    const int mid = (lo + hi) >> 1, v = pb->nbr[mid];
+    const int mid = (lo + hi) >> 1, v = ls->nbr[mid];
     if (v < I) lo = mid + 1;
     else if (v > I) hi = mid - 1;
     else return mid;
@@ -57,9 +58,10 @@ static inline int nbr_find(const mpgm_problem *pb, int J, int I) {
  * rows of I's numbered components before i (held ones are numbered but
  * get no terms). */
 static inline void add_block(mpgm_problem *pb, int I, int J, int t, const double *ab) {
+  mpgm_linsys *ls = pb->ls;
   const int *dof = pb->nodes.dof;
   const unsigned char *fix = pb->nodes.fix;
-  double *val = pb->K.val;
+  double *val = ls->K.val;
   int row[MPGM_DIM], before = 0; /* row i's place after pos0; -1: none */
   for (int i = 0; i < MPGM_DIM; i++) {
     const int numbered = dof[MPGM_DIM * I + i] >= 0;
@@ -69,7 +71,7 @@ static inline void add_block(mpgm_problem *pb, int I, int J, int t, const double
   for (int j = 0; j < MPGM_DIM; j++) {
     const int col = dof[MPGM_DIM * J + j];
     if (col < 0 || fix[MPGM_DIM * J + j]) continue;
-    const int pos0 = pb->K.colptr[col] + pb->nbr_off[t];
+    const int pos0 = ls->K.colptr[col] + ls->nbr_off[t];
     for (int i = 0; i < MPGM_DIM; i++)
       if (row[i] >= 0) val[pos0 + row[i]] += ab[MPGM_DIM * i + j];
   }
@@ -116,13 +118,14 @@ static inline void flush_block(mpgm_problem *pb, const int *nodes, double *kb, i
  * not change a bit of K. */
 static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb, uint64_t *mk,
                         int half, const int *slot) {
+  mpgm_linsys *ls = pb->ls;
   const int B = MPGM_ASM_BATCH, W = MPGM_ASM_WORDS;
   for (int b = 0; b < nk; b++) {
     const int J = nodes[b];
     const uint64_t *m = mk + W * b;
     int found = 0, coupled = 0;
-    for (int t = pb->nbr_ptr[J]; t < pb->nbr_ptr[J + 1]; t++) {
-      const int a = slot[pb->nbr[t]];
+    for (int t = ls->nbr_ptr[J]; t < ls->nbr_ptr[J + 1]; t++) {
+      const int a = slot[ls->nbr[t]];
       if (a < 0 || !((m[a >> 6] >> (a & 63)) & 1)) continue;
       found++;
       flush_block(pb, nodes, kb, a, b, t, half);
@@ -134,7 +137,7 @@ static void flush_batch(mpgm_problem *pb, const int *nodes, int nk, double *kb, 
       for (uint64_t bits = m[k]; bits; bits &= bits - 1) {
         const int a = 64 * k + __builtin_ctzll(bits), lower = half && a > b;
         const double *e = lower ? batch_block(kb, b, a) : batch_block(kb, a, b);
-        if (nbr_find(pb, J, nodes[a]) < 0 && !block_zero(e)) pb->pattern_missed = 1;
+        if (nbr_find(pb, J, nodes[a]) < 0 && !block_zero(e)) ls->pattern_missed = 1;
       }
   }
   memset(mk, 0, sizeof(uint64_t) * (size_t)B * W);
@@ -185,7 +188,7 @@ static inline void point_residual(const asm_job *j, int p) {
   const mpgm_points *P = &pb->pts;
   const mpgm_conn *C = &pb->conn;
   const int *dof = pb->nodes.dof;
-  double *R = pb->R;
+  double *R = pb->ls->R;
   const double *an = j->an;
   const double v = j->ks * P->vol_t[p], m = P->mass[p];
   const int k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
@@ -413,7 +416,7 @@ static void point_column(const asm_job *j, const mpgm_conn *C, const pt_blocks *
   }
   if (!j->lift) return;
   const int *dof = j->pb->nodes.dof, Ib = C->node[q->k0 + r->ix[b]];
-  double *R = j->pb->R;
+  double *R = j->pb->ls->R;
   for (int a = 0; a < na; a++) { /* free row of node a, fixed column of node b */
     const int Ia = C->node[q->k0 + r->ix[a]];
     for (int i = 0; i < MPGM_DIM; i++)
@@ -427,13 +430,14 @@ static void point_column(const asm_job *j, const mpgm_conn *C, const pt_blocks *
  * group's scatter map; kl is the thread's local matrix. */
 static void assemble_group(const asm_job *j, int g, double *kl) {
   mpgm_problem *pb = j->pb;
+  mpgm_linsys *ls = pb->ls;
   const mpgm_conn *C = &pb->conn;
   const int half = j->half;
-  const int t0 = pb->grp_ptr[g], t1 = pb->grp_ptr[g + 1];
-  const int nkg = C->ptr[pb->order[t0] + 1] - C->ptr[pb->order[t0]];
+  const int t0 = ls->grp_ptr[g], t1 = ls->grp_ptr[g + 1];
+  const int nkg = C->ptr[ls->order[t0] + 1] - C->ptr[ls->order[t0]];
   memset(kl, 0, sizeof(double) * MPGM_BLOCK * (size_t)nkg * nkg);
   for (int t = t0; t < t1; t++) {
-    const int p = pb->order[t];
+    const int p = ls->order[t];
     point_residual(j, p);
     const pt_blocks q = point_blocks(j, p);
     pt_rows rw;
@@ -453,9 +457,9 @@ static void assemble_group(const asm_job *j, int g, double *kl) {
         for (int i = 0; i < MPGM_DIM; i++)
           for (int c = 0; c < MPGM_DIM; c++) lo[MPGM_DIM * i + c] = up[MPGM_DIM * c + i];
       }
-  if (pb->nomap) return; /* summed into the batch by assemble_batch */
-  const int *sc = pb->scatter + pb->scatter_ptr[g];
-  double *val = pb->K.val;
+  if (ls->nomap) return; /* summed into the batch by assemble_batch */
+  const int *sc = ls->scatter + ls->scatter_ptr[g];
+  double *val = ls->K.val;
   for (int r = 0; r < MPGM_BLOCK * nkg * nkg; r++)
     if (sc[r] >= 0) val[sc[r]] += kl[r];
 }
@@ -499,15 +503,16 @@ _Static_assert(MPGM_ASM_BATCH >= MPGM_SHAPE_MAXNODE, "a batch holds at least one
  * misses of the merge) are written once per batch, not once per point. */
 static void assemble_batch(const asm_job *j, int t, int tid) {
   mpgm_problem *pb = j->pb;
+  mpgm_linsys *ls = pb->ls;
   const mpgm_conn *C = &pb->conn;
   const int B = MPGM_ASM_BATCH;
-  double *kl = pb->kloc + (size_t)tid * (size_t)pb->kloc_size;
-  double *kb = pb->kbatch + (size_t)tid * MPGM_BLOCK * B * B;
-  int *slot = pb->kslot + (size_t)tid * (size_t)pb->kslot_n;
-  uint64_t *mk = pb->kmask + (size_t)tid * MPGM_ASM_BATCH * MPGM_ASM_WORDS;
+  double *kl = ls->kloc + (size_t)tid * (size_t)ls->kloc_size;
+  double *kb = ls->kbatch + (size_t)tid * MPGM_BLOCK * B * B;
+  int *slot = ls->kslot + (size_t)tid * (size_t)ls->kslot_n;
+  uint64_t *mk = ls->kmask + (size_t)tid * MPGM_ASM_BATCH * MPGM_ASM_WORDS;
   int bn[MPGM_ASM_BATCH], loc[MPGM_SHAPE_MAXNODE], nb = 0;
-  for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++) {
-    const int g = pb->task_grp[i], p = pb->order[pb->grp_ptr[g]];
+  for (int i = ls->task_ptr[t]; i < ls->task_ptr[t + 1]; i++) {
+    const int g = ls->task_grp[i], p = ls->order[ls->grp_ptr[g]];
     const int *nodes = C->node + C->ptr[p], nk = C->ptr[p + 1] - C->ptr[p];
     int fresh = 0;
     for (int a = 0; a < nk; a++) fresh += slot[nodes[a]] < 0;
@@ -523,7 +528,7 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
       }
       loc[a] = slot[nodes[a]];
     }
-    if (pb->grp_ptr[g + 1] - pb->grp_ptr[g] == 1) {
+    if (ls->grp_ptr[g + 1] - ls->grp_ptr[g] == 1) {
       assemble_point_batch(j, p, loc, kb, mk);
       continue;
     }
@@ -545,15 +550,17 @@ static void assemble_batch(const asm_job *j, int t, int tid) {
 static void assemble_task(void *arg, int task, int tid) {
   const asm_job *j = arg;
   const mpgm_problem *pb = j->pb;
+  mpgm_linsys *ls = pb->ls;
   const int t = j->t0 + task;
-  if (j->want_K && pb->nomap) {
+  if (j->want_K && ls->nomap) {
     assemble_batch(j, t, tid);
   } else if (j->want_K) {
-    double *kl = pb->kloc + (size_t)tid * (size_t)pb->kloc_size;
-    for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++) assemble_group(j, pb->task_grp[i], kl);
+    double *kl = ls->kloc + (size_t)tid * (size_t)ls->kloc_size;
+    for (int i = ls->task_ptr[t]; i < ls->task_ptr[t + 1]; i++)
+      assemble_group(j, ls->task_grp[i], kl);
   } else { /* residual only: the task's points as one flat list, in the
             * same order as above (so R is the same to the last bit) */
-    for (int i = pb->tpt_ptr[t]; i < pb->tpt_ptr[t + 1]; i++) point_residual(j, pb->task_pts[i]);
+    for (int i = ls->tpt_ptr[t]; i < ls->tpt_ptr[t + 1]; i++) point_residual(j, ls->task_pts[i]);
   }
 }
 
@@ -563,6 +570,7 @@ static void assemble_task(void *arg, int task, int tid) {
  * K = (1 + a) K_T + M / (beta dt^2) (Hilber, Hughes and Taylor 1977; the
  * stress terms weighted through the points' volume). */
 static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   const double alpha = mass_only ? 0.0 : pb->scene->hht_alpha;
   asm_job j = {.pb = pb, .want_K = want_K, .inertia = pb->fx.inertia, .geo = pb->fx.geometric,
@@ -582,16 +590,16 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
     mpgm_timer_stop(ctx, MPGM_T_MASS);
   }
   mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
-  memcpy(pb->R, pb->fext, sizeof(double) * (size_t)pb->nodes.ndof);
+  memcpy(ls->R, ls->fext, sizeof(double) * (size_t)pb->nodes.ndof);
   if (alpha != 0.0)
-    for (int i = 0; i < pb->nodes.ndof; i++) pb->R[i] += alpha * pb->fint_n[i];
-  if (want_K) memset(pb->K.val, 0, sizeof(double) * (size_t)pb->K.nnz);
+    for (int i = 0; i < pb->nodes.ndof; i++) ls->R[i] += alpha * ls->fint_n[i];
+  if (want_K) memset(ls->K.val, 0, sizeof(double) * (size_t)ls->K.nnz);
   j.an = pb->nodes.a_new;
-  j.lift = want_K && !mass_only ? pb->lift : NULL;
+  j.lift = want_K && !mass_only ? ls->lift : NULL;
   /* symmetric tangent (every material's, K_geo and the mass term are):
    * only the blocks a <= b are computed; not with a lift, which needs the
    * free-fixed blocks of both sides */
-  j.half = pb->symmetric && !j.lift;
+  j.half = ls->symmetric && !j.lift;
   /* phase by phase; the tasks of a phase touch disjoint entries */
   for (int ph = 0; ph < 4; ph++) {
     j.t0 = mpgm_asm_phase(ph);
@@ -599,7 +607,7 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
   }
   /* a coupling of the clouds outside the pattern (an error of the code
    * that built it: the lists of a pattern skin, shape.skin) */
-  if (pb->pattern_missed) {
+  if (ls->pattern_missed) {
     mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
     MPGM_ERROR(ctx, MPGM_ERR_INTERNAL,
                "step %ld: the sparsity pattern misses a coupling of the node clouds", pb->step + 1);
@@ -613,9 +621,9 @@ static int assemble(mpgm_problem *pb, int want_K, int mass_only) {
     for (int i = 0; i < MPGM_DIM * nd->n; i++) {
       const int e = nd->dof[i];
       if (e < 0 || !nd->fix[i]) continue;
-      pb->R[e] = 0.0;
+      ls->R[e] = 0.0;
       if (!want_K) continue;
-      const mpgm_csc *K = &pb->K;
+      const mpgm_csc *K = &ls->K;
       int lo = K->colptr[e], hi = K->colptr[e + 1] - 1;
       while (lo < hi) { /* rows of a column are sorted */
         const int mid = (lo + hi) / 2;

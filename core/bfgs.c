@@ -43,7 +43,7 @@ static void axpy(double a, const double *x, double *y, int n) {
 }
 
 int mpgm_bfgs_setup(mpgm_problem *pb) {
-  mpgm_bfgs *b = &pb->bfgs;
+  mpgm_bfgs *b = &pb->ls->bfgs;
   if (!pb->scene->newton_bfgs) return 0;
   b->m = pb->scene->bfgs_pairs;
   const size_t n = MPGM_DIM * (size_t)pb->nodes.cap + 1, m = (size_t)b->m;
@@ -64,9 +64,10 @@ void mpgm_bfgs_free(mpgm_bfgs *b) {
 }
 
 void mpgm_bfgs_reset(mpgm_problem *pb) {
-  pb->bfgs.k = 0;
-  pb->bfgs.first = 0;
-  pb->bfgs.have_prev = 0;
+  mpgm_linsys *ls = pb->ls;
+  ls->bfgs.k = 0;
+  ls->bfgs.first = 0;
+  ls->bfgs.have_prev = 0;
 }
 
 /* du over the numbered equations into x. */
@@ -79,14 +80,15 @@ static void gather_du(const mpgm_problem *pb, double *x) {
 /* The pair of the last iteration (s, y) from where it started to here,
  * kept when it has curvature. */
 static void push_pair(mpgm_problem *pb, int n) {
-  mpgm_bfgs *b = &pb->bfgs;
+  mpgm_linsys *ls = pb->ls;
+  mpgm_bfgs *b = &ls->bfgs;
   const int slot = (b->first + b->k) % b->m;
   double *s = b->S + (size_t)slot * (size_t)n, *y = b->Y + (size_t)slot * (size_t)n;
   gather_du(pb, s);
   double sy = 0.0, ss = 0.0, yy = 0.0;
   for (int i = 0; i < n; i++) {
     s[i] -= b->du_prev[i];
-    y[i] = b->r_prev[i] - pb->R[i];
+    y[i] = b->r_prev[i] - ls->R[i];
     sy += s[i] * y[i], ss += s[i] * s[i], yy += y[i] * y[i];
   }
   if (!(sy > 1e-12 * sqrt(ss * yy))) { /* no curvature (or NaN): skip */
@@ -105,30 +107,31 @@ static void push_pair(mpgm_problem *pb, int n) {
 }
 
 int mpgm_bfgs_solve(mpgm_problem *pb, int reuse) {
-  mpgm_bfgs *b = &pb->bfgs;
+  mpgm_linsys *ls = pb->ls;
+  mpgm_bfgs *b = &ls->bfgs;
   mpgm_ctx *ctx = pb->ctx;
   const int n = pb->nodes.ndof, m = b->m;
   if (!reuse) mpgm_bfgs_reset(pb);
   if (reuse && b->have_prev) push_pair(pb, n);
   /* the point this correction starts from, for the next pair */
-  memcpy(b->r_prev, pb->R, sizeof(double) * (size_t)n);
+  memcpy(b->r_prev, ls->R, sizeof(double) * (size_t)n);
   gather_du(pb, b->du_prev);
   b->have_prev = 1;
   double alpha[MPGM_BFGS_PAIRS_MAX];
-  memcpy(b->q, pb->R, sizeof(double) * (size_t)n);
+  memcpy(b->q, ls->R, sizeof(double) * (size_t)n);
   for (int j = b->k - 1; j >= 0; j--) {
     const int i = (b->first + j) % m;
     const double *s = b->S + (size_t)i * (size_t)n, *y = b->Y + (size_t)i * (size_t)n;
     alpha[j] = b->rho[i] * dot(s, b->q, n);
     axpy(-alpha[j], y, b->q, n);
   }
-  MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, b->q, pb->delta));
-  if (reuse) mpgm_lowrank_apply(pb, pb->delta);
+  MPGM_CALL(mpgm_solver_solve(ls->solver, ctx, b->q, ls->delta));
+  if (reuse) mpgm_lowrank_apply(pb, ls->delta);
   for (int j = 0; j < b->k; j++) {
     const int i = (b->first + j) % m;
     const double *s = b->S + (size_t)i * (size_t)n, *y = b->Y + (size_t)i * (size_t)n;
-    const double beta = b->rho[i] * dot(y, pb->delta, n);
-    axpy(alpha[j] - beta, s, pb->delta, n);
+    const double beta = b->rho[i] * dot(y, ls->delta, n);
+    axpy(alpha[j] - beta, s, ls->delta, n);
   }
   return 0;
 }

@@ -114,10 +114,12 @@ static int all_arrays(mpgm_problem *pb, arr *a) {
  * that wrote the checkpoint drops them too, so both build them anew from
  * the same state at the next step and continue alike. */
 void mpgm_problem_drop_rebuilt(mpgm_problem *pb) {
-  pb->pattern_version = -1;
-  pb->graph_version = -1;
-  if (pb->solver) pb->solver->analysed = 0;
-  pb->factor_valid = 0;
+  mpgm_linsys *ls = pb->ls;
+  if (!ls) return; /* explicit: nothing is rebuilt */
+  ls->pattern_version = -1;
+  ls->graph_version = -1;
+  ls->solver->analysed = 0;
+  ls->factor_valid = 0;
 }
 
 int mpgm_problem_save(const mpgm_problem *cpb, mpgm_blob *b) {
@@ -138,7 +140,7 @@ int mpgm_problem_save(const mpgm_problem *cpb, mpgm_blob *b) {
   const int k = all_arrays(pb, a);
   for (int i = 0; i < k; i++) MPGM_CALL(mpgm_blob_put(ctx, b, a[i].tag, a[i].p, a[i].bytes));
   if (pb->fe->save) MPGM_CALL(pb->fe->save(pb->fe_data, ctx, b));
-  return pb->solver ? mpgm_solver_save(pb->solver, ctx, b) : 0; /* explicit: none */
+  return pb->ls ? mpgm_solver_save(pb->ls->solver, ctx, b) : 0; /* explicit: none */
 }
 
 /* ---- checks of what is read back ---------------------------------------- */
@@ -376,7 +378,7 @@ int mpgm_problem_restore(mpgm_problem *pb, mpgm_blob *b) {
     mpgm_problem_view(pb, &v);
     MPGM_CALL(pb->fe->restore(pb->fe_data, &v, b));
   }
-  if (pb->solver) MPGM_CALL(mpgm_solver_restore(pb->solver, ctx, b));
+  if (pb->ls) MPGM_CALL(mpgm_solver_restore(pb->ls->solver, ctx, b));
   mpgm_problem_drop_rebuilt(pb);
   pb->resumed = 1;
   return 0;

@@ -105,6 +105,7 @@ static int entry(const mpgm_csc *K, int r, int c) {
 }
 
 void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only) {
+  mpgm_linsys *ls = pb->ls;
   const mpgm_cpoints *cp = &pb->cp;
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
@@ -123,7 +124,7 @@ void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only) {
       for (int a = C->ptr[p]; a < C->ptr[p + 1]; a++)
         for (int c = 0; c < MPGM_DIM; c++) {
           const int i = MPGM_DIM * C->node[a] + c, e = nd->dof[i];
-          if (e >= 0 && !nd->fix[i]) pb->R[e] += C->N[a] * f[c];
+          if (e >= 0 && !nd->fix[i]) ls->R[e] += C->N[a] * f[c];
         }
     }
     if (!want_K) continue;
@@ -139,8 +140,8 @@ void mpgm_cpoints_assemble(mpgm_problem *pb, int want_K, int mass_only) {
            * all coupled in the pattern; a meshfree cloud may pair nodes
            * the pattern does not: that entry is left out of the tangent
            * (the residual stays exact) */
-          const int q = entry(&pb->K, ei, ej);
-          if (q >= 0) pb->K.val[q] += w * C->N[a] * C->N[b];
+          const int q = entry(&ls->K, ei, ej);
+          if (q >= 0) ls->K.val[q] += w * C->N[a] * C->N[b];
         }
   }
 }

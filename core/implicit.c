@@ -106,7 +106,7 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
      * contact_check of the reference, rather than only at convergence: a
      * wrong set is then not iterated to full accuracy first. The converged
      * state is checked again by the step. */
-    if (contact && !checked && nt.it > 0 && !pb->lift && nt.res <= sc->contact_check * nt.ref) {
+    if (contact && !checked && nt.it > 0 && !pb->ls->lift && nt.res <= sc->contact_check * nt.ref) {
       checked = 1;
 #if MPGM_DIM == 2 /* contact is plane strain (MPGM_MMS_FORCES) */
       const int changed = mpgm_contact_update(pb);
@@ -130,10 +130,11 @@ static int newton(mpgm_problem *pb, int warm, int *again) {
 /* The nodal mass of the lumped (row-sum) mass matrix into mI (MPGM_DIM per
  * node, the first of each node's used) and a = R / m into delta. */
 static void lumped_acceleration(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   const mpgm_nodes *nd = &pb->nodes;
   const mpgm_conn *C = &pb->conn;
   const mpgm_points *P = &pb->pts;
-  double *mI = pb->react; /* scratch, MPGM_DIM per node */
+  double *mI = ls->react; /* scratch, MPGM_DIM per node */
   memset(mI, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   for (int p = 0; p < P->n; p++)
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++)
@@ -141,7 +142,7 @@ static void lumped_acceleration(mpgm_problem *pb) {
   for (int i = 0; i < MPGM_DIM * nd->n; i++)
     if (nd->dof[i] >= 0) {
       const double mi = mI[MPGM_DIM * (i / MPGM_DIM)];
-      pb->delta[nd->dof[i]] = mi > 0.0 ? pb->R[nd->dof[i]] / mi : 0.0;
+      ls->delta[nd->dof[i]] = mi > 0.0 ? ls->R[nd->dof[i]] / mi : 0.0;
     }
 }
 
@@ -154,6 +155,7 @@ static void lumped_acceleration(mpgm_problem *pb) {
  * (nodes on too few points), the row-sum (lumped) mass is used. MPM's
  * particles take a_p = sum N_I a_0I, the a_p^n of their update (48). */
 static int initial_acceleration(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   mpgm_nodes *nd = &pb->nodes;
   const mpgm_conn *C = &pb->conn;
@@ -163,13 +165,13 @@ static int initial_acceleration(mpgm_problem *pb) {
   MPGM_CALL(mpgm_eval_points(pb, 1));
   MPGM_CALL(mpgm_assemble_mass(pb));
   MPGM_CALL(mpgm_problem_analyse(pb));
-  pb->factor_valid = 0; /* the factorisation is M's, not the tangent's */
+  ls->factor_valid = 0; /* the factorisation is M's, not the tangent's */
   /* a composite's part in use, without its fallback: Cholesky refusing M
    * means M is singular, and the lumped mass is used */
-  mpgm_solver *ms = mpgm_solver_part(pb->solver);
-  const int err = mpgm_solver_factor(ms, ctx, &pb->K);
+  mpgm_solver *ms = mpgm_solver_part(ls->solver);
+  const int err = mpgm_solver_factor(ms, ctx, &ls->K);
   if (!err) {
-    MPGM_CALL(mpgm_solver_solve(ms, ctx, pb->R, pb->delta));
+    MPGM_CALL(mpgm_solver_solve(ms, ctx, ls->R, ls->delta));
   } else if (err == MPGM_ERR_SINGULAR) {
     mpgm_err_clear(ctx);
     lumped_acceleration(pb);
@@ -178,7 +180,7 @@ static int initial_acceleration(mpgm_problem *pb) {
   }
   for (int i = 0; i < MPGM_DIM * nd->n; i++) {
     const int e = nd->dof[i];
-    nd->a[i] = e >= 0 && !nd->fix[i] ? pb->delta[e] : 0.0;
+    nd->a[i] = e >= 0 && !nd->fix[i] ? ls->delta[e] : 0.0;
     if (!isfinite(nd->a[i]))
       MPGM_ERROR(ctx, MPGM_ERR_NAN, "initial acceleration: not finite at node %d", i / MPGM_DIM);
   }
@@ -196,14 +198,15 @@ static int initial_acceleration(mpgm_problem *pb) {
  * changed the connectivity, contact flips cleared, the solver and the
  * observers told. *rebuild: the pattern must be rebuilt. */
 static int begin_solve(mpgm_problem *pb, int *rebuild) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
-  *rebuild = pb->conn.version != pb->pattern_version;
-  if (!*rebuild && pb->conn.map_version != pb->map_version) MPGM_CALL(mpgm_scatter_build(pb));
-  if (pb->fx.contact) memset(pb->cflip, 0, (size_t)pb->nodes.n);
+  *rebuild = pb->conn.version != ls->pattern_version;
+  if (!*rebuild && pb->conn.map_version != ls->map_version) MPGM_CALL(mpgm_scatter_build(pb));
+  if (pb->fx.contact) memset(ls->cflip, 0, (size_t)pb->nodes.n);
   if (pb->fx.contact_points) memset(pb->cp.flip, 0, (size_t)pb->cp.n);
   int kept; /* a composite solver may change its part at a new step */
-  MPGM_CALL(mpgm_solver_step(pb->solver, ctx, &kept));
-  if (!kept) pb->factor_valid = 0;
+  MPGM_CALL(mpgm_solver_step(ls->solver, ctx, &kept));
+  if (!kept) ls->factor_valid = 0;
   for (int i = 0; i < pb->nobs; i++) /* a retried (cut) step starts afresh */
     if (pb->obs[i].step_begin) MPGM_CALL(pb->obs[i].step_begin(pb->obs[i].user, ctx, pb->step + 1));
   return 0;
@@ -213,6 +216,7 @@ static int begin_solve(mpgm_problem *pb, int *rebuild) {
  * Newton until the contact active set settles. On a recoverable failure
  * nothing is committed. */
 static int implicit_step(void *self, mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   (void)self;
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *sc = pb->scene;
@@ -260,10 +264,10 @@ static int implicit_step(void *self, mpgm_problem *pb) {
      * the kept factorisation (lowrank.c), else it is factorised again */
     if (changed & 1) MPGM_CALL(mpgm_scatter_maps(pb));
     int kept = 0;
-    if (changed == 2 && pb->factor_valid && sc->newton_modified && !pb->solver->type->iterative)
+    if (changed == 2 && ls->factor_valid && sc->newton_modified && !ls->solver->type->iterative)
       MPGM_CALL(mpgm_lowrank_update(pb, &kept));
     if (kept) mpgm_count(ctx, MPGM_C_CONTACT_LOW_RANK, 1);
-    else pb->factor_valid = 0;
+    else ls->factor_valid = 0;
   }
   pb->last.iterations = its;
   commit(pb);
@@ -271,10 +275,22 @@ static int implicit_step(void *self, mpgm_problem *pb) {
   return 0;
 }
 
+/* The integrator's data is the run's linear system (pb->ls), handed to
+ * the problem's destroy even when its creation failed half-way. */
+static int implicit_create(mpgm_problem *pb, void **self) {
+  const int err = mpgm_linsys_create(pb);
+  *self = pb->ls;
+  return err;
+}
+
+static void implicit_destroy(void *self) { mpgm_linsys_destroy(self); }
+
 const mpgm_integrator_type mpgm_integrator_implicit = {
     .name = "implicit",
     .doc = "implicit Newmark (static: without inertia): Newton on R and K = K_mat + K_geo "
            "(+ K_dyn), with the contact active set",
     .implicit = 1,
+    .create = implicit_create,
+    .destroy = implicit_destroy,
     .step = implicit_step,
 };

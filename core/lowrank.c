@@ -51,7 +51,7 @@ void mpgm_lowrank_free(mpgm_lowrank *lr) {
 /* Arrays for cap columns of n equations and nt tracers. */
 static int lowrank_alloc(mpgm_problem *pb, int n) {
   mpgm_ctx *ctx = pb->ctx;
-  mpgm_lowrank *lr = &pb->lr;
+  mpgm_lowrank *lr = &pb->ls->lr;
   const int cap = pb->scene->contact_rank, m = MPGM_DIM * MPGM_SHAPE_MAXNODE;
   if (lr->held0 && lr->n_cap >= n && lr->nt == pb->cp.n) return 0;
   mpgm_lowrank_free(lr);
@@ -82,13 +82,14 @@ static int lowrank_alloc(mpgm_problem *pb, int n) {
 }
 
 int mpgm_lowrank_reset(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   const mpgm_scene *sc = pb->scene;
   if (!pb->fx.contact_points || sc->contact_rank <= 0 || !sc->newton_modified) return 0;
-  MPGM_CALL(lowrank_alloc(pb, pb->K.n));
-  mpgm_lowrank *lr = &pb->lr;
+  MPGM_CALL(lowrank_alloc(pb, ls->K.n));
+  mpgm_lowrank *lr = &ls->lr;
   for (int t = 0; t < lr->nt; t++) lr->held0[t] = (unsigned char)held_now(&pb->cp, t);
   lr->r = 0;
-  lr->n = pb->K.n;
+  lr->n = ls->K.n;
   lr->valid = 1;
   return 0;
 }
@@ -225,7 +226,7 @@ static int build_columns(mpgm_problem *pb, mpgm_lowrank *lr, int r) {
     for (int e = 0; e < k; e++) u[idx[e]] = val[e];
   }
   if (nnew) {
-    MPGM_CALL(mpgm_solver_solve_many(pb->solver, pb->ctx, n, nnew, lr->W, lr->W));
+    MPGM_CALL(mpgm_solver_solve_many(pb->ls->solver, pb->ctx, n, nnew, lr->W, lr->W));
     for (int q = 0; q < r; q++)
       if (lr->src[q] >= 0)
         memcpy(lr->Z2 + (size_t)q * n, lr->W + (size_t)lr->src[q] * n, sizeof(double) * (size_t)n);
@@ -236,9 +237,10 @@ static int build_columns(mpgm_problem *pb, mpgm_lowrank *lr, int r) {
 #define SWAP(T, a, b) do { T sw_ = (a); (a) = (b); (b) = sw_; } while (0)
 
 int mpgm_lowrank_update(mpgm_problem *pb, int *applied) {
-  mpgm_lowrank *lr = &pb->lr;
+  mpgm_linsys *ls = pb->ls;
+  mpgm_lowrank *lr = &ls->lr;
   *applied = 0;
-  if (!lr->valid || lr->n != pb->K.n || lr->nt != pb->cp.n) return 0;
+  if (!lr->valid || lr->n != ls->K.n || lr->nt != pb->cp.n) return 0;
   int r;
   if (!changed_springs(pb, lr, &r)) {
     lr->valid = 0;
@@ -263,7 +265,7 @@ int mpgm_lowrank_update(mpgm_problem *pb, int *applied) {
 }
 
 void mpgm_lowrank_apply(mpgm_problem *pb, double *x) {
-  mpgm_lowrank *lr = &pb->lr;
+  mpgm_lowrank *lr = &pb->ls->lr;
   const int r = lr->r, m = MPGM_DIM * MPGM_SHAPE_MAXNODE;
   if (!lr->valid || r == 0) return;
   for (int i = 0; i < r; i++) {

@@ -21,6 +21,7 @@ static double norm2(const double *x, int n) {
  * linearly instead of the boundary nodes jumping alone (which can invert
  * the cells next to them). Returns 1 when some increment is non-zero. */
 static int predictor(mpgm_problem *pb, int warm) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_nodes *nd = &pb->nodes;
   int any = 0;
   for (int i = 0; i < MPGM_DIM * nd->n; i++) {
@@ -31,8 +32,8 @@ static int predictor(mpgm_problem *pb, int warm) {
     if (!warm && !nd->fix[i] && pb->fx.inertia && pb->scene->predictor_velocity)
       nd->du[i] = pb->dt * nd->v[i];
     if (warm) continue; /* a re-solve keeps the free increments it had */
-    pb->dubar[i] = nd->fix[i] ? pb->lambda * nd->ubar[i] - nd->u[i] : 0.0;
-    any |= pb->dubar[i] != 0.0;
+    ls->dubar[i] = nd->fix[i] ? pb->lambda * nd->ubar[i] - nd->u[i] : 0.0;
+    any |= ls->dubar[i] != 0.0;
   }
   return any;
 }
@@ -41,15 +42,17 @@ static int predictor(mpgm_problem *pb, int warm) {
  * R at du = 0 (the stresses of t_n in the configuration of t_n): one more
  * constitutive update and residual per step. */
 static int hht_start(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_nodes *nd = &pb->nodes;
   memset(nd->du, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
   MPGM_CALL(mpgm_eval_points(pb, 0));
   MPGM_CALL(mpgm_assemble_static(pb));
-  for (int i = 0; i < nd->ndof; i++) pb->fint_n[i] = pb->fext[i] - pb->R[i];
+  for (int i = 0; i < nd->ndof; i++) ls->fint_n[i] = ls->fext[i] - ls->R[i];
   return 0;
 }
 
 int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
+  mpgm_linsys *ls = pb->ls;
   const mpgm_nodes *nd = &pb->nodes;
   memset(nt, 0, sizeof *nt);
   memset(&pb->last, 0, sizeof pb->last);
@@ -57,18 +60,18 @@ int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
   nt->res_prev = INFINITY;
   nt->omega = 1.0;
   if (!warm) MPGM_CALL(mpgm_body_force(pb, pb->t + pb->dt));
-  if (!warm && pb->fint_n) MPGM_CALL(hht_start(pb));
-  pb->lift = predictor(pb, warm) ? pb->dubar : NULL;
+  if (!warm && ls->fint_n) MPGM_CALL(hht_start(pb));
+  ls->lift = predictor(pb, warm) ? ls->dubar : NULL;
   /* |f_ext| over the free equations (held contact components have
    * numbered, constrained equations) */
   double fnorm = 0.0;
   for (int i = 0; i < MPGM_DIM * nd->n; i++)
-    if (nd->dof[i] >= 0 && !nd->fix[i]) fnorm += pb->fext[nd->dof[i]] * pb->fext[nd->dof[i]];
+    if (nd->dof[i] >= 0 && !nd->fix[i]) fnorm += ls->fext[nd->dof[i]] * ls->fext[nd->dof[i]];
   nt->fnorm = sqrt(fnorm);
   /* a factorisation of this pattern exists (modified Newton may start from
    * the one of an earlier step) */
-  nt->factored = pb->scene->newton_modified && pb->factor_valid &&
-                 memcmp(pb->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n) == 0;
+  nt->factored = pb->scene->newton_modified && ls->factor_valid &&
+                 memcmp(ls->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n) == 0;
   mpgm_bfgs_reset(pb);
   return 0;
 }
@@ -78,7 +81,7 @@ int mpgm_newton_init(mpgm_problem *pb, mpgm_newton *nt, int warm) {
 static int evaluate(mpgm_problem *pb, int want_K, double *res) {
   int err = mpgm_eval_points(pb, want_K);
   if (!err) err = mpgm_assemble(pb, want_K);
-  *res = err ? INFINITY : norm2(pb->R, pb->nodes.ndof);
+  *res = err ? INFINITY : norm2(pb->ls->R, pb->nodes.ndof);
   return err;
 }
 
@@ -87,7 +90,7 @@ static int evaluate(mpgm_problem *pb, int want_K, double *res) {
 static void shift_increments(mpgm_problem *pb, double s) {
   mpgm_nodes *nd = &pb->nodes;
   for (int i = 0; i < MPGM_DIM * nd->n; i++)
-    if (nd->dof[i] >= 0) nd->du[i] += s * pb->delta[nd->dof[i]];
+    if (nd->dof[i] >= 0) nd->du[i] += s * pb->ls->delta[nd->dof[i]];
 }
 
 /* solver.line_search (m > 0): backtracking along the last correction d,
@@ -126,10 +129,11 @@ static int line_search(mpgm_problem *pb, mpgm_newton *nt, int err, double *res) 
 }
 
 int mpgm_newton_residual(mpgm_problem *pb, mpgm_newton *nt) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_newton_info *info = &pb->last;
   /* modified Newton assembles K only when it refactorises, and then the
    * points' tangents D are needed; else the material update skips them */
-  nt->want_K = !pb->scene->newton_modified || !nt->factored || pb->lift;
+  nt->want_K = !pb->scene->newton_modified || !nt->factored || ls->lift;
   double res;
   int err = evaluate(pb, nt->want_K, &res);
   if (pb->scene->line_search > 0 && nt->it > 0 && nt->searchable && isfinite(nt->res_prev))
@@ -147,8 +151,8 @@ int mpgm_newton_residual(mpgm_problem *pb, mpgm_newton *nt) {
      * rolling disk, where keeping it saves 7 to 10 % of the iterations;
      * docs/benchmarks.md, "Table 1 on an Intel Xeon") */
     nt->ref = fmax(res, nt->fnorm);
-    if (nt->warm) nt->ref = fmax(nt->ref, pb->step_ref);
-    pb->step_ref = nt->ref;
+    if (nt->warm) nt->ref = fmax(nt->ref, ls->step_ref);
+    ls->step_ref = nt->ref;
   }
   nt->res = res;
   memmove(nt->rh + 1, nt->rh, sizeof nt->rh - sizeof nt->rh[0]);
@@ -195,7 +199,7 @@ int mpgm_newton_test(mpgm_problem *pb, const mpgm_newton *nt, int *done) {
   const int res_ok = res <= res_tolerance(sc, nt);
   /* tests: a stall made on purpose ends Newton as its iteration limit does */
   const int stall = it > 0 && mpgm_fault_due(pb->ctx, MPGM_ERR_NOT_CONVERGED, pb->step + 1);
-  *done = !stall && !pb->lift && (res_ok || (it > 0 && info->du_rel <= sc->dtol));
+  *done = !stall && !pb->ls->lift && (res_ok || (it > 0 && info->du_rel <= sc->dtol));
   if (*done) return 0;
   if (it == sc->max_iter || stall)
     MPGM_ERROR(pb->ctx, MPGM_ERR_NOT_CONVERGED,
@@ -220,9 +224,10 @@ int mpgm_newton_test(mpgm_problem *pb, const mpgm_newton *nt, int *done) {
 
 /* The system K delta = R about to be solved, to every observer. */
 static int observe_system(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   for (int i = 0; i < pb->nobs; i++)
     if (pb->obs[i].system)
-      MPGM_CALL(pb->obs[i].system(pb->obs[i].user, pb->ctx, pb->step + 1, &pb->K, pb->R));
+      MPGM_CALL(pb->obs[i].system(pb->obs[i].user, pb->ctx, pb->step + 1, &ls->K, ls->R));
   return 0;
 }
 
@@ -230,15 +235,16 @@ static int observe_system(mpgm_problem *pb) {
  * their prescribed increments. Returns |delta|^2 + |lift|^2 in *dd and
  * |du|^2 in *uu. */
 static void update_increments(mpgm_problem *pb, double *dd, double *uu) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_nodes *nd = &pb->nodes;
   *dd = *uu = 0.0;
   for (int i = 0; i < MPGM_DIM * nd->n; i++) {
-    if (pb->lift && nd->dof[i] < 0) {
-      nd->du[i] = pb->dubar[i];
+    if (ls->lift && nd->dof[i] < 0) {
+      nd->du[i] = ls->dubar[i];
       *dd += nd->du[i] * nd->du[i];
     }
     if (nd->dof[i] >= 0) {
-      const double d = pb->delta[nd->dof[i]];
+      const double d = ls->delta[nd->dof[i]];
       nd->du[i] += d;
       *dd += d * d;
     }
@@ -303,7 +309,7 @@ static void relax(mpgm_problem *pb, mpgm_newton *nt) {
     mpgm_count(pb->ctx, MPGM_C_NEWTON_RELAXATIONS, 1);
   }
   if (nt->omega < 1.0)
-    for (int i = 0; i < pb->nodes.ndof; i++) pb->delta[i] *= nt->omega;
+    for (int i = 0; i < pb->nodes.ndof; i++) pb->ls->delta[i] *= nt->omega;
 }
 
 /* Modified Newton keeps the last factorisation while the residual drops
@@ -323,7 +329,7 @@ static void relax(mpgm_problem *pb, mpgm_newton *nt) {
 #define RENEW_RESERVE 4
 static int keep_factor(const mpgm_problem *pb, const mpgm_newton *nt) {
   const mpgm_scene *sc = pb->scene;
-  if (!sc->newton_modified || !nt->factored || pb->lift) return 0;
+  if (!sc->newton_modified || !nt->factored || pb->ls->lift) return 0;
   if (nt->it == 0) return 1;
   if (!(nt->res <= sc->reuse_ratio * nt->res_prev)) return 0;
   const int left = sc->max_iter - nt->it;
@@ -336,19 +342,21 @@ static int keep_factor(const mpgm_problem *pb, const mpgm_newton *nt) {
 }
 
 int mpgm_problem_analyse(mpgm_problem *pb) {
-  if (pb->solver->analysed) return 0;
+  mpgm_linsys *ls = pb->ls;
+  if (ls->solver->analysed) return 0;
   const mpgm_nodes *nd = &pb->nodes;
-  pb->K_layout = (mpgm_dof_layout){MPGM_DIM, nd->n, nd->dof, nd->x};
-  pb->K.layout = &pb->K_layout;
-  return mpgm_solver_analyse(pb->solver, pb->ctx, &pb->K, pb->perm);
+  ls->K_layout = (mpgm_dof_layout){MPGM_DIM, nd->n, nd->dof, nd->x};
+  ls->K.layout = &ls->K_layout;
+  return mpgm_solver_analyse(ls->solver, pb->ctx, &ls->K, ls->perm);
 }
 
 int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *sc = pb->scene;
   mpgm_nodes *nd = &pb->nodes;
   const int reuse = keep_factor(pb, nt);
-  if (sc->forcing_ew) MPGM_CALL(mpgm_solver_tolerance(pb->solver, forcing(pb, nt)));
+  if (sc->forcing_ew) MPGM_CALL(mpgm_solver_tolerance(ls->solver, forcing(pb, nt)));
   nt->res_prev = nt->res;
   if (!reuse && !nt->want_K) { /* the tangents D skipped at this iterate */
     MPGM_CALL(mpgm_eval_points(pb, 1));
@@ -359,21 +367,21 @@ int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
    * (modified Newton reusing a factorisation: K holds the factorised
    * values still, as K is assembled only to be factorised) */
   MPGM_CALL(observe_system(pb));
-  const int err = reuse ? 0 : mpgm_solver_factor(pb->solver, ctx, &pb->K);
+  const int err = reuse ? 0 : mpgm_solver_factor(ls->solver, ctx, &ls->K);
   nt->factored = 1;
-  pb->factor_valid = !err;
+  ls->factor_valid = !err;
   MPGM_CALL(err);
   /* the held contact components (and springs) the factorisation was
    * made with */
   if (!reuse) {
-    memcpy(pb->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n);
+    memcpy(ls->fix_factored, nd->fix, MPGM_DIM * (size_t)nd->n);
     MPGM_CALL(mpgm_lowrank_reset(pb));
   }
   if (sc->newton_bfgs) {
     MPGM_CALL(mpgm_bfgs_solve(pb, reuse));
   } else {
-    MPGM_CALL(mpgm_solver_solve(pb->solver, ctx, pb->R, pb->delta));
-    if (reuse) mpgm_lowrank_apply(pb, pb->delta);
+    MPGM_CALL(mpgm_solver_solve(ls->solver, ctx, ls->R, ls->delta));
+    if (reuse) mpgm_lowrank_apply(pb, ls->delta);
   }
   relax(pb, nt);
   double dd, uu;
@@ -381,8 +389,8 @@ int mpgm_newton_iterate(mpgm_problem *pb, mpgm_newton *nt) {
   if (!isfinite(dd))
     MPGM_ERROR(ctx, MPGM_ERR_NAN, "Newton iteration %d: solution is not finite", nt->it);
   pb->last.du_rel = uu > 0.0 ? sqrt(dd / uu) : 0.0;
-  nt->searchable = !reuse && !pb->lift;
-  pb->lift = NULL;
+  nt->searchable = !reuse && !ls->lift;
+  ls->lift = NULL;
   pb->last.iterations = ++nt->it;
   return 0;
 }

@@ -38,14 +38,15 @@ static int same_nodes(const mpgm_conn *C, int p, int q) {
  * c >> s of nch: floor(floor(2x) / 2) = floor(x)), so they are found once
  * for every nch tried. */
 static void group_ranges(const mpgm_problem *pb, int *lo, int *hi, int *glo, int *ghi) {
+  mpgm_linsys *ls = pb->ls;
   const mpgm_conn *C = &pb->conn;
-  const int ng = pb->ngroups, np = pb->pts.n, nn = pb->nodes.n;
+  const int ng = ls->ngroups, np = pb->pts.n, nn = pb->nodes.n;
   for (int i = 0; i < nn; i++) {
     lo[i] = NCH;
     hi[i] = -1;
   }
   for (int g = 0; g < ng; g++) {
-    const int c = np ? (int)((long)pb->grp_ptr[g] * NCH / np) : 0, p = pb->order[pb->grp_ptr[g]];
+    const int c = np ? (int)((long)ls->grp_ptr[g] * NCH / np) : 0, p = ls->order[ls->grp_ptr[g]];
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
       const int I = C->node[k];
       if (c < lo[I]) lo[I] = c;
@@ -53,7 +54,7 @@ static void group_ranges(const mpgm_problem *pb, int *lo, int *hi, int *glo, int
     }
   }
   for (int g = 0; g < ng; g++) {
-    const int p = pb->order[pb->grp_ptr[g]];
+    const int p = ls->order[ls->grp_ptr[g]];
     glo[g] = NCH;
     ghi[g] = -1;
     for (int k = C->ptr[p]; k < C->ptr[p + 1]; k++) {
@@ -95,15 +96,16 @@ static int chunk_tasks(int ng, const int *glo, const int *ghi, int s, int *tid) 
  * choice depends on the clouds only, not on the number of threads, so
  * neither does the order of the sums. */
 static int assembly_tasks(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
-  const int ng = pb->ngroups, np = pb->pts.n, nn = pb->nodes.n;
-  free(pb->task_grp);
-  free(pb->task_pts);
-  pb->task_grp = malloc(((size_t)ng + 1) * sizeof(int));
-  pb->task_pts = malloc(((size_t)np + 1) * sizeof(int));
+  const int ng = ls->ngroups, np = pb->pts.n, nn = pb->nodes.n;
+  free(ls->task_grp);
+  free(ls->task_pts);
+  ls->task_grp = malloc(((size_t)ng + 1) * sizeof(int));
+  ls->task_pts = malloc(((size_t)np + 1) * sizeof(int));
   int *lo = malloc(((size_t)nn + 1) * sizeof(int)), *hi = malloc(((size_t)nn + 1) * sizeof(int));
   int *tid = malloc(3 * ((size_t)ng + 1) * sizeof(int));
-  if (!pb->task_grp || !pb->task_pts || !lo || !hi || !tid) {
+  if (!ls->task_grp || !ls->task_pts || !lo || !hi || !tid) {
     free(lo);
     free(hi);
     free(tid);
@@ -113,20 +115,20 @@ static int assembly_tasks(mpgm_problem *pb) {
   group_ranges(pb, lo, hi, glo, ghi);
   for (int s = 0; NCH >> s >= 2; s++)
     if (chunk_tasks(ng, glo, ghi, s, tid) <= ng / 8 || NCH >> s == 2) break;
-  memset(pb->task_ptr, 0, sizeof pb->task_ptr);
-  for (int g = 0; g < ng; g++) pb->task_ptr[tid[g] + 1]++;
-  for (int t = 0; t < 2 * NCH; t++) pb->task_ptr[t + 1] += pb->task_ptr[t];
+  memset(ls->task_ptr, 0, sizeof ls->task_ptr);
+  for (int g = 0; g < ng; g++) ls->task_ptr[tid[g] + 1]++;
+  for (int t = 0; t < 2 * NCH; t++) ls->task_ptr[t + 1] += ls->task_ptr[t];
   int fill[2 * NCH];
-  memcpy(fill, pb->task_ptr, sizeof fill);
-  for (int g = 0; g < ng; g++) pb->task_grp[fill[tid[g]]++] = g;
+  memcpy(fill, ls->task_ptr, sizeof fill);
+  for (int g = 0; g < ng; g++) ls->task_grp[fill[tid[g]]++] = g;
   /* the same as flat point lists (residual-only assembly) */
   int q = 0;
-  pb->tpt_ptr[0] = 0;
+  ls->tpt_ptr[0] = 0;
   for (int t = 0; t < 2 * NCH; t++) {
-    for (int i = pb->task_ptr[t]; i < pb->task_ptr[t + 1]; i++)
-      for (int u = pb->grp_ptr[pb->task_grp[i]]; u < pb->grp_ptr[pb->task_grp[i] + 1]; u++)
-        pb->task_pts[q++] = pb->order[u];
-    pb->tpt_ptr[t + 1] = q;
+    for (int i = ls->task_ptr[t]; i < ls->task_ptr[t + 1]; i++)
+      for (int u = ls->grp_ptr[ls->task_grp[i]]; u < ls->grp_ptr[ls->task_grp[i] + 1]; u++)
+        ls->task_pts[q++] = ls->order[u];
+    ls->tpt_ptr[t + 1] = q;
   }
   free(lo);
   free(hi);
@@ -140,19 +142,20 @@ static int assembly_tasks(mpgm_problem *pb) {
  * unless another list with the same first node and hash slot interleaves
  * (then a list forms two groups: correct, only less shared). */
 static int group_points(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_conn *C = &pb->conn;
   const int np = pb->pts.n, nn = pb->nodes.n;
   int nslot = 1;
   while (nslot < np) nslot <<= 1;
   const int nb = nslot > nn + 1 ? nslot : nn + 1;
-  free(pb->order);
-  free(pb->grp_ptr);
-  pb->order = malloc(((size_t)np + 1) * sizeof(int));
-  pb->grp_ptr = malloc(((size_t)np + 2) * sizeof(int));
+  free(ls->order);
+  free(ls->grp_ptr);
+  ls->order = malloc(((size_t)np + 1) * sizeof(int));
+  ls->grp_ptr = malloc(((size_t)np + 2) * sizeof(int));
   int *key = malloc(((size_t)np + 1) * sizeof(int)), *tmp = malloc(((size_t)np + 1) * sizeof(int));
   int *cnt = malloc(((size_t)nb + 1) * sizeof(int));
-  if (!pb->order || !pb->grp_ptr || !key || !tmp || !cnt) {
+  if (!ls->order || !ls->grp_ptr || !key || !tmp || !cnt) {
     free(key);
     free(tmp);
     free(cnt);
@@ -174,15 +177,15 @@ static int group_points(mpgm_problem *pb) {
     for (int p = 0; p < np; p++) cnt[key[p] + 1]++;
     for (int k = 0; k < nk; k++) cnt[k + 1] += cnt[k];
     if (pass)
-      for (int q = 0; q < np; q++) pb->order[cnt[key[tmp[q]]]++] = tmp[q];
+      for (int q = 0; q < np; q++) ls->order[cnt[key[tmp[q]]]++] = tmp[q];
     else
       for (int p = 0; p < np; p++) tmp[cnt[key[p]]++] = p;
   }
   int ng = 0;
   for (int q = 0; q < np; q++)
-    if (q == 0 || !same_nodes(C, pb->order[q], pb->order[q - 1])) pb->grp_ptr[ng++] = q;
-  pb->grp_ptr[ng] = np;
-  pb->ngroups = ng;
+    if (q == 0 || !same_nodes(C, ls->order[q], ls->order[q - 1])) ls->grp_ptr[ng++] = q;
+  ls->grp_ptr[ng] = np;
+  ls->ngroups = ng;
   free(key);
   free(tmp);
   free(cnt);
@@ -195,16 +198,17 @@ static int scatter_maps(mpgm_problem *pb);
  * its group), or the front end's pattern lists of every material point
  * (conn.pptr, node clouds with a skin). List l's nodes and their count. */
 static inline int graph_lists(const mpgm_problem *pb) {
-  return pb->conn.pptr ? pb->pts.n : pb->ngroups;
+  return pb->conn.pptr ? pb->pts.n : pb->ls->ngroups;
 }
 
 static inline const int *graph_list(const mpgm_problem *pb, int l, int *len) {
+  mpgm_linsys *ls = pb->ls;
   const mpgm_conn *C = &pb->conn;
   if (C->pptr) {
     *len = C->pptr[l + 1] - C->pptr[l];
     return C->pnode + C->pptr[l];
   }
-  const int p = pb->order[pb->grp_ptr[l]];
+  const int p = ls->order[ls->grp_ptr[l]];
   *len = C->ptr[p + 1] - C->ptr[p];
   return C->node + C->ptr[p];
 }
@@ -212,10 +216,11 @@ static inline const int *graph_list(const mpgm_problem *pb, int l, int *len) {
 /* The node graph of the pattern: the neighbours of node J are the nodes of
  * every list holding J (graph_lists); built through the node -> lists
  * transpose with a marker per node (O(entries)), each list sorted (they
- * are short). Into pb->nbr_ptr, pb->nbr; with solver.ordering geometric,
+ * are short). Into pb->ls->nbr_ptr, pb->ls->nbr; with solver.ordering geometric,
  * the nodes' nested-dissection order (it depends on the graph only: a
  * contact node held or released keeps it). */
 static int node_graph(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_conn *C = &pb->conn;
   const int nn = pb->nodes.n, nl = graph_lists(pb);
@@ -278,28 +283,29 @@ static int node_graph(mpgm_problem *pb) {
     free(pair);
     MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (sparsity pattern)");
   }
-  free(pb->nbr);
-  free(pb->nbr_ptr);
-  pb->nbr = pair;
-  pb->nbr_ptr = nptr;
-  pb->graph_version = C->pptr ? C->pversion : C->version;
+  free(ls->nbr);
+  free(ls->nbr_ptr);
+  ls->nbr = pair;
+  ls->nbr_ptr = nptr;
+  ls->graph_version = C->pptr ? C->pversion : C->version;
   if (!pb->scene->ordering_nd) return 0;
-  free(pb->node_order);
-  pb->node_order = malloc(((size_t)nn + 1) * sizeof(int));
-  MPGM_CHECK(ctx, pb->node_order, MPGM_ERR_NOMEM, "out of memory (ordering)");
-  return mpgm_order_nodes(ctx, nn, nptr, pair, pb->nodes.x, pb->node_order);
+  free(ls->node_order);
+  ls->node_order = malloc(((size_t)nn + 1) * sizeof(int));
+  MPGM_CHECK(ctx, ls->node_order, MPGM_ERR_NOMEM, "out of memory (ordering)");
+  return mpgm_order_nodes(ctx, nn, nptr, pair, pb->nodes.x, ls->node_order);
 }
 
 /* K's pattern from the node graph and the equation numbers: every free
  * component of node J couples with every free component of J's
  * neighbours; the equations in the nodes' order (solver.ordering
  * geometric); where node I's rows start in a column of node J
- * (pb->nbr_off, for the scatter maps). */
+ * (pb->ls->nbr_off, for the scatter maps). */
 static int matrix_pattern(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_nodes *nd = &pb->nodes;
-  const int nn = nd->n, n = nd->ndof, *nptr = pb->nbr_ptr, *pair = pb->nbr;
-  mpgm_csc *K = &pb->K;
+  const int nn = nd->n, n = nd->ndof, *nptr = ls->nbr_ptr, *pair = ls->nbr;
+  mpgm_csc *K = &ls->K;
   free(K->colptr);
   free(K->rowind);
   free(K->val);
@@ -331,16 +337,16 @@ static int matrix_pattern(mpgm_problem *pb) {
     }
   K->n = n;
   K->nnz = (int)nnz;
-  K->symmetric = pb->symmetric;
-  if (pb->node_order) { /* the equations in the nodes' order */
-    free(pb->perm);
-    pb->perm = malloc(((size_t)n + 1) * sizeof(int));
-    MPGM_CHECK(ctx, pb->perm, MPGM_ERR_NOMEM, "out of memory (ordering)");
+  K->symmetric = ls->symmetric;
+  if (ls->node_order) { /* the equations in the nodes' order */
+    free(ls->perm);
+    ls->perm = malloc(((size_t)n + 1) * sizeof(int));
+    MPGM_CHECK(ctx, ls->perm, MPGM_ERR_NOMEM, "out of memory (ordering)");
     int k = 0;
     for (int t = 0; t < nn; t++)
       for (int j = 0; j < MPGM_DIM; j++) {
-        const int eq = nd->dof[MPGM_DIM * pb->node_order[t] + j];
-        if (eq >= 0) pb->perm[k++] = eq;
+        const int eq = nd->dof[MPGM_DIM * ls->node_order[t] + j];
+        if (eq >= 0) ls->perm[k++] = eq;
       }
     MPGM_CHECK(ctx, k == n, MPGM_ERR_INTERNAL, "ordering: %d of %d equations placed", k, n);
   }
@@ -353,12 +359,13 @@ static int matrix_pattern(mpgm_problem *pb) {
       off[t] = c;
       c += numbered(nd, pair[t], MPGM_DIM);
     }
-  free(pb->nbr_off);
-  pb->nbr_off = off;
+  free(ls->nbr_off);
+  ls->nbr_off = off;
   return 0;
 }
 
 int mpgm_pattern_build(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   mpgm_timer_start(ctx, MPGM_T_ANALYSE); /* symbolic work, once per pattern */
   int err = 0;
@@ -367,7 +374,7 @@ int mpgm_pattern_build(mpgm_problem *pb) {
    * (conn.pptr) the graph is theirs, and stands while they do; the node
    * lists, and so the groups, may have changed with the equations */
   const mpgm_conn *C = &pb->conn;
-  if (pb->graph_version != (C->pptr ? C->pversion : C->version) || !pb->nbr_ptr) {
+  if (ls->graph_version != (C->pptr ? C->pversion : C->version) || !ls->nbr_ptr) {
     err = group_points(pb);
     if (!err) err = node_graph(pb);
   } else if (C->pptr) {
@@ -376,9 +383,9 @@ int mpgm_pattern_build(mpgm_problem *pb) {
   if (!err) err = matrix_pattern(pb);
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   MPGM_CALL(err);
-  pb->pattern_version = pb->conn.version;
-  if (pb->solver) pb->solver->analysed = 0; /* explicit runs have none */
-  pb->factor_valid = 0;
+  ls->pattern_version = pb->conn.version;
+  if (ls->solver) ls->solver->analysed = 0; /* explicit runs have none */
+  ls->factor_valid = 0;
   return scatter_maps(pb);
 }
 
@@ -387,77 +394,79 @@ int mpgm_pattern_build(mpgm_problem *pb) {
  * keep no maps: K is merged in batches (assembly.c, assemble_batch;
  * MPGM_ASM_BATCH >= MPGM_SHAPE_MAXNODE). */
 static int map_buffers(mpgm_problem *pb, int *maxk_out) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_conn *C = &pb->conn;
-  const int ng = pb->ngroups, nn = pb->nodes.n;
-  free(pb->scatter_ptr);
-  free(pb->kloc);
-  pb->kloc = NULL;
-  pb->scatter_ptr = malloc(((size_t)ng + 1) * sizeof(int));
-  MPGM_CHECK(ctx, pb->scatter_ptr, MPGM_ERR_NOMEM, "out of memory (scatter map)");
+  const int ng = ls->ngroups, nn = pb->nodes.n;
+  free(ls->scatter_ptr);
+  free(ls->kloc);
+  ls->kloc = NULL;
+  ls->scatter_ptr = malloc(((size_t)ng + 1) * sizeof(int));
+  MPGM_CHECK(ctx, ls->scatter_ptr, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   size_t ns = 0;
   int maxk = 1;
   for (int g = 0; g < ng; g++) {
-    const int p = pb->order[pb->grp_ptr[g]], k = C->ptr[p + 1] - C->ptr[p];
+    const int p = ls->order[ls->grp_ptr[g]], k = C->ptr[p + 1] - C->ptr[p];
     if (k > maxk) maxk = k;
     ns += MPGM_BLOCK * (size_t)k * k;
   }
   MPGM_CHECK(ctx, ns <= INT32_MAX, MPGM_ERR_NOMEM, "scatter map of %zu entries", ns);
-  pb->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE;
+  ls->nomap = !pb->scene->shape->needs_cell && maxk <= MPGM_SHAPE_MAXNODE;
   const size_t nt = (size_t)mpgm_pool_size(pb->pool);
-  if (pb->nomap) {
+  if (ls->nomap) {
     ns = 0;
     /* the batches' buffers, kept from step to step (zero between batches) */
-    if (!pb->kbatch)
-      pb->kbatch = calloc(nt * MPGM_BLOCK * MPGM_ASM_BATCH * MPGM_ASM_BATCH, sizeof(double));
-    if (!pb->kmask) pb->kmask = calloc(nt * MPGM_ASM_BATCH * MPGM_ASM_WORDS, sizeof(uint64_t));
-    if (pb->kslot_n < nn) {
-      free(pb->kslot);
-      pb->kslot = malloc(nt * (size_t)nn * sizeof(int));
-      pb->kslot_n = pb->kslot ? nn : 0;
-      if (pb->kslot)
-        for (size_t i = 0; i < nt * (size_t)nn; i++) pb->kslot[i] = -1;
+    if (!ls->kbatch)
+      ls->kbatch = calloc(nt * MPGM_BLOCK * MPGM_ASM_BATCH * MPGM_ASM_BATCH, sizeof(double));
+    if (!ls->kmask) ls->kmask = calloc(nt * MPGM_ASM_BATCH * MPGM_ASM_WORDS, sizeof(uint64_t));
+    if (ls->kslot_n < nn) {
+      free(ls->kslot);
+      ls->kslot = malloc(nt * (size_t)nn * sizeof(int));
+      ls->kslot_n = ls->kslot ? nn : 0;
+      if (ls->kslot)
+        for (size_t i = 0; i < nt * (size_t)nn; i++) ls->kslot[i] = -1;
     }
-    MPGM_CHECK(ctx, pb->kbatch && pb->kmask && pb->kslot, MPGM_ERR_NOMEM,
+    MPGM_CHECK(ctx, ls->kbatch && ls->kmask && ls->kslot, MPGM_ERR_NOMEM,
                "out of memory (assembly batches)");
   }
   /* the map is rebuilt every step by MPM and GMM: keep its memory and grow
    * it, rather than fault in fresh pages each time */
-  if (ns > pb->scatter_cap || !pb->scatter) {
-    free(pb->scatter);
+  if (ns > ls->scatter_cap || !ls->scatter) {
+    free(ls->scatter);
     const size_t cap = ns + ns / 4 + 1;
-    pb->scatter = malloc(cap * sizeof(int));
-    pb->scatter_cap = pb->scatter ? cap : 0;
+    ls->scatter = malloc(cap * sizeof(int));
+    ls->scatter_cap = ls->scatter ? cap : 0;
   }
-  pb->kloc_size = MPGM_BLOCK * maxk * maxk;
-  pb->kloc = malloc(nt * (size_t)pb->kloc_size * sizeof(double));
-  MPGM_CHECK(ctx, pb->scatter && pb->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
+  ls->kloc_size = MPGM_BLOCK * maxk * maxk;
+  ls->kloc = malloc(nt * (size_t)ls->kloc_size * sizeof(double));
+  MPGM_CHECK(ctx, ls->scatter && ls->kloc, MPGM_ERR_NOMEM, "out of memory (scatter map)");
   *maxk_out = maxk;
   return 0;
 }
 
-/* Group g's map at pb->scatter + *s: the position in K.val of every
+/* Group g's map at pb->ls->scatter + *s: the position in K.val of every
  * (a, b, i, j) entry of its node list (-1 where a component is fixed or
  * held). srt, tpos: workspaces of maxk and maxk^2 ints. */
 static int group_map(mpgm_problem *pb, int g, int *srt, int *tpos, size_t *s) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_conn *C = &pb->conn;
   const mpgm_nodes *nd = &pb->nodes;
-  const mpgm_csc *K = &pb->K;
+  const mpgm_csc *K = &ls->K;
   const int *dof = nd->dof;
-  const int p = pb->order[pb->grp_ptr[g]], k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
+  const int p = ls->order[ls->grp_ptr[g]], k0 = C->ptr[p], nk = C->ptr[p + 1] - k0;
   const int *nodes = C->node + k0;
   /* place of node a of the group in the neighbour list of its node b,
    * found by one merge of the sorted list with the group's nodes in
    * increasing order: O(nk + degree) per b (clouds are long) */
   mpgm_argsort_nodes(nodes, nk, srt); /* local indices by node number */
   for (int b = 0; b < nk; b++) {
-    const int J = nodes[b], tend = pb->nbr_ptr[J + 1];
-    int t = pb->nbr_ptr[J];
+    const int J = nodes[b], tend = ls->nbr_ptr[J + 1];
+    int t = ls->nbr_ptr[J];
     for (int q = 0; q < nk; q++) {
       const int a = srt[q], I = nodes[a];
-      while (t < tend && pb->nbr[t] < I) t++;
-      MPGM_CHECK(ctx, t < tend && pb->nbr[t] == I, MPGM_ERR_INTERNAL,
+      while (t < tend && ls->nbr[t] < I) t++;
+      MPGM_CHECK(ctx, t < tend && ls->nbr[t] == I, MPGM_ERR_INTERNAL,
                  "pattern misses node %d in the list of node %d", I, J);
       tpos[a * nk + b] = t;
     }
@@ -473,13 +482,13 @@ static int group_map(mpgm_problem *pb, int g, int *srt, int *tpos, size_t *s) {
           /* held contact components are numbered but get no terms */
           if (row >= 0 && col >= 0 && !nd->fix[MPGM_DIM * I + i] && !nd->fix[MPGM_DIM * J + j]) {
             /* after the rows of I's numbered components before i */
-            pos = K->colptr[col] + pb->nbr_off[t] + numbered(nd, I, i);
+            pos = K->colptr[col] + ls->nbr_off[t] + numbered(nd, I, i);
             /* a broken invariant, checked on every 16th group: the read is
              * a cache miss (a third of the maps' cost on clouds) */
             MPGM_CHECK(ctx, (g & 15) != 0 || K->rowind[pos] == row, MPGM_ERR_INTERNAL,
                        "scatter map: entry (%d, %d) misplaced", row, col);
           }
-          pb->scatter[(*s)++] = pos;
+          ls->scatter[(*s)++] = pos;
         }
     }
   }
@@ -488,8 +497,9 @@ static int group_map(mpgm_problem *pb, int g, int *srt, int *tpos, size_t *s) {
 
 /* One scatter map per group (none for node clouds). */
 static int scatter_maps(mpgm_problem *pb) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
-  const int ng = pb->ngroups;
+  const int ng = ls->ngroups;
   mpgm_timer_start(ctx, MPGM_T_ANALYSE);
   int maxk = 1, err = map_buffers(pb, &maxk);
   int *srt = malloc(sizeof(int) * (size_t)maxk), *tpos = malloc(sizeof(int) * (size_t)maxk * maxk);
@@ -497,14 +507,14 @@ static int scatter_maps(mpgm_problem *pb) {
     err = mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory (scatter map)");
   size_t s = 0;
   for (int g = 0; g < ng && !err; g++) {
-    pb->scatter_ptr[g] = (int)s;
-    if (!pb->nomap) err = group_map(pb, g, srt, tpos, &s);
+    ls->scatter_ptr[g] = (int)s;
+    if (!ls->nomap) err = group_map(pb, g, srt, tpos, &s);
   }
   free(srt);
   free(tpos);
   if (!err) {
-    pb->scatter_ptr[ng] = (int)s;
-    pb->map_version = pb->conn.map_version;
+    ls->scatter_ptr[ng] = (int)s;
+    ls->map_version = pb->conn.map_version;
   }
   mpgm_timer_stop(ctx, MPGM_T_ANALYSE);
   return err;

@@ -196,9 +196,10 @@ int mpgm_eval_points_each(mpgm_problem *pb, void (*each)(void *job, int p, const
 /* ---- external force --------------------------------------------------- */
 
 int mpgm_body_force(mpgm_problem *pb, double t) {
+  mpgm_linsys *ls = pb->ls;
   mpgm_ctx *ctx = pb->ctx;
   const int n = pb->nodes.ndof;
-  memset(pb->fext, 0, sizeof(double) * (size_t)n);
+  memset(ls->fext, 0, sizeof(double) * (size_t)n);
   if (!pb->fx.gravity && !pb->fx.manufactured) return 0;
   mpgm_timer_start(ctx, MPGM_T_BODYFORCE);
   const double *b = MPGM_MMS_FORCES(pb, t);
@@ -218,7 +219,7 @@ int mpgm_body_force(mpgm_problem *pb, double t) {
       const int I = C->node[k];
       const double w = m * C->N[k];
       for (int d = 0; d < MPGM_DIM; d++)
-        if (dof[MPGM_DIM * I + d] >= 0) pb->fext[dof[MPGM_DIM * I + d]] += w * bf[d];
+        if (dof[MPGM_DIM * I + d] >= 0) ls->fext[dof[MPGM_DIM * I + d]] += w * bf[d];
     }
   }
   mpgm_count(ctx, MPGM_C_BODY_FORCE, 1);

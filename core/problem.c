@@ -57,43 +57,10 @@ static int initial_stress(mpgm_problem *pb) {
   return 0;
 }
 
-/* The step's vectors, sized by the node capacity: a front end whose node
- * set changes every step (MPM) never has more than its capacity. */
-static int vectors(mpgm_problem *pb) {
-  const size_t nd = MPGM_DIM * (size_t)pb->nodes.cap + 1;
-  pb->R = calloc(nd, sizeof(double));
-  pb->fext = calloc(nd, sizeof(double));
-  pb->delta = calloc(nd, sizeof(double));
-  pb->dubar = calloc(nd, sizeof(double));
-  pb->react = calloc(nd, sizeof(double));
-  pb->cflip = calloc(nd, 1);
-  pb->fix_factored = calloc(nd, 1);
-  if (pb->scene->hht_alpha != 0.0) pb->fint_n = calloc(nd, sizeof(double));
-  MPGM_CHECK(pb->ctx, pb->R && pb->fext && pb->delta && pb->dubar && pb->react && pb->cflip &&
-                          pb->fix_factored && (pb->fint_n || pb->scene->hht_alpha == 0.0),
-             MPGM_ERR_NOMEM, "out of memory");
-  return 0;
-}
-
 /* Everything after the allocation of the problem itself. */
 static int setup(mpgm_problem *pb) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *scene = pb->scene;
-  /* "auto" takes Cholesky for symmetric tangents (LU when one is not
-   * positive definite), LU for unsymmetric ones */
-  mpgm_solver_opts so = scene->solver_opts;
-  so.symmetric = pb->symmetric;
-  /* Newton-Krylov: the scene's direct backend inside the composite. An
-   * explicit run solves nothing and creates no solver: a scene shared
-   * with implicit runs may name PETSc, which is then not loaded (nor MPI) */
-  so.part = scene->newton_krylov || so.fallback ? scene->solver : NULL;
-  /* an iterative backend with a direct one for the matrices it cannot do
-   * (solver.linear_fallback) */
-  const mpgm_solver_type *st = scene->newton_krylov ? &mpgm_solver_reuse
-                               : so.fallback        ? &mpgm_solver_fallback
-                                                    : scene->solver;
-  if (scene->analysis != MPGM_ANALYSIS_EXPLICIT)
-    MPGM_CALL(mpgm_solver_create(ctx, st, &so, &pb->solver));
   mpgm_fe_view v;
   mpgm_problem_view(pb, &v);
   mpgm_timer_start(ctx, MPGM_T_SHAPE);
@@ -105,8 +72,11 @@ static int setup(mpgm_problem *pb) {
   if (pb->fx.manufactured) MPGM_CALL(mpgm_mms_setup(pb));
 #endif
   mpgm_nodes_number(&pb->nodes);
-  MPGM_CALL(vectors(pb));
-  MPGM_CALL(mpgm_bfgs_setup(pb));
+  /* the integrator's own data: the implicit one's linear system, sized
+   * by the node capacity the front end has now set (an explicit run
+   * solves nothing and creates no solver: a scene shared with implicit
+   * runs may name PETSc, which is then not loaded, nor MPI) */
+  if (pb->integ->create) MPGM_CALL(pb->integ->create(pb, &pb->integ_data));
   /* the springs of contact at points are forces of t_n+1 only */
   MPGM_CHECK(ctx, !(pb->fx.contact_points && scene->hht_alpha != 0.0), MPGM_ERR_INPUT,
              "%s: time.hht_alpha: not with contact at surface points (their spring forces are "
@@ -115,7 +85,6 @@ static int setup(mpgm_problem *pb) {
 #if MPGM_DIM == 2 /* contact is plane strain (MPGM_MMS_FORCES) */
   if (pb->fx.contact_points) MPGM_CALL(mpgm_cpoints_setup(pb));
 #endif
-  if (pb->integ->create) MPGM_CALL(pb->integ->create(pb, &pb->integ_data));
   MPGM_CHECK(ctx, pb->nodes.n == 0 || pb->nodes.ndof > 0, MPGM_ERR_INPUT,
              "%s: boundaries: every degree of freedom is fixed; nothing to solve", scene->file);
   return 0;
@@ -136,12 +105,8 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene, const mpgm_front
   pb->dt = scene->analysis != MPGM_ANALYSIS_STATIC ? scene->dt : 1.0 / scene->load_steps;
   pb->fe = fe;
   pb->integ = scene->integrator;
-  pb->pattern_version = -1;
-  pb->graph_version = -1;
   /* effects: decided once, when the scene loads */
   mpgm_effects_of_scene(scene, &pb->fx);
-  pb->symmetric = 1;
-  for (int i = 0; i < scene->nmat; i++) pb->symmetric &= scene->mats[i].symmetric;
   mpgm_solver_threads(scene->threads);
   /* mpgm's own loops: worker threads live as long as the problem */
   int err = mpgm_pool_create(ctx, scene->loop_threads, &pb->pool);
@@ -162,18 +127,11 @@ void mpgm_problem_destroy(mpgm_problem **pp) {
   mpgm_points_free(&pb->pts);
   mpgm_nodes_free(&pb->nodes);
   mpgm_conn_release(&pb->conn);
-  void *arr[] = {pb->K.colptr, pb->K.rowind, pb->K.val, pb->scatter, pb->scatter_ptr, pb->order,
-                 pb->grp_ptr, pb->nbr, pb->nbr_ptr, pb->nbr_off, pb->node_order, pb->perm,
-                 pb->kloc, pb->kbatch, pb->kmask, pb->kslot, pb->task_grp, pb->task_pts, pb->R,
-                 pb->fext, pb->delta, pb->dubar, pb->react, pb->cflip, pb->fix_factored, pb->mms_b, pb->fint_n};
-  for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) free(arr[i]);
+  free(pb->mms_b);
   mpgm_pool_destroy(&pb->pool);
 #if MPGM_DIM == 2
   mpgm_cpoints_free(&pb->cp);
 #endif
-  mpgm_lowrank_free(&pb->lr);
-  mpgm_bfgs_free(&pb->bfgs);
-  mpgm_solver_destroy(&pb->solver);
   free(pb);
   *pp = NULL;
 }
@@ -209,14 +167,16 @@ void mpgm_problem_report(const mpgm_problem *pb, mpgm_report *r) {
   r->contact_resolves = pb->contact_rounds;
   r->nodes = pb->nodes.n;
   r->ndof = pb->nodes.ndof;
-  r->nnz = pb->K.nnz;
+  const mpgm_linsys *ls = pb->ls;
+  r->nnz = ls ? ls->K.nnz : 0;
   mpgm_cells c;
   mpgm_problem_cells(pb, &c);
   r->ncells = c.n;
   r->threads = mpgm_pool_size(pb->pool);
-  r->solver = pb->solver ? mpgm_solver_name(pb->solver) : "none";
-  r->solver_iterative = pb->solver && pb->solver->type->iterative;
-  r->have_solver_stats = pb->solver && mpgm_solver_get_stats(pb->solver, &r->solver_stats) == 0;
+  mpgm_solver *sv = ls ? ls->solver : NULL;
+  r->solver = sv ? mpgm_solver_name(sv) : "none";
+  r->solver_iterative = sv && sv->type->iterative;
+  r->have_solver_stats = sv && mpgm_solver_get_stats(sv, &r->solver_stats) == 0;
   if (pb->fx.contact_points) {
     r->contact_points = pb->cp.n;
     r->contact_points_held = pb->cp.held;

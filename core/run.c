@@ -124,7 +124,7 @@ static void cut(mpgm_problem *pb, mpgm_stepper *sp, long k, int err, mpgm_run_re
   if (sp->grown && s->grow_backoff) sp->wait = sp->wait < (1 << 20) ? 2 * sp->wait : sp->wait;
   sp->grown = 0;
   pb->step_cuts++;
-  pb->factor_valid = 0; /* the tangent of another step size */
+  if (pb->ls) pb->ls->factor_valid = 0; /* the tangent of another step size */
 }
 
 /* The run failed for good at step k, at t, for the reason in the context

@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "mpgm_core.h"
+#include "mpgm_linsys.h"
 
 /** Unilateral contact without slip at surface points (core/contact_points.c,
  *  docs/theory.md "Contact at surface points"): the pts.nsurf surface
@@ -27,68 +28,6 @@ struct mpgm_cpoints {
   long holds, releases; /**< changes of state over the run               */
   long unenforced;    /**< tracer-steps without shape functions          */
 };
-
-/** solver.contact_rank: a change of the contact springs at surface
- *  points applied to a kept factorisation by the Woodbury identity
- *  (lowrank.c). */
-typedef struct mpgm_lowrank {
-  int valid;          /**< the set below is of the solver's factorisation  */
-  int cap;            /**< columns at most (solver.contact_rank)           */
-  int r;              /**< columns now                                     */
-  int n;              /**< equations (K.n of the factorisation)            */
-  int n_cap;          /**< equations the arrays have room for              */
-  int nt;             /**< surface tracers (cp.n)                          */
-  unsigned char *held0; /**< per tracer: plane + 1 it was held on in the
-                           factorised tangent, 0 free                  */
-  int *col_t, *col_t2; /**< per column: its tracer (and of the set being
-                           built, update)                             */
-  signed char *col_c, *col_c2; /**< per column: its component              */
-  double *col_w, *col_w2; /**< per column: the change of stiffness (+
-                           caught)                                     */
-  int *nnz, *nnz2;    /**< per column: its entries (and of the set being
-                           built, update)                             */
-  int *idx, *idx2;    /**< per column MPGM_DIM MPGM_SHAPE_MAXNODE slots:
-                           equations of its entries                    */
-  double *val, *val2; /**< their values, sqrt(|w|) N                       */
-  double *Z, *Z2;     /**< per column n values: K0^-1 u                   */
-  double *C;          /**< r x r: LU factors of D^-1 + U^T Z               */
-  int *perm;          /**< their row exchanges                             */
-  double *y;          /**< r: scratch                                      */
-  int *src;           /**< cap: scratch of update                          */
-  double *W;          /**< per column n values: scratch of update          */
-} mpgm_lowrank;
-
-/** solver.newton "bfgs": the pairs (s, y) of the iterations since the
- *  last factorisation (bfgs.c), in a ring of solver.bfgs_pairs. */
-typedef struct mpgm_bfgs {
-  double *S, *Y;      /**< m vectors of the node capacity each:
-                           changes of du and of R                      */
-  double rho[MPGM_BFGS_PAIRS_MAX]; /**< 1 / (y^T s) of each pair          */
-  int m;              /**< slots of the ring (solver.bfgs_pairs)         */
-  int first, k;       /**< the oldest pair's slot; pairs held            */
-  int have_prev;      /**< r_prev, du_prev hold the last iterate         */
-  double *r_prev;     /**< R where the last correction started           */
-  double *du_prev;    /**< du there, over the numbered equations          */
-  double *q;          /**< scratch of the two-loop recursion             */
-} mpgm_bfgs;
-
-/** Chunks of the threaded assembly; a constant, so that the order of the
- *  sums does not depend on the number of threads. */
-#define MPGM_ASM_CHUNKS 16
-/* Largest union of node clouds a batch of points may have in the
- * clouds' assembly (assembly.c, assemble_batch); at least the largest
- * cloud, MPGM_SHAPE_MAXNODE. */
-#define MPGM_ASM_BATCH 128
-/* 64-bit words of a batch's row or column of touched blocks */
-#define MPGM_ASM_WORDS (MPGM_ASM_BATCH / 64)
-
-/** First assembly task of phase ph (0..3; 4 gives the end): chunk
- *  interiors 0..C-1, interfaces between chunks c and c+1 with c even, with
- *  c odd, and the rest (one serial task), C = MPGM_ASM_CHUNKS. */
-static inline int mpgm_asm_phase(int ph) {
-  const int C = MPGM_ASM_CHUNKS, first[5] = {0, C, C + C / 2, 2 * C - 1, 2 * C};
-  return first[ph];
-}
 
 /** Step control across the run loop (run.c); kept in the problem, so that a
  *  run restored from a checkpoint continues with the step it had. */
@@ -144,87 +83,13 @@ struct mpgm_problem {
                           before each iteration                          */
   int resumed;       /**< restored from a checkpoint (mpgm_problem_restore):
                           the run continues its step control and result */
-  /* linear system */
-  mpgm_csc K;
-  mpgm_dof_layout K_layout; /**< K's equations: nodes.dof and nodes.x, set
-                          before each analyse (mpgm_problem_analyse)    */
-  int pattern_version; /**< conn.version the pattern was built for      */
-  int graph_version; /**< conn.version the groups and node graph are of */
-  int map_version;   /**< conn.map_version the scatter maps were built for */
-  int factor_valid;  /**< the solver holds a factorisation of this pattern
-                          (modified Newton may reuse it across steps)    */
-  unsigned char *fix_factored; /**< nodes.fix when it was factorised: held
-                          contact components have identity rows, so
-                          a different held set is a different matrix    */
-  /* points grouped by node list: the points of a group have identical
-   * lists (the particles in one grid cell, the Gauss points of one
-   * element), so they share a scatter map and one local matrix */
-  int ngroups;
-  int *order;        /**< material points, group after group            */
-  int *grp_ptr;      /**< ngroups + 1 offsets into order                 */
-  int *scatter;      /**< per group: MPGM_BLOCK n_p^2 positions in K.val
-                          (-1: fixed component)                         */
-  int *scatter_ptr;  /**< ngroups + 1 offsets of the groups' maps        */
-  size_t scatter_cap; /**< allocated entries of scatter                 */
-  int nomap;         /**< node clouds: K assembled by merging each column's
-                          node list, no stored maps (assembly.c)        */
-  int *nbr_ptr, *nbr; /**< node graph of the pattern: sorted neighbours  */
-  int *nbr_off;      /**< per neighbour entry: offset of its rows in the
-                          owner's columns                               */
-  int *node_order;   /**< solver.ordering geometric: nodes in nested-
-                          dissection order (of the graph version)       */
-  int *perm;         /**< the equations in that order (K.n), handed to
-                          the solver's analysis; NULL: its own order    */
-  double *kloc;      /**< local matrices of the groups, one per thread
-                          (kloc_size doubles each)                      */
-  int kloc_size;     /**< MPGM_BLOCK max n_p^2                           */
-  double *kbatch;    /**< node clouds: per thread, the summed local matrix
-                          of a batch of nearby points over the union of
-                          their clouds (MPGM_BLOCK MPGM_ASM_BATCH^2
-                          doubles, zero between batches), merged into K
-                          once (assembly.c)                              */
-  uint64_t *kmask;   /**< node clouds: per thread and batch slot, the
-                          slots its points coupled it with (MPGM_ASM_WORDS
-                          words each; zero between batches): the merge
-                          into K visits only those pairs              */
-  int *kslot;        /**< node clouds: per thread and node, its place in
-                          the batch's union (-1: none); kslot_n each     */
-  int kslot_n;       /**< nodes kslot has room for, per thread           */
-  int pattern_missed; /**< node clouds: set by an assembly task that found
-                          a nonzero block outside the pattern          */
-  /* threads (docs/architecture.md, "Threads"): the groups are cut into
-   * MPGM_ASM_CHUNKS chunks along the group order; the assembly runs as
-   * tasks over groups that share no node with another task of the same
-   * phase, so tasks of a phase may run at once and every entry of R and K
-   * receives its terms in one fixed order, whatever the number of
-   * threads */
   mpgm_pool *pool;   /**< worker threads (scene "threads")               */
-  int task_ptr[2 * MPGM_ASM_CHUNKS + 1]; /**< offsets into task_grp       */
-  int *task_grp;     /**< groups, task after task, ascending in a task   */
-  int tpt_ptr[2 * MPGM_ASM_CHUNKS + 1]; /**< offsets into task_pts        */
-  int *task_pts;     /**< the tasks' points (their groups' points)       */
-  double *R, *fext, *delta;
-  double *fint_n;    /**< time.hht_alpha: f_ext - R at the start of the
-                          step (du = 0): the internal force at t_n on this
-                          step's nodes, weighted -alpha in R (NULL: Newmark) */
-  double *dubar;     /**< MPGM_DIM per node: prescribed increment of the
-                          step                                          */
-  const double *lift; /**< when set (first iteration), assembly adds
-                           -K_free,fixed * lift to R: the prescribed increment
-                           enters Newton linearly, not as a jump of the
-                           boundary nodes alone                           */
-  mpgm_solver *solver;
-  int symmetric;     /**< all tangents symmetric (static or dynamic)    */
-  double *react;     /**< MPGM_DIM per node: support force on the body
-                          at fixed components (mpgm_reactions)          */
+  mpgm_linsys *ls;   /**< the implicit integrator's linear system (NULL
+                          in an explicit run: it solves nothing)       */
   long contact_rounds; /**< extra solves of steps whose contact set changed */
-  double step_ref;     /**< the step's reference norm of the residual (newton.c) */
   long step_cuts;    /**< steps rejected and retried with half the step
                           (time.max_cuts; run.c)                        */
-  unsigned char *cflip; /**< per node: contact state changed in this step */
   mpgm_cpoints cp;   /**< contact at surface points (fx.contact_points)  */
-  mpgm_lowrank lr;   /**< contact changes on the kept factorisation      */
-  mpgm_bfgs bfgs;    /**< solver.newton "bfgs": the updates since it      */
 };
 
 /** Load factor at the end of the step being solved: static, the load
@@ -257,7 +122,7 @@ int mpgm_eval_points(mpgm_problem *pb, int want_D);
 int mpgm_eval_points_each(mpgm_problem *pb, void (*each)(void *job, int p, const double *dF),
                           void *job);
 /** Assemble R = f_ext - f_int (- f_inertia) and, if want_K, the tangent
- *  into pb->K (pattern must exist). Exposed for tests. */
+ *  into pb->ls->K (pattern must exist). Exposed for tests. */
 int mpgm_assemble(mpgm_problem *pb, int want_K);
 /** Assemble R = f_ext - f_int (no inertia term) and K = M, the consistent
  *  mass matrix, with the same pattern (held contact components: identity
@@ -323,7 +188,7 @@ int mpgm_bfgs_solve(mpgm_problem *pb, int reuse);
 static inline double mpgm_gravity_factor(const mpgm_problem *pb, double t) {
   return pb->fx.inertia ? mpgm_gravity_ramp(pb->scene, t) : pb->lambda;
 }
-/** External force (gravity times its factor at time t) into pb->fext. */
+/** External force (gravity times its factor at time t) into pb->ls->fext. */
 int mpgm_body_force(mpgm_problem *pb, double t);
 
 
@@ -390,7 +255,7 @@ typedef struct mpgm_newton {
   int it;          /**< the current iterate: corrections made so far       */
   double fnorm;    /**< |f_ext| over the free equations                   */
   double ref;      /**< reference norm: max(|R_0|, fnorm), and a re-solve's
-                        at least the step's (pb->step_ref)             */
+                        at least the step's (pb->ls->step_ref)             */
   double res;      /**< |R| at the current iterate                        */
   double res_prev; /**< |R| at the previous one                           */
   int factored;    /**< a factorisation for this pattern and fixity exists */

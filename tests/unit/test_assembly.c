@@ -212,8 +212,8 @@ static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
 
   mpgm_nodes *nd = &pb->nodes;
   const int n = nd->ndof, nf = 2 * nd->n;
-  mpgm_test(n > 0 && n < nf && pb->K.n == n, "%s: %d free of %d components, K is %d x %d", name,
-            n, nf, pb->K.n, pb->K.n);
+  mpgm_test(n > 0 && n < nf && pb->ls->K.n == n, "%s: %d free of %d components, K is %d x %d", name,
+            n, nf, pb->ls->K.n, pb->ls->K.n);
   Kf = malloc(sizeof(double) * (size_t)nf * nf);
   Kg = malloc(sizeof(double) * (size_t)nf * nf);
   Kd = malloc(sizeof(double) * (size_t)n * n);
@@ -239,7 +239,7 @@ static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
   if (!err) err = mpgm_assemble(pb, 1);
   mpgm_test(err == 0, "%s: eval_points and assemble (%d: %s)", name, err, ctx.msg);
   if (err) goto done;
-  memcpy(R0, pb->R, sizeof(double) * n);
+  memcpy(R0, pb->ls->R, sizeof(double) * n);
   double smax = 0.0;
   for (int p = 0; p < pb->pts.n; p++)
     for (int i = 0; i < 3; i++) smax = fmax(smax, fabs(pb->pts.sigma_t[4 * p + i]));
@@ -247,7 +247,7 @@ static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
             name, smax);
 
   /* (i) sparse vs dense */
-  if (csc_dense(&pb->K, Kd, in, name)) goto done;
+  if (csc_dense(&pb->ls->K, Kd, in, name)) goto done;
   dense_tangent(pb, pb->fx.geometric, pb->fx.inertia, Kf);
   double kmax = 0.0, emax = 0.0, amax = 0.0;
   int wi = -1, wj = -1, missing = 0;
@@ -267,14 +267,14 @@ static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
             name, missing);
   mpgm_test_abs(emax / kmax, 0.0, TOL_DENSE,
                 "%s: CSC = dense tangent, every entry (rel; worst at row %d, col %d)", name, wi, wj);
-  mpgm_test(pb->K.symmetric == 1, "%s: K flagged symmetric", name);
+  mpgm_test(pb->ls->K.symmetric == 1, "%s: K flagged symmetric", name);
   mpgm_test_abs(amax / kmax, 0.0, TOL_DENSE, "%s: K symmetric (rel)", name);
 
   /* lift of the first Newton iteration: R -= K_free,fixed lift */
   for (int i = 0; i < nf; i++) lift[i] = uniform(r, -amp, amp);
-  pb->lift = lift;
+  pb->ls->lift = lift;
   err = mpgm_assemble(pb, 1);
-  pb->lift = NULL;
+  pb->ls->lift = NULL;
   double lmax = 0.0, lref = 0.0, rmax = 0.0;
   for (int i = 0; i < n; i++) rmax = fmax(rmax, fabs(R0[i]));
   for (int I = 0; I < nf; I++) {
@@ -283,7 +283,7 @@ static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
     double dR = 0.0;
     for (int J = 0; J < nf; J++)
       if (nd->dof[J] < 0) dR -= Kf[(size_t)I * nf + J] * lift[J];
-    lmax = fmax(lmax, fabs(pb->R[i] - R0[i] - dR));
+    lmax = fmax(lmax, fabs(pb->ls->R[i] - R0[i] - dR));
     lref = fmax(lref, fabs(dR));
   }
   mpgm_test(err == 0 && lref > 0.0, "%s: assemble with a lift (%d)", name, err);
@@ -299,11 +299,11 @@ static void run_case(const char *dir, const asm_case *ac, int cell, rng *r) {
     nd->du[J] = du0 + e;
     err = mpgm_eval_points(pb, 1);
     if (!err) err = mpgm_assemble(pb, 0);
-    memcpy(Rp, pb->R, sizeof(double) * n);
+    memcpy(Rp, pb->ls->R, sizeof(double) * n);
     nd->du[J] = du0 - e;
     if (!err) err = mpgm_eval_points(pb, 1);
     if (!err) err = mpgm_assemble(pb, 0);
-    memcpy(Rm, pb->R, sizeof(double) * n);
+    memcpy(Rm, pb->ls->R, sizeof(double) * n);
     nd->du[J] = du0;
     if (err) break;
     double cerr = 0.0;

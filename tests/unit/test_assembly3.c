@@ -56,8 +56,16 @@ static const double E_MOD = 7.31e6, NU = 0.2847, RHO = 1851.3;
 /* dynamic: dt such that m / (beta dt^2) is comparable to the stiffness */
 static const double DT = 8.53e-3;
 
-/* Steps are never taken here: a tangent-making integrator without a step. */
-static const mpgm_integrator_type no_step = {.name = "test-no-step", .implicit = 1};
+/* Steps are never taken here: a tangent-making integrator without a step,
+ * owning its linear system as the implicit one does. */
+static int no_step_create(mpgm_problem *pb, void **self) {
+  const int err = mpgm_linsys_create(pb);
+  *self = pb->ls;
+  return err;
+}
+static void no_step_destroy(void *self) { mpgm_linsys_destroy(self); }
+static const mpgm_integrator_type no_step = {
+    .name = "test-no-step", .implicit = 1, .create = no_step_create, .destroy = no_step_destroy};
 
 typedef struct asm_case {
   const char *name;
@@ -178,7 +186,7 @@ typedef struct bufs {
 static double check_dense(mpgm_problem *pb, bufs *B, const char *name) {
   const mpgm_nodes *nd = &pb->nodes;
   const int n = nd->ndof, nf = 3 * nd->n;
-  if (csc_dense(&pb->K, B->Kd, B->in, name)) return 0.0;
+  if (csc_dense(&pb->ls->K, B->Kd, B->in, name)) return 0.0;
   dense_tangent(pb, pb->fx.geometric, pb->fx.inertia, B->Kf);
   double kmax = 0.0, emax = 0.0, amax = 0.0;
   int wi = -1, wj = -1, missing = 0;
@@ -198,7 +206,7 @@ static double check_dense(mpgm_problem *pb, bufs *B, const char *name) {
             name, missing);
   mpgm_test_abs(emax / kmax, 0.0, TOL_DENSE,
                 "%s: CSC = dense tangent, every entry (rel; worst at row %d, col %d)", name, wi, wj);
-  mpgm_test(pb->K.symmetric == 1, "%s: K flagged symmetric", name);
+  mpgm_test(pb->ls->K.symmetric == 1, "%s: K flagged symmetric", name);
   mpgm_test_abs(amax / kmax, 0.0, TOL_DENSE, "%s: K symmetric (rel)", name);
   return kmax;
 }
@@ -208,9 +216,9 @@ static void check_lift(mpgm_problem *pb, bufs *B, rng *r, double amp, const char
   const mpgm_nodes *nd = &pb->nodes;
   const int n = nd->ndof, nf = 3 * nd->n;
   for (int i = 0; i < nf; i++) B->lift[i] = uniform(r, -amp, amp);
-  pb->lift = B->lift;
+  pb->ls->lift = B->lift;
   const int err = mpgm_assemble(pb, 1);
-  pb->lift = NULL;
+  pb->ls->lift = NULL;
   double lmax = 0.0, lref = 0.0, rmax = 0.0;
   for (int i = 0; i < n; i++) rmax = fmax(rmax, fabs(B->R0[i]));
   for (int I = 0; I < nf; I++) {
@@ -219,7 +227,7 @@ static void check_lift(mpgm_problem *pb, bufs *B, rng *r, double amp, const char
     double dR = 0.0;
     for (int J = 0; J < nf; J++)
       if (nd->dof[J] < 0) dR -= B->Kf[(size_t)I * nf + J] * B->lift[J];
-    lmax = fmax(lmax, fabs(pb->R[i] - B->R0[i] - dR));
+    lmax = fmax(lmax, fabs(pb->ls->R[i] - B->R0[i] - dR));
     lref = fmax(lref, fabs(dR));
   }
   mpgm_test(err == 0 && lref > 0.0, "%s: assemble with a lift (%d)", name, err);
@@ -261,11 +269,11 @@ static void check_fd(mpgm_problem *pb, bufs *B, double kmax, const char *name) {
     nd->du[J] = du0 + e;
     err = mpgm_eval_points(pb, 1);
     if (!err) err = mpgm_assemble(pb, 0);
-    memcpy(B->Rp, pb->R, sizeof(double) * n);
+    memcpy(B->Rp, pb->ls->R, sizeof(double) * n);
     nd->du[J] = du0 - e;
     if (!err) err = mpgm_eval_points(pb, 1);
     if (!err) err = mpgm_assemble(pb, 0);
-    memcpy(B->Rm, pb->R, sizeof(double) * n);
+    memcpy(B->Rm, pb->ls->R, sizeof(double) * n);
     nd->du[J] = du0;
     double cerr = 0.0;
     int wr = -1;
@@ -313,10 +321,11 @@ static void run_case(const asm_case *ac, rng *r) {
   mpgm_nodes *nd = &pb->nodes;
   const int n = nd->ndof, nf = 3 * nd->n;
   int single = 0; /* groups of one point (merged into the batch directly) */
-  for (int g = 0; g < pb->ngroups; g++) single += pb->grp_ptr[g + 1] - pb->grp_ptr[g] == 1;
-  mpgm_test(n > 0 && n < nf && pb->K.n == n && pb->nomap == !fem,
+  const mpgm_linsys *ls = pb->ls;
+  for (int g = 0; g < ls->ngroups; g++) single += ls->grp_ptr[g + 1] - ls->grp_ptr[g] == 1;
+  mpgm_test(n > 0 && n < nf && ls->K.n == n && ls->nomap == !fem,
             "%s: %d free of %d components, K is %d x %d, %s; %d groups of points, %d of one", name,
-            n, nf, pb->K.n, pb->K.n, pb->nomap ? "merged in batches" : "scatter maps", pb->ngroups,
+            n, nf, ls->K.n, ls->K.n, ls->nomap ? "merged in batches" : "scatter maps", ls->ngroups,
             single);
   const size_t nn = (size_t)n * n, ff = (size_t)nf * nf;
   B.Kf = malloc(sizeof(double) * ff);
@@ -343,7 +352,7 @@ static void run_case(const asm_case *ac, rng *r) {
   if (!err) err = mpgm_assemble(pb, 1);
   mpgm_test(err == 0, "%s: eval_points and assemble (%d: %s)", name, err, ctx.msg);
   if (err) goto done;
-  memcpy(B.R0, pb->R, sizeof(double) * n);
+  memcpy(B.R0, pb->ls->R, sizeof(double) * n);
   double smax[2] = {0.0, 0.0}; /* normal and shear stresses */
   for (int p = 0; p < pb->pts.n; p++)
     for (int i = 0; i < 6; i++) smax[i >= 3] = fmax(smax[i >= 3], fabs(pb->pts.sigma_t[6 * p + i]));

@@ -17,7 +17,10 @@
  *      (node count and coupled node pairs);
  *   4. after a converged step, a step that fails (Newton limited to one
  *      iteration) leaves the points (by id) and persistent nodes exactly
- *      as before (rollback).
+ *      as before (rollback);
+ *   5. the implicit problem owns a linear system with a solver; the same
+ *      scene explicit (time.analysis "explicit", max_iter 0 below) has
+ *      none: an explicit run allocates no tangent, vectors nor solver.
  *
  * Tolerances: the sums run over at most MPGM_SHAPE_MAXNODE O(1) terms;
  * LME reproduces to its Newton tolerance 1e-10, so TOL_PU = 1e-9 (grad N
@@ -51,23 +54,29 @@ static const char *body_for(const mpgm_frontend_type *fe) {
 }
 
 /* The scene of a combination (dynamic, gravity, clamped at x = 0 where
- * the body meets the domain's edge; max_iter: Newton's limit). */
+ * the body meets the domain's edge; max_iter: Newton's limit, 0 for the
+ * scene explicit). */
 static int make_scene(mpgm_ctx *ctx, const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh,
                       const char *cell, int max_iter, mpgm_scene **out) {
   /* the time step at which a step takes several Newton iterations */
-  char text[2048];
+  char text[2048], time[160];
+  if (max_iter > 0)
+    snprintf(time, sizeof time, "\"time\": {\"analysis\": \"dynamic\", \"dt\": 0.01, "
+             "\"end\": 0.05}, \"solver\": {\"max_iterations\": %d},", max_iter);
+  else
+    snprintf(time, sizeof time, "\"time\": {\"analysis\": \"explicit\", \"dt\": 1e-4, "
+             "\"end\": 1e-3},");
   snprintf(text, sizeof text,
            "{\"method\": \"%s\", \"shape\": {\"kind\": \"%s\"},"
            " \"mesh\": {\"h\": %g, \"cell\": \"%s\", \"layout\": \"%s\","
            " \"domain\": {\"min\": [0, 0], \"max\": [2.4, 1.6]}},"
-           " \"time\": {\"analysis\": \"dynamic\", \"dt\": 0.01, \"end\": 0.05},"
-           " \"solver\": {\"max_iterations\": %d},"
+           " %s"
            " \"materials\": {\"m\": {\"type\": \"neo_hookean\", \"density\": 2385.7, \"E\": 3.1e6, "
            "\"nu\": 0.287}},"
            " \"bodies\": [%s], \"boundaries\": [{\"x\": 0.0, \"fix\": [\"x\", \"y\"]}],"
            " \"gravity\": [0.0, -9.81], \"probes\": {\"in\": [0.9137, 0.5713]},"
            " \"output\": {\"vtk\": \"none\"}}",
-           fe->name, sh->name, H, cell, sh->grid_only ? "centres" : "gauss", max_iter, body_for(fe));
+           fe->name, sh->name, H, cell, sh->grid_only ? "centres" : "gauss", time, body_for(fe));
   cJSON *j = cJSON_Parse(text);
   if (!j) return mpgm_err_set(ctx, MPGM_ERR_INTERNAL, __FILE__, __LINE__, "bad test scene JSON");
   char name[96];
@@ -277,6 +286,29 @@ static void check_rollback(const char *what, mpgm_scene *s, mpgm_problem *pb) {
   free(after.nodes);
 }
 
+/* 5: the scene explicit has no linear system (where the front end and
+ * shape kind run explicit; otherwise the loader refuses the scene). */
+static int nexplicit; /* combinations checked explicit */
+static void check_explicit(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh,
+                           const char *cell, const char *what) {
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  mpgm_scene *s = NULL;
+  mpgm_problem *pb = NULL;
+  if (make_scene(&ctx, fe, sh, cell, 0, &s)) return;
+  const int err = mpgm_problem_create(&ctx, s, NULL, &pb);
+  mpgm_test(!err, "%s explicit: problem made (%s)", what, err ? ctx.msg : "ok");
+  nexplicit++;
+  if (!err) {
+    mpgm_report r;
+    mpgm_problem_report(pb, &r);
+    mpgm_test(!pb->ls && r.nnz == 0 && strcmp(r.solver, "none") == 0,
+              "%s explicit: no linear system, no solver (%s)", what, r.solver);
+  }
+  mpgm_problem_destroy(&pb);
+  mpgm_scene_destroy(&s);
+}
+
 static void check_combination(const mpgm_frontend_type *fe, const mpgm_shapefn_type *sh,
                               const char *cell) {
   char what[96];
@@ -299,9 +331,12 @@ static void check_combination(const mpgm_frontend_type *fe, const mpgm_shapefn_t
       if (!err) check_versions(what, pb);
     }
     if (!err && pass == 1) check_rollback(what, s, pb);
+    if (!err) mpgm_test(pb->ls && pb->ls->solver, "%s: the implicit problem has its linear system",
+                        what);
     mpgm_problem_destroy(&pb);
     mpgm_scene_destroy(&s);
   }
+  check_explicit(fe, sh, cell, what);
 }
 
 int main(void) {
@@ -330,5 +365,6 @@ int main(void) {
   }
   mpgm_test(nfe >= 3 && ncomb >= 3 * 2, "%d front ends, %d combinations of front end, shape kind "
             "and cell", nfe, ncomb);
+  mpgm_test(nexplicit >= 6, "%d of them checked explicit too", nexplicit);
   return mpgm_test_summary();
 }
