@@ -22,6 +22,7 @@
 #include "mpgm_checkpoint.h"
 #include "mpgm_file.h"
 #include "mpgm_json_reader.h"
+#include "mpgm_parallel.h"
 #include "mpgm_run.h"
 #include "mpgm_scene_io.h"
 #include "study.h"
@@ -549,43 +550,62 @@ static int test_fault(mpgm_ctx *ctx) {
   return EXIT_INPUT;
 }
 
-/* One of several processes an MPI launcher started (mpiexec -n 2, srun
- * with PMI): mpgm runs on one process, and copies of one command would
- * write the same results folder (issue 54 brings runs on many). Known by
- * the launcher's environment, without MPI: Open MPI's OMPI_COMM_WORLD_SIZE,
- * MPICH's and Intel MPI's (Hydra, Slurm's PMI) PMI_SIZE, MVAPICH's
- * MV2_COMM_WORLD_SIZE. Returns the size (1 when none says more) and this
- * process's rank, with the variable that told. */
-static int launched_processes(int *rank, const char **var) {
-  static const char *const sizes[][2] = {{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
-                                         {"PMI_SIZE", "PMI_RANK"},
-                                         {"MV2_COMM_WORLD_SIZE", "MV2_COMM_WORLD_RANK"}};
-  *rank = 0;
-  *var = NULL;
-  for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++) {
-    const char *s = getenv(sizes[i][0]), *r = getenv(sizes[i][1]);
-    const long n = s ? strtol(s, NULL, 10) : 0;
-    if (n > 1) {
-      *rank = r ? (int)strtol(r, NULL, 10) : 0;
-      *var = sizes[i][0];
-      return n > 1000000 ? 1000000 : (int)n;
-    }
-  }
-  return 1;
-}
-
-/* Refused before a command reads anything (rank 0 says why; the others
- * exit quietly): nothing is written. */
-static int one_process_only(const char *cmd) {
+/* Started as one of several processes by an MPI launcher (mpiexec -n 2,
+ * srun with PMI; mpgm_parallel_launched): run and check run on them all;
+ * the other commands run on one process, and copies of them would write
+ * the same files: refused before anything is read (rank 0 says why; the
+ * others exit quietly). */
+static int one_process_only(const char *cmd, int *many) {
   int rank;
   const char *var;
-  const int n = launched_processes(&rank, &var);
-  if (n == 1) return EXIT_OK;
+  const int n = mpgm_parallel_launched(&rank, &var);
+  *many = n > 1 ? n : 0;
+  if (n == 1 || strcmp(cmd, "run") == 0 || strcmp(cmd, "check") == 0) return EXIT_OK;
   if (rank == 0)
-    fprintf(stderr, "mpgm %s: started as one of %d processes (%s=%d): mpgm runs on one process, and "
-            "the copies would write the same results; run it without mpiexec (or with -n 1)\n",
-            cmd, n, var, n);
+    fprintf(stderr, "mpgm %s: started as one of %d processes (%s=%d): mpgm %s runs on one "
+            "process, and the copies would write the same files; run it without mpiexec (or "
+            "with -n 1); mpgm run and check run on many\n", cmd, n, var, n, cmd);
   return EXIT_INPUT;
+}
+
+/* The processes of a run under a launcher: MPI and PETSc started and the
+ * context's communicator set, once the scene is known to be this build's
+ * dimension (a process that has started MPI cannot become mpgm-3d:
+ * EXIT_HANDOFF before, with nothing started). Every process but rank 0
+ * writes nothing to the terminal. */
+static int start_processes(const args *a, mpgm_ctx *ctx, int launched) {
+  if (MPGM_DIM == 2 && a->scene && !a->restart) {
+    mpgm_ctx quiet;
+    mpgm_ctx_init(&quiet);
+    mpgm_scene *s = NULL;
+    const int err = mpgm_scene_load(&quiet, a->scene, a->nset, a->sets, &s);
+    mpgm_scene_destroy(&s);
+    if (err == MPGM_ERR_DIMENSION) return EXIT_HANDOFF;
+  }
+  char msg[1024];
+  const mpgm_comm *comm = NULL;
+  const int err = mpgm_parallel_start(&comm, msg, sizeof msg);
+  atexit(mpgm_parallel_finalize); /* before the solvers' end: PETSc ends here */
+  if (err) {
+    fprintf(stderr, "mpgm %s: started by an MPI launcher, and MPI could not start: %s\n", a->cmd,
+            msg);
+    return EXIT_SIM;
+  }
+  if (comm->size != launched) { /* say, MPICH's mpiexec starting copies of an Open MPI program */
+    int rank;
+    const char *var;
+    mpgm_parallel_launched(&rank, &var);
+    if (rank == 0)
+      fprintf(stderr, "mpgm %s: the launcher started %d processes (%s=%d), and MPI sees %d: the "
+              "launcher is not of the MPI mpgm was built with (Debian's Open MPI: its mpiexec), "
+              "and the copies would write the same results\n", a->cmd, launched, var, launched,
+              comm->size);
+    return EXIT_INPUT;
+  }
+  ctx->comm = comm;
+  if (comm->rank != 0 && (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)))
+    return EXIT_IO;
+  return EXIT_OK;
 }
 
 int main(int argc, char **argv) {
@@ -616,7 +636,8 @@ int main(int argc, char **argv) {
     printf("mpgm %s\n", mpgm_version()); /* what a checkpoint records */
     return EXIT_OK;
   }
-  const int launched = one_process_only(argv[1]);
+  int many = 0;
+  const int launched = one_process_only(argv[1], &many);
   if (launched != EXIT_OK) return launched;
   if (strcmp(argv[1], "study") == 0) return mpgm_cmd_study(argc, argv);
   if (strcmp(argv[1], "plot") == 0) return mpgm_cmd_plot(argc, argv);
@@ -630,16 +651,22 @@ int main(int argc, char **argv) {
   }
   args a;
   int rc = parse_args(argc, argv, &a);
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
   if (rc == EXIT_OK) {
-    mpgm_ctx ctx;
-    mpgm_ctx_init(&ctx);
     rc = test_fault(&ctx);
+    if (rc == EXIT_OK && many) rc = start_processes(&a, &ctx, many);
     if (rc == EXIT_OK)
       rc = strcmp(a.cmd, "run") == 0      ? cmd_run(&a, &ctx)
            : strcmp(a.cmd, "material") == 0 ? cmd_material(&a, &ctx)
                                             : cmd_check(&a, &ctx);
   }
   free(a.sets);
+  if (rc == EXIT_HANDOFF && ctx.comm) { /* a 3-D checkpoint, met once MPI had started */
+    fprintf(stderr, "mpgm: %s holds a 3-D run, which mpgm-3d continues: start mpgm-3d under "
+            "the launcher\n", a.restart ? a.restart : a.scene);
+    return EXIT_INPUT;
+  }
   /* the whole command again, by the program built for the scene's
    * dimension (nothing was written: the scene is read first) */
   if (rc == EXIT_HANDOFF) rc = mpgm_handoff(argv, a.scene);

@@ -289,6 +289,26 @@ typedef struct mpgm_fault {
 } mpgm_fault;
 
 /** The run context: first error, timers, counters, logger. One per run. */
+/** A reduction over the processes of a run (mpgm_comm). */
+typedef enum mpgm_reduce { MPGM_REDUCE_SUM, MPGM_REDUCE_MIN, MPGM_REDUCE_MAX } mpgm_reduce;
+
+/** The processes a run is one of (as SUNDIALS' SUNContext_Create(comm)):
+ *  this one's rank and their number, with the collectives the library
+ *  uses, given by the module that started MPI (parallel/, mpgm_par.so,
+ *  over a duplicate of MPI_COMM_WORLD). A context without one (comm
+ *  NULL) is one process: each collective below is then the identity and
+ *  no MPI is called, nor loaded. Every operation returns 0, or -1 when
+ *  MPI failed. */
+typedef struct mpgm_comm {
+  int rank;       /**< this process, 0 .. size - 1                     */
+  int size;       /**< processes of the run                            */
+  void *impl;     /**< the module's communicator                       */
+  int (*allreduce)(void *impl, mpgm_reduce op, double *v, int n); /**< in place */
+  int (*allreduce_long)(void *impl, mpgm_reduce op, long *v, int n); /**< in place */
+  int (*bcast)(void *impl, void *buf, size_t bytes, int root);
+  int (*barrier)(void *impl);
+} mpgm_comm;
+
 typedef struct mpgm_ctx {
   int code;           /**< first recorded error code, 0 if none   */
   char msg[1024];     /**< its message                            */
@@ -301,7 +321,21 @@ typedef struct mpgm_ctx {
   void *log_user;     /**< its first argument                      */
   int log_level;      /**< most detailed level passed on            */
   mpgm_fault fault;   /**< a failure made on purpose (tests); off    */
+  const mpgm_comm *comm; /**< the run's processes; NULL: one process  */
 } mpgm_ctx;
+
+/** The number of processes of the context's run (1 without a comm). */
+static inline int mpgm_ctx_size(const mpgm_ctx *ctx) { return ctx->comm ? ctx->comm->size : 1; }
+/** This process's rank in it (0 without a comm). */
+static inline int mpgm_ctx_rank(const mpgm_ctx *ctx) { return ctx->comm ? ctx->comm->rank : 0; }
+
+/** v[0..n) reduced over the run's processes, in place, on every one
+ *  (MPI_Allreduce); nothing on one process. 0, or the recorded error. */
+int mpgm_allreduce(mpgm_ctx *ctx, mpgm_reduce op, double *v, int n);
+/** The same for integers. */
+int mpgm_allreduce_long(mpgm_ctx *ctx, mpgm_reduce op, long *v, int n);
+/** bytes of buf from process root to all (MPI_Bcast); nothing on one. */
+int mpgm_bcast(mpgm_ctx *ctx, void *buf, size_t bytes, int root);
 
 /** 1 when the failure `code` is to be made now, in an attempt of `step`
  *  (mpgm_fault); 0 otherwise, always when no fault is set. */

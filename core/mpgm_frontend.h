@@ -68,6 +68,13 @@ enum {
                                     lme)                                 */
 };
 
+/** Analyses a front end runs on many processes (mpgm_frontend_type.processes). */
+enum {
+  MPGM_FE_MANY_EXPLICIT = 1 << 0, /**< time.analysis "explicit"             */
+  MPGM_FE_MANY_IMPLICIT = 1 << 1  /**< the implicit analyses (static, quasi-
+                                       static, dynamic)                   */
+};
+
 /** Boundary conditions a front end supports (mpgm_frontend_type.conditions). */
 enum {
   MPGM_FE_COND_FIX = 1 << 0,            /**< fixed components: "fix", stick,
@@ -111,6 +118,9 @@ typedef struct mpgm_frontend_type {
   int obstacles;          /**< 1: takes rigid obstacles (node layers)     */
   int explicit_schemes;   /**< 1: takes time.analysis "explicit" (lumped
                                mass on nodes it projects every step)     */
+  unsigned processes;     /**< MPGM_FE_MANY_* bits: the analyses it runs
+                               on many processes (mpiexec -n P, P > 1);
+                               a scene it cannot run so is refused at load */
   /** Optional: its own keys of the scene's "shape" section (beside the
    *  kind's), read into mpgm_scene.pattern (nshape_keys of them); another
    *  method's scene refuses them by this front end's name. */

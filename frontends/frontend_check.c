@@ -21,7 +21,7 @@ static int fail(mpgm_ctx *ctx, const mpgm_scene *s, const char *path, const char
 
 /* The names of the methods whose trait `field` has every bit of `bits`
  * ("fem, mpm"; "none"). */
-enum { SHAPES, GEOMETRIES, CONDITIONS, OBSTACLES, EXPLICIT };
+enum { SHAPES, GEOMETRIES, CONDITIONS, OBSTACLES, EXPLICIT, PROCESSES };
 static const char *takers(int field, unsigned bits, char *buf, size_t len) {
   const mpgm_frontend_type *const *t = mpgm_frontend_types();
   buf[0] = '\0';
@@ -30,7 +30,8 @@ static const char *takers(int field, unsigned bits, char *buf, size_t len) {
                           : field == GEOMETRIES ? t[i]->geometries
                           : field == CONDITIONS ? t[i]->conditions
                           : field == OBSTACLES  ? (unsigned)t[i]->obstacles
-                                                : (unsigned)t[i]->explicit_schemes;
+                          : field == EXPLICIT   ? (unsigned)t[i]->explicit_schemes
+                                                : t[i]->processes;
     if ((have & bits) != bits) continue;
     const size_t n = strlen(buf);
     snprintf(buf + n, len - n, "%s%s", n ? ", " : "", t[i]->name);
@@ -166,6 +167,21 @@ static int check_explicit(mpgm_ctx *ctx, const mpgm_scene *s) {
   return 0;
 }
 
+/* A run on many processes (mpiexec -n P): only the analyses the front
+ * end runs so (mpgm_frontend_type.processes), never a wrong run. */
+static int check_processes(mpgm_ctx *ctx, const mpgm_scene *s) {
+  const int np = mpgm_ctx_size(ctx);
+  if (np == 1) return 0;
+  const int expl = s->analysis == MPGM_ANALYSIS_EXPLICIT;
+  const unsigned need = expl ? MPGM_FE_MANY_EXPLICIT : MPGM_FE_MANY_IMPLICIT;
+  if (s->frontend->processes & need) return 0;
+  char m[128];
+  return fail(ctx, s, "method", "method %s runs its %s analyses on one process only so far, and "
+              "this run was started on %d (methods that run them on many: %s); run it without "
+              "mpiexec, or with -n 1", s->frontend->name, expl ? "explicit" : "implicit", np,
+              takers(PROCESSES, need, m, sizeof m));
+}
+
 int mpgm_frontend_check(mpgm_ctx *ctx, const mpgm_scene *s) {
   const mpgm_frontend_type *fe = s->frontend;
   MPGM_CALL(check_shape(ctx, s));
@@ -180,5 +196,6 @@ int mpgm_frontend_check(mpgm_ctx *ctx, const mpgm_scene *s) {
                 "background grid (its nodes and cells are its own, written as mesh.pvd; method "
                 "mpm has one)", fe->name);
   MPGM_CALL(check_explicit(ctx, s));
+  MPGM_CALL(check_processes(ctx, s));
   return fe->check ? fe->check(ctx, s) : 0;
 }

@@ -3,26 +3,16 @@
  * stand-in record here whose create loads the module and whose operations
  * forward to the module's record, so a run that never asks for PETSc
  * never loads it, nor MPI (80 ms and a hundred libraries per command).
- *
- * The module is looked for in $MPGM_PLUGIN_DIR, then beside the running
- * executable, then in the build folder it was built in (MPGM_PLUGIN_DIR_BUILT,
- * so that the unit tests in build/tests find it too).
+ * Where the module is looked for: mpgm_module.h.
  */
-#define _GNU_SOURCE /* dladdr-free: readlink of /proc/self/exe */
+#include "mpgm_module.h"
 #include "mpgm_petsc_options.h"
 #include "mpgm_solver.h"
 
 #include <dlfcn.h>
-#include <limits.h>
 #include <pthread.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
-
-#ifndef MPGM_PLUGIN_DIR_BUILT
-#define MPGM_PLUGIN_DIR_BUILT ""
-#endif
 
 #define MODULE "mpgm_petsc.so"
 
@@ -31,80 +21,20 @@ static void *handle;
 static const mpgm_solver_type *real;
 static void (*real_finalize)(void);
 
-/* The folder of the running executable into dir ("" if unknown). */
-static void exe_dir(char *dir, size_t len) {
-  const ssize_t l = readlink("/proc/self/exe", dir, len - 1);
-  dir[l > 0 ? l : 0] = '\0';
-  char *slash = strrchr(dir, '/');
-  if (slash) *slash = '\0';
-}
-
-/* dlopen dir/MODULE: the handle, NULL when there is no such file or it
- * does not load (then, with msg, dlopen's reason). */
-static void *open_in(const char *dir, char *msg, size_t len) {
-  if (!dir || !*dir) return NULL;
-  char path[PATH_MAX + 64];
-  snprintf(path, sizeof path, "%s/%s", dir, MODULE);
-  if (access(path, R_OK) != 0) return NULL;
-  void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-  if (!h && msg) {
-    const char *e = dlerror();
-    snprintf(msg, len, "%.*s: %.400s", PATH_MAX, path, e ? e : "dlopen failed");
-  }
-  return h;
-}
-
-/* The places the module is looked for, in order. */
-static void places(const char *where[3], char *exe, size_t len) {
-  exe_dir(exe, len);
-  where[0] = getenv("MPGM_PLUGIN_DIR");
-  where[1] = exe;
-  where[2] = MPGM_PLUGIN_DIR_BUILT;
-}
-
 static void load(void) {
-  char exe[PATH_MAX];
-  const char *where[3];
-  places(where, exe, sizeof exe);
-  for (int i = 0; i < 3 && !handle; i++) handle = open_in(where[i], NULL, 0);
+  handle = mpgm_module_open(MODULE);
   if (!handle) return;
   real = dlsym(handle, "mpgm_solver_petsc_module");
   *(void **)&real_finalize = dlsym(handle, "mpgm_solver_petsc_module_finalize");
   if (!real || !real_finalize) real = NULL;
 }
 
-/* Why the module did not load, found again when asked (a failure only):
- * the first place whose file does not load, a module without its record,
- * or no file at all. */
-static void why_not(char *msg, size_t len) {
-  char exe[PATH_MAX];
-  const char *where[3];
-  places(where, exe, sizeof exe);
-  if (handle) {
-    snprintf(msg, len, "%s: the module lacks its backend record", MODULE);
-    return;
-  }
-  for (int i = 0; i < 3; i++) {
-    void *h = open_in(where[i], msg, len);
-    if (h) { /* the file appeared after the first attempt */
-      dlclose(h);
-      snprintf(msg, len, "%s in %s loads now but did not when first asked: run again", MODULE,
-               where[i]);
-    }
-    if (msg[0]) return;
-  }
-  snprintf(msg, len, "%s not found in $MPGM_PLUGIN_DIR, %s or %s (mpgm was built without "
-           "PETSc: install petsc-dev, as scripts/setup.sh does, and build again)", MODULE,
-           exe[0] ? exe : "the executable's folder", *MPGM_PLUGIN_DIR_BUILT ? MPGM_PLUGIN_DIR_BUILT
-                                                                        : "the build folder");
-}
-
 int mpgm_solver_plugin_load(const char *name, char *msg, size_t len) {
   if (strcmp(name, "petsc") != 0) return 0;
   pthread_once(&load_once, load);
   if (!real && msg && len > 0) {
-    msg[0] = '\0';
-    why_not(msg, len);
+    if (handle) snprintf(msg, len, "%s: the module lacks its backend record", MODULE);
+    else mpgm_module_why_not(MODULE, "PETSc", msg, len);
   }
   return real ? 0 : -1;
 }

@@ -339,6 +339,44 @@ static void check_combination(const mpgm_frontend_type *fe, const mpgm_shapefn_t
   check_explicit(fe, sh, cell, what);
 }
 
+/* A communicator of two processes whose collectives are never called: the
+ * load's check only asks its size. */
+static int no_reduce(void *impl, mpgm_reduce op, double *v, int n) {
+  (void)impl, (void)op, (void)v, (void)n;
+  return -1;
+}
+
+/* 6: on two processes a scene loads when the front end runs its analysis
+ * on many (mpgm_frontend_type.processes), and is otherwise refused at
+ * load, on the key "method", naming the method and the analysis. */
+static void check_processes(const mpgm_frontend_type *fe) {
+  const mpgm_shapefn_type *const *t = mpgm_shapefn_types(), *sh = NULL;
+  for (int k = 0; t[k] && !sh; k++) /* the first kind it takes */
+    if (fe->shapes & (t[k]->needs_cell ? MPGM_FE_SHAPE_CELL : MPGM_FE_SHAPE_CLOUD) &&
+        !(t[k]->grid_only && fe->persistent_nodes) && !t[k]->velocity_ls)
+      sh = t[k];
+  const mpgm_comm two = {.rank = 1, .size = 2, .allreduce = no_reduce};
+  for (int expl = 0; expl < 2; expl++) {
+    if (expl && !fe->explicit_schemes) continue;
+    mpgm_ctx ctx;
+    mpgm_ctx_init(&ctx);
+    ctx.comm = &two;
+    mpgm_scene *s = NULL;
+    const int err = make_scene(&ctx, fe, sh, "quad", expl ? 0 : 25, &s);
+    const unsigned bit = expl ? MPGM_FE_MANY_EXPLICIT : MPGM_FE_MANY_IMPLICIT;
+    char want[160];
+    snprintf(want, sizeof want, ": method: method %s runs its %s analyses on one process only so "
+             "far, and this run was started on 2", fe->name, expl ? "explicit" : "implicit");
+    if (fe->processes & bit)
+      mpgm_test(err == 0, "%s %s on 2 processes: loads (%s)", fe->name, expl ? "explicit" : "implicit",
+                ctx.msg);
+    else
+      mpgm_test(err == MPGM_ERR_INPUT && strstr(ctx.msg, want), "%s %s on 2 processes: refused at "
+                "load (%s)", fe->name, expl ? "explicit" : "implicit", ctx.msg);
+    mpgm_scene_destroy(&s);
+  }
+}
+
 int main(void) {
   const mpgm_frontend_type *const *fe = mpgm_frontend_types();
   const mpgm_shapefn_type *const *sh = mpgm_shapefn_types();
@@ -349,6 +387,7 @@ int main(void) {
                   fe[nfe]->destroy && fe[nfe]->begin_step && fe[nfe]->shapes && fe[nfe]->geometries,
               "%s: found by name; create, destroy, begin_step; takes some shape and geometry",
               fe[nfe]->name);
+    check_processes(fe[nfe]);
     for (int k = 0; sh[k]; k++) {
       const unsigned need = sh[k]->needs_cell ? MPGM_FE_SHAPE_CELL : MPGM_FE_SHAPE_CLOUD;
       if (!(fe[nfe]->shapes & need)) continue;

@@ -1,0 +1,191 @@
+/* test_parallel.c -- the context's communicator (mpgm_comm, mpgm_base.h)
+ * and the module that starts MPI (mpgm_parallel.h).
+ *
+ * Alone, the collectives of a context without a communicator are the
+ * identity and no MPI is started. Under an MPI launcher (processes.sh
+ * runs it with mpiexec -n 2 and -n 3) MPI and PETSc start through
+ * mpgm_par.so, the communicator has the launcher's size, every
+ * collective gives on every rank what the ranks' values say, and the
+ * partitioned grid (mpgm_pgrid, 2-D and 3-D) sums shared nodes as one
+ * process would and migrates every point to the process of its cell. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpgm_base.h"
+#include "mpgm_parallel.h"
+#include "mpgm_test.h"
+
+static void one_process(void) {
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  double v[3] = {1.5, -2.0, NAN};
+  long l[2] = {7, -3};
+  char b[4] = "abc";
+  const int err = mpgm_allreduce(&ctx, MPGM_REDUCE_SUM, v, 3) |
+                  mpgm_allreduce_long(&ctx, MPGM_REDUCE_MAX, l, 2) | mpgm_bcast(&ctx, b, 4, 0);
+  mpgm_test(err == 0 && mpgm_ctx_size(&ctx) == 1 && mpgm_ctx_rank(&ctx) == 0 && v[0] == 1.5 &&
+                v[1] == -2.0 && isnan(v[2]) && l[0] == 7 && l[1] == -3 && strcmp(b, "abc") == 0,
+            "one process: size 1, rank 0, the collectives leave every value as it was");
+}
+
+#define NPT 600
+
+/* Point q's position in cell units (deterministic: the same on every rank). */
+static void position(int q, int dim, const int n[3], double x[3]) {
+  rng r = {.s = 0x9e3779b97f4a7c15ull ^ (uint64_t)(q + 1) * 0x2545f4914f6cdd1dull};
+  for (int d = 0; d < 3; d++) x[d] = d < dim ? uniform(&r, 0.0, n[d] - 1.0) : 0.0;
+}
+
+/* Point x's linear weights to the 2^dim nodes of its cell: ijk and w. */
+static int corners(const double x[3], int dim, int ijk[8][3], double w[8]) {
+  const int m = 1 << dim;
+  for (int c = 0; c < m; c++) {
+    w[c] = 1.0;
+    for (int d = 0; d < 3; d++) {
+      const int base = (int)x[d], up = d < dim && (c >> d & 1);
+      const double f = x[d] - base;
+      ijk[c][d] = base + up;
+      if (d < dim) w[c] *= up ? f : 1.0 - f;
+    }
+  }
+  return m;
+}
+
+/* Sums at shared nodes: each rank projects its own cells' points (values
+ * 1, x, y times the linear weights) to the nodes they reach; after the
+ * sums every rank holds at those nodes what all points give there. */
+static void check_sums(mpgm_ctx *ctx, int dim) {
+  const int n[3] = {13, 9, 7}, r = ctx->comm->rank;
+  mpgm_pgrid *g = NULL;
+  if (mpgm_pgrid_create(ctx, dim, n, 3, 1, &g)) {
+    mpgm_test(0, "%d-D grid: %s", dim, ctx->msg);
+    return;
+  }
+  const int nn = n[0] * n[1] * (dim == 3 ? n[2] : 1);
+  double *mine = calloc(3 * (size_t)nn, sizeof(double)), *all = calloc(3 * (size_t)nn, sizeof(double));
+  int *touched = calloc((size_t)nn, sizeof(int));
+  for (int q = 0; q < NPT; q++) {
+    double x[3], w[8];
+    int ijk[8][3], cell[3];
+    position(q, dim, n, x);
+    for (int d = 0; d < 3; d++) cell[d] = (int)x[d];
+    const int own = mpgm_pgrid_owner(g, cell) == r, m = corners(x, dim, ijk, w);
+    for (int c = 0; c < m; c++) {
+      const int I = ijk[c][0] + n[0] * (ijk[c][1] + n[1] * ijk[c][2]);
+      const double v[3] = {w[c], w[c] * x[0], w[c] * x[1]};
+      for (int k = 0; k < 3; k++) {
+        all[3 * I + k] += v[k];
+        if (own) mine[3 * I + k] += v[k];
+      }
+      touched[I] |= own;
+    }
+  }
+  int nt = 0, *ijk = malloc(sizeof(int) * 3 * (size_t)nn);
+  double *val = malloc(sizeof(double) * 3 * (size_t)nn);
+  for (int I = 0; I < nn; I++)
+    if (touched[I]) {
+      const int at[3] = {I % n[0], I / n[0] % n[1], I / (n[0] * n[1])};
+      for (int d = 0; d < dim; d++) ijk[dim * nt + d] = at[d];
+      for (int k = 0; k < 3; k++) val[3 * nt + k] = mine[3 * I + k];
+      nt++;
+    }
+  const int err = mpgm_pgrid_sum(ctx, g, nt, ijk, val);
+  double worst = 0.0;
+  for (int t = 0, I = 0; I < nn && !err; I++)
+    if (touched[I]) {
+      for (int k = 0; k < 3; k++) worst = fmax(worst, fabs(val[3 * t + k] - all[3 * I + k]) / (fabs(all[3 * I + k]) + 1e-300));
+      t++;
+    }
+  mpgm_test(err == 0 && nt > 0 && worst <= TEST_TOL3, "%d-D rank %d: the sums at its %d nodes are "
+            "all points' (worst relative difference %.2e) %s", dim, r, nt, worst, err ? ctx->msg : "");
+  free(mine), free(all), free(touched), free(ijk), free(val);
+  mpgm_pgrid_destroy(&g);
+}
+
+/* Migration: rank r starts with the points q = r (mod P), each a record
+ * (q, x, y, z, 2 q + 1); after it every rank holds exactly the points of
+ * its own cells, each once, with its record whole. */
+static void check_migration(mpgm_ctx *ctx, int dim) {
+  const int n[3] = {11, 8, 6}, r = ctx->comm->rank, P = ctx->comm->size, rec = 5;
+  mpgm_pgrid *g = NULL;
+  if (mpgm_pgrid_create(ctx, dim, n, 1, 1, &g)) {
+    mpgm_test(0, "%d-D grid: %s", dim, ctx->msg);
+    return;
+  }
+  double *out = malloc(sizeof(double) * rec * NPT), *in = NULL;
+  int *dest = malloc(sizeof(int) * NPT), nout = 0, nin = 0, mine = 0;
+  for (int q = 0; q < NPT; q++) {
+    double x[3];
+    int cell[3];
+    position(q, dim, n, x);
+    for (int d = 0; d < 3; d++) cell[d] = (int)x[d];
+    const int o = mpgm_pgrid_owner(g, cell);
+    mine += o == r;
+    if (q % P != r) continue;
+    double *R = out + rec * nout;
+    R[0] = q, R[1] = x[0], R[2] = x[1], R[3] = x[2], R[4] = 2.0 * q + 1.0;
+    dest[nout++] = o;
+  }
+  const int err = mpgm_pgrid_migrate(ctx, g, rec, nout, out, dest, &nin, &in);
+  int bad = 0;
+  long ids[2] = {0, nin};
+  for (int i = 0; i < nin && !err; i++) {
+    const double *R = in + rec * i;
+    double x[3];
+    int cell[3];
+    position((int)R[0], dim, n, x);
+    for (int d = 0; d < 3; d++) cell[d] = (int)x[d];
+    bad += mpgm_pgrid_owner(g, cell) != r || R[1] != x[0] || R[2] != x[1] || R[3] != x[2] ||
+           R[4] != 2.0 * R[0] + 1.0;
+    ids[0] += (long)R[0];
+  }
+  mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, ids, 2);
+  mpgm_test(err == 0 && nin == mine && bad == 0 && ids[1] == NPT && ids[0] == (long)NPT * (NPT - 1) / 2,
+            "%d-D rank %d: after the migration it holds the %d points of its cells, records whole "
+            "(%d wrong); %ld points in all %s", dim, r, nin, bad, ids[1], err ? ctx->msg : "");
+  free(out), free(in), free(dest);
+  mpgm_pgrid_destroy(&g);
+}
+
+static void many(int launched) {
+  const mpgm_comm *comm = NULL;
+  char msg[512];
+  const int err = mpgm_parallel_start(&comm, msg, sizeof msg);
+  mpgm_test(err == 0 && comm && comm->size == launched && comm->rank >= 0 && comm->rank < launched,
+            "MPI started on %d processes (%s)", launched, err ? msg : "ok");
+  if (err || !comm) return;
+  mpgm_ctx ctx;
+  mpgm_ctx_init(&ctx);
+  ctx.comm = comm;
+  const int r = comm->rank, n = comm->size;
+  double s[2] = {r + 1.0, 0.5 * r}, lo = 10.0 - r, hi = r * r;
+  long c[2] = {r, 1};
+  int e = mpgm_allreduce(&ctx, MPGM_REDUCE_SUM, s, 2) | mpgm_allreduce(&ctx, MPGM_REDUCE_MIN, &lo, 1) |
+          mpgm_allreduce(&ctx, MPGM_REDUCE_MAX, &hi, 1) |
+          mpgm_allreduce_long(&ctx, MPGM_REDUCE_SUM, c, 2);
+  mpgm_test(e == 0 && s[0] == n * (n + 1) / 2.0 && s[1] == 0.25 * n * (n - 1) && lo == 11.0 - n &&
+                hi == (n - 1.0) * (n - 1.0) && c[0] == (long)n * (n - 1) / 2 && c[1] == n,
+            "rank %d of %d: sum, min, max of doubles and the sum of integers", r, n);
+  char text[32] = "";
+  if (r == n - 1) strcpy(text, "from the last rank");
+  e = mpgm_bcast(&ctx, text, sizeof text, n - 1);
+  mpgm_test(e == 0 && strcmp(text, "from the last rank") == 0, "rank %d: a broadcast from rank %d",
+            r, n - 1);
+  for (int dim = 2; dim <= 3; dim++) {
+    check_sums(&ctx, dim);
+    check_migration(&ctx, dim);
+  }
+  mpgm_test(mpgm_parallel_start(&comm, msg, sizeof msg) == -1 && strstr(msg, "once"),
+            "a second start is refused (%s)", msg);
+  mpgm_parallel_finalize();
+}
+
+int main(void) {
+  int rank;
+  const char *var;
+  const int launched = mpgm_parallel_launched(&rank, &var);
+  one_process();
+  if (launched > 1) many(launched);
+  return mpgm_test_summary();
+}
