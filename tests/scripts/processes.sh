@@ -25,7 +25,8 @@ expect 2 "the launcher started 2 processes (OMPI_COMM_WORLD_SIZE=2), and MPI see
   OMPI_COMM_WORLD_RANK=0 "$exe" run "$cl" "${quick[@]}" --out ompi
 [ ! -e ompi ] && ok "nothing written (no results folder)" || ko "a results folder: $(ls ompi)"
 env PMI_SIZE=3 PMI_RANK=1 "$exe" check "$cl" > pmi.out 2> pmi.err; rc=$?
-[ $rc -eq 2 ] && [ ! -s pmi.err ] && [ ! -s pmi.out ] && ok "PMI rank 1 of 3: check refused quietly (exit 2)" \
+# (quietly: no line of mpgm's; a sanitizer's report at exit may follow)
+[ $rc -eq 2 ] && ! grep -q "^mpgm" pmi.err && [ ! -s pmi.out ] && ok "PMI rank 1 of 3: check refused quietly (exit 2)" \
   || ko "PMI rank 1 of 3: exit $rc, $(head -c 300 pmi.err)"
 expect 2 "started as one of 4 processes (MV2_COMM_WORLD_SIZE=4): mpgm study runs on one process" \
   "MVAPICH's 4: study refused before MPI" env MV2_COMM_WORLD_SIZE=4 "$exe" study nosuch.json
