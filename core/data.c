@@ -84,6 +84,116 @@ typedef struct {
   int w;
 } point_array;
 
+/* The committed per-point arrays of p, in the order of a point's record
+ * (mpgm_point_pack). */
+enum { NARR = 17 };
+static void point_arrays(mpgm_points *p, point_array arr[NARR]) {
+  const point_array a[NARR] = {
+      {(void **)&p->x, MPGM_DIM},          {(void **)&p->x0, MPGM_DIM},
+      {(void **)&p->u, MPGM_DIM},          {(void **)&p->v, MPGM_DIM},
+      {(void **)&p->a, MPGM_DIM},          {(void **)&p->mass, 1},
+      {(void **)&p->vol0, 1},              {(void **)&p->vol, 1},
+      {(void **)&p->F, MPGM_TENSOR},       {(void **)&p->sigma, MPGM_NSTRESS},
+      {(void **)&p->S0, MPGM_NSTRESS},     {(void **)&p->state, p->nstate},
+      {(void **)&p->r0, MPGM_TENSOR},     {(void **)&p->L, MPGM_TENSOR},
+      {(void **)&p->mat, -1},              {(void **)&p->body, -1},
+      {(void **)&p->id, -1}};
+  memcpy(arr, a, sizeof a);
+}
+
+int mpgm_point_record_len(const mpgm_points *P) {
+  point_array arr[NARR];
+  point_arrays((mpgm_points *)P, arr);
+  int len = 0;
+  for (int j = 0; j < NARR; j++) len += arr[j].w < 0 ? 1 : arr[j].w;
+  return len;
+}
+
+void mpgm_point_pack(const mpgm_points *P, int p, double *rec) {
+  point_array arr[NARR];
+  point_arrays((mpgm_points *)P, arr);
+  for (int j = 0; j < NARR; j++) {
+    const int w = arr[j].w;
+    if (w < 0) *rec++ = (double)(*(int *const *)arr[j].a)[p]; /* exact: |int| < 2^53 */
+    else {
+      memcpy(rec, *(double *const *)arr[j].a + (size_t)w * p, sizeof(double) * (size_t)w);
+      rec += w;
+    }
+  }
+}
+
+/* Record rec into point q of the arrays fresh (point_arrays' order). */
+static void unpack(const point_array *arr, void *const *fresh, int q, const double *rec) {
+  for (int j = 0; j < NARR; j++) {
+    const int w = arr[j].w;
+    if (w < 0) ((int *)fresh[j])[q] = (int)*rec++;
+    else {
+      memcpy((double *)fresh[j] + (size_t)w * q, rec, sizeof(double) * (size_t)w);
+      rec += w;
+    }
+  }
+}
+
+/* The trial arrays for n material points of m in all, the committed
+ * values copied into the ones an explicit step swaps (F_t, sigma_t,
+ * vol_t: mpgm_points_alloc). */
+static int trial_arrays(mpgm_ctx *ctx, mpgm_points *p, int n, int m) {
+  double **t[] = {&p->F_t, &p->dF_t, &p->sigma_t, &p->D_t, &p->state_t, &p->vol_t};
+  for (size_t i = 0; i < sizeof t / sizeof *t; i++) {
+    free(*t[i]);
+    *t[i] = NULL;
+  }
+  MPGM_ALLOC(ctx, p->F_t, MPGM_TENSOR * (size_t)m);
+  MPGM_ALLOC(ctx, p->dF_t, MPGM_TENSOR * (size_t)n + 1);
+  MPGM_ALLOC(ctx, p->sigma_t, MPGM_NSTRESS * (size_t)m);
+  MPGM_ALLOC(ctx, p->D_t, MPGM_NTANGENT * (size_t)n + 1);
+  MPGM_ALLOC(ctx, p->state_t, (size_t)p->nstate * n + 1);
+  MPGM_ALLOC(ctx, p->vol_t, (size_t)m);
+  memcpy(p->F_t, p->F, sizeof(double) * MPGM_TENSOR * (size_t)m);
+  memcpy(p->sigma_t, p->sigma, sizeof(double) * MPGM_NSTRESS * (size_t)m);
+  memcpy(p->vol_t, p->vol, sizeof(double) * (size_t)m);
+  return 0;
+}
+
+int mpgm_points_exchange(mpgm_ctx *ctx, mpgm_points *p, const unsigned char *keep, int nin,
+                         const double *in) {
+  const int n = p->n, m = n + p->nprobe + p->nsurf, rec = mpgm_point_record_len(p);
+  int nk = 0;
+  for (int i = 0; i < n; i++) nk += keep[i] != 0;
+  const int n2 = nk + nin, m2 = n2 + (m - n);
+  point_array arr[NARR];
+  point_arrays(p, arr);
+  void *fresh[NARR] = {NULL};
+  int ok = 1;
+  for (int j = 0; j < NARR && ok; j++) {
+    const size_t bytes = arr[j].w < 0 ? sizeof(int) : sizeof(double) * (size_t)arr[j].w;
+    ok = (fresh[j] = malloc(bytes * (size_t)m2 + 1)) != NULL;
+  }
+  double *r = ok ? malloc(sizeof(double) * (size_t)rec) : NULL;
+  if (!r) {
+    for (int j = 0; j < NARR; j++) free(fresh[j]);
+    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (%d points arriving, %d kept)", nin, nk);
+  }
+  int q = 0;
+  for (int i = 0; i < n; i++) /* the points that stay, in their order */
+    if (keep[i]) {
+      mpgm_point_pack(p, i, r);
+      unpack(arr, fresh, q++, r);
+    }
+  for (int i = 0; i < nin; i++) unpack(arr, fresh, q++, in + (size_t)rec * i);
+  for (int i = n; i < m; i++) { /* the tracers after them */
+    mpgm_point_pack(p, i, r);
+    unpack(arr, fresh, q++, r);
+  }
+  free(r);
+  for (int j = 0; j < NARR; j++) {
+    free(*arr[j].a);
+    *arr[j].a = fresh[j];
+  }
+  p->n = n2;
+  return trial_arrays(ctx, p, n2, m2);
+}
+
 typedef struct {
   const point_array *arr;
   void *const *fresh;
@@ -125,17 +235,8 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *
     if (perm_out && n == 1) perm_out[0] = 0;
     return 0;
   }
-  const point_array arr[] = {
-      {(void **)&p->x, MPGM_DIM},          {(void **)&p->x0, MPGM_DIM},
-      {(void **)&p->u, MPGM_DIM},          {(void **)&p->v, MPGM_DIM},
-      {(void **)&p->a, MPGM_DIM},          {(void **)&p->mass, 1},
-      {(void **)&p->vol0, 1},              {(void **)&p->vol, 1},
-      {(void **)&p->F, MPGM_TENSOR},       {(void **)&p->sigma, MPGM_NSTRESS},
-      {(void **)&p->S0, MPGM_NSTRESS},     {(void **)&p->state, p->nstate},
-      {(void **)&p->r0, MPGM_TENSOR},     {(void **)&p->L, MPGM_TENSOR},
-      {(void **)&p->mat, -1},              {(void **)&p->body, -1},
-      {(void **)&p->id, -1}};
-  enum { NARR = sizeof arr / sizeof arr[0] };
+  point_array arr[NARR];
+  point_arrays(p, arr);
   void *fresh[NARR] = {NULL};
   int *perm = perm_out ? perm_out : malloc(sizeof(int) * (size_t)n);
   int *cnt = calloc((size_t)nkey + 1, sizeof(int));

@@ -66,7 +66,7 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
 #if MPGM_DIM == 3
   /* a grid reset (MPM): the step projected m_I = sum_p N_Ip m_p over the
    * same lists, so the nodes' momentum is a loop over the nodes */
-  if (nodes && !pb->fe->persistent_nodes) {
+  if (nodes && !pb->fe->persistent_nodes && mpgm_ctx_size(pb->ctx) == 1) {
     nodes = 0;
     for (int I = 0; I < nd->n; I++)
       for (int d = 0; d < MPGM_DIM; d++) nmom[d] += nd->mass[I] * nd->v_new[MPGM_DIM * I + d];
@@ -87,6 +87,16 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
     e->momentum[d] += mom[d];
     e->node_momentum[d] += nmom[d];
   }
+  if (mpgm_ctx_size(pb->ctx) > 1) { /* the run's sums (each shared node counted once: by points) */
+    double v[3 + 2 * MPGM_DIM] = {e->kinetic, e->work_int, e->work_ext};
+    memcpy(v + 3, e->momentum, sizeof e->momentum);
+    memcpy(v + 3 + MPGM_DIM, e->node_momentum, sizeof e->node_momentum);
+    if (mpgm_allreduce(pb->ctx, MPGM_REDUCE_SUM, v, 3 + 2 * MPGM_DIM) == 0) {
+      e->kinetic = v[0], e->work_int = v[1], e->work_ext = v[2];
+      memcpy(e->momentum, v + 3, sizeof e->momentum);
+      memcpy(e->node_momentum, v + 3 + MPGM_DIM, sizeof e->node_momentum);
+    }
+  }
   if (pb->step == 0) memcpy(e->node_momentum, e->momentum, sizeof e->momentum);
   e->total = e->kinetic + e->work_int - e->work_ext;
 }
@@ -100,15 +110,18 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
  * stability limit. The guard's factor MPGM_ENERGY_FACTOR leaves the first
  * far behind (docs/scene-format.md, "Runs are sized and bounded"). */
 int mpgm_energy_guard(mpgm_problem *pb) {
-  pb->work_ext_max = fmax(pb->work_ext_max, fabs(pb->work_ext));
-  const double kin = mpgm_kinetic_energy(&pb->pts);
-  const double total = kin + pb->work_int - pb->work_ext;
+  /* on many processes each holds its points' part: the run's sums */
+  double e[3] = {mpgm_kinetic_energy(&pb->pts), pb->work_int, pb->work_ext};
+  MPGM_CALL(mpgm_allreduce(pb->ctx, MPGM_REDUCE_SUM, e, 3));
+  const double kin = e[0], work_int = e[1], work_ext = e[2];
+  pb->work_ext_max = fmax(pb->work_ext_max, fabs(work_ext));
+  const double total = kin + work_int - work_ext;
   const double scale = fmax(fmax(pb->energy0, pb->work_ext_max), pb->energy_floor);
   if (!(total - pb->energy0 > MPGM_ENERGY_FACTOR * scale)) return 0;
   MPGM_ERROR(pb->ctx, MPGM_ERR_DIVERGED, "diverged: the energy grew from %.6g J to %.6g J "
              "(kinetic %.6g J, work of the stresses %.6g J, of gravity and body forces %.6g J), "
              "more than %g times the largest of the start energy, the work done and the floor "
              "(%.6g J), with no work to account for it: an unstable step (a smaller time.dt, "
-             "or none: steps from time.cfl)", pb->energy0, total, kin, pb->work_int,
-             pb->work_ext, MPGM_ENERGY_FACTOR, scale);
+             "or none: steps from time.cfl)", pb->energy0, total, kin, work_int,
+             work_ext, MPGM_ENERGY_FACTOR, scale);
 }

@@ -72,8 +72,12 @@ static int explicit_create(mpgm_problem *pb, void **self) {
     mass += P->mass[p];
     c2max = fmax(c2max, d->mod[P->mat[p]] * P->vol[p] / P->mass[p]);
   }
+  double sums[2] = {mass, mpgm_kinetic_energy(P)}; /* over every process of the run */
+  MPGM_CALL(mpgm_allreduce(ctx, MPGM_REDUCE_SUM, sums, 2));
+  MPGM_CALL(mpgm_allreduce(ctx, MPGM_REDUCE_MAX, &c2max, 1));
+  mass = sums[0];
   for (int k = 0; k < MPGM_DIM; k++) reach += fabs(s->gravity[k]) * (s->dom_max[k] - s->dom_min[k]);
-  pb->energy0 = mpgm_kinetic_energy(P);
+  pb->energy0 = sums[1];
   pb->energy_floor = fmax(mass * reach, 1e-12 * mass * c2max);
   return 0;
 }
@@ -98,6 +102,10 @@ static double max_speed(const explicit_data *d, const mpgm_problem *pb) {
     if (s > vmax) vmax = s;
     if (c2 > c2max) c2max = c2;
   }
+  double both[2] = {vmax, c2max}; /* the fastest of every process's points */
+  if (mpgm_allreduce(pb->ctx, MPGM_REDUCE_MAX, both, 2)) return NAN;
+  vmax = both[0];
+  c2max = both[1];
 #if MPGM_DIM == 3
   vmax = sqrt(vmax);
 #endif
@@ -114,6 +122,7 @@ static double explicit_dt_limit(void *self, const mpgm_problem *pb) {
   const mpgm_scene *s = pb->scene;
   if (s->dt > 0.0 && d->warned) return INFINITY; /* allowed, and said so */
   const double speed = max_speed(d, pb);
+  if (isnan(speed) && pb->ctx->code) return NAN; /* the reduction failed: said in the context */
   if (s->dt > 0.0) {
     if (!(speed > 0.0) || !(s->dt > s->h / speed)) return INFINITY;
     if (!s->allow_unstable_dt) {
@@ -263,6 +272,7 @@ static node_job force_job(mpgm_problem *pb, explicit_data *d, const double *sigm
 static int forces_finish(mpgm_problem *pb, double *f, const double *vel, double *A) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_nodes *nd = &pb->nodes;
+  MPGM_CALL(mpgm_node_sums(pb, MPGM_DIM, f)); /* on many processes: the shared nodes' whole sums */
   mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
   const double alpha = pb->scene->local_damping;
   if (alpha > 0.0)
@@ -430,9 +440,10 @@ static void move_task(void *arg, int t, int tid) {
  * tracer's) velocity and acceleration are then set to zero, and the next
  * swing starts from there with the energy still out of balance. The
  * energy it takes out shows as a loss of the total. */
-static void kinetic_damping(mpgm_problem *pb) {
+static int kinetic_damping(mpgm_problem *pb) {
   mpgm_points *P = &pb->pts;
   double ke = mpgm_kinetic_energy(P);
+  MPGM_CALL(mpgm_allreduce(pb->ctx, MPGM_REDUCE_SUM, &ke, 1)); /* every process's points */
   if (ke < pb->ke_last) {
     const size_t m = (size_t)(P->n + P->nprobe + P->nsurf);
     memset(P->v, 0, sizeof(double) * MPGM_DIM * m);
@@ -441,6 +452,7 @@ static void kinetic_damping(mpgm_problem *pb) {
     ke = 0.0;
   }
   pb->ke_last = ke;
+  return 0;
 }
 
 /* The points (material points and tracers) from the nodes, on the pool's
@@ -471,9 +483,9 @@ static int move_points(mpgm_problem *pb, explicit_data *d, const double *V, cons
     if (j.b) wext += d->wp[2 * p + 1];
   }
   pb->work_ext += wext;
-  if (pb->scene->kinetic_damping) kinetic_damping(pb);
+  const int err = pb->scene->kinetic_damping ? kinetic_damping(pb) : 0;
   mpgm_timer_stop(ctx, MPGM_T_UPDATE);
-  return 0;
+  return err;
 }
 
 /* fe: the stress from the projected velocity v_I (update stress first),
@@ -576,8 +588,7 @@ static void predictor_scatter(const node_job *j) {
   for (int I = 0; I < n; I++) predictor_at(j, I);
 }
 
-#if MPGM_DIM == 3
-/* 3-D: the predictor from the step's projection (only the MPM front end
+/* 3-D, and on many processes: the predictor from the step's projection (only the MPM front end
  * takes explicit schemes; its begin_step projected m_I, v_I = q_I / m_I
  * and a_I = f_I / m_I over the same lists): v_pred = v_I + (1 - gamma)
  * dt a_I is the sum of predictor_of over m_I, without a pass over the
@@ -593,7 +604,6 @@ static int predictor_projected(const mpgm_problem *pb, double g, double *V) {
     }
   return 1;
 }
-#endif
 
 /* npc: the predictor of eq 30, projected from the points, v_pred =
  * sum_p N m_p (v_p + (1 - gamma) dt a_p) / m_I; the stress from it; the
@@ -608,11 +618,9 @@ static int npc_step(void *self, mpgm_problem *pb) {
   MPGM_CALL(gathers(pb, &gather));
   mpgm_timer_start(ctx, MPGM_T_MASS);
   node_job j = {.pb = pb, .ntask = mpgm_ntask(nd->n, 256), .g = g, .out = V};
-#if MPGM_DIM == 3
-  const int projected = predictor_projected(pb, g, V);
-#else
-  const int projected = 0;
-#endif
+  /* (on many processes the sums over the points would be partial at the
+   * shared nodes: the projection's are whole) */
+  const int projected = (MPGM_DIM == 3 || mpgm_ctx_size(ctx) > 1) && predictor_projected(pb, g, V);
   if (projected) { /* V holds it */
   } else if (gather) {
     mpgm_pool_run(pb->pool, j.ntask, predictor_task, &j);

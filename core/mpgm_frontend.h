@@ -149,6 +149,12 @@ typedef struct mpgm_frontend_type {
   /** After the integrator committed the step: move, keep or forget the
    *  nodes. */
   int (*end_step)(void *self, const mpgm_fe_view *v);
+  /** Optional (a front end that runs on many processes): val holds w
+   *  values per node of the step (nodes->n), this process's part of sums
+   *  over the points; on return each node's w values are the sums of
+   *  every process's parts there (the nodes shared with other processes
+   *  get theirs). Collective: every process calls it. */
+  int (*node_sums)(void *self, mpgm_ctx *ctx, int w, double *val);
   /** Optional: cells for output (a mesh.pvd next to points.pvd). */
   int (*cells)(const void *self, mpgm_cells *out);
   /** Optional: the background grid (output.grid: a grid.pvd series of

@@ -38,6 +38,7 @@ static void mpm_destroy(void *self) {
   free(d->sum);
   mpgm_conn_par_free(&d->par_build);
   mpgm_conn_task_free(&d->tail);
+  mpgm_mpm_dist_free(d);
   free(d);
 }
 
@@ -143,7 +144,8 @@ static int mpm_create(const mpgm_fe_view *v, void **self) {
                "%s: boundaries.%d (\"%s\"): expected a selector that picks grid nodes, found none "
                "within tol = %g", s->file, i, s->bcs[i].name, s->bcs[i].tol);
   }
-  return 0;
+  /* on many processes: the grid partitioned, this process's points kept */
+  return mpgm_mpm_dist_create(v, d);
 }
 
 /* Cell of a probe: its own cell if active, else an active neighbour that
@@ -497,7 +499,7 @@ static void step_nodes(const mpgm_fe_view *v, mpm_data *d) {
     }
     n++;
   }
-  nd->n = n;
+  nd->n = d->nstep = n;
   for (int k = 0; k < C->ptr[C->np]; k++) C->node[k] = d->gmap[C->node[k]];
 }
 
@@ -545,6 +547,8 @@ static int pattern_version(const mpgm_fe_view *v, mpm_data *d) {
  * inertia (eqs 38-41). */
 static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   mpm_data *d = self;
+  /* on many processes: the points that crossed into another's cells go there */
+  MPGM_CALL(mpgm_mpm_dist_migrate(v, d));
   const mpgm_points *P = v->pts;
   const int m = P->n + P->nprobe + P->nsurf;
   d->step++;
@@ -562,6 +566,7 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(mpgm_conn_runs(v->ctx, v->conn, P->n));
 #endif
   mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->mesh_par.min_node_mass, d->gm, d->light);
+  MPGM_CALL(mpgm_mpm_dist_light(v, d)); /* on many processes: by the run's nodal masses */
   MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->mesh_par.min_node_mass));
   step_nodes(v, d);
   /* probes and surface points without functions move with the material */
@@ -662,6 +667,7 @@ const mpgm_frontend_type mpgm_frontend_mpm = {
     .destroy = mpm_destroy,
     .begin_step = mpm_begin_step,
     .end_step = mpm_end_step,
+    .node_sums = mpgm_mpm_node_sums,
     .background = mpm_background,
     .save = mpm_save,
     .restore = mpm_restore,

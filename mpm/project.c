@@ -115,6 +115,36 @@ static int project_scatter(const mpgm_fe_view *v, mpm_data *d) {
   return 0;
 }
 
+/* On many processes: the projection's sums at the nodes shared with
+ * other processes completed (mass, momentum m v and inertia force m a,
+ * each process's part from its own points), and the velocity and
+ * acceleration at them anew. */
+static int project_shared(const mpgm_fe_view *v, mpm_data *d) {
+  mpgm_nodes *nd = v->nodes;
+  const int n = nd->n;
+  double *s = malloc(sizeof(double) * MPM_XW * ((size_t)n + 1));
+  MPGM_CHECK(v->ctx, s, MPGM_ERR_NOMEM, "out of memory (the projection's sums)");
+  for (int I = 0; I < n; I++) {
+    const double m = nd->mass[I];
+    s[MPM_XW * I] = m;
+    for (int c = 0; c < MPGM_DIM; c++) {
+      s[MPM_XW * I + 1 + c] = m * nd->v[MPGM_DIM * I + c];
+      s[MPM_XW * I + 1 + MPGM_DIM + c] = m * nd->a[MPGM_DIM * I + c];
+    }
+  }
+  const int err = mpgm_mpm_node_sums(d, v->ctx, MPM_XW, s);
+  for (int I = 0; I < n && !err; I++) {
+    const double m = s[MPM_XW * I];
+    nd->mass[I] = m;
+    for (int c = 0; c < MPGM_DIM && v->fx->inertia; c++) {
+      nd->v[MPGM_DIM * I + c] = s[MPM_XW * I + 1 + c] / m;
+      nd->a[MPGM_DIM * I + c] = s[MPM_XW * I + 1 + MPGM_DIM + c] / m;
+    }
+  }
+  free(s);
+  return err;
+}
+
 /* Projection (38)-(41) with the final shape functions: mass, momentum and
  * inertia force of the particles onto the nodes (to round-off), the nodal
  * velocity and acceleration (node by node on the pool's threads, or one
@@ -131,6 +161,7 @@ int mpgm_mpm_project(const mpgm_fe_view *v, mpm_data *d) {
   } else {
     MPGM_CALL(project_scatter(v, d));
   }
+  if (d->pg) MPGM_CALL(project_shared(v, d));
   if (!v->fx->inertia || !v->scene->shape->velocity_ls) return 0;
 #if MPM_PLANE_ONLY
   /* CPLS: the velocities by least squares from centres and corners */

@@ -188,6 +188,12 @@ int mpgm_bfgs_solve(mpgm_problem *pb, int reuse);
 static inline double mpgm_gravity_factor(const mpgm_problem *pb, double t) {
   return pb->fx.inertia ? mpgm_gravity_ramp(pb->scene, t) : pb->lambda;
 }
+/** A run on many processes: the sums at the step's nodes of w values per
+ *  node (the front end's node_sums); nothing on one process. */
+static inline int mpgm_node_sums(mpgm_problem *pb, int w, double *val) {
+  if (mpgm_ctx_size(pb->ctx) == 1 || !pb->fe->node_sums) return 0;
+  return pb->fe->node_sums(pb->fe_data, pb->ctx, w, val);
+}
 /** External force (gravity times its factor at time t) into pb->ls->fext. */
 int mpgm_body_force(mpgm_problem *pb, double t);
 

@@ -8,6 +8,7 @@
 #include "mpgm_discretisation.h"
 #include "mpgm_grid.h"
 #include "mpgm_kdtree.h"
+#include "mpgm_parallel.h"
 
 /* Written for both dimensions. The meshfree kinds (clouds of grid nodes
  * over a kd-tree), CPLS and the surface points of contact at points are
@@ -52,7 +53,30 @@ typedef struct mpm_data {
   mpgm_conn_task tail; /**< staging of a tracer's functions                 */
   double *sum;         /**< 3-D: scratch of the projection's run sums        */
   int nsum;            /**< nodes sum has room for                           */
+  /* a run on many processes (distributed.c); NULL / 0 on one */
+  mpgm_pgrid *pg;      /**< the grid's nodes partitioned over the processes  */
+  int pcap;            /**< points (material + tracers) pcell, pxi, perm and
+                            pscr have room for                             */
+  int *xijk;           /**< scratch of the sums: a node's (i, j, k) each     */
+  double *xval;        /**< and its values (MPM_XW per node)                 */
+  int nx;              /**< nodes xijk and xval have room for                */
+  int nstep;           /**< nodes of the step (lglob's length)               */
 } mpm_data;
+
+/* The values per node the sums at shared nodes carry at most: mass,
+ * momentum and inertia force. */
+#define MPM_XW (1 + 2 * MPGM_DIM)
+
+/* A run on many processes (distributed.c): the partition, and the points
+ * of this process's cells only (create); points that left them sent to
+ * their process (the start of every step); the sums at the nodes shared
+ * with other processes (w values per node of the step; per grid node of
+ * the light-node rule's masses); each a no-op on one process. */
+int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d);
+int mpgm_mpm_dist_migrate(const mpgm_fe_view *v, mpm_data *d);
+int mpgm_mpm_node_sums(void *self, mpgm_ctx *ctx, int w, double *val);
+int mpgm_mpm_dist_light(const mpgm_fe_view *v, mpm_data *d);
+void mpgm_mpm_dist_free(mpm_data *d);
 
 /* Projection (38)-(41) with the final shape functions (project.c). */
 int mpgm_mpm_project(const mpgm_fe_view *v, mpm_data *d);

@@ -64,13 +64,17 @@ n=$(grep -c "column_wave_3d.json: method: method mpm runs its implicit analyses 
   || ko "mpiexec -n 2, 3-D: exit $rc, $n messages, $(head -c 300 td.err)"
 # the collectives of the context's communicator, the sums at shared nodes of a
 # partitioned grid (DMDA) and the points' migration (DMSwarm), in 2-D and
-# 3-D, on 2, 3 and 4 processes (slabs, and boxes with corners on 4)
-tp="$(dirname "$exe")/tests/test_parallel"
-for n in 2 3 4; do
-  "${mpx[@]}" -n $n "$tp" > tp$n.log 2>&1; rc=$?
-  [ $rc -eq 0 ] && [ "$(grep -c "0 failed" tp$n.log)" -eq $n ] \
-    && ok "test_parallel on $n processes: every rank's checks pass" \
-    || ko "test_parallel on $n: exit $rc, $(grep -m3 FAIL tp$n.log) $(tail -c 300 tp$n.log)"
+# 3-D, on 2, 3 and 4 processes (slabs, and boxes with corners on 4),
+# and explicit MPM (the three schemes; 2-D, and 3-D by test_parallel_3d)
+# against one process: every point by its id after 100 steps
+for t in test_parallel test_parallel_3d; do
+  tp="$(dirname "$exe")/tests/$t"
+  for n in 2 3 4; do
+    "${mpx[@]}" -n $n "$tp" > $t$n.log 2>&1; rc=$?
+    [ $rc -eq 0 ] && [ "$(grep -c "0 failed" $t$n.log)" -eq $n ] \
+      && ok "$t on $n processes: every rank's checks pass" \
+      || ko "$t on $n: exit $rc, $(grep -m3 FAIL $t$n.log) $(tail -c 300 $t$n.log)"
+  done
 done
 # -n 1: no MPI, the same result as without a launcher
 "${mpx[@]}" -n 1 "$exe" run "$cl" "${quick[@]}" --out n1 > n1.log 2>&1; rc=$?

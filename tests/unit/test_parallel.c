@@ -13,7 +13,9 @@
 #include <string.h>
 
 #include "mpgm_base.h"
+#include "mpgm_core.h"
 #include "mpgm_parallel.h"
+#include "mpgm_scene_io.h"
 #include "mpgm_test.h"
 
 static void one_process(void) {
@@ -148,6 +150,98 @@ static void check_migration(mpgm_ctx *ctx, int dim) {
   mpgm_pgrid_destroy(&g);
 }
 
+/* The explicit MPM scene of the comparison: a block thrown against a
+ * fixed floor under gravity, 100 steps of a fixed dt, the scheme given. */
+static int mpm_scene(mpgm_ctx *ctx, const char *scheme, mpgm_scene **s) {
+  char text[2048];
+#if MPGM_DIM == 2
+  const char *dom = "[0, 0], \"max\": [3.2, 1.6]", *box = "[0.4, 0.2], \"max\": [2.2, 1.4]",
+             *vel = "[0.731, -0.219]", *g = "[0.0, -9.81]", *body = "rectangle";
+#else
+  const char *dom = "[0, 0, 0], \"max\": [2.4, 1.2, 1.2]",
+             *box = "[0.3, 0.2, 0.2], \"max\": [1.7, 1.0, 1.0]", *vel = "[0.731, -0.219, 0.3]",
+             *g = "[0.0, -9.81, 0.0]", *body = "box";
+#endif
+  snprintf(text, sizeof text,
+           "{\"method\": \"mpm\", \"shape\": {\"kind\": \"fe\"},"
+           " \"mesh\": {\"h\": 0.2, \"ppc\": %d, \"domain\": {\"min\": %s}},"
+           " \"time\": {\"analysis\": \"explicit\", \"scheme\": \"%s\", \"dt\": 1e-3, \"end\": 0.1},"
+           " \"materials\": {\"m\": {\"type\": \"neo_hookean\", \"density\": 2385.7, \"E\": 3.1e6, "
+           "\"nu\": 0.287}},"
+           " \"bodies\": [{\"material\": \"m\", \"velocity\": %s, \"%s\": {\"min\": %s}}],"
+           " \"boundaries\": [{\"y\": 0.0, \"fix\": [\"y\"]}, {\"x\": 0.0, \"fix\": [\"x\"]}],"
+           " \"gravity\": %s, \"output\": {\"vtk\": \"none\"}}",
+           MPGM_DIM == 2 ? 4 : 8, dom, scheme, vel, body, box, g);
+  return mpgm_scene_load_text(ctx, "parallel/mpm", text, strlen(text), 0, NULL, s);
+}
+
+/* Run the scene to its end on the context's processes: the problem (the
+ * caller destroys it). */
+static int mpm_run(mpgm_ctx *ctx, const mpgm_scene *s, mpgm_problem **pb, long *n0) {
+  MPGM_CALL(mpgm_problem_create(ctx, s, NULL, pb));
+  *n0 = mpgm_problem_points(*pb)->n; /* the points of this process's cells at the start */
+  mpgm_run_result res = {0};
+  const mpgm_run_control rc = {0};
+  const int err = mpgm_problem_run(*pb, &rc, &res);
+  mpgm_run_result_free(&res);
+  return err;
+}
+
+/* Explicit MPM on every process against one process alone (each rank
+ * runs the whole problem by itself too): the energies, and every point's
+ * position and velocity by its id, after 100 steps. */
+static void check_mpm(mpgm_ctx *ctx, const char *scheme) {
+  mpgm_ctx one;
+  mpgm_ctx_init(&one);
+  mpgm_scene *s = NULL;
+  mpgm_problem *ref = NULL, *pb = NULL;
+  int err = mpm_scene(&one, scheme, &s);
+  long n0 = 0, moved = 0;
+  if (!err) err = mpm_run(&one, s, &ref, &n0);
+  mpgm_test(!err, "%s: the one-process run (%s)", scheme, err ? one.msg : "ok");
+  err = err ? err : mpm_run(ctx, s, &pb, &n0);
+  mpgm_test(!err, "%s, rank %d: the run on %d processes (%s)", scheme, ctx->comm->rank,
+            ctx->comm->size, err ? ctx->msg : "ok");
+  if (!err) {
+    const mpgm_points *R = mpgm_problem_points(ref), *P = mpgm_problem_points(pb);
+    int *at = malloc(sizeof(int) * (size_t)R->n), bad = 0;
+    for (int p = 0; p < R->n; p++) at[R->id[p]] = p;
+    double dx = 0.0, dv = 0.0, vmax = 0.0;
+    for (int p = 0; p < R->n; p++)
+      for (int c = 0; c < MPGM_DIM; c++) vmax = fmax(vmax, fabs(R->v[MPGM_DIM * p + c]));
+    for (int p = 0; p < P->n; p++) {
+      const int q = P->id[p] >= 0 && P->id[p] < R->n ? at[P->id[p]] : -1;
+      if (q < 0) {
+        bad++;
+        continue;
+      }
+      for (int c = 0; c < MPGM_DIM; c++) {
+        dx = fmax(dx, fabs(P->x[MPGM_DIM * p + c] - R->x[MPGM_DIM * q + c]));
+        dv = fmax(dv, fabs(P->v[MPGM_DIM * p + c] - R->v[MPGM_DIM * q + c]));
+      }
+    }
+    long n = P->n;
+    moved = labs(n - n0); /* some points crossed to another process */
+    mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, &n, 1);
+    mpgm_allreduce_long(ctx, MPGM_REDUCE_MAX, &moved, 1);
+    mpgm_energy e, f;
+    mpgm_problem_energy(ref, &e);
+    mpgm_problem_energy(pb, &f);
+    const double de = fabs(f.total - e.total) / fabs(e.total), dk = fabs(f.kinetic - e.kinetic) / e.kinetic;
+    mpgm_test(moved > 0, "%s: points crossed to other processes (on one, %ld more or fewer than "
+              "at the start)", scheme, moved);
+    mpgm_test(bad == 0 && n == R->n && dx <= 1e-10 * 3.2 && dv <= 1e-10 * vmax && de <= 1e-10 &&
+                  dk <= 1e-10,
+              "%s, rank %d of %d: %d of the %d points here, every one as on one process after 100 "
+              "steps (|dx| %.2e m, |dv| %.2e of %.3g m/s; energy %.2e, kinetic %.2e relative)",
+              scheme, ctx->comm->rank, ctx->comm->size, P->n, R->n, dx, dv, vmax, de, dk);
+    free(at);
+  }
+  mpgm_problem_destroy(&ref);
+  mpgm_problem_destroy(&pb);
+  mpgm_scene_destroy(&s);
+}
+
 static void many(int launched) {
   const mpgm_comm *comm = NULL;
   char msg[512];
@@ -176,6 +270,8 @@ static void many(int launched) {
     check_sums(&ctx, dim);
     check_migration(&ctx, dim);
   }
+  static const char *const schemes[] = {"usl", "fe", "npc"};
+  for (int k = 0; k < 3; k++) check_mpm(&ctx, schemes[k]);
   mpgm_test(mpgm_parallel_start(&comm, msg, sizeof msg) == -1 && strstr(msg, "once"),
             "a second start is refused (%s)", msg);
   mpgm_parallel_finalize();

@@ -1,0 +1,163 @@
+/* distributed.c -- the MPM front end on many processes (mpm_private.h):
+ * the background grid's nodes partitioned over the processes
+ * (mpgm_pgrid: PETSc's DMDA), each process holding the material points of
+ * its own cells, the points that crossed into another process's cells
+ * sent there at the start of every step (DMSwarm), and the sums over the
+ * points at the nodes shared with other processes completed by the
+ * partition's scatters. The probes and surface tracers stay on every
+ * process. On one process each function here does nothing. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mpm_private.h"
+
+/* The (i, j, k) of grid node id ((i, j, 0) in a plane grid). */
+static void node_ijk(const mpgm_grid *g, int id, int ijk[3]) {
+  const int w = g->nx + 1, l = w * (g->ny + 1);
+  ijk[0] = id % w;
+  ijk[1] = (id % l) / w;
+  ijk[2] = MPGM_DIM == 3 ? id / l : 0;
+}
+
+/* The (i, j, k) of the square (cube) of cell c. */
+static void cell_ijk(const mpgm_grid *g, int c, int ijk[3]) {
+  const int sq = MPGM_DIM == 2 && g->cell != MPGM_CELL_Q4 ? c / 2 : c;
+  ijk[0] = sq % g->nx;
+  ijk[1] = (sq / g->nx) % g->ny;
+  ijk[2] = MPGM_DIM == 3 ? sq / (g->nx * g->ny) : 0;
+}
+
+/* The process whose cell holds x; -1 outside the grid (the point stays
+ * where it is, and locate says so). */
+static int owner_of(const mpm_data *d, const double *x) {
+  int c, ijk[3];
+  double xi[MPGM_DIM];
+  if (mpgm_grid_locate(&d->g, x, &c, xi)) return -1;
+  cell_ijk(&d->g, c, ijk);
+  return mpgm_pgrid_owner(d->pg, ijk);
+}
+
+/* Room for m points in the front end's per-point arrays and the
+ * connectivity's lists. */
+static int grow_points(const mpgm_fe_view *v, mpm_data *d, int m) {
+  MPGM_CALL(mpgm_conn_reserve(v->ctx, v->conn, m, m * d->g.nn)); /* covers exactly m */
+  if (m <= d->pcap) return 0;
+  const int cap = m + m / 4 + 16;
+  free(d->pcell), free(d->pxi), free(d->perm), free(d->pscr);
+  d->pcell = NULL, d->pxi = NULL, d->perm = NULL, d->pscr = NULL;
+  d->pcap = 0;
+  MPGM_ALLOC(v->ctx, d->pcell, cap);
+  MPGM_ALLOC(v->ctx, d->pxi, MPGM_DIM * (size_t)cap);
+  MPGM_ALLOC(v->ctx, d->perm, cap);
+  MPGM_ALLOC(v->ctx, d->pscr, MPGM_DIM * (size_t)cap);
+  d->pcap = cap;
+  return 0;
+}
+
+/* The material points this process keeps (its cells') and those that
+ * arrive from the others (nothing is sent by `send` 0: the start, where
+ * every process made the same points and keeps its own). */
+static int exchange(const mpgm_fe_view *v, mpm_data *d, int send) {
+  mpgm_ctx *ctx = v->ctx;
+  mpgm_points *P = v->pts;
+  const int np = P->n, rank = mpgm_ctx_rank(ctx), rec = mpgm_point_record_len(P);
+  unsigned char *keep = malloc((size_t)np + 1);
+  int *dest = malloc(sizeof(int) * ((size_t)np + 1)), nout = 0, nin = 0;
+  MPGM_CHECK(ctx, keep && dest, MPGM_ERR_NOMEM, "out of memory (the points' owners)");
+  for (int p = 0; p < np; p++) {
+    const int o = owner_of(d, P->x + MPGM_DIM * p);
+    keep[p] = o < 0 || o == rank;
+    if (!keep[p]) dest[nout++] = o;
+  }
+  long moving = nout;
+  int err = send ? mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, &moving, 1) : 0;
+  double *out = NULL, *in = NULL;
+  if (!err && send && moving > 0) {
+    out = malloc(sizeof(double) * ((size_t)rec * nout + 1));
+    err = out ? 0 : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory (%d "
+                                 "points leaving)", nout);
+    for (int p = 0, q = 0; p < np && !err; p++)
+      if (!keep[p]) mpgm_point_pack(P, p, out + (size_t)rec * q++);
+    if (!err) err = mpgm_pgrid_migrate(ctx, d->pg, rec, nout, out, dest, &nin, &in);
+  }
+  if (!err && (nout > 0 || nin > 0)) err = mpgm_points_exchange(ctx, P, keep, nin, in);
+  free(keep), free(dest), free(out), free(in);
+  MPGM_CALL(err);
+  return grow_points(v, d, P->n + P->nprobe + P->nsurf);
+}
+
+int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d) {
+  d->pcap = v->pts->n + v->pts->nprobe + v->pts->nsurf;
+  if (mpgm_ctx_size(v->ctx) == 1) return 0;
+  const mpgm_grid *g = &d->g;
+  const int n[3] = {g->nx + 1, g->ny + 1, MPGM_DIM == 3 ? g->nz + 1 : 1};
+  /* the nodes a point's functions reach beyond its cell: one layer for
+   * the cell's own functions, two for the grid kinds (uGIMP, CPDI) */
+  MPGM_CALL(mpgm_pgrid_create(v->ctx, MPGM_DIM, n, MPM_XW, d->gridfn ? 2 : 1, &d->pg));
+  return exchange(v, d, 0);
+}
+
+int mpgm_mpm_dist_migrate(const mpgm_fe_view *v, mpm_data *d) {
+  return d->pg ? exchange(v, d, 1) : 0;
+}
+
+/* The sums at n grid nodes (ids gid) of w values each in val. */
+static int sums_at(mpgm_ctx *ctx, mpm_data *d, int n, const int *gid, int w, double *val) {
+  if (n > d->nx) {
+    free(d->xijk), free(d->xval);
+    d->xijk = NULL, d->xval = NULL;
+    d->nx = 0;
+    MPGM_ALLOC(ctx, d->xijk, MPGM_DIM * (size_t)n);
+    MPGM_ALLOC(ctx, d->xval, MPM_XW * (size_t)n);
+    d->nx = n;
+  }
+  memset(d->xval, 0, sizeof(double) * MPM_XW * (size_t)n);
+  for (int i = 0; i < n; i++) {
+    int ijk[3];
+    node_ijk(&d->g, gid[i], ijk);
+    memcpy(d->xijk + MPGM_DIM * i, ijk, sizeof(int) * MPGM_DIM);
+    memcpy(d->xval + MPM_XW * i, val + (size_t)w * i, sizeof(double) * (size_t)w);
+  }
+  MPGM_CALL(mpgm_pgrid_sum(ctx, d->pg, n, d->xijk, d->xval));
+  for (int i = 0; i < n; i++) memcpy(val + (size_t)w * i, d->xval + MPM_XW * i, sizeof(double) * (size_t)w);
+  return 0;
+}
+
+int mpgm_mpm_node_sums(void *self, mpgm_ctx *ctx, int w, double *val) {
+  mpm_data *d = self;
+  if (!d->pg) return 0;
+  MPGM_CHECK(ctx, w >= 1 && w <= MPM_XW, MPGM_ERR_INTERNAL, "sums of %d values per node", w);
+  return sums_at(ctx, d, d->nstep, d->lglob, w, val);
+}
+
+/* The light-node rule on many processes: its masses are the sums over
+ * every process's points, and the heaviest node is the run's. */
+int mpgm_mpm_dist_light(const mpgm_fe_view *v, mpm_data *d) {
+  if (!d->pg) return 0;
+  const mpgm_grid *g = &d->g;
+  int n = 0;
+  for (int i = 0; i < g->nnode; i++)
+    if (d->gm[i] > 0.0) d->gmap[n++] = i; /* gmap as scratch: step_nodes sets it anew */
+  double *m = malloc(sizeof(double) * ((size_t)n + 1));
+  MPGM_CHECK(v->ctx, m, MPGM_ERR_NOMEM, "out of memory (nodal masses)");
+  for (int i = 0; i < n; i++) m[i] = d->gm[d->gmap[i]];
+  int err = sums_at(v->ctx, d, n, d->gmap, 1, m);
+  double mmax = 0.0;
+  for (int i = 0; i < n && !err; i++) {
+    d->gm[d->gmap[i]] = m[i];
+    mmax = fmax(mmax, m[i]);
+  }
+  free(m);
+  MPGM_CALL(err);
+  MPGM_CALL(mpgm_allreduce(v->ctx, MPGM_REDUCE_MAX, &mmax, 1));
+  const double cut = v->scene->mesh_par.min_node_mass * mmax;
+  for (int i = 0; i < g->nnode; i++) d->light[i] = !(d->gm[i] > cut); /* mpgm_light_nodes' rule */
+  return 0;
+}
+
+void mpgm_mpm_dist_free(mpm_data *d) {
+  mpgm_pgrid_destroy(&d->pg);
+  free(d->xijk);
+  free(d->xval);
+}
