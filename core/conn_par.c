@@ -111,6 +111,7 @@ static void copy_task(void *arg, int ti, int tid) {
   const mpgm_conn_task *t = &j->cp->t[ti];
   mpgm_conn *C = j->C;
   fill_ptr(t, C);
+  if (t->n == 0) return; /* no lists (a process without points): no arrays to copy */
   memcpy(C->node + t->off, t->node, sizeof(int) * (size_t)t->n);
   memcpy(C->N + t->off, t->N, sizeof(double) * (size_t)t->n);
   memcpy(C->dN + MPGM_DIM * (size_t)t->off, t->dN, sizeof(double) * MPGM_DIM * (size_t)t->n);

@@ -104,7 +104,7 @@ int mpgm_mpm_dist_migrate(const mpgm_fe_view *v, mpm_data *d) {
 
 /* The sums at n grid nodes (ids gid) of w values each in val. */
 static int sums_at(mpgm_ctx *ctx, mpm_data *d, int n, const int *gid, int w, double *val) {
-  if (n > d->nx) {
+  if (n > d->nx || !d->xval) { /* (room for one at least: a process without points sums too) */
     free(d->xijk), free(d->xval);
     d->xijk = NULL, d->xval = NULL;
     d->nx = 0;
