@@ -85,7 +85,7 @@ typedef struct {
 } point_array;
 
 /* The committed per-point arrays of p, in the order of a point's record
- * (mpgm_point_pack). */
+ * (mpgm_points_pack). */
 enum { NARR = 17 };
 static void point_arrays(mpgm_points *p, point_array arr[NARR]) {
   const point_array a[NARR] = {
@@ -109,9 +109,8 @@ int mpgm_point_record_len(const mpgm_points *P) {
   return len;
 }
 
-void mpgm_point_pack(const mpgm_points *P, int p, double *rec) {
-  point_array arr[NARR];
-  point_arrays((mpgm_points *)P, arr);
+/* Point p of the arrays arr into rec (point_arrays' order). */
+static void pack(const point_array *arr, int p, double *rec) {
   for (int j = 0; j < NARR; j++) {
     const int w = arr[j].w;
     if (w < 0) *rec++ = (double)(*(int *const *)arr[j].a)[p]; /* exact: |int| < 2^53 */
@@ -120,6 +119,16 @@ void mpgm_point_pack(const mpgm_points *P, int p, double *rec) {
       rec += w;
     }
   }
+}
+
+int mpgm_points_pack(const mpgm_points *P, const unsigned char *keep, double *out) {
+  point_array arr[NARR];
+  point_arrays((mpgm_points *)P, arr);
+  const int rec = mpgm_point_record_len(P);
+  int q = 0;
+  for (int p = 0; p < P->n; p++)
+    if (!keep[p]) pack(arr, p, out + (size_t)rec * q++);
+  return q;
 }
 
 /* Record rec into point q of the arrays fresh (point_arrays' order). */
@@ -155,6 +164,19 @@ static int trial_arrays(mpgm_ctx *ctx, mpgm_points *p, int n, int m) {
   return 0;
 }
 
+/* Array j of the kept points (in order) into rows 0 .. nk of dst and the
+ * tracers (rows n .. m of src) after room for nin arrivals. */
+static void keep_rows(const point_array *a, void *dst, const unsigned char *keep, int n, int m,
+                      int nin) {
+  const size_t b = a->w < 0 ? sizeof(int) : sizeof(double) * (size_t)a->w;
+  const char *src = *a->a;
+  char *d = dst;
+  int q = 0;
+  for (int i = 0; i < n; i++)
+    if (keep[i]) memcpy(d + b * q++, src + b * i, b);
+  if (m > n) memcpy(d + b * (size_t)(q + nin), src + b * n, b * (size_t)(m - n));
+}
+
 int mpgm_points_exchange(mpgm_ctx *ctx, mpgm_points *p, const unsigned char *keep, int nin,
                          const double *in) {
   const int n = p->n, m = n + p->nprobe + p->nsurf, rec = mpgm_point_record_len(p);
@@ -169,23 +191,14 @@ int mpgm_points_exchange(mpgm_ctx *ctx, mpgm_points *p, const unsigned char *kee
     const size_t bytes = arr[j].w < 0 ? sizeof(int) : sizeof(double) * (size_t)arr[j].w;
     ok = (fresh[j] = malloc(bytes * (size_t)m2 + 1)) != NULL;
   }
-  double *r = ok ? malloc(sizeof(double) * (size_t)rec) : NULL;
-  if (!r) {
+  if (!ok) {
     for (int j = 0; j < NARR; j++) free(fresh[j]);
     MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (%d points arriving, %d kept)", nin, nk);
   }
-  int q = 0;
-  for (int i = 0; i < n; i++) /* the points that stay, in their order */
-    if (keep[i]) {
-      mpgm_point_pack(p, i, r);
-      unpack(arr, fresh, q++, r);
-    }
-  for (int i = 0; i < nin; i++) unpack(arr, fresh, q++, in + (size_t)rec * i);
-  for (int i = n; i < m; i++) { /* the tracers after them */
-    mpgm_point_pack(p, i, r);
-    unpack(arr, fresh, q++, r);
-  }
-  free(r);
+  /* array by array: the points that stay, room for those that arrive, the
+   * tracers; then the arrivals record by record */
+  for (int j = 0; j < NARR; j++) keep_rows(&arr[j], fresh[j], keep, n, m, nin);
+  for (int i = 0; i < nin; i++) unpack(arr, fresh, nk + i, in + (size_t)rec * i);
   for (int j = 0; j < NARR; j++) {
     free(*arr[j].a);
     *arr[j].a = fresh[j];

@@ -187,11 +187,12 @@ double mpgm_points_plastic_strain(const mpgm_points *P, const mpgm_material *mat
  *  caller's own per-point arrays. */
 int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *key, int nkey,
                      int *perm);
-/** Doubles in the record of one material point (mpgm_point_pack): every
+/** Doubles in the record of one material point (mpgm_points_pack): every
  *  committed per-point array, ints included (exactly, as doubles). */
 int mpgm_point_record_len(const mpgm_points *P);
-/** Material point (or tracer) p into rec (mpgm_point_record_len doubles). */
-void mpgm_point_pack(const mpgm_points *P, int p, double *rec);
+/** The material points p without keep[p], in order, into out (one record
+ *  of mpgm_point_record_len doubles each): returns how many. */
+int mpgm_points_pack(const mpgm_points *P, const unsigned char *keep, double *out);
 /** The material points a process holds in a run on many: those with
  *  keep[p] (in their order) and then the nin records of in (those that
  *  arrived); the probes and surface tracers stay after them. Every array

@@ -77,8 +77,7 @@ static int exchange(const mpgm_fe_view *v, mpm_data *d, int send) {
     out = malloc(sizeof(double) * ((size_t)rec * nout + 1));
     err = out ? 0 : mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory (%d "
                                  "points leaving)", nout);
-    for (int p = 0, q = 0; p < np && !err; p++)
-      if (!keep[p]) mpgm_point_pack(P, p, out + (size_t)rec * q++);
+    if (!err) mpgm_points_pack(P, keep, out);
     if (!err) err = mpgm_pgrid_migrate(ctx, d->pg, rec, nout, out, dest, &nin, &in);
   }
   if (!err && (nout > 0 || nin > 0)) err = mpgm_points_exchange(ctx, P, keep, nin, in);
