@@ -336,6 +336,14 @@ int mpgm_allreduce(mpgm_ctx *ctx, mpgm_reduce op, double *v, int n);
 int mpgm_allreduce_long(mpgm_ctx *ctx, mpgm_reduce op, long *v, int n);
 /** bytes of buf from process root to all (MPI_Bcast); nothing on one. */
 int mpgm_bcast(mpgm_ctx *ctx, void *buf, size_t bytes, int root);
+/** The outcome of a part each process did on its own, the same on every
+ *  process (collective): each gives its err (0, or the code with its
+ *  message in ctx) and gets back 0 when every process succeeded, else the
+ *  code of the first process (lowest rank) that failed; the others then
+ *  hold its message as "process R of P: ...". Before the next collective
+ *  after such a part, so that no process waits there for one that left.
+ *  One process: err. */
+int mpgm_agree(mpgm_ctx *ctx, int err);
 
 /** 1 when the failure `code` is to be made now, in an attempt of `step`
  *  (mpgm_fault); 0 otherwise, always when no fault is set. */

@@ -274,6 +274,7 @@ static int forces_finish(mpgm_problem *pb, double *f, const double *vel, double 
   const mpgm_nodes *nd = &pb->nodes;
   MPGM_CALL(mpgm_node_sums(pb, MPGM_DIM, f)); /* on many processes: the shared nodes' whole sums */
   mpgm_timer_start(ctx, MPGM_T_ASSEMBLY);
+  int err = 0;
   const double alpha = pb->scene->local_damping;
   if (alpha > 0.0)
     for (int i = 0; i < MPGM_DIM * nd->n; i++)
@@ -281,16 +282,16 @@ static int forces_finish(mpgm_problem *pb, double *f, const double *vel, double 
   for (int i = 0; i < MPGM_DIM * nd->n; i++) {
     const double m = nd->mass[i / MPGM_DIM];
     A[i] = nd->fix[i] || !(m > 0.0) ? 0.0 : f[i] / m;
-    if (!isfinite(A[i])) {
-      mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
+    if (!isfinite(A[i]) && !err) {
       char at[MPGM_POINT_STR];
-      MPGM_ERROR(ctx, MPGM_ERR_NAN, "step %ld: the acceleration of node %d at %s is not finite "
-                 "(nodal mass %g kg)", pb->step + 1, i / MPGM_DIM,
-                 mpgm_point_str(nd->x + MPGM_DIM * (i / MPGM_DIM), at), m);
+      err = mpgm_err_set(ctx, MPGM_ERR_NAN, __FILE__, __LINE__, "step %ld: the acceleration of node "
+                         "%d at %s is not finite (nodal mass %g kg)", pb->step + 1, i / MPGM_DIM,
+                         mpgm_point_str(nd->x + MPGM_DIM * (i / MPGM_DIM), at), m);
+      break;
     }
   }
   mpgm_timer_stop(ctx, MPGM_T_ASSEMBLY);
-  return 0;
+  return mpgm_agree(ctx, err); /* on many processes: the step fails on every one */
 }
 
 /* Nodal force f = f_ext - f_int of the stress sigma on the volumes vol
@@ -346,14 +347,14 @@ static int stress_forces(mpgm_problem *pb, explicit_data *d, const double *vel, 
     for (int i = 0; i < MPGM_DIM * nd->n; i++) nd->du[i] = pb->dt * vel[i];
     fused_job fj = {.j = force_job(pb, d, pb->pts.sigma_t, pb->pts.vol_t, t)};
     memset(d->f, 0, sizeof(double) * MPGM_DIM * (size_t)nd->n);
-    MPGM_CALL(mpgm_eval_points_each(pb, stress_force_point, &fj));
+    MPGM_CALL(mpgm_agree(pb->ctx, mpgm_eval_points_each(pb, stress_force_point, &fj)));
     mpgm_run_end(&pb->conn, &fj.r, MPGM_DIM, d->f);
     d->work = fj.w; /* commit_stress need not sum it again */
     d->work_done = 1;
     return forces_finish(pb, d->f, damp_vel, A);
   }
 #endif
-  MPGM_CALL(stress(pb, vel));
+  MPGM_CALL(mpgm_agree(pb->ctx, stress(pb, vel))); /* a point failed on some process */
   return nodal_forces(pb, d, pb->pts.sigma_t, pb->pts.vol_t, t, damp_vel, A);
 }
 
@@ -509,7 +510,7 @@ static int usl_step(void *self, mpgm_problem *pb) {
   MPGM_CALL(nodal_forces(pb, self, pb->pts.sigma, pb->pts.vol, pb->t, nd->v, A));
   zero_fixed(nd, nd->v);
   for (int i = 0; i < MPGM_DIM * nd->n; i++) V[i] = nd->v[i] + pb->dt * A[i];
-  MPGM_CALL(stress(pb, V));
+  MPGM_CALL(mpgm_agree(pb->ctx, stress(pb, V)));
   commit_stress(pb, self);
   MPGM_CALL(move_points(pb, self, V, A, 0.0));
   return 0;

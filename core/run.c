@@ -194,6 +194,14 @@ static int after_step(mpgm_problem *pb, const mpgm_run_control *rc, int on_time,
   return 0;
 }
 
+/* A stop asked for (rc->stop), on many processes by any of them: all
+ * stop before the same step. */
+static int stop_asked(mpgm_problem *pb, const mpgm_run_control *rc) {
+  long stop = rc->stop && *rc->stop;
+  if (mpgm_ctx_size(pb->ctx) > 1 && mpgm_allreduce_long(pb->ctx, MPGM_REDUCE_MAX, &stop, 1)) return 1;
+  return stop != 0;
+}
+
 int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_result *res) {
   mpgm_ctx *ctx = pb->ctx;
   const mpgm_scene *s = pb->scene;
@@ -211,7 +219,7 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
   pb->stop = rc->stop;
   const span_start st = {mpgm_log_wanted(ctx, MPGM_LOG_PROGRESS) ? mpgm_wtime() : 0.0, pb->t, pb->step};
   while (!err && pb->t < sp->end - 1e-9 * sp->dt0) {
-    if (rc->stop && *rc->stop) { /* asked for before this step */
+    if (stop_asked(pb, rc)) { /* asked for before this step */
       err = mpgm_err_set(ctx, MPGM_ERR_INTERRUPTED, __FILE__, __LINE__, "stop asked for before step %ld",
                          pb->step + 1);
       break;
@@ -231,7 +239,7 @@ int mpgm_problem_run(mpgm_problem *pb, const mpgm_run_control *rc, mpgm_run_resu
     const long rounds = pb->contact_rounds;
     const mpgm_newton_info last = pb->last;
     const double ts = mpgm_wtime();
-    err = mpgm_step(pb);
+    err = mpgm_agree(ctx, mpgm_step(pb)); /* many processes: cut or stop on every one */
     if (err == MPGM_ERR_INTERRUPTED) { /* abandoned: its work is not counted */
       memcpy(ctx->count, count, sizeof count);
       pb->contact_rounds = rounds;

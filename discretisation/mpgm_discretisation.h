@@ -42,8 +42,12 @@ int mpgm_surface_tracers_count(const mpgm_scene *s);
  *  functions of its nearest material point (counted: probes_carried,
  *  surface_points_carried). A surface point stays unenforced for the step. c: the connectivity of every point
  *  (compacted); scratch: a connectivity the caller keeps; the two swap
- *  their arrays when a tracer is carried. */
-int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch);
+ *  their arrays when a tracer is carried. skip (NULL: none), one per
+ *  tracer from the first probe: a tracer another process moves in a run
+ *  on many (its values come from there) keeps the lists it has, empty
+ *  ones too, and is not counted. */
+int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch,
+                       const unsigned char *skip);
 /** Their initial positions into x (MPGM_DIM per tracer; NULL: count only);
  *  returns how many. */
 int mpgm_surface_tracers_xy(const mpgm_scene *s, double *x);

@@ -114,16 +114,22 @@ static int nearest_point(const mpgm_points *P, const double *x) {
   return best;
 }
 
-int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch) {
+/* Tracer p (of the first at `first`) has no functions and is carried. */
+static int carried(const mpgm_conn *c, int first, int p, const unsigned char *skip) {
+  return p >= first && c->ptr[p + 1] == c->ptr[p] && !(skip && skip[p - first]);
+}
+
+int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch,
+                       const unsigned char *skip) {
   const mpgm_points *P = v->pts;
   const int first = P->n, m = first + P->nprobe + P->nsurf;
   int nempty = 0;
-  for (int p = first; p < m; p++) nempty += c->ptr[p + 1] == c->ptr[p];
+  for (int p = first; p < m; p++) nempty += carried(c, first, p, skip);
   if (!nempty || P->n == 0) return 0;
   /* the new lists: a carried tracer's are its nearest point's */
   int nnz = 0;
   for (int p = 0; p < m; p++) {
-    const int q = p >= first && c->ptr[p + 1] == c->ptr[p] ? nearest_point(P, P->x + MPGM_DIM * p) : p;
+    const int q = carried(c, first, p, skip) ? nearest_point(P, P->x + MPGM_DIM * p) : p;
     nnz += c->ptr[q + 1] - c->ptr[q];
   }
   MPGM_CALL(mpgm_conn_reserve(v->ctx, scratch, m, 0));
@@ -131,7 +137,7 @@ int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch) 
   int k = 0;
   for (int p = 0; p < m; p++) {
     int q = p;
-    if (p >= first && c->ptr[p + 1] == c->ptr[p]) {
+    if (carried(c, first, p, skip)) {
       q = nearest_point(P, P->x + MPGM_DIM * p);
       mpgm_count(v->ctx, p < P->n + P->nprobe ? MPGM_C_PROBES_CARRIED : MPGM_C_SURFACE_CARRIED, 1);
     }

@@ -244,7 +244,7 @@ static int gmm_begin_step(void *self, const mpgm_fe_view *v) {
   /* grid-filled bodies: nodes with little mass are parked for the step */
   if (d->grid) MPGM_CALL(mpgm_gmm_grid_park(v, d->grid, d->tree, mpgm_clouds_radius(d->clouds), &d->out));
   /* probes and surface points without functions move with the material */
-  MPGM_CALL(mpgm_tracers_carry(v, &d->out, &d->carry));
+  MPGM_CALL(mpgm_tracers_carry(v, &d->out, &d->carry, NULL));
   const int k = d->out.ptr[m];
   /* a new pattern only when some point's node list changed */
   int same = C->np == m && C->ptr[m] == k;

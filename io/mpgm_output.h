@@ -24,8 +24,13 @@ typedef struct mpgm_output {
   int grid_nnode, grid_ncell;
   struct mpgm_xdmf *xdmf; /**< output.format "xdmf": results.h5 and its
                      indices (mpgm_xdmf.h); NULL where the scene writes none */
+  int rank, nproc; /**< this process and the run's (mpgm_ctx): on many,
+                     each writes its points' .vtu piece of a frame, and
+                     the first the rest (the .pvtu, the series, the
+                     histories)                                      */
   int nvtk;       /**< VTK outputs written (index of the next one) */
-  int files;      /**< VTK files written (every format)           */
+  int files;      /**< VTK files written (every format; on many
+                       processes every piece and index)            */
   int ncol;       /**< probe columns: MPGM_DIM of u per probe (u of
                        probe k component c at mpgm_ref_column(k, c)),
                        dynamic runs MPGM_DIM of v per probe after them */

@@ -54,6 +54,14 @@ typedef struct mpgm_vtu_piece {
 int mpgm_vtu_write(mpgm_ctx *ctx, const char *path, int encoding, double time,
                    const mpgm_vtu_piece *piece);
 
+/** The index of a frame written in pieces by the n processes of a run
+ *  (VTK XML PUnstructuredGrid, .pvtu), atomically: it declares the arrays
+ *  of piece p (every process writes the same fields) and lists the
+ *  pieces STEM_0.vtu .. STEM_{n-1}.vtu, named relative to path's folder.
+ *  Errors: MPGM_ERR_INPUT (n < 1, more than 64 fields), MPGM_ERR_IO. */
+int mpgm_pvtu_write(mpgm_ctx *ctx, const char *path, const mpgm_vtu_piece *p, int n,
+                    const char *stem);
+
 /** Read a .vtu that mpgm_vtu_write wrote (any encoding) into a new grid as
  *  mpgm_vtk_read gives it (title: "TimeValue = T"; the cells from their
  *  connectivity, offsets and types). mpgm_vtk_read calls it

@@ -122,6 +122,8 @@ static int output_init(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, co
                                  scene->grid && mpgm_problem_background(pb, &bg)};
   memset(o, 0, sizeof *o);
   snprintf(o->dir, sizeof o->dir, "%s", dir);
+  o->rank = mpgm_ctx_rank(ctx);
+  o->nproc = mpgm_ctx_size(ctx);
   char path[MPGM_PATH_LEN + 64];
   for (int f = 0; scene->vtk != MPGM_VTK_NONE && f < SERIES_FORMATS; f++)
     for (int k = 0; (scene->formats & series_format[f]) && k < SERIES_KINDS; k++)
@@ -176,8 +178,9 @@ static int output_folder(mpgm_ctx *ctx, const mpgm_output *o, int keep) {
 }
 
 int mpgm_output_open(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb, const char *dir) {
-  MPGM_CALL(output_init(ctx, o, pb, dir));
-  return output_folder(ctx, o, 0);
+  MPGM_CALL(mpgm_agree(ctx, output_init(ctx, o, pb, dir)));
+  /* many processes: the first makes the folder, the others wait for it */
+  return mpgm_agree(ctx, o->rank == 0 ? output_folder(ctx, o, 0) : 0);
 }
 
 /* The tallies, the histories and the .pvd entries. */
@@ -361,6 +364,7 @@ int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *p
  * line per row of width numbers (the step first, as an integer). */
 static int write_table(mpgm_ctx *ctx, const mpgm_output *o, const char *name,
                        const char *header, const double *rows, int nrow, int stride, int width) {
+  if (o->rank > 0) return 0; /* many processes: the first writes the histories */
   char path[MPGM_PATH_LEN + 64];
   snprintf(path, sizeof path, "%s/%s", o->dir, name);
   void *fv;
@@ -521,6 +525,30 @@ static int frame_gather(mpgm_ctx *ctx, const mpgm_output *o, const mpgm_problem 
   return o->grid_x ? frame_grid(ctx, o, pb, fr) : 0;
 }
 
+/* A run on many processes: the frame as one piece per process, each
+ * process's points (vtk/points_NNNNNN_R.vtu, R its rank), and the first
+ * process's vtk/points_NNNNNN.pvtu that lists them, the entry of the
+ * series. Each step is agreed, so that a piece that could not be written
+ * fails the frame on every process. */
+static int frame_pieces(mpgm_ctx *ctx, mpgm_output *o, const frame *fr, int k, int enc) {
+  MPGM_CHECK(ctx, k == 0, MPGM_ERR_INTERNAL, "a %s series on many processes", kind_name[k]);
+  char stem[64], path[MPGM_PATH_LEN + 128];
+  snprintf(stem, sizeof stem, "%s_%06d", kind_name[k], o->nvtk);
+  snprintf(path, sizeof path, "%s/vtk/%s_%d.vtu", o->dir, stem, o->rank);
+  MPGM_CALL(mpgm_agree(ctx, mpgm_vtu_write(ctx, path, enc, fr->time, &fr->points)));
+  int err = 0;
+  if (o->rank == 0) {
+    snprintf(path, sizeof path, "%s/vtk/%s.pvtu", o->dir, stem);
+    err = mpgm_pvtu_write(ctx, path, &fr->points, o->nproc, stem);
+    char rel[80];
+    snprintf(rel, sizeof rel, "vtk/%s.pvtu", stem);
+    if (!err) err = mpgm_pvd_add(o->series[0][k], ctx, fr->time, rel);
+  }
+  MPGM_CALL(mpgm_agree(ctx, err));
+  o->files += 1 + o->nproc; /* the pieces and their index */
+  return 0;
+}
+
 /* The frame as the next file of series (format f, kind k: points, mesh,
  * grid) and its entry. */
 static int frame_write(mpgm_ctx *ctx, mpgm_output *o, const frame *fr, int f, int k) {
@@ -530,9 +558,10 @@ static int frame_write(mpgm_ctx *ctx, mpgm_output *o, const frame *fr, int f, in
   char rel[64], path[MPGM_PATH_LEN + 128], title[256];
   snprintf(rel, sizeof rel, "vtk/%s_%06d.%s", kind_name[k], o->nvtk, f ? "vtk" : "vtu");
   snprintf(path, sizeof path, "%s/%s", o->dir, rel);
+  const int enc = s->vtk == MPGM_VTK_OUT_ASCII ? MPGM_VTU_ASCII
+                  : s->compress == MPGM_COMPRESS_ZLIB ? MPGM_VTU_ZLIB : MPGM_VTU_RAW;
+  if (o->nproc > 1) return frame_pieces(ctx, o, fr, k, enc); /* (only .vtu points: frontend_check) */
   if (f == 0) {
-    const int enc = s->vtk == MPGM_VTK_OUT_ASCII ? MPGM_VTU_ASCII
-                    : s->compress == MPGM_COMPRESS_ZLIB ? MPGM_VTU_ZLIB : MPGM_VTU_RAW;
     MPGM_CALL(mpgm_vtu_write(ctx, path, enc, fr->time, p));
   } else {
     snprintf(title, sizeof title, "mpgm %s %s, step %ld, t = %.9g", s->stem,
@@ -548,7 +577,7 @@ static int frame_write(mpgm_ctx *ctx, mpgm_output *o, const frame *fr, int f, in
 int mpgm_output_vtk(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {
   if (o->scene->vtk == MPGM_VTK_NONE) return 0;
   frame fr;
-  int err = frame_gather(ctx, o, pb, &fr);
+  int err = mpgm_agree(ctx, frame_gather(ctx, o, pb, &fr));
   /* every format of the frame from the same gathered data */
   for (int f = 0; !err && f < SERIES_FORMATS; f++)
     for (int k = 0; !err && k < SERIES_KINDS; k++)

@@ -52,22 +52,86 @@ typedef struct run_state {
                              user + system [s]                          */
 } run_state;
 
+/* The numbers of summary.json that are sums (or extremes) over the
+ * material points and the work of every process: on one process its own.
+ * A counter of work done per point or node counts every process's; one of
+ * steps, loops and solves (each process does the same) is counted once. */
+typedef struct run_totals {
+  long points, nodes, dofs, points_min, points_max; /* the nodes and dofs
+                  of every process (a shared node once per process) */
+  long count[MPGM_C_COUNT];
+  double mass, vol, xmax, ymax, eps_p, cpu;
+} run_totals;
+
+static int per_point(int c) {
+  static const int sums[] = {MPGM_C_MATERIAL_CALLS, MPGM_C_POINT_SORTS, MPGM_C_RADIUS_GROWTHS,
+                             MPGM_C_CLOUD_ENLARGEMENTS, MPGM_C_COLD_RESTARTS, MPGM_C_NODES_MERGED,
+                             MPGM_C_SURFACE_CARRIED, MPGM_C_PROBES_CARRIED,
+                             MPGM_C_NODE_MOTION_FALLBACKS, MPGM_C_DOMAIN_CLAMPS, MPGM_C_CPLS_LINEAR,
+                             MPGM_C_CPLS_PROJECTED, MPGM_C_PATTERNS_KEPT};
+  for (size_t i = 0; i < sizeof sums / sizeof *sums; i++)
+    if (sums[i] == c) return 1;
+  return 0;
+}
+
+/* Collective: every process calls it at the run's end. */
+static int totals(mpgm_ctx *ctx, const mpgm_problem *pb, double cpu, run_totals *t) {
+  const mpgm_scene *s = mpgm_problem_scene(pb);
+  const mpgm_points *P = mpgm_problem_points(pb);
+  mpgm_report r;
+  mpgm_problem_report(pb, &r);
+  memset(t, 0, sizeof *t);
+  t->xmax = t->ymax = -INFINITY;
+  /* height along the vertical of gravity in 3-D (a slab stands in y); y in plane strain */
+  const int up = MPGM_DIM == 2 ? 1 : mpgm_scene_vertical(s);
+  for (int p = 0; p < P->n; p++) {
+    t->mass += P->mass[p];
+    t->vol += P->vol[p];
+    t->xmax = fmax(t->xmax, P->x[MPGM_DIM * p]);
+    t->ymax = fmax(t->ymax, P->x[MPGM_DIM * p + up]);
+  }
+  t->eps_p = mpgm_problem_effects(pb)->plasticity ? mpgm_points_plastic_strain(P, s->mats, NULL) : 0.0;
+  t->cpu = cpu;
+  t->points = t->points_min = t->points_max = P->n;
+  t->nodes = r.nodes, t->dofs = r.ndof;
+  memcpy(t->count, ctx->count, sizeof t->count);
+  if (mpgm_ctx_size(ctx) == 1) return 0;
+  double sum[3] = {t->mass, t->vol, t->cpu}, max[4] = {t->xmax, t->ymax, t->eps_p, -(double)P->n};
+  long lsum[3] = {t->points, t->nodes, t->dofs}, lmax[MPGM_C_COUNT + 1], lcount[MPGM_C_COUNT];
+  for (int i = 0; i < MPGM_C_COUNT; i++) {
+    lmax[i] = per_point(i) ? 0 : ctx->count[i];
+    lcount[i] = per_point(i) ? ctx->count[i] : 0;
+  }
+  lmax[MPGM_C_COUNT] = P->n;
+  MPGM_CALL(mpgm_allreduce(ctx, MPGM_REDUCE_SUM, sum, 3));
+  MPGM_CALL(mpgm_allreduce(ctx, MPGM_REDUCE_MAX, max, 4));
+  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, lsum, 3));
+  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, lcount, MPGM_C_COUNT));
+  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_MAX, lmax, MPGM_C_COUNT + 1));
+  t->mass = sum[0], t->vol = sum[1], t->cpu = sum[2];
+  t->xmax = max[0], t->ymax = max[1], t->eps_p = max[2];
+  t->points_min = -(long)max[3], t->points_max = lmax[MPGM_C_COUNT];
+  t->points = lsum[0], t->nodes = lsum[1], t->dofs = lsum[2];
+  for (int i = 0; i < MPGM_C_COUNT; i++) t->count[i] = per_point(i) ? lcount[i] : lmax[i];
+  return 0;
+}
+
 /* summary.json "counts": the run's sizes and the work it did. */
 static void counts_json(cJSON *c, const mpgm_problem *pb, const mpgm_report *r, const mpgm_output *o,
-                        const mpgm_ctx *ctx) {
+                        const mpgm_ctx *ctx, const run_totals *t) {
   const mpgm_points *P = mpgm_problem_points(pb);
-  cJSON_AddNumberToObject(c, "points", P->n);
+  cJSON_AddNumberToObject(c, "points", (double)t->points);
   cJSON_AddNumberToObject(c, "probes", P->nprobe);
-  cJSON_AddNumberToObject(c, "nodes", r->nodes);
+  cJSON_AddNumberToObject(c, "nodes", (double)t->nodes);
   cJSON_AddNumberToObject(c, "cells", r->ncells);
-  cJSON_AddNumberToObject(c, "dofs", r->ndof);
+  cJSON_AddNumberToObject(c, "dofs", (double)t->dofs);
   cJSON_AddNumberToObject(c, "nnz", r->nnz);
   cJSON_AddNumberToObject(c, "steps", (double)r->step);
   cJSON_AddNumberToObject(c, "newton_iterations", (double)r->newton_total);
   /* the work counters of the context, linear iterations apart (below) */
   for (int i = 0; i < MPGM_C_COUNT; i++)
     if (i != MPGM_C_LINEAR_ITERATIONS)
-      cJSON_AddNumberToObject(c, mpgm_counter_name(i), (double)ctx->count[i]);
+      cJSON_AddNumberToObject(c, mpgm_counter_name(i), (double)t->count[i]);
   cJSON_AddNumberToObject(c, "step_cuts", (double)r->step_cuts);
   cJSON_AddNumberToObject(c, "solver_switches", (double)r->solver_stats.switches);
   cJSON_AddNumberToObject(c, "lu_fallback_steps", (double)r->solver_stats.fallback_steps);
@@ -92,6 +156,14 @@ static void counts_json(cJSON *c, const mpgm_problem *pb, const mpgm_report *r, 
   if (r->solver_iterative)
     cJSON_AddNumberToObject(c, "linear_iterations", (double)ctx->count[MPGM_C_LINEAR_ITERATIONS]);
   if (o->matrices_dir[0]) cJSON_AddNumberToObject(c, "matrices_written", (double)o->mtx_written);
+  if (o->nproc > 1) { /* the balance of a run on many processes */
+    cJSON *q = cJSON_AddObjectToObject(c, "processes");
+    cJSON_AddNumberToObject(q, "count", o->nproc);
+    cJSON_AddNumberToObject(q, "points_min", (double)t->points_min);
+    cJSON_AddNumberToObject(q, "points_max", (double)t->points_max);
+    cJSON_AddNumberToObject(q, "imbalance", t->points > 0 ? (double)t->points_max * o->nproc /
+                                                                (double)t->points : 1.0);
+  }
 }
 
 /* summary.json "metrics" and "probes": the final probe displacements, the
@@ -102,7 +174,8 @@ static void counts_json(cJSON *c, const mpgm_problem *pb, const mpgm_report *r, 
  * at (in the metrics, and in each probe): they are not a finished run's
  * numbers, and studies and plots, which read "metrics", do not take them
  * for one. */
-static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o, int complete) {
+static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o, int complete,
+                         const run_totals *t) {
   const mpgm_scene *s = mpgm_problem_scene(pb);
   const mpgm_points *P = mpgm_problem_points(pb);
   cJSON *m = cJSON_AddObjectToObject(j, complete ? "metrics" : "metrics_at_stop");
@@ -128,23 +201,14 @@ static void metrics_json(cJSON *j, const mpgm_problem *pb, const mpgm_output *o,
       cJSON_AddItemToObject(q, "step", cJSON_Duplicate(cJSON_GetObjectItemCaseSensitive(m, "step"), 0));
     }
   }
-  double mass = 0.0, vol = 0.0, xmax = -INFINITY, ymax = -INFINITY;
-  /* height along the vertical of gravity in 3-D (a slab stands in y); y in plane strain */
-  const int up = MPGM_DIM == 2 ? 1 : mpgm_scene_vertical(s);
-  for (int p = 0; p < P->n; p++) {
-    mass += P->mass[p];
-    vol += P->vol[p];
-    xmax = fmax(xmax, P->x[MPGM_DIM * p]);
-    ymax = fmax(ymax, P->x[MPGM_DIM * p + up]);
-  }
+  const double mass = t->mass;
   cJSON_AddNumberToObject(m, "mass_total", mass);
-  cJSON_AddNumberToObject(m, "volume_total", vol);
-  if (P->n > 0) { /* the reach of the bodies: a collapse's runout and height */
-    cJSON_AddNumberToObject(m, "runout", xmax);
-    cJSON_AddNumberToObject(m, "height", ymax);
+  cJSON_AddNumberToObject(m, "volume_total", t->vol);
+  if (t->points > 0) { /* the reach of the bodies: a collapse's runout and height */
+    cJSON_AddNumberToObject(m, "runout", t->xmax);
+    cJSON_AddNumberToObject(m, "height", t->ymax);
   }
-  if (mpgm_problem_effects(pb)->plasticity)
-    cJSON_AddNumberToObject(m, "eps_p_max", mpgm_points_plastic_strain(P, s->mats, NULL));
+  if (mpgm_problem_effects(pb)->plasticity) cJSON_AddNumberToObject(m, "eps_p_max", t->eps_p);
 #if MPGM_DIM == 2 /* the manufactured solutions are plane strain */
   double e[3];
   if (mpgm_problem_mms_errors(pb, e)) { /* eq 47 of Tran et al. 2019 */
@@ -193,7 +257,7 @@ static void cuts_json(cJSON *j, const mpgm_run_result *res) {
 }
 
 static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const run_state *rs,
-                           const mpgm_ctx *ctx) {
+                           const mpgm_ctx *ctx, const run_totals *tot) {
   const mpgm_scene *s = mpgm_problem_scene(pb);
   const mpgm_run_result *res = rs->res;
   mpgm_report r;
@@ -213,15 +277,15 @@ static cJSON *summary_json(const mpgm_problem *pb, const mpgm_output *o, const r
   cJSON_AddNumberToObject(j, "solver_threads", s->threads);
   cJSON_AddNumberToObject(j, "threads", r.threads);
   cJSON_AddItemToObject(j, "effects", (cJSON *)mpgm_effects_json(mpgm_problem_effects(pb)));
-  counts_json(cJSON_AddObjectToObject(j, "counts"), pb, &r, o, ctx);
+  counts_json(cJSON_AddObjectToObject(j, "counts"), pb, &r, o, ctx, tot);
   cJSON *t = cJSON_AddObjectToObject(j, "time_s");
   for (int i = 0; i < MPGM_T_COUNT; i++)
     cJSON_AddNumberToObject(t, mpgm_timer_name(i), i == MPGM_T_TOTAL ? rs->wall : ctx->t[i]);
   /* processor time beside the wall time: below threads x wall, the run
    * waited for cores other jobs held, and its wall times are inflated */
-  if (isfinite(rs->cpu)) cJSON_AddNumberToObject(j, "cpu_s", rs->cpu);
+  if (isfinite(tot->cpu)) cJSON_AddNumberToObject(j, "cpu_s", tot->cpu); /* every process's */
   newton_json(j, &r.last);
-  metrics_json(j, pb, o, strcmp(rs->status, "completed") == 0);
+  metrics_json(j, pb, o, strcmp(rs->status, "completed") == 0, tot);
   cuts_json(j, res);
   cJSON *out = cJSON_AddObjectToObject(j, "output");
   cJSON_AddStringToObject(out, "dir", o->dir);
@@ -278,9 +342,14 @@ static void outcome_fill(mpgm_run_outcome *oc, const mpgm_problem *pb, const mpg
   outcome_metric(oc, m, "eps_p_max");
 }
 
+/* summary.json, written by the first process of many (every process
+ * calls it: the totals are collective). */
 static int write_summary(mpgm_ctx *ctx, const mpgm_problem *pb, mpgm_output *o, const run_state *rs,
                          mpgm_run_outcome *oc) {
-  cJSON *j = summary_json(pb, o, rs, ctx);
+  run_totals tot;
+  MPGM_CALL(totals(ctx, pb, rs->cpu, &tot));
+  if (o->rank > 0) return 0;
+  cJSON *j = summary_json(pb, o, rs, ctx, &tot);
   if (oc && j) outcome_fill(oc, pb, o, rs, j);
   char path[MPGM_PATH_LEN + 64];
   snprintf(path, sizeof path, "%s/summary.json", o->dir);
@@ -323,10 +392,15 @@ static int stop_here(out_monitor *m, const mpgm_problem *pb, int fields) {
   if (r.t >= (dyn ? s->t_end : 1.0) * (1.0 - 1e-9)) return 0;
   mpgm_timer_start(ctx, MPGM_T_OUTPUT);
   int err = fields ? 0 : mpgm_output_vtk(ctx, m->o, pb);
-  if (!err) err = mpgm_checkpoint_write(ctx, m->o->dir, pb, m->o, m->res);
+  const int many = mpgm_ctx_size(ctx) > 1; /* (no checkpoints on many processes yet) */
+  if (!err && !many) err = mpgm_checkpoint_write(ctx, m->o->dir, pb, m->o, m->res);
   mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
   if (err) return err;
   m->stopped = 1;
+  if (many)
+    MPGM_ERROR(ctx, MPGM_ERR_INTERRUPTED, "interrupted after step %ld (%s %.9g): its results are "
+               "written; a run on many processes writes no checkpoint to continue from so far",
+               r.step, dyn ? "t =" : "load factor", r.t);
   MPGM_ERROR(ctx, MPGM_ERR_INTERRUPTED, "interrupted after step %ld (%s %.9g): its results and a "
              "checkpoint are written; continue with: mpgm run --restart %s", r.step,
              dyn ? "t =" : "load factor", r.t, m->o->dir);
@@ -336,6 +410,7 @@ static int output_step(void *user, const mpgm_problem *pb, int fields, double wa
   out_monitor *m = user;
   mpgm_ctx *ctx = m->ctx;
   mpgm_timer_start(ctx, MPGM_T_OUTPUT);
+  /* (each write on many processes agrees: the histories are the first's) */
   int err = mpgm_output_probes_record(ctx, m->o, pb);
   if (!err) err = mpgm_output_step_record(ctx, m->o, pb, wall);
   if (!err && fields) {
@@ -345,6 +420,7 @@ static int output_step(void *user, const mpgm_problem *pb, int fields, double wa
       m->t_hist = now;
       err = mpgm_output_probes_write(ctx, m->o);
       if (!err) err = mpgm_output_steps_write(ctx, m->o);
+      err = mpgm_agree(ctx, err);
     }
   }
   mpgm_timer_stop(ctx, MPGM_T_OUTPUT);
@@ -398,6 +474,7 @@ static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, run_state *rs
   /* summary.json even when the tables could not be written */
   const int serr = write_summary(ctx, pb, o, rs, oc);
   if (!werr) werr = serr;
+  werr = mpgm_agree(ctx, werr); /* many processes: the first's writes */
   if (!err) return werr;
   const int code = keep.code ? keep.code : err;
   *ctx = keep;
@@ -413,6 +490,9 @@ static int finish(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, run_state *rs
 static int start(mpgm_ctx *ctx, mpgm_problem *pb, mpgm_output *o, const char *dir,
                  const mpgm_run_opts *opts, mpgm_run_result *res) {
   memset(o, 0, sizeof *o);
+  MPGM_CHECK(ctx, !(opts && opts->restart) || mpgm_ctx_size(ctx) == 1, MPGM_ERR_INPUT,
+             "--restart: a run on many processes continues from no checkpoint so far; run it "
+             "without mpiexec, or with -n 1");
   if (opts && opts->restart) {
     MPGM_CALL(mpgm_checkpoint_restore(ctx, opts->restart, pb, o, dir, res));
     MPGM_CALL(mpgm_output_resume(ctx, o));

@@ -1,5 +1,6 @@
 /* vtu.c -- VTK XML unstructured-grid writer (.vtu): one piece per file,
- * written atomically (mpgm_file.h). See mpgm_vtu.h.
+ * and the .pvtu index of a frame written in pieces, each written
+ * atomically (mpgm_file.h). See mpgm_vtu.h.
  *
  * Binary files put every array in <AppendedData encoding="raw">: the
  * XML header names each array's offset into it, so the bytes of every
@@ -261,4 +262,32 @@ int mpgm_vtu_write(mpgm_ctx *ctx, const char *path, int encoding, double time,
   free(buf);
   for (int a = 0; a < narr; a++) free(ar[a].bytes);
   return err;
+}
+
+/* See mpgm_vtu.h. */
+int mpgm_pvtu_write(mpgm_ctx *ctx, const char *path, const mpgm_vtu_piece *p, int n,
+                    const char *stem) {
+  MPGM_CHECK(ctx, p && n >= 1 && p->nfields <= 64 && stem && !strchr(stem, '"'), MPGM_ERR_INPUT,
+             "%s: an index of %d pieces", path, n);
+  void *fp;
+  MPGM_CALL(mpgm_atomic_open(ctx, path, &fp));
+  FILE *f = fp;
+  fputs("<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" "
+        "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <PUnstructuredGrid "
+        "GhostLevel=\"0\">\n    <PFieldData>\n      <PDataArray type=\"Float64\" "
+        "Name=\"TimeValue\" NumberOfTuples=\"1\"/>\n    </PFieldData>\n    <PPointData>\n", f);
+  for (int k = 0; k < p->nfields; k++) {
+    const int nk = mpgm_vtk_ncomp(p->fields[k].kind);
+    fprintf(f, "      <PDataArray type=\"Float64\" Name=\"%s\"", p->fields[k].name);
+    if (nk > 1) fprintf(f, " NumberOfComponents=\"%d\"", nk);
+    fputs("/>\n", f);
+  }
+  fputs("    </PPointData>\n    <PPoints>\n      <PDataArray type=\"Float64\" "
+        "NumberOfComponents=\"3\"/>\n    </PPoints>\n    <PCells>\n"
+        "      <PDataArray type=\"Int64\" Name=\"connectivity\"/>\n"
+        "      <PDataArray type=\"Int64\" Name=\"offsets\"/>\n"
+        "      <PDataArray type=\"UInt8\" Name=\"types\"/>\n    </PCells>\n", f);
+  for (int r = 0; r < n; r++) fprintf(f, "    <Piece Source=\"%s_%d.vtu\"/>\n", stem, r);
+  fputs("  </PUnstructuredGrid>\n</VTKFile>\n", f);
+  return mpgm_atomic_close(ctx, path, f);
 }

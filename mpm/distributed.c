@@ -4,8 +4,10 @@
  * its own cells, the points that crossed into another process's cells
  * sent there at the start of every step (DMSwarm), and the sums over the
  * points at the nodes shared with other processes completed by the
- * partition's scatters. The probes and surface tracers stay on every
- * process. On one process each function here does nothing. */
+ * partition's scatters. The probes stay on every process: each step one
+ * process moves a probe, the one whose cell holds it, and the others take
+ * its values at the step's end. On one process each function here does
+ * nothing. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -86,6 +88,24 @@ static int exchange(const mpgm_fe_view *v, mpm_data *d, int send) {
   return grow_points(v, d, P->n + P->nprobe + P->nsurf);
 }
 
+int mpgm_mpm_check(mpgm_ctx *ctx, const mpgm_scene *s) {
+  const int np = mpgm_ctx_size(ctx);
+  if (np == 1) return 0;
+  const mpgm_shapefn_type *k = s->shape;
+  /* the partition's ghost layers cover a cell's nodes and uGIMP's two
+   * rings; clouds and CPDI's domains reach further */
+  MPGM_CHECK(ctx, (k->needs_cell || k->grid_only) && !k->domain && !k->velocity_ls, MPGM_ERR_INPUT,
+             "%s: shape.kind: method mpm runs shape.kind \"%s\" on one process only so far, and this "
+             "run was started on %d (kinds that run on many: fe, ugimp); run it without mpiexec, "
+             "or with -n 1", s->file, k->name, np);
+  for (int i = 0; i < s->nbc; i++)
+    MPGM_CHECK(ctx, s->bcs[i].condition != MPGM_COND_CONTACT, MPGM_ERR_INPUT,
+               "%s: boundaries[%d].condition: method mpm enforces contact on one process only so "
+               "far, and this run was started on %d; run it without mpiexec, or with -n 1", s->file,
+               i, np);
+  return 0;
+}
+
 int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d) {
   d->pcap = v->pts->n + v->pts->nprobe + v->pts->nsurf;
   if (mpgm_ctx_size(v->ctx) == 1) return 0;
@@ -131,13 +151,20 @@ int mpgm_mpm_node_sums(void *self, mpgm_ctx *ctx, int w, double *val) {
 }
 
 /* The light-node rule on many processes: its masses are the sums over
- * every process's points, and the heaviest node is the run's. */
+ * every process's points, and the heaviest node is the run's. The sums
+ * are taken at the nodes this process's points reach, and at those of the
+ * probes it moves: a probe's node may carry only another process's mass. */
 int mpgm_mpm_dist_light(const mpgm_fe_view *v, mpm_data *d) {
   if (!d->pg) return 0;
   const mpgm_grid *g = &d->g;
+  const mpgm_conn *C = v->conn;
+  const int first = v->pts->n;
+  for (int i = 0; i < g->nnode; i++) d->light[i] = d->gm[i] > 0.0; /* light as scratch: set below */
+  for (int k = 0; k < v->pts->nprobe; k++)
+    for (int e = C->ptr[first + k]; !d->pskip[k] && e < C->ptr[first + k + 1]; e++) d->light[C->node[e]] = 1;
   int n = 0;
   for (int i = 0; i < g->nnode; i++)
-    if (d->gm[i] > 0.0) d->gmap[n++] = i; /* gmap as scratch: step_nodes sets it anew */
+    if (d->light[i]) d->gmap[n++] = i; /* gmap as scratch: step_nodes sets it anew */
   double *m = malloc(sizeof(double) * ((size_t)n + 1));
   MPGM_CHECK(v->ctx, m, MPGM_ERR_NOMEM, "out of memory (nodal masses)");
   for (int i = 0; i < n; i++) m[i] = d->gm[d->gmap[i]];
@@ -155,7 +182,45 @@ int mpgm_mpm_dist_light(const mpgm_fe_view *v, mpm_data *d) {
   return 0;
 }
 
+/* sync 0: the mover of every probe, the process whose cell holds it now
+ * (a probe outside the grid: the first process); sync 1: the probes'
+ * position, displacement, velocity and acceleration, which only the
+ * mover's step set, on every process. The others give zeros to a sum,
+ * which leaves the mover's numbers exact. */
+int mpgm_mpm_dist_probes(const mpgm_fe_view *v, mpm_data *d, int sync) {
+  mpgm_points *P = v->pts;
+  const int np = P->nprobe, rank = mpgm_ctx_rank(v->ctx);
+  if (!d->pg || np == 0) return 0;
+  if (!d->powner) {
+    MPGM_ALLOC(v->ctx, d->powner, np);
+    MPGM_ALLOC(v->ctx, d->pskip, np + P->nsurf);
+  }
+  if (!sync) {
+    for (int k = 0; k < np; k++) {
+      const int o = owner_of(d, P->x + MPGM_DIM * (P->n + k));
+      d->powner[k] = o < 0 ? 0 : o;
+      d->pskip[k] = d->powner[k] != rank;
+    }
+    return 0;
+  }
+  double *const arr[4] = {P->x, P->u, P->v, P->a};
+  const size_t w = 4 * MPGM_DIM;
+  double *buf = calloc(w * (size_t)np, sizeof(double));
+  MPGM_CHECK(v->ctx, buf, MPGM_ERR_NOMEM, "out of memory (%d probes)", np);
+  for (int k = 0; k < np; k++)
+    for (int j = 0; d->powner[k] == rank && j < 4; j++)
+      memcpy(buf + w * k + MPGM_DIM * j, arr[j] + MPGM_DIM * (P->n + k), sizeof(double) * MPGM_DIM);
+  const int err = mpgm_allreduce(v->ctx, MPGM_REDUCE_SUM, buf, (int)w * np);
+  for (int k = 0; k < np && !err; k++)
+    for (int j = 0; j < 4; j++)
+      memcpy(arr[j] + MPGM_DIM * (P->n + k), buf + w * k + MPGM_DIM * j, sizeof(double) * MPGM_DIM);
+  free(buf);
+  return err;
+}
+
 void mpgm_mpm_dist_free(mpm_data *d) {
+  free(d->powner);
+  free(d->pskip);
   mpgm_pgrid_destroy(&d->pg);
   free(d->xijk);
   free(d->xval);

@@ -549,28 +549,32 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   mpm_data *d = self;
   /* on many processes: the points that crossed into another's cells go there */
   MPGM_CALL(mpgm_mpm_dist_migrate(v, d));
+  MPGM_CALL(mpgm_mpm_dist_probes(v, d, 0)); /* and which process moves each probe */
   const mpgm_points *P = v->pts;
   const int m = P->n + P->nprobe + P->nsurf;
   d->step++;
-  MPGM_CALL(locate(v, d));
+  int err = locate(v, d);
   /* meshfree kinds (LME-MPM, MLS-MPM): the clouds of grid nodes at the
    * undeformed grid, ids of grid nodes (discretisation/clouds.c) */
 #if MPM_PLANE_ONLY
-  MPGM_CALL(d->meshfree && !d->gridfn ? mpgm_clouds_build(d->clouds, v, d->tree, NULL, v->conn)
-                                      : point_shape(v, d));
+  if (!err)
+    err = d->meshfree && !d->gridfn ? mpgm_clouds_build(d->clouds, v, d->tree, NULL, v->conn)
+                                    : point_shape(v, d);
 #else
-  MPGM_CALL(point_shape(v, d));
+  if (!err) err = point_shape(v, d);
 #endif
+  MPGM_CALL(mpgm_agree(v->ctx, err)); /* many processes: a point failed on one of them */
   memset(d->light, 0, (size_t)d->g.nnode);
 #if MPGM_DIM == 3 /* the runs of the run sums (mpgm_data.h) */
   MPGM_CALL(mpgm_conn_runs(v->ctx, v->conn, P->n));
 #endif
   mpgm_light_nodes(v->conn, P->n, P->mass, d->g.nnode, NULL, v->scene->mesh_par.min_node_mass, d->gm, d->light);
   MPGM_CALL(mpgm_mpm_dist_light(v, d)); /* on many processes: by the run's nodal masses */
-  MPGM_CALL(mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step, v->scene->mesh_par.min_node_mass));
+  MPGM_CALL(mpgm_agree(v->ctx, mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step,
+                                                v->scene->mesh_par.min_node_mass)));
   step_nodes(v, d);
   /* probes and surface points without functions move with the material */
-  MPGM_CALL(mpgm_tracers_carry(v, v->conn, &d->carry));
+  MPGM_CALL(mpgm_tracers_carry(v, v->conn, &d->carry, d->pskip));
   MPGM_CALL(mpgm_mpm_project(v, d));
   return pattern_version(v, d);
 }
@@ -579,6 +583,7 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
  * the grid nodes is kept, as the next step's first guess. */
 static int mpm_end_step(void *self, const mpgm_fe_view *v) {
   mpm_data *d = self;
+  MPGM_CALL(mpgm_mpm_dist_probes(v, d, 1)); /* many processes: the probes' movers' values */
   const mpgm_nodes *nd = v->nodes;
   memset(d->gfree, 0, (size_t)d->g.nnode);
   for (int i = 0; i < nd->n; i++)
@@ -667,6 +672,7 @@ const mpgm_frontend_type mpgm_frontend_mpm = {
     .destroy = mpm_destroy,
     .begin_step = mpm_begin_step,
     .end_step = mpm_end_step,
+    .check = mpgm_mpm_check,
     .node_sums = mpgm_mpm_node_sums,
     .background = mpm_background,
     .save = mpm_save,

@@ -61,6 +61,9 @@ typedef struct mpm_data {
   double *xval;        /**< and its values (MPM_XW per node)                 */
   int nx;              /**< nodes xijk and xval have room for                */
   int nstep;           /**< nodes of the step (lglob's length)               */
+  int *powner;         /**< the process that moves each probe in this step:
+                            the owner of its cell at the step's start     */
+  unsigned char *pskip;/**< per tracer: another process moves it          */
 } mpm_data;
 
 /* The values per node the sums at shared nodes carry at most: mass,
@@ -71,11 +74,17 @@ typedef struct mpm_data {
  * of this process's cells only (create); points that left them sent to
  * their process (the start of every step); the sums at the nodes shared
  * with other processes (w values per node of the step; per grid node of
- * the light-node rule's masses); each a no-op on one process. */
+ * the light-node rule's masses); the probes (dist_probes: their mover,
+ * each the process of its cell at the step's start, found with sync 0 as
+ * the step begins; its values given to every process with sync 1 as the
+ * step ends); each a no-op on one process. */
+/* The scenes MPM runs on many processes (mpgm_frontend_type.check). */
+int mpgm_mpm_check(mpgm_ctx *ctx, const mpgm_scene *s);
 int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d);
 int mpgm_mpm_dist_migrate(const mpgm_fe_view *v, mpm_data *d);
 int mpgm_mpm_node_sums(void *self, mpgm_ctx *ctx, int w, double *val);
 int mpgm_mpm_dist_light(const mpgm_fe_view *v, mpm_data *d);
+int mpgm_mpm_dist_probes(const mpgm_fe_view *v, mpm_data *d, int sync);
 void mpgm_mpm_dist_free(mpm_data *d);
 
 /* Projection (38)-(41) with the final shape functions (project.c). */

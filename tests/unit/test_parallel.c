@@ -6,9 +6,11 @@
  * runs it with mpiexec -n 2 and -n 3) MPI and PETSc start through
  * mpgm_par.so, the communicator has the launcher's size, every
  * collective gives on every rank what the ranks' values say, and the
+ * outcome of a local part is agreed (mpgm_agree), the
  * partitioned grid (mpgm_pgrid, 2-D and 3-D) sums shared nodes as one
  * process would and migrates every point to the process of its cell. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,7 +27,8 @@ static void one_process(void) {
   long l[2] = {7, -3};
   char b[4] = "abc";
   const int err = mpgm_allreduce(&ctx, MPGM_REDUCE_SUM, v, 3) |
-                  mpgm_allreduce_long(&ctx, MPGM_REDUCE_MAX, l, 2) | mpgm_bcast(&ctx, b, 4, 0);
+                  mpgm_allreduce_long(&ctx, MPGM_REDUCE_MAX, l, 2) | mpgm_bcast(&ctx, b, 4, 0) |
+                  (mpgm_agree(&ctx, MPGM_ERR_NAN) != MPGM_ERR_NAN) | mpgm_agree(&ctx, 0);
   mpgm_test(err == 0 && mpgm_ctx_size(&ctx) == 1 && mpgm_ctx_rank(&ctx) == 0 && v[0] == 1.5 &&
                 v[1] == -2.0 && isnan(v[2]) && l[0] == 7 && l[1] == -3 && strcmp(b, "abc") == 0,
             "one process: size 1, rank 0, the collectives leave every value as it was");
@@ -242,6 +245,24 @@ static void check_mpm(mpgm_ctx *ctx, const char *scheme) {
   mpgm_scene_destroy(&s);
 }
 
+/* mpgm_agree: every rank succeeds (0 on all), then ranks 1 and the last
+ * fail with codes of their own: all get rank 1's code, and the ranks but 1
+ * its message as "process 1 of N: ..." (rank 1 keeps its own). */
+static void check_agree(mpgm_ctx *ctx) {
+  const int r = mpgm_ctx_rank(ctx), n = mpgm_ctx_size(ctx);
+  int e = mpgm_agree(ctx, 0);
+  mpgm_test(e == 0 && ctx->code == 0, "rank %d: every process succeeded: agreed 0", r);
+  int mine = 0;
+  if (r == 1) mine = mpgm_err_set(ctx, MPGM_ERR_SHAPE, __FILE__, __LINE__, "point 7 left the grid");
+  if (r == n - 1 && r != 1) mine = mpgm_err_set(ctx, MPGM_ERR_NAN, __FILE__, __LINE__, "a NaN");
+  e = mpgm_agree(ctx, mine);
+  char want[64];
+  snprintf(want, sizeof want, r == 1 ? "point 7 left the grid" : "process 1 of %d: point 7 left the grid", n);
+  mpgm_test(e == MPGM_ERR_SHAPE && ctx->code == MPGM_ERR_SHAPE && strcmp(ctx->msg, want) == 0,
+            "rank %d: rank 1's failure on every process (code %d, '%s')", r, e, ctx->msg);
+  mpgm_err_clear(ctx);
+}
+
 static void many(int launched) {
   const mpgm_comm *comm = NULL;
   char msg[512];
@@ -266,6 +287,7 @@ static void many(int launched) {
   e = mpgm_bcast(&ctx, text, sizeof text, n - 1);
   mpgm_test(e == 0 && strcmp(text, "from the last rank") == 0, "rank %d: a broadcast from rank %d",
             r, n - 1);
+  check_agree(&ctx);
   for (int dim = 2; dim <= 3; dim++) {
     check_sums(&ctx, dim);
     check_migration(&ctx, dim);

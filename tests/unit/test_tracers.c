@@ -90,7 +90,7 @@ int main(void) {
   memcpy(qN, out.N + q0, sizeof(double) * (size_t)nq);
   memcpy(qdN, out.dN + 2 * q0, sizeof(double) * 2 * (size_t)nq);
   memcpy(on, out.node + out.ptr[other], sizeof(int) * (size_t)no);
-  err = mpgm_tracers_carry(&v, &out, &scratch);
+  err = mpgm_tracers_carry(&v, &out, &scratch, NULL);
   const int k0 = out.ptr[stray], nk = out.ptr[stray + 1] - k0;
   const int same = !err && nk == nq && memcmp(out.node + k0, qn, sizeof(int) * (size_t)nq) == 0 &&
                    memcmp(out.N + k0, qN, sizeof(double) * (size_t)nq) == 0 &&
