@@ -174,12 +174,35 @@ static int check_processes(mpgm_ctx *ctx, const mpgm_scene *s) {
   if (np == 1) return 0;
   const int expl = s->analysis == MPGM_ANALYSIS_EXPLICIT;
   const unsigned need = expl ? MPGM_FE_MANY_EXPLICIT : MPGM_FE_MANY_IMPLICIT;
-  if (s->frontend->processes & need) return 0;
   char m[128];
-  return fail(ctx, s, "method", "method %s runs its %s analyses on one process only so far, and "
-              "this run was started on %d (methods that run them on many: %s); run it without "
-              "mpiexec, or with -n 1", s->frontend->name, expl ? "explicit" : "implicit", np,
-              takers(PROCESSES, need, m, sizeof m));
+  if (!(s->frontend->processes & need))
+    return fail(ctx, s, "method", "method %s runs its %s analyses on one process only so far, and "
+                "this run was started on %d (methods that run them on many: %s); run it without "
+                "mpiexec, or with -n 1", s->frontend->name, expl ? "explicit" : "implicit", np,
+                takers(PROCESSES, need, m, sizeof m));
+  /* what a run writes and observes on many processes so far: the points'
+   * .vtu pieces of a .pvtu frame, the probes, the histories, summary.json */
+  const char *key = NULL;
+  char what[160];
+  if (s->vtk != MPGM_VTK_NONE && (s->formats & (MPGM_FORMAT_VTK | MPGM_FORMAT_XDMF)))
+    key = "output.format", snprintf(what, sizeof what, "a run on many processes writes only \"vtu\" "
+                                    "so far (each process its points' piece of a .pvtu frame)");
+  else if (s->grid)
+    key = "output.grid", snprintf(what, sizeof what, "a run on many processes writes no "
+                                  "background grid series so far");
+  else if (s->checkpoint_every > 0)
+    key = "output.checkpoint_every", snprintf(what, sizeof what, "a run on many processes writes "
+                                              "no checkpoints so far");
+  else if (s->manufactured)
+    key = "manufactured", snprintf(what, sizeof what, "a run on many processes measures no "
+                                   "manufactured solution's errors so far");
+  else if (s->reference.type && s->reference.type->observe)
+    key = "reference", snprintf(what, sizeof what, "reference \"%s\" observes every material "
+                                "point, which a run on many processes does not do so far",
+                                s->reference.type->name);
+  if (!key) return 0;
+  return fail(ctx, s, key, "%s, and this run was started on %d; run it without mpiexec, or with "
+              "-n 1", what, np);
 }
 
 int mpgm_frontend_check(mpgm_ctx *ctx, const mpgm_scene *s) {

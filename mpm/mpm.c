@@ -666,6 +666,7 @@ const mpgm_frontend_type mpgm_frontend_mpm = {
 #endif
     .obstacles = 0,
     .explicit_schemes = 1,
+    .processes = MPGM_FE_MANY_EXPLICIT,
     .mesh_keys = mpm_mesh_keys,
     .nmesh_keys = sizeof mpm_mesh_keys / sizeof *mpm_mesh_keys,
     .create = mpm_create,

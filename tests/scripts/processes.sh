@@ -5,7 +5,11 @@
 # of MPICH, Intel MPI and Slurm's PMI, MVAPICH's MV2_COMM_WORLD_SIZE); a
 # scene whose method cannot yet run its analysis on many processes is
 # refused at load, naming the method and the analysis, exit 2, from rank 0
-# only, with nothing written. The other commands run on one process and
+# only, with nothing written (and so is a scene asking for what a run on
+# many does not do yet: another shape kind, other output formats). Explicit
+# MPM runs on 2 and 3 processes, in 2-D and 3-D, with the one-process
+# answers (tests/tools/same_ranks.py, 1e-10), one .pvtu per frame over the
+# processes' pieces, and a failure on one process stops every one. The other commands run on one process and
 # are refused under a launcher. A launcher of another MPI than mpgm's
 # (its processes each see MPI of one) is refused too: the copies would
 # write the same results. One process (no launcher, or -n 1) runs as
@@ -45,19 +49,25 @@ fi
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 mpx=("$mpx" --oversubscribe)
 # refused at load, once, nothing written: the implicit UL-FEM cantilever on
-# 2, the explicit MPM column on 3, a 3-D scene (handed to mpgm-3d before
-# MPI starts) on 2
+# 2, explicit MPM with LME on 3 and with a reference that observes every
+# point (Dyka's bar) on 2, a 3-D scene (handed to mpgm-3d before MPI
+# starts) on 2
 "${mpx[@]}" -n 2 "$exe" run "$cl" "${quick[@]}" --out two > two.out 2> two.err; rc=$?
 n=$(grep -c "method fem runs its implicit analyses on one process only so far, and this run was started on 2" two.err)
 [ $rc -ne 0 ] && [ "$n" -eq 1 ] && [ ! -e two ] \
   && ok "mpiexec -n 2: the implicit UL-FEM run refused once (exit $rc), no results folder" \
   || ko "mpiexec -n 2: exit $rc, $n messages, $(ls -d two 2>/dev/null) $(head -c 300 two.err)"
-"${mpx[@]}" -n 3 "$exe" check "$src/cases/column_collapse.json" --set time.analysis=explicit \
-  > three.out 2> three.err; rc=$?
-n=$(grep -c "method mpm runs its explicit analyses on one process only so far, and this run was started on 3" three.err)
-[ $rc -ne 0 ] && [ "$n" -eq 1 ] && [ ! -s three.out ] \
-  && ok "mpiexec -n 3: the explicit MPM column refused once at load (exit $rc)" \
-  || ko "mpiexec -n 3: exit $rc, $n messages, $(head -c 300 three.err)"
+discs="$src/cases/colliding_discs.json"
+"${mpx[@]}" -n 3 "$exe" check "$discs" --set shape.kind=lme > three.out 2> three.err; rc=$?
+n=$(grep -c 'shape.kind: method mpm runs shape.kind "lme" on one process only so far, and this run was started on 3' three.err)
+[ $rc -eq 2 ] && [ "$n" -eq 1 ] && [ ! -s three.out ] \
+  && ok "mpiexec -n 3: explicit MPM with LME refused once at load (exit $rc)" \
+  || ko "mpiexec -n 3, LME: exit $rc, $n messages, $(head -c 300 three.err)"
+"${mpx[@]}" -n 2 "$exe" run "$src/cases/dyka_bar.json" --out bar > bar.out 2> bar.err; rc=$?
+n=$(grep -c 'reference: reference "dyka_bar" observes every material point, which a run on many processes does not do so far' bar.err)
+[ $rc -eq 2 ] && [ "$n" -eq 1 ] && [ ! -e bar ] \
+  && ok "mpiexec -n 2: Dyka's bar (its reference observes every point) refused once, nothing written" \
+  || ko "mpiexec -n 2, Dyka's bar: exit $rc, $n messages, $(head -c 300 bar.err)"
 "${mpx[@]}" -n 2 "$exe" check "$src/cases/column_wave_3d.json" > td.out 2> td.err; rc=$?
 n=$(grep -c "column_wave_3d.json: method: method mpm runs its implicit analyses on one process only" td.err)
 [ $rc -ne 0 ] && [ "$n" -eq 1 ] && ok "mpiexec -n 2 with a 3-D scene: mpgm-3d refuses it (exit $rc)" \
@@ -76,6 +86,57 @@ for t in test_parallel test_parallel_3d; do
       || ko "$t on $n: exit $rc, $(grep -m3 FAIL $t$n.log) $(tail -c 300 $t$n.log)"
   done
 done
+# explicit MPM on 1, 2 and 3 processes, the same answers (same_ranks.py:
+# probes, energies, momenta, metrics to 1e-10 of their scale): the two
+# colliding discs (fe, npc; to t = 1.5 s, 350 steps: they meet on the grid
+# and points cross between processes), with uGIMP and usl on 3 (100
+# steps), and the 3-D
+# Mohr-Coulomb column (H8, 40 steps) on 2
+same_runs() { # NAME NPROCS SCENE ARGS...
+  local name="$1" np="$2" scene="$3"; shift 3
+  "$exe" run "$scene" "$@" --quiet --out ${name}1 > ${name}1.log 2>&1 || { ko "$name: one process: $(tail -c 300 ${name}1.log)"; return; }
+  for n in $np; do
+    "${mpx[@]}" -n $n "$exe" run "$scene" "$@" --quiet --out $name$n > $name$n.log 2>&1; rc=$?
+    if [ $rc -eq 0 ] && python3 "$src/tests/tools/same_ranks.py" ${name}1 $name$n > $name$n.cmp 2>&1; then
+      ok "$name on $n processes: the one-process answers ($(grep -o 'worst difference [^ ]*' $name$n.cmp | sort -k3 -g | tail -1))"
+    else
+      ko "$name on $n: exit $rc, $(grep DIFFERS $name$n.cmp | head -3) $(tail -c 300 $name$n.log)"
+    fi
+  done
+}
+same_runs discs "2 3" "$discs" --set time.end=1.5 --set output.every=50
+same_runs ugimp "3" "$discs" --set time.end=0.43 --set output.every=25 --set shape.kind=ugimp \
+  --set time.scheme=usl
+same_runs col3d "2" "$src/cases/column_collapse_3d.json" --set time.analysis=explicit --set time.dt=0.0005 \
+  --set time.end=0.02 --set output.times=[] --set output.every=20
+# the pieces: one .vtu per process and frame, and a .pvtu of them listed in points.pvd
+n=$(ls discs3/vtk/*.pvtu 2>/dev/null | wc -l); m=$(ls discs3/vtk/points_000000_*.vtu 2>/dev/null | wc -l)
+[ "$n" -eq "$(ls discs1/vtk/*.vtu | wc -l)" ] && [ "$m" -eq 3 ] && grep -q 'file="vtk/points_000000.pvtu"' discs3/points.pvd \
+  && ok "3 processes: $n frames, each a .pvtu of 3 pieces, listed in points.pvd" \
+  || ko "3 processes: $n .pvtu, $m pieces of frame 0, $(head -c 300 discs3/points.pvd)"
+last=$(ls discs1/vtk/points_*.vtu | tail -1); last=${last##*/}
+python3 - discs1/vtk/$last discs3/vtk/${last%.vtu} 3 <<'PY' > pieces.log 2>&1 \
+  && ok "3 processes: the pieces of the last frame hold the one-process points ($(cat pieces.log))" \
+  || ko "pieces: $(cat pieces.log)"
+import re, sys
+def count(path):
+    return int(re.search(r'NumberOfPoints="(\d+)"', open(path, errors="replace").read(4096)).group(1))
+one, stem, n = sys.argv[1], sys.argv[2], int(sys.argv[3])
+parts = [count(f"{stem}_{r}.vtu") for r in range(n)]
+first = [count(f"{stem[:-6]}000000_{r}.vtu") for r in range(n)]
+print(f"{sum(parts)} points: {' + '.join(map(str, parts))}, at the start {' + '.join(map(str, first))}")
+sys.exit(0 if sum(parts) == count(one) and min(parts) > 0 else 1)
+PY
+# a step that fails on one process (a point's Jacobian inverted on purpose
+# on rank 2 of 3) fails on every one: no process waits for it, and the
+# first's summary.json names the process and its reason
+flt=(run "$discs" --set time.end=0.1 --quiet --out fault)
+timeout 120 "${mpx[@]}" -n 2 "$exe" "${flt[@]}" : -n 1 env MPGM_TEST_FAULT=jacobian:5:100 "$exe" "${flt[@]}" \
+  > fault.log 2>&1; rc=$?
+[ $rc -ne 0 ] && [ $rc -ne 124 ] && grep -q '"failed_step":	5' fault/summary.json \
+  && grep -q 'step 5 (t = [0-9.e-]*) failed: process 2 of 3: point [0-9]* at .*det(dF) = -1' fault/summary.json \
+  && ok "a failure on process 2 of 3: every process stops at step 5 (exit $rc), summary.json names it" \
+  || ko "a failure on process 2: exit $rc, $(grep -m2 '"message"\|failed_step' fault/summary.json 2>/dev/null) $(tail -c 300 fault.log)"
 # -n 1: no MPI, the same result as without a launcher
 "${mpx[@]}" -n 1 "$exe" run "$cl" "${quick[@]}" --out n1 > n1.log 2>&1; rc=$?
 "$exe" run "$cl" "${quick[@]}" --out n0 > n0.log 2>&1
