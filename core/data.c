@@ -32,6 +32,7 @@ int mpgm_points_alloc(mpgm_ctx *ctx, mpgm_points *p, int n, int nprobe, int nsur
   MPGM_ALLOC(ctx, p->body, m);
   MPGM_ALLOC(ctx, p->id, m);
   for (int i = 0; i < m; i++) p->id[i] = i;
+  p->cap = m;
   /* F_t, sigma_t and vol_t as long as F, sigma and vol: an explicit step
    * commits by swapping them (core/explicit.c, commit_stress) */
   MPGM_ALLOC(ctx, p->F_t, MPGM_TENSOR * m);
@@ -131,80 +132,101 @@ int mpgm_points_pack(const mpgm_points *P, const unsigned char *keep, double *ou
   return q;
 }
 
-/* Record rec into point q of the arrays fresh (point_arrays' order). */
-static void unpack(const point_array *arr, void *const *fresh, int q, const double *rec) {
+/* Record rec into row q of the arrays arr (point_arrays' order). */
+static void unpack(const point_array *arr, int q, const double *rec) {
   for (int j = 0; j < NARR; j++) {
     const int w = arr[j].w;
-    if (w < 0) ((int *)fresh[j])[q] = (int)*rec++;
+    if (w < 0) (*(int **)arr[j].a)[q] = (int)*rec++;
     else {
-      memcpy((double *)fresh[j] + (size_t)w * q, rec, sizeof(double) * (size_t)w);
+      memcpy(*(double **)arr[j].a + (size_t)w * q, rec, sizeof(double) * (size_t)w);
       rec += w;
     }
   }
 }
 
-/* The trial arrays for n material points of m in all, the committed
- * values copied into the ones an explicit step swaps (F_t, sigma_t,
- * vol_t: mpgm_points_alloc). */
-static int trial_arrays(mpgm_ctx *ctx, mpgm_points *p, int n, int m) {
-  double **t[] = {&p->F_t, &p->dF_t, &p->sigma_t, &p->D_t, &p->state_t, &p->vol_t};
-  for (size_t i = 0; i < sizeof t / sizeof *t; i++) {
-    free(*t[i]);
-    *t[i] = NULL;
+/* The trial arrays a moved row carries (the others are written by a step
+ * before use), with their widths. */
+enum { NTRIAL = 3 };
+static void trial_carried(mpgm_points *p, point_array t[NTRIAL]) {
+  const point_array a[NTRIAL] = {{(void **)&p->F_t, MPGM_TENSOR},
+                                 {(void **)&p->sigma_t, MPGM_NSTRESS},
+                                 {(void **)&p->vol_t, 1}};
+  memcpy(t, a, sizeof a);
+}
+
+/* Room for cap rows in every per-point array, committed and trial. */
+static int points_reserve(mpgm_ctx *ctx, mpgm_points *p, int cap) {
+  point_array arr[NARR + 6];
+  point_arrays(p, arr);
+  const point_array t[6] = {{(void **)&p->F_t, MPGM_TENSOR},    {(void **)&p->dF_t, MPGM_TENSOR},
+                            {(void **)&p->sigma_t, MPGM_NSTRESS}, {(void **)&p->D_t, MPGM_NTANGENT},
+                            {(void **)&p->state_t, p->nstate},  {(void **)&p->vol_t, 1}};
+  memcpy(arr + NARR, t, sizeof t);
+  for (int j = 0; j < NARR + 6; j++) {
+    const size_t row = arr[j].w < 0 ? sizeof(int) : sizeof(double) * (size_t)arr[j].w;
+    void *g = realloc(*arr[j].a, row * (size_t)cap + 1);
+    MPGM_CHECK(ctx, g, MPGM_ERR_NOMEM, "out of memory (room for %d points)", cap);
+    *arr[j].a = g;
   }
-  MPGM_ALLOC(ctx, p->F_t, MPGM_TENSOR * (size_t)m);
-  MPGM_ALLOC(ctx, p->dF_t, MPGM_TENSOR * (size_t)n + 1);
-  MPGM_ALLOC(ctx, p->sigma_t, MPGM_NSTRESS * (size_t)m);
-  MPGM_ALLOC(ctx, p->D_t, MPGM_NTANGENT * (size_t)n + 1);
-  MPGM_ALLOC(ctx, p->state_t, (size_t)p->nstate * n + 1);
-  MPGM_ALLOC(ctx, p->vol_t, (size_t)m);
-  memcpy(p->F_t, p->F, sizeof(double) * MPGM_TENSOR * (size_t)m);
-  memcpy(p->sigma_t, p->sigma, sizeof(double) * MPGM_NSTRESS * (size_t)m);
-  memcpy(p->vol_t, p->vol, sizeof(double) * (size_t)m);
+  p->cap = cap;
   return 0;
 }
 
-/* Array j of the kept points (in order) into rows 0 .. nk of dst and the
- * tracers (rows n .. m of src) after room for nin arrivals. */
-static void keep_rows(const point_array *a, void *dst, const unsigned char *keep, int n, int m,
-                      int nin) {
+/* n rows of array a from row src to row dst (they may overlap). */
+static void row_copy(const point_array *a, int dst, int src, int n) {
   const size_t b = a->w < 0 ? sizeof(int) : sizeof(double) * (size_t)a->w;
-  const char *src = *a->a;
-  char *d = dst;
-  int q = 0;
-  for (int i = 0; i < n; i++)
-    if (keep[i]) memcpy(d + b * q++, src + b * i, b);
-  if (m > n) memcpy(d + b * (size_t)(q + nin), src + b * n, b * (size_t)(m - n));
+  char *d = *a->a;
+  memmove(d + b * (size_t)dst, d + b * (size_t)src, b * (size_t)n);
+}
+
+/* The committed F, sigma and vol of rows [r0, r1) into the trial rows. */
+static void trial_fill(mpgm_points *p, int r0, int r1) {
+  if (r1 <= r0) return;
+  memcpy(p->F_t + MPGM_TENSOR * (size_t)r0, p->F + MPGM_TENSOR * (size_t)r0,
+         sizeof(double) * MPGM_TENSOR * (size_t)(r1 - r0));
+  memcpy(p->sigma_t + MPGM_NSTRESS * (size_t)r0, p->sigma + MPGM_NSTRESS * (size_t)r0,
+         sizeof(double) * MPGM_NSTRESS * (size_t)(r1 - r0));
+  memcpy(p->vol_t + r0, p->vol + r0, sizeof(double) * (size_t)(r1 - r0));
 }
 
 int mpgm_points_exchange(mpgm_ctx *ctx, mpgm_points *p, const unsigned char *keep, int nin,
                          const double *in) {
-  const int n = p->n, m = n + p->nprobe + p->nsurf, rec = mpgm_point_record_len(p);
+  const int n = p->n, m = n + p->nprobe + p->nsurf, ntr = m - n, rec = mpgm_point_record_len(p);
   int nk = 0;
   for (int i = 0; i < n; i++) nk += keep[i] != 0;
-  const int n2 = nk + nin, m2 = n2 + (m - n);
-  point_array arr[NARR];
+  const int n2 = nk + nin, m2 = n2 + ntr;
+  if (m2 > p->cap) MPGM_CALL(points_reserve(ctx, p, m2 + m2 / 8 + 16));
+  point_array arr[NARR], tr[NTRIAL];
   point_arrays(p, arr);
-  void *fresh[NARR] = {NULL};
-  int ok = 1;
-  for (int j = 0; j < NARR && ok; j++) {
-    const size_t bytes = arr[j].w < 0 ? sizeof(int) : sizeof(double) * (size_t)arr[j].w;
-    ok = (fresh[j] = malloc(bytes * (size_t)m2 + 1)) != NULL;
+  trial_carried(p, tr);
+  /* the tracers past the rows the material points will hold (up first,
+   * when points arrive: rows n .. n2 are then free for them) */
+  if (n2 > n)
+    for (int j = 0; j < NARR + NTRIAL; j++) row_copy(j < NARR ? &arr[j] : &tr[j - NARR], n2, n, ntr);
+  /* the points that left: their rows to the arrivals, then to the last
+   * kept rows (from the end down) */
+  int a = 0, top = n - 1;
+  for (int i = 0; i < n && i < n2; i++) {
+    if (keep[i]) continue;
+    if (a < nin) {
+      unpack(arr, i, in + (size_t)rec * a++);
+    } else {
+      while (top > i && !keep[top]) top--;
+      for (int j = 0; j < NARR; j++) row_copy(&arr[j], i, top, 1);
+      top--;
+    }
+    trial_fill(p, i, i + 1);
   }
-  if (!ok) {
-    for (int j = 0; j < NARR; j++) free(fresh[j]);
-    MPGM_ERROR(ctx, MPGM_ERR_NOMEM, "out of memory (%d points arriving, %d kept)", nin, nk);
+  /* the arrivals past the old rows */
+  for (int q = n; q < n2; q++) {
+    unpack(arr, q, in + (size_t)rec * a++);
+    trial_fill(p, q, q + 1);
   }
-  /* array by array: the points that stay, room for those that arrive, the
-   * tracers; then the arrivals record by record */
-  for (int j = 0; j < NARR; j++) keep_rows(&arr[j], fresh[j], keep, n, m, nin);
-  for (int i = 0; i < nin; i++) unpack(arr, fresh, nk + i, in + (size_t)rec * i);
-  for (int j = 0; j < NARR; j++) {
-    free(*arr[j].a);
-    *arr[j].a = fresh[j];
-  }
+  /* the tracers down, when fewer points stay */
+  if (n2 < n)
+    for (int j = 0; j < NARR + NTRIAL; j++) row_copy(j < NARR ? &arr[j] : &tr[j - NARR], n2, n, ntr);
   p->n = n2;
-  return trial_arrays(ctx, p, n2, m2);
+  return 0;
 }
 
 typedef struct {
@@ -256,7 +278,7 @@ int mpgm_points_sort(mpgm_ctx *ctx, mpgm_pool *pool, mpgm_points *p, const int *
   int ok = perm && cnt;
   for (int j = 0; j < NARR && ok; j++) {
     const size_t bytes = arr[j].w < 0 ? sizeof(int) : sizeof(double) * (size_t)arr[j].w;
-    ok = (fresh[j] = malloc(bytes * (size_t)m + 1)) != NULL;
+    ok = (fresh[j] = malloc(bytes * (size_t)p->cap + 1)) != NULL; /* (the room stays) */
   }
   if (!ok) { /* nothing moved yet */
     for (int j = 0; j < NARR; j++) free(fresh[j]);
@@ -352,12 +374,19 @@ void mpgm_nodes_number(mpgm_nodes *nd) {
 }
 
 int mpgm_conn_reserve(mpgm_ctx *ctx, mpgm_conn *c, int np, int nnz) {
-  if (np + 1 > 0 && (!c->ptr || c->np < np)) {
+  /* the first time exactly; a growth (points arriving from other
+   * processes) with an eighth to spare, so that a count that goes up by a
+   * few points at a time does not take fresh pages at every step */
+  if (np + 1 > 0 && (!c->ptr || c->pcap < np + 1)) {
+    const int room = c->ptr ? np + 1 + (np + 1) / 8 : np + 1;
     free(c->ptr);
-    MPGM_ALLOC(ctx, c->ptr, np + 1);
+    c->pcap = 0;
+    MPGM_ALLOC(ctx, c->ptr, room);
+    c->pcap = room;
   }
   c->np = np;
   if (nnz > c->cap) {
+    if (c->cap > 0) nnz += nnz / 8;
     free(c->node);
     free(c->N);
     free(c->dN);

@@ -62,6 +62,9 @@ typedef struct mpgm_points {
   /* trial values of the current Newton iterate (n material points): F_t
    * and dF_t MPGM_TENSOR, sigma_t MPGM_NSTRESS, D_t MPGM_NTANGENT each */
   double *F_t, *sigma_t, *D_t, *state_t, *vol_t, *dF_t;
+  int cap;        /**< rows every array above has room for (>= n +
+                       nprobe + nsurf): a run on many processes grows
+                       them as points arrive (mpgm_points_exchange)    */
 } mpgm_points;
 
 /** The current half-axes of point p's domain, r_k = F_p r_k^0 (the sums
@@ -103,6 +106,7 @@ typedef struct mpgm_nodes {
 typedef struct mpgm_conn {
   int np;         /**< points covered (material + tracers)              */
   int cap;        /**< allocated entries                                */
+  int pcap;       /**< room of ptr (>= np + 1 once reserved)           */
   int *ptr;       /**< np + 1 offsets                                   */
   int *node;      /**< node ids                                         */
   double *N;      /**< shape function values                            */
@@ -194,10 +198,14 @@ int mpgm_point_record_len(const mpgm_points *P);
  *  of mpgm_point_record_len doubles each): returns how many. */
 int mpgm_points_pack(const mpgm_points *P, const unsigned char *keep, double *out);
 /** The material points a process holds in a run on many: those with
- *  keep[p] (in their order) and then the nin records of in (those that
- *  arrived); the probes and surface tracers stay after them. Every array
- *  is allocated anew at the new size (the trial ones hold the committed
- *  values). Ids travel with the points. */
+ *  keep[p] and the nin records of in (those that arrived); the probes and
+ *  surface tracers stay after them. In place, at a cost of the points that
+ *  move, not of all: the arrivals take the rows of the points that left,
+ *  then the rows past the end; where more left than arrived, the last
+ *  rows fill the others (the order changes: ids travel with the points).
+ *  The arrays grow (by an eighth more than needed) when the rows do not
+ *  fit. A moved row's trial F, sigma and vol are its committed ones; the
+ *  other trial rows stay as they were (a step writes them before use). */
 int mpgm_points_exchange(mpgm_ctx *ctx, mpgm_points *p, const unsigned char *keep, int nin,
                          const double *in);
 /** Allocate nodes. */

@@ -152,8 +152,8 @@ int mpgm_tracers_carry(const mpgm_fe_view *v, mpgm_conn *c, mpgm_conn *scratch,
   /* the lists change places; the versions stay the caller's */
   mpgm_conn t = *c;
   c->ptr = scratch->ptr, c->node = scratch->node, c->N = scratch->N, c->dN = scratch->dN;
-  c->g = scratch->g, c->cap = scratch->cap, c->np = m;
+  c->g = scratch->g, c->cap = scratch->cap, c->pcap = scratch->pcap, c->np = m;
   scratch->ptr = t.ptr, scratch->node = t.node, scratch->N = t.N, scratch->dN = t.dN;
-  scratch->g = t.g, scratch->cap = t.cap, scratch->np = t.np;
+  scratch->g = t.g, scratch->cap = t.cap, scratch->pcap = t.pcap, scratch->np = t.np;
   return 0;
 }

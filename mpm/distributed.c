@@ -64,9 +64,16 @@ static int exchange(const mpgm_fe_view *v, mpm_data *d, int send) {
   mpgm_ctx *ctx = v->ctx;
   mpgm_points *P = v->pts;
   const int np = P->n, rank = mpgm_ctx_rank(ctx), rec = mpgm_point_record_len(P);
-  unsigned char *keep = malloc((size_t)np + 1);
-  int *dest = malloc(sizeof(int) * ((size_t)np + 1)), nout = 0, nin = 0;
-  MPGM_CHECK(ctx, keep && dest, MPGM_ERR_NOMEM, "out of memory (the points' owners)");
+  if (np + 1 > d->xcap) { /* (kept: a fresh block every step costs its pages) */
+    free(d->xkeep), free(d->xdest);
+    d->xcap = 0;
+    d->xkeep = malloc((size_t)np + np / 8 + 1);
+    d->xdest = malloc(sizeof(int) * ((size_t)np + np / 8 + 1));
+    MPGM_CHECK(ctx, d->xkeep && d->xdest, MPGM_ERR_NOMEM, "out of memory (the points' owners)");
+    d->xcap = np + np / 8 + 1;
+  }
+  unsigned char *keep = d->xkeep;
+  int *dest = d->xdest, nout = 0, nin = 0;
   for (int p = 0; p < np; p++) {
     const int o = owner_of(d, P->x + MPGM_DIM * p);
     keep[p] = o < 0 || o == rank;
@@ -83,7 +90,7 @@ static int exchange(const mpgm_fe_view *v, mpm_data *d, int send) {
     if (!err) err = mpgm_pgrid_migrate(ctx, d->pg, rec, nout, out, dest, &nin, &in);
   }
   if (!err && (nout > 0 || nin > 0)) err = mpgm_points_exchange(ctx, P, keep, nin, in);
-  free(keep), free(dest), free(out), free(in);
+  free(out), free(in);
   MPGM_CALL(err);
   return grow_points(v, d, P->n + P->nprobe + P->nsurf);
 }
@@ -113,7 +120,21 @@ int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d) {
   const int n[3] = {g->nx + 1, g->ny + 1, MPGM_DIM == 3 ? g->nz + 1 : 1};
   /* the nodes a point's functions reach beyond its cell: one layer for
    * the cell's own functions, two for the grid kinds (uGIMP, CPDI) */
-  MPGM_CALL(mpgm_pgrid_create(v->ctx, MPGM_DIM, n, MPM_XW, d->gridfn ? 2 : 1, &d->pg));
+  /* the slabs cut where they share the points evenly (every process has
+   * them all now): the points per layer of cells in each direction */
+  double *w = calloc((size_t)n[0] + n[1] + n[2], sizeof(double));
+  MPGM_CHECK(v->ctx, w, MPGM_ERR_NOMEM, "out of memory (the points' layers)");
+  const double *const wd[3] = {w, w + n[0], w + n[0] + n[1]};
+  for (int p = 0; p < v->pts->n; p++) {
+    int c, ijk[3];
+    double xi[MPGM_DIM];
+    if (mpgm_grid_locate(g, v->pts->x + MPGM_DIM * p, &c, xi)) continue;
+    cell_ijk(g, c, ijk);
+    for (int k = 0; k < MPGM_DIM; k++) w[(k ? n[0] : 0) + (k > 1 ? n[1] : 0) + ijk[k]] += 1.0;
+  }
+  const int err = mpgm_pgrid_create(v->ctx, MPGM_DIM, n, MPM_XW, d->gridfn ? 2 : 1, wd, &d->pg);
+  free(w);
+  MPGM_CALL(err);
   return exchange(v, d, 0);
 }
 
@@ -123,24 +144,19 @@ int mpgm_mpm_dist_migrate(const mpgm_fe_view *v, mpm_data *d) {
 
 /* The sums at n grid nodes (ids gid) of w values each in val. */
 static int sums_at(mpgm_ctx *ctx, mpm_data *d, int n, const int *gid, int w, double *val) {
-  if (n > d->nx || !d->xval) { /* (room for one at least: a process without points sums too) */
-    free(d->xijk), free(d->xval);
-    d->xijk = NULL, d->xval = NULL;
+  if (n > d->nx || !d->xijk) { /* (room for one at least: a process without points sums too) */
+    free(d->xijk);
+    d->xijk = NULL;
     d->nx = 0;
-    MPGM_ALLOC(ctx, d->xijk, MPGM_DIM * (size_t)n);
-    MPGM_ALLOC(ctx, d->xval, MPM_XW * (size_t)n);
-    d->nx = n;
+    MPGM_ALLOC(ctx, d->xijk, MPGM_DIM * ((size_t)n + n / 8 + 1));
+    d->nx = n + n / 8 + 1;
   }
-  memset(d->xval, 0, sizeof(double) * MPM_XW * (size_t)n);
   for (int i = 0; i < n; i++) {
     int ijk[3];
     node_ijk(&d->g, gid[i], ijk);
     memcpy(d->xijk + MPGM_DIM * i, ijk, sizeof(int) * MPGM_DIM);
-    memcpy(d->xval + MPM_XW * i, val + (size_t)w * i, sizeof(double) * (size_t)w);
   }
-  MPGM_CALL(mpgm_pgrid_sum(ctx, d->pg, n, d->xijk, d->xval));
-  for (int i = 0; i < n; i++) memcpy(val + (size_t)w * i, d->xval + MPM_XW * i, sizeof(double) * (size_t)w);
-  return 0;
+  return mpgm_pgrid_sum(ctx, d->pg, n, d->xijk, w, val);
 }
 
 int mpgm_mpm_node_sums(void *self, mpgm_ctx *ctx, int w, double *val) {
@@ -219,9 +235,10 @@ int mpgm_mpm_dist_probes(const mpgm_fe_view *v, mpm_data *d, int sync) {
 }
 
 void mpgm_mpm_dist_free(mpm_data *d) {
+  free(d->xkeep);
+  free(d->xdest);
   free(d->powner);
   free(d->pskip);
   mpgm_pgrid_destroy(&d->pg);
   free(d->xijk);
-  free(d->xval);
 }

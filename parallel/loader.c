@@ -65,12 +65,13 @@ void mpgm_parallel_finalize(void) {
 
 /* ---- the partitioned grid, through the module's record ----------------- */
 
-int mpgm_pgrid_create(mpgm_ctx *ctx, int dim, const int n[3], int dof, int width, mpgm_pgrid **g) {
+int mpgm_pgrid_create(mpgm_ctx *ctx, int dim, const int n[3], int dof, int width,
+                      const double *const weight[3], mpgm_pgrid **g) {
   *g = NULL;
   MPGM_CHECK(ctx, ctx->comm && grid_ops, MPGM_ERR_INTERNAL,
              "a partitioned grid needs the processes started (mpgm_parallel_start)");
   char msg[512];
-  if (grid_ops->create(ctx->comm->impl, dim, n, dof, width, g, msg, sizeof msg) == 0) return 0;
+  if (grid_ops->create(ctx->comm->impl, dim, n, dof, width, weight, g, msg, sizeof msg) == 0) return 0;
   mpgm_pgrid_destroy(g);
   MPGM_ERROR(ctx, MPGM_ERR_INTERNAL, "process %d: the partitioned grid: %s", ctx->comm->rank, msg);
 }
@@ -86,9 +87,9 @@ void mpgm_pgrid_boxes(const mpgm_pgrid *g, int lo[3], int hi[3], int glo[3], int
 
 int mpgm_pgrid_owner(const mpgm_pgrid *g, const int ijk[3]) { return grid_ops->owner(g, ijk); }
 
-int mpgm_pgrid_sum(mpgm_ctx *ctx, mpgm_pgrid *g, int n, const int *ijk, double *val) {
+int mpgm_pgrid_sum(mpgm_ctx *ctx, mpgm_pgrid *g, int n, const int *ijk, int w, double *val) {
   char msg[512];
-  MPGM_CHECK(ctx, grid_ops->sum(g, n, ijk, val, msg, sizeof msg) == 0, MPGM_ERR_INTERNAL,
+  MPGM_CHECK(ctx, grid_ops->sum(g, n, ijk, w, val, msg, sizeof msg) == 0, MPGM_ERR_INTERNAL,
              "process %d: the sums at shared nodes: %s", ctx->comm->rank, msg);
   return 0;
 }

@@ -40,8 +40,15 @@ void mpgm_parallel_finalize(void);
 typedef struct mpgm_pgrid mpgm_pgrid;
 
 /** The partition of the context's processes (ctx->comm) with dof values
- *  per node. All processes call it with the same arguments. */
-int mpgm_pgrid_create(mpgm_ctx *ctx, int dim, const int n[3], int dof, int width, mpgm_pgrid **g);
+ *  per node. PETSc chooses how many processes share each direction; where
+ *  they cut it, weight says (NULL: even slabs of nodes): weight[d][i], for
+ *  the n[d] nodes of direction d, is the work of the cells whose lowest
+ *  node has index i there (a grid's points per layer of cells), and the
+ *  cuts give each slab as near an equal share of it as the stencil allows
+ *  (each slab at least width + 1 nodes). All processes call it with the
+ *  same arguments. */
+int mpgm_pgrid_create(mpgm_ctx *ctx, int dim, const int n[3], int dof, int width,
+                      const double *const weight[3], mpgm_pgrid **g);
 /** Free it (NULL-safe; all processes). */
 void mpgm_pgrid_destroy(mpgm_pgrid **g);
 /** This process's owned box [lo, hi) and ghosted box [glo, ghi) (any may
@@ -51,11 +58,13 @@ void mpgm_pgrid_boxes(const mpgm_pgrid *g, int lo[3], int hi[3], int glo[3], int
  *  a direction counts in it). */
 int mpgm_pgrid_owner(const mpgm_pgrid *g, const int ijk[3]);
 /** The sums over the processes at shared nodes: each gives its n nodes
- *  (ijk, dim per node, within its ghosted box; each node once) with dof
- *  values each in val, and gets back in val, at each of them, the sum of
- *  every process's values there (DMLocalToGlobal with ADD_VALUES, then
- *  DMGlobalToLocal). Collective. */
-int mpgm_pgrid_sum(mpgm_ctx *ctx, mpgm_pgrid *g, int n, const int *ijk, double *val);
+ *  (ijk, dim per node, within its ghosted box; each node once) with w
+ *  values each in val (1 <= w <= dof, the same w on every process), and
+ *  gets back in val, at each of them, the sum of every process's values
+ *  there (DMLocalToGlobal with ADD_VALUES, then DMGlobalToLocal, on a
+ *  DMDA of w fields with the grid's partition: the scatters move w values
+ *  per node, not dof). Collective. */
+int mpgm_pgrid_sum(mpgm_ctx *ctx, mpgm_pgrid *g, int n, const int *ijk, int w, double *val);
 /** Records of rec doubles sent to other processes (a DMSwarm of type
  *  basic: DMSwarmMigrate): out holds nout records, record i for process
  *  dest[i]; *in (malloc'd, the caller frees it) gets the *nin records this

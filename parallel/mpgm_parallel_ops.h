@@ -9,12 +9,12 @@
 typedef struct mpgm_pgrid mpgm_pgrid;
 
 typedef struct mpgm_pgrid_ops {
-  int (*create)(void *comm, int dim, const int n[3], int dof, int width, mpgm_pgrid **g, char *msg,
-                size_t len);
+  int (*create)(void *comm, int dim, const int n[3], int dof, int width, const double *const w[3],
+                mpgm_pgrid **g, char *msg, size_t len);
   void (*destroy)(mpgm_pgrid *g);
   void (*boxes)(const mpgm_pgrid *g, int lo[3], int hi[3], int glo[3], int ghi[3]);
   int (*owner)(const mpgm_pgrid *g, const int ijk[3]);
-  int (*sum)(mpgm_pgrid *g, int n, const int *ijk, double *val, char *msg, size_t len);
+  int (*sum)(mpgm_pgrid *g, int n, const int *ijk, int w, double *val, char *msg, size_t len);
   int (*migrate)(mpgm_pgrid *g, int rec, int nout, const double *out, const int *dest, int *nin,
                  double **in, char *msg, size_t len);
 } mpgm_pgrid_ops;

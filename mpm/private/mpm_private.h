@@ -58,12 +58,14 @@ typedef struct mpm_data {
   int pcap;            /**< points (material + tracers) pcell, pxi, perm and
                             pscr have room for                             */
   int *xijk;           /**< scratch of the sums: a node's (i, j, k) each     */
-  double *xval;        /**< and its values (MPM_XW per node)                 */
-  int nx;              /**< nodes xijk and xval have room for                */
+  int nx;              /**< nodes xijk has room for                          */
   int nstep;           /**< nodes of the step (lglob's length)               */
   int *powner;         /**< the process that moves each probe in this step:
                             the owner of its cell at the step's start     */
   unsigned char *pskip;/**< per tracer: another process moves it          */
+  unsigned char *xkeep;/**< migration's scratch: a point stays, and else    */
+  int *xdest;          /**< the process it goes to; room for xcap points   */
+  int xcap;
 } mpm_data;
 
 /* The values per node the sums at shared nodes carry at most: mass,

@@ -13,9 +13,14 @@
 
 #include "mpgm_parallel_ops.h"
 
+enum { MAXW = 16 }; /* values per node a sum may carry */
+
 struct mpgm_pgrid {
   DM da;
   Vec loc, glob;
+  DM daw[MAXW + 1];      /**< the same partition with w values per node
+                              (made when a sum of w < dof first comes)   */
+  Vec locw[MAXW + 1], globw[MAXW + 1];
   int dim, dof, rank;
   int n[3];              /**< nodes per direction                        */
   int lo[3], hi[3];      /**< nodes owned: lo <= i < hi                  */
@@ -70,8 +75,62 @@ static int corners(mpgm_pgrid *g, char *msg, size_t len) {
   return 0;
 }
 
-static int pg_create(void *comm, int dim, const int n[3], int dof, int width, mpgm_pgrid **out,
-                     char *msg, size_t len) {
+/* The n nodes of a direction cut into m slabs of about equal weight
+ * (w[i]: the work of the cells whose lowest node is i), each at least
+ * minl nodes: the slabs' sizes into l. */
+static void weighted_cuts(const double *w, int n, int m, int minl, PetscInt *l) {
+  double total = 0.0;
+  for (int i = 0; i < n; i++) total += w[i] > 0.0 ? w[i] : 0.0;
+  int prev = 0;
+  double cum = 0.0;
+  for (int r = 1, i = 0; r < m; r++) {
+    const double want = total * r / m;
+    for (; i < n; i++) { /* the layer that brings the sum nearest the share */
+      const double wi = w[i] > 0.0 ? w[i] : 0.0;
+      if (cum + wi > want && want - cum <= cum + wi - want) break;
+      cum += wi;
+    }
+    int c = total > 0.0 ? i : (int)((long)n * r / m); /* (no weight: even) */
+    if (c < prev + minl) c = prev + minl;
+    if (c > n - (m - r) * minl) c = n - (m - r) * minl;
+    l[r - 1] = c - prev;
+    prev = c;
+  }
+  l[m - 1] = n - prev;
+}
+
+/* The DMDA of n nodes over the processes: PETSc's process grid, and with
+ * weights the slabs cut by them (a first DMDA tells the process grid). */
+static int make_da(MPI_Comm c, int dim, const int n[3], int dof, int width, const double *const w[3],
+                   DM *da, char *msg, size_t len) {
+  const DMBoundaryType b = DM_BOUNDARY_NONE;
+  PetscInt *l[3] = {NULL, NULL, NULL};
+  /* (ownership ranges need the process grid given: PETSc's, found first) */
+  PetscInt m[3] = {PETSC_DECIDE, PETSC_DECIDE, PETSC_DECIDE};
+  for (int pass = 0; pass < (w ? 2 : 1); pass++) {
+    if (dim == 2)
+      TRY(DMDACreate2d(c, b, b, DMDA_STENCIL_BOX, n[0], n[1], m[0], m[1], dof, width, l[0], l[1], da),
+          "DMDACreate2d");
+    else
+      TRY(DMDACreate3d(c, b, b, b, DMDA_STENCIL_BOX, n[0], n[1], n[2], m[0], m[1], m[2], dof, width,
+                       l[0], l[1], l[2], da), "DMDACreate3d");
+    TRY(DMSetUp(*da), "DMSetUp of the DMDA");
+    if (!w || pass == 1) break;
+    TRY(DMDAGetInfo(*da, NULL, NULL, NULL, NULL, &m[0], &m[1], &m[2], NULL, NULL, NULL, NULL, NULL,
+                    NULL), "DMDAGetInfo");
+    TRY(DMDestroy(da), "DMDestroy");
+    for (int d = 0; d < dim; d++) {
+      l[d] = malloc(sizeof(PetscInt) * (size_t)m[d]);
+      if (!l[d]) return snprintf(msg, len, "out of memory"), -1;
+      weighted_cuts(w[d], n[d], (int)m[d], width + 1, l[d]);
+    }
+  }
+  for (int d = 0; d < 3; d++) free(l[d]);
+  return 0;
+}
+
+static int pg_create(void *comm, int dim, const int n[3], int dof, int width, const double *const w[3],
+                     mpgm_pgrid **out, char *msg, size_t len) {
   MPI_Comm c = *(MPI_Comm *)comm;
   mpgm_pgrid *g = calloc(1, sizeof *g);
   if (!g) return snprintf(msg, len, "out of memory"), -1;
@@ -80,14 +139,7 @@ static int pg_create(void *comm, int dim, const int n[3], int dof, int width, mp
   g->dof = dof;
   MPI_Comm_rank(c, &g->rank);
   for (int d = 0; d < 3; d++) g->n[d] = d < dim ? n[d] : 1;
-  const DMBoundaryType b = DM_BOUNDARY_NONE;
-  if (dim == 2)
-    TRY(DMDACreate2d(c, b, b, DMDA_STENCIL_BOX, n[0], n[1], PETSC_DECIDE, PETSC_DECIDE, dof, width,
-                     NULL, NULL, &g->da), "DMDACreate2d");
-  else
-    TRY(DMDACreate3d(c, b, b, b, DMDA_STENCIL_BOX, n[0], n[1], n[2], PETSC_DECIDE, PETSC_DECIDE,
-                     PETSC_DECIDE, dof, width, NULL, NULL, NULL, &g->da), "DMDACreate3d");
-  TRY(DMSetUp(g->da), "DMSetUp of the DMDA");
+  if (make_da(c, dim, n, dof, width, w, &g->da, msg, len)) return -1;
   TRY(DMCreateLocalVector(g->da, &g->loc), "DMCreateLocalVector");
   TRY(DMCreateGlobalVector(g->da, &g->glob), "DMCreateGlobalVector");
   if (corners(g, msg, len) || slabs(g, msg, len)) return -1;
@@ -100,6 +152,11 @@ static void pg_destroy(mpgm_pgrid *g) {
   VecDestroy(&g->glob);
   DMDestroy(&g->da);
   DMDestroy(&g->sw);
+  for (int w = 0; w <= MAXW; w++) {
+    VecDestroy(&g->locw[w]);
+    VecDestroy(&g->globw[w]);
+    DMDestroy(&g->daw[w]);
+  }
   for (int d = 0; d < 3; d++) free(g->start[d]);
   free(g);
 }
@@ -138,34 +195,55 @@ static long local_at(const mpgm_pgrid *g, const int *ijk) {
     if (ijk[d] < g->glo[d] || ijk[d] >= g->ghi[d]) return -1;
     o = o * (g->ghi[d] - g->glo[d]) + (ijk[d] - g->glo[d]);
   }
-  return o * g->dof;
+  return o;
 }
 
-static int pg_sum(mpgm_pgrid *g, int n, const int *ijk, double *val, char *msg, size_t len) {
+/* The DM and vectors of sums of w values per node: the grid's own (w =
+ * dof), or a compatible DMDA of w fields, made once. */
+static int sums_dm(mpgm_pgrid *g, int w, DM *da, Vec *loc, Vec *glob, char *msg, size_t len) {
+  if (w == g->dof) {
+    *da = g->da, *loc = g->loc, *glob = g->glob;
+    return 0;
+  }
+  if (!g->daw[w]) {
+    TRY(DMDACreateCompatibleDMDA(g->da, w, &g->daw[w]), "DMDACreateCompatibleDMDA");
+    TRY(DMCreateLocalVector(g->daw[w], &g->locw[w]), "DMCreateLocalVector");
+    TRY(DMCreateGlobalVector(g->daw[w], &g->globw[w]), "DMCreateGlobalVector");
+  }
+  *da = g->daw[w], *loc = g->locw[w], *glob = g->globw[w];
+  return 0;
+}
+
+static int pg_sum(mpgm_pgrid *g, int n, const int *ijk, int w, double *val, char *msg, size_t len) {
+  if (w < 1 || w > g->dof || w > MAXW)
+    return snprintf(msg, len, "sums of %d values per node on a grid of %d", w, g->dof), -1;
+  DM da;
+  Vec loc, glob;
+  if (sums_dm(g, w, &da, &loc, &glob, msg, len)) return -1;
   PetscScalar *a;
-  TRY(VecZeroEntries(g->loc), "VecZeroEntries");
-  TRY(VecGetArray(g->loc, &a), "VecGetArray");
+  TRY(VecZeroEntries(loc), "VecZeroEntries");
+  TRY(VecGetArray(loc, &a), "VecGetArray");
   for (int i = 0; i < n; i++) {
     const long o = local_at(g, ijk + g->dim * i);
     if (o < 0) {
-      VecRestoreArray(g->loc, &a);
+      VecRestoreArray(loc, &a);
       snprintf(msg, len, "node %d of %d lies outside process %d's ghosted box (the shape "
                "functions reach further than the grid's stencil)", i, n, g->rank);
       return -1;
     }
-    for (int c = 0; c < g->dof; c++) a[o + c] += val[g->dof * i + c];
+    for (int c = 0; c < w; c++) a[w * o + c] += val[w * i + c];
   }
-  TRY(VecRestoreArray(g->loc, &a), "VecRestoreArray");
-  TRY(VecZeroEntries(g->glob), "VecZeroEntries");
-  TRY(DMLocalToGlobal(g->da, g->loc, ADD_VALUES, g->glob), "DMLocalToGlobal");
-  TRY(DMGlobalToLocal(g->da, g->glob, INSERT_VALUES, g->loc), "DMGlobalToLocal");
+  TRY(VecRestoreArray(loc, &a), "VecRestoreArray");
+  TRY(VecZeroEntries(glob), "VecZeroEntries");
+  TRY(DMLocalToGlobal(da, loc, ADD_VALUES, glob), "DMLocalToGlobal");
+  TRY(DMGlobalToLocal(da, glob, INSERT_VALUES, loc), "DMGlobalToLocal");
   const PetscScalar *r;
-  TRY(VecGetArrayRead(g->loc, &r), "VecGetArrayRead");
+  TRY(VecGetArrayRead(loc, &r), "VecGetArrayRead");
   for (int i = 0; i < n; i++) {
     const long o = local_at(g, ijk + g->dim * i);
-    for (int c = 0; c < g->dof; c++) val[g->dof * i + c] = r[o + c];
+    for (int c = 0; c < w; c++) val[w * i + c] = r[w * o + c];
   }
-  TRY(VecRestoreArrayRead(g->loc, &r), "VecRestoreArrayRead");
+  TRY(VecRestoreArrayRead(loc, &r), "VecRestoreArrayRead");
   return 0;
 }
 

@@ -13,7 +13,9 @@ point count of summary.json and the same arrays as the first frame
 (displacement and velocity among the points' arrays). At one time (the
 last) the points' data are compared with the CSV records:
   - the probe: the runs put it exactly on a material point's initial
-    position (checked: within 1e-12 m at t = 0). A probe and a material
+    position (checked: within 1e-12 m at t = 0), followed to the last
+    time by its id where the frames have one (a run on many processes
+    changes the points' order between frames). A probe and a material
     point at the same place take the same shape functions of the same
     nodes, so their displacements agree to rounding; 1e-9 of |u| (plus
     1e-15 m) is far above rounding and far below the difference to the
@@ -83,7 +85,12 @@ def check_values(run, reader, last, probes, steps):
     for pname, pos in x0.items():
         best = min(range(d0.GetNumberOfPoints()), key=lambda i: math.dist(d0.GetPoint(i)[:dim], pos))
         dist = math.dist(d0.GetPoint(best)[:dim], pos)
-        u = disp.GetTuple3(best)[:dim]
+        at = best
+        ids0, ids = d0.GetPointData().GetArray("id"), last.GetPointData().GetArray("id")
+        if ids0 is not None and ids is not None:  # the same material point by its id (order may change)
+            pid = ids0.GetValue(best)
+            at = next((i for i in range(last.GetNumberOfPoints()) if ids.GetValue(i) == pid), best)
+        u = disp.GetTuple3(at)[:dim]
         want = [row[pname + "_u" + c] for c in "xyz"[:dim]]
         err = math.dist(u, want)
         check(dist <= 1e-12 and err <= 1e-9 * math.hypot(*want) + 1e-15,

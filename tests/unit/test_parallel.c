@@ -63,7 +63,7 @@ static int corners(const double x[3], int dim, int ijk[8][3], double w[8]) {
 static void check_sums(mpgm_ctx *ctx, int dim) {
   const int n[3] = {13, 9, 7}, r = ctx->comm->rank;
   mpgm_pgrid *g = NULL;
-  if (mpgm_pgrid_create(ctx, dim, n, 3, 1, &g)) {
+  if (mpgm_pgrid_create(ctx, dim, n, 3, 1, NULL, &g)) {
     mpgm_test(0, "%d-D grid: %s", dim, ctx->msg);
     return;
   }
@@ -95,7 +95,7 @@ static void check_sums(mpgm_ctx *ctx, int dim) {
       for (int k = 0; k < 3; k++) val[3 * nt + k] = mine[3 * I + k];
       nt++;
     }
-  const int err = mpgm_pgrid_sum(ctx, g, nt, ijk, val);
+  const int err = mpgm_pgrid_sum(ctx, g, nt, ijk, 3, val);
   double worst = 0.0;
   for (int t = 0, I = 0; I < nn && !err; I++)
     if (touched[I]) {
@@ -108,13 +108,52 @@ static void check_sums(mpgm_ctx *ctx, int dim) {
   mpgm_pgrid_destroy(&g);
 }
 
+/* A partition cut by weights: a 41 x 21 (x 11) grid whose x weight lies
+ * on its first ten node layers only (the y and z weights even). Every
+ * process's slabs are at least width + 1 = 3 nodes wide, the slabs cover
+ * the grid, and each process's share of the weight -- the product of its
+ * slabs' shares -- is its even share to within the layers a cut rounds to
+ * (0.1 of x, 1/21 of y, 1/11 of z). */
+static void check_weights(mpgm_ctx *ctx, int dim) {
+  const int n[3] = {41, 21, 11}, r = ctx->comm->rank, np = ctx->comm->size;
+  double wx[41], wy[21], wz[11];
+  for (int i = 0; i < 41; i++) wx[i] = i < 10 ? 1.0 : 0.0;
+  for (int i = 0; i < 21; i++) wy[i] = 1.0;
+  for (int i = 0; i < 11; i++) wz[i] = 1.0;
+  const double *const w[3] = {wx, wy, wz};
+  mpgm_pgrid *g = NULL;
+  if (mpgm_pgrid_create(ctx, dim, n, 1, 2, w, &g)) {
+    mpgm_test(0, "%d-D weighted grid: %s", dim, ctx->msg);
+    return;
+  }
+  int lo[3], hi[3], narrow = 0;
+  mpgm_pgrid_boxes(g, lo, hi, NULL, NULL);
+  double share = 1.0, slack = 0.0, cover = 1.0;
+  const double *wd[3] = {wx, wy, wz}, tot[3] = {10.0, 21.0, 11.0}, layer[3] = {0.1, 1.0 / 21, 1.0 / 11};
+  for (int d = 0; d < dim; d++) {
+    double s = 0.0;
+    for (int i = lo[d]; i < hi[d]; i++) s += wd[d][i];
+    share *= s / tot[d];
+    slack += layer[d];
+    cover *= hi[d] - lo[d];
+    narrow |= hi[d] - lo[d] < 3;
+  }
+  double sum[2] = {share, cover};
+  mpgm_allreduce(ctx, MPGM_REDUCE_SUM, sum, 2);
+  mpgm_test(!narrow && fabs(sum[0] - 1.0) < 1e-12 && sum[1] == (dim == 3 ? 41.0 * 21 * 11 : 41.0 * 21) &&
+                share <= 1.0 / np + slack,
+            "%d-D rank %d of %d: slabs [%d, %d) x [%d, %d)%s, its share of the weight %.3f (even %.3f)",
+            dim, r, np, lo[0], hi[0], lo[1], hi[1], dim == 3 ? " x ..." : "", share, 1.0 / np);
+  mpgm_pgrid_destroy(&g);
+}
+
 /* Migration: rank r starts with the points q = r (mod P), each a record
  * (q, x, y, z, 2 q + 1); after it every rank holds exactly the points of
  * its own cells, each once, with its record whole. */
 static void check_migration(mpgm_ctx *ctx, int dim) {
   const int n[3] = {11, 8, 6}, r = ctx->comm->rank, P = ctx->comm->size, rec = 5;
   mpgm_pgrid *g = NULL;
-  if (mpgm_pgrid_create(ctx, dim, n, 1, 1, &g)) {
+  if (mpgm_pgrid_create(ctx, dim, n, 1, 1, NULL, &g)) {
     mpgm_test(0, "%d-D grid: %s", dim, ctx->msg);
     return;
   }
@@ -289,6 +328,7 @@ static void many(int launched) {
             r, n - 1);
   check_agree(&ctx);
   for (int dim = 2; dim <= 3; dim++) {
+    check_weights(&ctx, dim);
     check_sums(&ctx, dim);
     check_migration(&ctx, dim);
   }
