@@ -66,10 +66,12 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
 #if MPGM_DIM == 3
   /* a grid reset (MPM): the step projected m_I = sum_p N_Ip m_p over the
    * same lists, so the nodes' momentum is a loop over the nodes */
-  if (nodes && !pb->fe->persistent_nodes && mpgm_ctx_size(pb->ctx) == 1) {
-    nodes = 0;
+  if (nodes && !pb->fe->persistent_nodes && (mpgm_ctx_size(pb->ctx) == 1 || nd->owned)) {
+    nodes = 0; /* (many processes: each node on the process that owns it; its mass and
+                * velocity are whole there) */
     for (int I = 0; I < nd->n; I++)
-      for (int d = 0; d < MPGM_DIM; d++) nmom[d] += nd->mass[I] * nd->v_new[MPGM_DIM * I + d];
+      for (int d = 0; d < MPGM_DIM && (!nd->owned || nd->owned[I]); d++)
+        nmom[d] += nd->mass[I] * nd->v_new[MPGM_DIM * I + d];
   }
 #endif
   for (int p = 0; p < P->n; p++) {
@@ -87,7 +89,7 @@ void mpgm_problem_energy(const mpgm_problem *pb, mpgm_energy *e) {
     e->momentum[d] += mom[d];
     e->node_momentum[d] += nmom[d];
   }
-  if (mpgm_ctx_size(pb->ctx) > 1) { /* the run's sums (each shared node counted once: by points) */
+  if (mpgm_ctx_size(pb->ctx) > 1) { /* the run's sums (each shared node counted once) */
     double v[3 + 2 * MPGM_DIM] = {e->kinetic, e->work_int, e->work_ext};
     memcpy(v + 3, e->momentum, sizeof e->momentum);
     memcpy(v + 3 + MPGM_DIM, e->node_momentum, sizeof e->node_momentum);

@@ -100,6 +100,10 @@ typedef struct mpgm_nodes {
                        at the end of the run (fixed components; ramped) */
   int *dof;       /**< MPGM_DIM per node: equation number, -1 when fixed */
   int ndof;       /**< free equations                                   */
+  const unsigned char *owned; /**< a run on many processes: 1 at the nodes
+                       this process owns in the partition (a node shared
+                       with others counts on one only), set by the front
+                       end each step (its array); NULL on one process  */
 } mpgm_nodes;
 
 /** Connectivity in CSR: point p is connected to node[ptr[p] .. ptr[p+1]). */

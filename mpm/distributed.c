@@ -31,12 +31,18 @@ static void cell_ijk(const mpgm_grid *g, int c, int ijk[3]) {
 }
 
 /* The process whose cell holds x; -1 outside the grid (the point stays
- * where it is, and locate says so). */
+ * where it is, and locate says so). The square (cube) of x as
+ * mpgm_grid_locate finds it, without its local coordinates. */
 static int owner_of(const mpm_data *d, const double *x) {
-  int c, ijk[3];
-  double xi[MPGM_DIM];
-  if (mpgm_grid_locate(&d->g, x, &c, xi)) return -1;
-  cell_ijk(&d->g, c, ijk);
+  const mpgm_grid *g = &d->g;
+  const int n[3] = {g->nx, g->ny, MPGM_DIM == 3 ? g->nz : 1};
+  int ijk[3] = {0, 0, 0};
+  for (int k = 0; k < MPGM_DIM; k++) {
+    const double s = (x[k] - g->min[k]) / g->h;
+    if (!(s >= -1e-9 && s <= n[k] + 1e-9)) return -1;
+    const int i = (int)s; /* (floor for s >= 0; below 0, within the tolerance, both clamp to 0) */
+    ijk[k] = i < 0 ? 0 : i >= n[k] ? n[k] - 1 : i;
+  }
   return mpgm_pgrid_owner(d->pg, ijk);
 }
 
@@ -166,6 +172,24 @@ int mpgm_mpm_node_sums(void *self, mpgm_ctx *ctx, int w, double *val) {
   return sums_at(ctx, d, d->nstep, d->lglob, w, val);
 }
 
+int mpgm_mpm_dist_owned(const mpgm_fe_view *v, mpm_data *d) {
+  if (!d->pg) return 0;
+  if (d->g.nnode > d->nowned_cap) {
+    free(d->nowned);
+    d->nowned_cap = 0;
+    MPGM_ALLOC(v->ctx, d->nowned, d->g.nnode);
+    d->nowned_cap = d->g.nnode;
+  }
+  const int rank = mpgm_ctx_rank(v->ctx);
+  for (int i = 0; i < d->nstep; i++) {
+    int ijk[3];
+    node_ijk(&d->g, d->lglob[i], ijk);
+    d->nowned[i] = mpgm_pgrid_owner(d->pg, ijk) == rank;
+  }
+  v->nodes->owned = d->nowned;
+  return 0;
+}
+
 /* The light-node rule on many processes: its masses are the sums over
  * every process's points, and the heaviest node is the run's. The sums
  * are taken at the nodes this process's points reach, and at those of the
@@ -235,6 +259,7 @@ int mpgm_mpm_dist_probes(const mpgm_fe_view *v, mpm_data *d, int sync) {
 }
 
 void mpgm_mpm_dist_free(mpm_data *d) {
+  free(d->nowned);
   free(d->xkeep);
   free(d->xdest);
   free(d->powner);

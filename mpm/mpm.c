@@ -573,6 +573,7 @@ static int mpm_begin_step(void *self, const mpgm_fe_view *v) {
   MPGM_CALL(mpgm_agree(v->ctx, mpgm_light_drop(v->ctx, v->conn, m, d->light, P, v->cp, v->step,
                                                 v->scene->mesh_par.min_node_mass)));
   step_nodes(v, d);
+  MPGM_CALL(mpgm_mpm_dist_owned(v, d)); /* many processes: which nodes are this one's */
   /* probes and surface points without functions move with the material */
   MPGM_CALL(mpgm_tracers_carry(v, v->conn, &d->carry, d->pskip));
   MPGM_CALL(mpgm_mpm_project(v, d));

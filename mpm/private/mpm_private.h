@@ -66,6 +66,8 @@ typedef struct mpm_data {
   unsigned char *xkeep;/**< migration's scratch: a point stays, and else    */
   int *xdest;          /**< the process it goes to; room for xcap points   */
   int xcap;
+  unsigned char *nowned; /**< per node of the step: this process owns it  */
+  int nowned_cap;
 } mpm_data;
 
 /* The values per node the sums at shared nodes carry at most: mass,
@@ -79,7 +81,8 @@ typedef struct mpm_data {
  * the light-node rule's masses); the probes (dist_probes: their mover,
  * each the process of its cell at the step's start, found with sync 0 as
  * the step begins; its values given to every process with sync 1 as the
- * step ends); each a no-op on one process. */
+ * step ends); the step's nodes this process owns (dist_owned, the
+ * nodes' `owned`); each a no-op on one process. */
 /* The scenes MPM runs on many processes (mpgm_frontend_type.check). */
 int mpgm_mpm_check(mpgm_ctx *ctx, const mpgm_scene *s);
 int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d);
@@ -87,6 +90,7 @@ int mpgm_mpm_dist_migrate(const mpgm_fe_view *v, mpm_data *d);
 int mpgm_mpm_node_sums(void *self, mpgm_ctx *ctx, int w, double *val);
 int mpgm_mpm_dist_light(const mpgm_fe_view *v, mpm_data *d);
 int mpgm_mpm_dist_probes(const mpgm_fe_view *v, mpm_data *d, int sync);
+int mpgm_mpm_dist_owned(const mpgm_fe_view *v, mpm_data *d);
 void mpgm_mpm_dist_free(mpm_data *d);
 
 /* Projection (38)-(41) with the final shape functions (project.c). */
