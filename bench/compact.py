@@ -113,6 +113,21 @@ SPEC = {
         plot=dict(kind="lines", table=1, x="equations",
                   ys=["assembly [ms/it]", "material [ms/it]", "linear solver [ms/it]", "all phases [ms/it]"],
                   logx=True, logy=True, xlabel="equations", ylabel="time per Newton iteration [ms]")),
+    "three_d": dict(
+        what="3-D (issue 53): each case as a slab with rollers on z against its plane-strain run on the same mesh "
+             "in x and y (the table); the free cantilever's convergence, the free column collapse, the implicit cost "
+             "against equations with GAMG, the explicit speed and geomechanics/mpm are in the details.",
+        table=0, cols=["case", "metric", "plane strain", "slab", "rel. difference"],
+        image="img/column_collapse_3d_free_fe.png"),
+    "processes": dict(
+        what="Strong scaling on this machine (issue 54): the 3-D explicit elastic column of 10^6 points on one "
+             "process, on two (mpiexec -n 2), on one with two threads, and as two separate runs at once (what two "
+             "processes of the machine give at most); a step's time apart from the set-up.",
+        table=0,
+        cols=["configuration", "processes x threads", "points on the busiest process", "step [ms]",
+              "speed-up per step", "set-up [s]", "run of 50 steps [s]", "speed-up of the run"],
+        plot=dict(kind="bars", table=0, label="configuration", values=["speed-up per step", "speed-up of the run"],
+                  short=True, ylabel="against one process, one thread")),
     "timers": dict(
         what="What mpgm's timers cost: clock reads of a run times the cost of one read, against its wall time "
              "(aim of issue 6: under 1 %).",
