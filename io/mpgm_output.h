@@ -38,6 +38,10 @@ typedef struct mpgm_output {
   double *hist;   /**< probe history rows: step, time, columns     */
   int nstep, capstep;
   double *steps;  /**< per converged step: STEP_COLS values         */
+  int nimb, capimb;
+  double *imb;    /**< many processes: per converged step, the points'
+                       imbalance after it (most on a process / mean),
+                       steps.csv's last column                        */
   double ref_acc[MPGM_REF_MAXACC]; /**< what the scene's reference kind
                      keeps of the points (its observe)               */
 } mpgm_output;

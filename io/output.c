@@ -330,8 +330,10 @@ void mpgm_output_close(mpgm_output *o) {
   free(o->grid_type);
   free(o->hist);
   free(o->steps);
+  free(o->imb);
   o->hist = NULL;
   o->steps = NULL;
+  o->imb = NULL;
   o->grid_x = NULL;
   o->grid_ptr = o->grid_node = o->grid_type = NULL;
 }
@@ -357,6 +359,14 @@ int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *p
   memcpy(row + STEP_BASE, en, sizeof en);
   memcpy(row + STEP_BASE + 4, e.momentum, sizeof(double) * MPGM_DIM);
   memcpy(row + STEP_BASE + 4 + MPGM_DIM, e.node_momentum, sizeof(double) * MPGM_DIM);
+  if (o->nproc == 1) return 0;
+  /* many processes: how evenly the points are spread after the step */
+  const long np = mpgm_problem_points(pb)->n;
+  long sum = np, most = np;
+  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, &sum, 1));
+  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_MAX, &most, 1));
+  MPGM_CALL(table_push(ctx, &o->imb, &o->nimb, &o->capimb, 1, &row));
+  row[0] = sum > 0 ? (double)most * o->nproc / (double)sum : 1.0;
   return 0;
 }
 
@@ -391,9 +401,22 @@ int mpgm_output_steps_write(mpgm_ctx *ctx, mpgm_output *o) {
   for (int m = 0; !st && m < 2; m++) /* momentum_x, _y(, _z), then the nodes' */
     for (int c = 0; c < MPGM_DIM; c++)
       n += snprintf(header + n, sizeof header - (size_t)n, ",%smomentum_%c", m ? "node_" : "", axis[c]);
-  snprintf(header + n, sizeof header - (size_t)n, "\n");
-  return write_table(ctx, o, "steps.csv", header, o->steps, o->nstep, STEP_COLS,
-                     st ? STEP_BASE : STEP_COLS);
+  const int width = st ? STEP_BASE : STEP_COLS;
+  if (o->nproc == 1 || o->nimb != o->nstep) {
+    snprintf(header + n, sizeof header - (size_t)n, "\n");
+    return write_table(ctx, o, "steps.csv", header, o->steps, o->nstep, STEP_COLS, width);
+  }
+  /* many processes: the imbalance after each step as a last column */
+  snprintf(header + n, sizeof header - (size_t)n, ",imbalance\n");
+  double *t = malloc(sizeof(double) * ((size_t)o->nstep * (width + 1) + 1));
+  MPGM_CHECK(ctx, t, MPGM_ERR_NOMEM, "out of memory (steps.csv of %d rows)", o->nstep);
+  for (int r = 0; r < o->nstep; r++) {
+    memcpy(t + (size_t)(width + 1) * r, o->steps + (size_t)STEP_COLS * r, sizeof(double) * (size_t)width);
+    t[(size_t)(width + 1) * r + width] = o->imb[r];
+  }
+  const int err = write_table(ctx, o, "steps.csv", header, t, o->nstep, width + 1, width + 1);
+  free(t);
+  return err;
 }
 
 int mpgm_output_probes_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *pb) {

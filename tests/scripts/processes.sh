@@ -127,6 +127,18 @@ first = [count(f"{stem[:-6]}000000_{r}.vtu") for r in range(n)]
 print(f"{sum(parts)} points: {' + '.join(map(str, parts))}, at the start {' + '.join(map(str, first))}")
 sys.exit(0 if sum(parts) == count(one) and min(parts) > 0 else 1)
 PY
+# steps.csv on many processes ends with the points' imbalance after each
+# step (most on a process / mean), the last row's equal to summary.json's
+python3 - discs3 discs1 <<'PY' > imbalance.log 2>&1 && ok "3 processes: steps.csv's imbalance column ($(cat imbalance.log))" || ko "imbalance: $(cat imbalance.log)"
+import csv, json, sys
+many, one = sys.argv[1], sys.argv[2]
+rows = list(csv.DictReader(open(f"{many}/steps.csv")))
+last = json.load(open(f"{many}/summary.json"))["counts"]["processes"]["imbalance"]
+imb = [float(r["imbalance"]) for r in rows]
+plain = "imbalance" not in open(f"{one}/steps.csv").readline()
+print(f"from {imb[0]:.4f} to {imb[-1]:.4f} over {len(imb)} steps; none on one process: {plain}")
+sys.exit(0 if plain and min(imb) >= 1.0 and abs(imb[-1] - last) <= 1e-12 * last else 1)
+PY
 # a step that fails on one process (a point's Jacobian inverted on purpose
 # on rank 2 of 3) fails on every one: no process waits for it, and the
 # first's summary.json names the process and its reason
