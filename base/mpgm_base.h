@@ -302,6 +302,7 @@ typedef enum mpgm_reduce { MPGM_REDUCE_SUM, MPGM_REDUCE_MIN, MPGM_REDUCE_MAX } m
 typedef struct mpgm_comm {
   int rank;       /**< this process, 0 .. size - 1                     */
   int size;       /**< processes of the run                            */
+  int local;      /**< of them, those on this machine (sharing its cores) */
   void *impl;     /**< the module's communicator                       */
   int (*allreduce)(void *impl, mpgm_reduce op, double *v, int n); /**< in place */
   int (*allreduce_long)(void *impl, mpgm_reduce op, long *v, int n); /**< in place */

@@ -109,7 +109,14 @@ int mpgm_problem_create(mpgm_ctx *ctx, const mpgm_scene *scene, const mpgm_front
   mpgm_effects_of_scene(scene, &pb->fx);
   mpgm_solver_threads(scene->threads);
   /* mpgm's own loops: worker threads live as long as the problem */
-  int err = mpgm_pool_create(ctx, scene->loop_threads, &pb->pool);
+  /* threads 0: one per core, the cores shared among the run's processes
+   * on this machine (mpiexec -n 2 on two cores: one each) */
+  int nt = scene->loop_threads;
+  if (nt <= 0 && ctx->comm && ctx->comm->local > 1) {
+    nt = mpgm_ncores() / ctx->comm->local;
+    nt = nt < 1 ? 1 : nt;
+  }
+  int err = mpgm_pool_create(ctx, nt, &pb->pool);
   if (!err) err = setup(pb);
   if (err) {
     mpgm_problem_destroy(&pb);

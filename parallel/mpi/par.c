@@ -73,6 +73,13 @@ int mpgm_par_module_start(const mpgm_comm **comm, char *msg, size_t len) {
                          .bcast = bcast, .barrier = barrier};
   MPI_Comm_rank(world, &the_comm.rank);
   MPI_Comm_size(world, &the_comm.size);
+  /* the processes of the run on this machine (they share its cores) */
+  MPI_Comm node;
+  the_comm.local = 1;
+  if (MPI_Comm_split_type(world, MPI_COMM_TYPE_SHARED, the_comm.rank, MPI_INFO_NULL, &node) == MPI_SUCCESS) {
+    MPI_Comm_size(node, &the_comm.local);
+    MPI_Comm_free(&node);
+  }
   *comm = &the_comm;
   return 0;
 }
