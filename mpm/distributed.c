@@ -119,16 +119,14 @@ int mpgm_mpm_check(mpgm_ctx *ctx, const mpgm_scene *s) {
   return 0;
 }
 
-int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d) {
-  d->pcap = v->pts->n + v->pts->nprobe + v->pts->nsurf;
-  if (mpgm_ctx_size(v->ctx) == 1) return 0;
+/* The partition of the grid's nodes cut by the points per layer of cells
+ * in each direction: this process's points, or with `all` every
+ * process's (summed over them). The partition before, if any, is freed. */
+static int partition(const mpgm_fe_view *v, mpm_data *d, int all) {
   const mpgm_grid *g = &d->g;
   const int n[3] = {g->nx + 1, g->ny + 1, MPGM_DIM == 3 ? g->nz + 1 : 1};
-  /* the nodes a point's functions reach beyond its cell: one layer for
-   * the cell's own functions, two for the grid kinds (uGIMP, CPDI) */
-  /* the slabs cut where they share the points evenly (every process has
-   * them all now): the points per layer of cells in each direction */
-  double *w = calloc((size_t)n[0] + n[1] + n[2], sizeof(double));
+  const int nw = n[0] + n[1] + n[2];
+  double *w = calloc((size_t)nw, sizeof(double));
   MPGM_CHECK(v->ctx, w, MPGM_ERR_NOMEM, "out of memory (the points' layers)");
   const double *const wd[3] = {w, w + n[0], w + n[0] + n[1]};
   for (int p = 0; p < v->pts->n; p++) {
@@ -138,14 +136,50 @@ int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d) {
     cell_ijk(g, c, ijk);
     for (int k = 0; k < MPGM_DIM; k++) w[(k ? n[0] : 0) + (k > 1 ? n[1] : 0) + ijk[k]] += 1.0;
   }
-  const int err = mpgm_pgrid_create(v->ctx, MPGM_DIM, n, MPM_XW, d->gridfn ? 2 : 1, wd, &d->pg);
+  int err = all ? mpgm_allreduce(v->ctx, MPGM_REDUCE_SUM, w, nw) : 0;
+  mpgm_pgrid *pg = NULL; /* (the stencil: the nodes a point's functions reach beyond its
+                          * cell, one layer for the cell's own, two for uGIMP and CPDI) */
+  if (!err) err = mpgm_pgrid_create(v->ctx, MPGM_DIM, n, MPM_XW, d->gridfn ? 2 : 1, wd, &pg);
   free(w);
   MPGM_CALL(err);
+  mpgm_pgrid_destroy(&d->pg);
+  d->pg = pg;
+  return 0;
+}
+
+/* The points' imbalance now: the most on a process over the mean. */
+static int imbalance(mpgm_ctx *ctx, const mpgm_points *P, double *imb) {
+  long sum = P->n, most = P->n;
+  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, &sum, 1));
+  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_MAX, &most, 1));
+  *imb = sum > 0 ? (double)most * mpgm_ctx_size(ctx) / (double)sum : 1.0;
+  return 0;
+}
+
+int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d) {
+  d->pcap = v->pts->n + v->pts->nprobe + v->pts->nsurf;
+  if (mpgm_ctx_size(v->ctx) == 1) return 0;
+  /* the slabs cut where they share the points evenly (every process has
+   * them all now) */
+  MPGM_CALL(partition(v, d, 0));
   return exchange(v, d, 0);
 }
 
 int mpgm_mpm_dist_migrate(const mpgm_fe_view *v, mpm_data *d) {
-  return d->pg ? exchange(v, d, 1) : 0;
+  if (!d->pg) return 0;
+  /* rebalancing: the points have drifted apart since the last cut (the
+   * imbalance above MPM_REBALANCE and a tenth above what the cut left) */
+  double imb;
+  MPGM_CALL(imbalance(v->ctx, v->pts, &imb));
+  const int cut = imb > MPM_REBALANCE && imb > 1.1 * d->imb_cut;
+  if (cut) MPGM_CALL(partition(v, d, 1));
+  MPGM_CALL(exchange(v, d, 1));
+  if (!cut) return 0;
+  const double was = imb;
+  MPGM_CALL(imbalance(v->ctx, v->pts, &d->imb_cut));
+  mpgm_log(v->ctx, MPGM_LOG_INFO, "step %ld: the grid's slabs cut again by the points: imbalance "
+           "%.3f -> %.3f (most points on a process over the mean)", v->step + 1, was, d->imb_cut);
+  return 0;
 }
 
 /* The sums at n grid nodes (ids gid) of w values each in val. */

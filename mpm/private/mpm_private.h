@@ -66,9 +66,16 @@ typedef struct mpm_data {
   unsigned char *xkeep;/**< migration's scratch: a point stays, and else    */
   int *xdest;          /**< the process it goes to; room for xcap points   */
   int xcap;
+  double imb_cut;      /**< the points' imbalance the last cut left         */
   unsigned char *nowned; /**< per node of the step: this process owns it  */
   int nowned_cap;
 } mpm_data;
+
+/* Many processes: the slabs are cut again by the points when the most
+ * points on a process exceed the mean by a fifth (and a tenth more than
+ * the last cut left: a spread the slabs cannot even out is not cut again
+ * at every step). */
+#define MPM_REBALANCE 1.2
 
 /* The values per node the sums at shared nodes carry at most: mass,
  * momentum and inertia force. */
@@ -82,7 +89,9 @@ typedef struct mpm_data {
  * each the process of its cell at the step's start, found with sync 0 as
  * the step begins; its values given to every process with sync 1 as the
  * step ends); the step's nodes this process owns (dist_owned, the
- * nodes' `owned`); each a no-op on one process. */
+ * nodes' `owned`); each a no-op on one process. dist_migrate also cuts
+ * the partition again when the points have drifted apart
+ * (MPM_REBALANCE). */
 /* The scenes MPM runs on many processes (mpgm_frontend_type.check). */
 int mpgm_mpm_check(mpgm_ctx *ctx, const mpgm_scene *s);
 int mpgm_mpm_dist_create(const mpgm_fe_view *v, mpm_data *d);
