@@ -56,3 +56,11 @@ int mpgm_agree(mpgm_ctx *ctx, int err) {
   m.msg[sizeof m.msg - 1] = '\0';
   return mpgm_err_set(ctx, m.code, __FILE__, __LINE__, "process %ld of %d: %.1000s", who, c->size, m.msg);
 }
+
+int mpgm_imbalance(mpgm_ctx *ctx, long n, double *imb) {
+  long sum = n, most = n;
+  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, &sum, 1));
+  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_MAX, &most, 1));
+  *imb = sum > 0 ? (double)most * mpgm_ctx_size(ctx) / (double)sum : 1.0;
+  return 0;
+}

@@ -345,6 +345,10 @@ int mpgm_bcast(mpgm_ctx *ctx, void *buf, size_t bytes, int root);
  *  after such a part, so that no process waits there for one that left.
  *  One process: err. */
 int mpgm_agree(mpgm_ctx *ctx, int err);
+/** The imbalance of a count over the processes (collective): the largest
+ *  of every process's n over their mean, 1 when none has any (and on one
+ *  process). */
+int mpgm_imbalance(mpgm_ctx *ctx, long n, double *imb);
 
 /** 1 when the failure `code` is to be made now, in an attempt of `step`
  *  (mpgm_fault); 0 otherwise, always when no fault is set. */

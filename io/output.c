@@ -361,12 +361,10 @@ int mpgm_output_step_record(mpgm_ctx *ctx, mpgm_output *o, const mpgm_problem *p
   memcpy(row + STEP_BASE + 4 + MPGM_DIM, e.node_momentum, sizeof(double) * MPGM_DIM);
   if (o->nproc == 1) return 0;
   /* many processes: how evenly the points are spread after the step */
-  const long np = mpgm_problem_points(pb)->n;
-  long sum = np, most = np;
-  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, &sum, 1));
-  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_MAX, &most, 1));
+  double imb;
+  MPGM_CALL(mpgm_imbalance(ctx, mpgm_problem_points(pb)->n, &imb));
   MPGM_CALL(table_push(ctx, &o->imb, &o->nimb, &o->capimb, 1, &row));
-  row[0] = sum > 0 ? (double)most * o->nproc / (double)sum : 1.0;
+  row[0] = imb;
   return 0;
 }
 

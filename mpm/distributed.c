@@ -22,28 +22,41 @@ static void node_ijk(const mpgm_grid *g, int id, int ijk[3]) {
   ijk[2] = MPGM_DIM == 3 ? id / l : 0;
 }
 
-/* The (i, j, k) of the square (cube) of cell c. */
-static void cell_ijk(const mpgm_grid *g, int c, int ijk[3]) {
-  const int sq = MPGM_DIM == 2 && g->cell != MPGM_CELL_Q4 ? c / 2 : c;
-  ijk[0] = sq % g->nx;
-  ijk[1] = (sq / g->nx) % g->ny;
-  ijk[2] = MPGM_DIM == 3 ? sq / (g->nx * g->ny) : 0;
-}
-
-/* The process whose cell holds x; -1 outside the grid (the point stays
- * where it is, and locate says so). The square (cube) of x as
- * mpgm_grid_locate finds it, without its local coordinates. */
-static int owner_of(const mpm_data *d, const double *x) {
-  const mpgm_grid *g = &d->g;
+/* The (i, j, k) of the square (cube) that holds x, as mpgm_grid_locate
+ * finds it (without the local coordinates); -1 outside the grid. */
+static int cube_of(const mpgm_grid *g, const double *x, int ijk[3]) {
   const int n[3] = {g->nx, g->ny, MPGM_DIM == 3 ? g->nz : 1};
-  int ijk[3] = {0, 0, 0};
+  ijk[0] = ijk[1] = ijk[2] = 0;
   for (int k = 0; k < MPGM_DIM; k++) {
     const double s = (x[k] - g->min[k]) / g->h;
     if (!(s >= -1e-9 && s <= n[k] + 1e-9)) return -1;
     const int i = (int)s; /* (floor for s >= 0; below 0, within the tolerance, both clamp to 0) */
     ijk[k] = i < 0 ? 0 : i >= n[k] ? n[k] - 1 : i;
   }
-  return mpgm_pgrid_owner(d->pg, ijk);
+  return 0;
+}
+
+/* The process whose cell holds x; -1 outside the grid (the point stays
+ * where it is, and locate says so). */
+static int owner_of(const mpm_data *d, const double *x) {
+  int ijk[3];
+  return cube_of(&d->g, x, ijk) ? -1 : mpgm_pgrid_owner(d->pg, ijk);
+}
+
+/* Persistent scratch of n doubles (the sums' values, the probes'): a
+ * fresh block every step would cost its pages every step. */
+double *mpgm_mpm_scratch(mpgm_ctx *ctx, mpm_data *d, size_t n) {
+  if (n + 1 > d->xbufcap) {
+    free(d->xbuf);
+    d->xbufcap = 0;
+    d->xbuf = malloc(sizeof(double) * (n + n / 8 + 1));
+    if (!d->xbuf) {
+      mpgm_err_set(ctx, MPGM_ERR_NOMEM, __FILE__, __LINE__, "out of memory (%zu values)", n);
+      return NULL;
+    }
+    d->xbufcap = n + n / 8 + 1;
+  }
+  return d->xbuf;
 }
 
 /* Room for m points in the front end's per-point arrays and the
@@ -130,10 +143,8 @@ static int partition(const mpgm_fe_view *v, mpm_data *d, int all) {
   MPGM_CHECK(v->ctx, w, MPGM_ERR_NOMEM, "out of memory (the points' layers)");
   const double *const wd[3] = {w, w + n[0], w + n[0] + n[1]};
   for (int p = 0; p < v->pts->n; p++) {
-    int c, ijk[3];
-    double xi[MPGM_DIM];
-    if (mpgm_grid_locate(g, v->pts->x + MPGM_DIM * p, &c, xi)) continue;
-    cell_ijk(g, c, ijk);
+    int ijk[3];
+    if (cube_of(g, v->pts->x + MPGM_DIM * p, ijk)) continue;
     for (int k = 0; k < MPGM_DIM; k++) w[(k ? n[0] : 0) + (k > 1 ? n[1] : 0) + ijk[k]] += 1.0;
   }
   int err = all ? mpgm_allreduce(v->ctx, MPGM_REDUCE_SUM, w, nw) : 0;
@@ -144,15 +155,6 @@ static int partition(const mpgm_fe_view *v, mpm_data *d, int all) {
   MPGM_CALL(err);
   mpgm_pgrid_destroy(&d->pg);
   d->pg = pg;
-  return 0;
-}
-
-/* The points' imbalance now: the most on a process over the mean. */
-static int imbalance(mpgm_ctx *ctx, const mpgm_points *P, double *imb) {
-  long sum = P->n, most = P->n;
-  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_SUM, &sum, 1));
-  MPGM_CALL(mpgm_allreduce_long(ctx, MPGM_REDUCE_MAX, &most, 1));
-  *imb = sum > 0 ? (double)most * mpgm_ctx_size(ctx) / (double)sum : 1.0;
   return 0;
 }
 
@@ -170,13 +172,13 @@ int mpgm_mpm_dist_migrate(const mpgm_fe_view *v, mpm_data *d) {
   /* rebalancing: the points have drifted apart since the last cut (the
    * imbalance above MPM_REBALANCE and a tenth above what the cut left) */
   double imb;
-  MPGM_CALL(imbalance(v->ctx, v->pts, &imb));
+  MPGM_CALL(mpgm_imbalance(v->ctx, v->pts->n, &imb));
   const int cut = imb > MPM_REBALANCE && imb > 1.1 * d->imb_cut;
   if (cut) MPGM_CALL(partition(v, d, 1));
   MPGM_CALL(exchange(v, d, 1));
   if (!cut) return 0;
   const double was = imb;
-  MPGM_CALL(imbalance(v->ctx, v->pts, &d->imb_cut));
+  MPGM_CALL(mpgm_imbalance(v->ctx, v->pts->n, &d->imb_cut));
   mpgm_log(v->ctx, MPGM_LOG_INFO, "step %ld: the grid's slabs cut again by the points: imbalance "
            "%.3f -> %.3f (most points on a process over the mean)", v->step + 1, was, d->imb_cut);
   return 0;
@@ -239,8 +241,8 @@ int mpgm_mpm_dist_light(const mpgm_fe_view *v, mpm_data *d) {
   int n = 0;
   for (int i = 0; i < g->nnode; i++)
     if (d->light[i]) d->gmap[n++] = i; /* gmap as scratch: step_nodes sets it anew */
-  double *m = malloc(sizeof(double) * ((size_t)n + 1));
-  MPGM_CHECK(v->ctx, m, MPGM_ERR_NOMEM, "out of memory (nodal masses)");
+  double *m = mpgm_mpm_scratch(v->ctx, d, (size_t)n);
+  if (!m) return MPGM_ERR_NOMEM;
   for (int i = 0; i < n; i++) m[i] = d->gm[d->gmap[i]];
   int err = sums_at(v->ctx, d, n, d->gmap, 1, m);
   double mmax = 0.0;
@@ -248,7 +250,6 @@ int mpgm_mpm_dist_light(const mpgm_fe_view *v, mpm_data *d) {
     d->gm[d->gmap[i]] = m[i];
     mmax = fmax(mmax, m[i]);
   }
-  free(m);
   MPGM_CALL(err);
   MPGM_CALL(mpgm_allreduce(v->ctx, MPGM_REDUCE_MAX, &mmax, 1));
   const double cut = v->scene->mesh_par.min_node_mass * mmax;
@@ -279,8 +280,9 @@ int mpgm_mpm_dist_probes(const mpgm_fe_view *v, mpm_data *d, int sync) {
   }
   double *const arr[4] = {P->x, P->u, P->v, P->a};
   const size_t w = 4 * MPGM_DIM;
-  double *buf = calloc(w * (size_t)np, sizeof(double));
-  MPGM_CHECK(v->ctx, buf, MPGM_ERR_NOMEM, "out of memory (%d probes)", np);
+  double *buf = mpgm_mpm_scratch(v->ctx, d, w * (size_t)np);
+  if (!buf) return MPGM_ERR_NOMEM;
+  memset(buf, 0, sizeof(double) * w * (size_t)np);
   for (int k = 0; k < np; k++)
     for (int j = 0; d->powner[k] == rank && j < 4; j++)
       memcpy(buf + w * k + MPGM_DIM * j, arr[j] + MPGM_DIM * (P->n + k), sizeof(double) * MPGM_DIM);
@@ -288,7 +290,6 @@ int mpgm_mpm_dist_probes(const mpgm_fe_view *v, mpm_data *d, int sync) {
   for (int k = 0; k < np && !err; k++)
     for (int j = 0; j < 4; j++)
       memcpy(arr[j] + MPGM_DIM * (P->n + k), buf + w * k + MPGM_DIM * j, sizeof(double) * MPGM_DIM);
-  free(buf);
   return err;
 }
 
@@ -300,4 +301,5 @@ void mpgm_mpm_dist_free(mpm_data *d) {
   free(d->pskip);
   mpgm_pgrid_destroy(&d->pg);
   free(d->xijk);
+  free(d->xbuf);
 }

@@ -122,8 +122,8 @@ static int project_scatter(const mpgm_fe_view *v, mpm_data *d) {
 static int project_shared(const mpgm_fe_view *v, mpm_data *d) {
   mpgm_nodes *nd = v->nodes;
   const int n = nd->n;
-  double *s = malloc(sizeof(double) * MPM_XW * ((size_t)n + 1));
-  MPGM_CHECK(v->ctx, s, MPGM_ERR_NOMEM, "out of memory (the projection's sums)");
+  double *s = mpgm_mpm_scratch(v->ctx, d, MPM_XW * (size_t)n);
+  if (!s) return MPGM_ERR_NOMEM;
   for (int I = 0; I < n; I++) {
     const double m = nd->mass[I];
     s[MPM_XW * I] = m;
@@ -141,7 +141,6 @@ static int project_shared(const mpgm_fe_view *v, mpm_data *d) {
       nd->a[MPGM_DIM * I + c] = s[MPM_XW * I + 1 + MPGM_DIM + c] / m;
     }
   }
-  free(s);
   return err;
 }
 

@@ -67,6 +67,8 @@ typedef struct mpm_data {
   int *xdest;          /**< the process it goes to; room for xcap points   */
   int xcap;
   double imb_cut;      /**< the points' imbalance the last cut left         */
+  double *xbuf;        /**< scratch of the sums' values (mpgm_mpm_scratch)   */
+  size_t xbufcap;
   unsigned char *nowned; /**< per node of the step: this process owns it  */
   int nowned_cap;
 } mpm_data;
@@ -100,6 +102,9 @@ int mpgm_mpm_node_sums(void *self, mpgm_ctx *ctx, int w, double *val);
 int mpgm_mpm_dist_light(const mpgm_fe_view *v, mpm_data *d);
 int mpgm_mpm_dist_probes(const mpgm_fe_view *v, mpm_data *d, int sync);
 int mpgm_mpm_dist_owned(const mpgm_fe_view *v, mpm_data *d);
+/* Scratch of n doubles kept from step to step (NULL, with the error set,
+ * when out of memory); valid until the next call. */
+double *mpgm_mpm_scratch(mpgm_ctx *ctx, mpm_data *d, size_t n);
 void mpgm_mpm_dist_free(mpm_data *d);
 
 /* Projection (38)-(41) with the final shape functions (project.c). */
